@@ -1,0 +1,230 @@
+//! Linear complementarity solve for the contact multipliers.
+//!
+//! Find `p ≥ 0` with `w = g + W p ≥ 0` and `pᵢ wᵢ = 0` for every pair, where `g` are the
+//! predicted gaps (m), `W` (m/N) the delassus-type operator `G_N M̃⁻¹ B` (or its massless-stator
+//! form, Eq. 49) and `p` the normal contact forces (N, compression positive).
+//!
+//! Solved by Murty's least-index principal pivoting method, which terminates finitely whenever
+//! `W` is a P-matrix (true for the symmetric positive definite frictionless `W` and for friction
+//! small enough to keep the unsymmetric `W` a P-matrix). Each pivot solves the principal
+//! subsystem `W_AA p_A = −g_A` densely; a rigid circle touching many nodes makes `W_AA`
+//! ill-conditioned, so a singular pivot is reported, not papered over.
+
+use crate::math::{lu_in_place, lu_solve};
+
+/// Why a complementarity solve failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LcpFailure {
+    /// The principal pivoting did not terminate within the iteration cap.
+    NoConvergence {
+        /// Iterations spent.
+        iterations: usize,
+    },
+    /// A principal submatrix was singular.
+    Singular {
+        /// Size of the active set.
+        active: usize,
+    },
+}
+
+impl std::fmt::Display for LcpFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LcpFailure::NoConvergence { iterations } => write!(
+                f,
+                "principal pivoting did not converge in {iterations} iterations (W is not a P-matrix: friction too large for this contact set?)"
+            ),
+            LcpFailure::Singular { active } => write!(
+                f,
+                "singular contact operator on an active set of {active} pairs (redundant constraints)"
+            ),
+        }
+    }
+}
+
+/// Preallocated buffers for [`solve`]; sized once for the largest number of pairs.
+#[derive(Debug, Clone)]
+pub struct LcpWorkspace {
+    cap: usize,
+    active: Vec<bool>,
+    idx: Vec<usize>,
+    sub: Vec<f64>,
+    piv: Vec<usize>,
+    rhs: Vec<f64>,
+    w: Vec<f64>,
+}
+
+impl LcpWorkspace {
+    /// Workspace for problems with up to `cap` pairs.
+    pub fn new(cap: usize) -> Self {
+        Self {
+            cap,
+            active: vec![false; cap],
+            idx: vec![0; cap],
+            sub: vec![0.0; cap * cap],
+            piv: vec![0; cap],
+            rhs: vec![0.0; cap],
+            w: vec![0.0; cap],
+        }
+    }
+
+    /// Largest problem size this workspace holds.
+    pub fn capacity(&self) -> usize {
+        self.cap
+    }
+}
+
+/// Solves the LCP of size `q` (`W` row-major `q×q` in `wmat[..q*q]`, gaps `g[..q]`) into
+/// `p[..q]`. Returns the number of pivots used.
+///
+/// # Panics
+/// If `q` exceeds the workspace capacity (a sizing bug in the caller).
+pub fn solve(
+    q: usize,
+    wmat: &[f64],
+    g: &[f64],
+    p: &mut [f64],
+    ws: &mut LcpWorkspace,
+) -> Result<usize, LcpFailure> {
+    assert!(q <= ws.cap, "LCP of size {q} exceeds workspace {}", ws.cap);
+    let gscale = g[..q].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    p[..q].fill(0.0);
+    if q == 0 || gscale == 0.0 {
+        return Ok(0);
+    }
+    let tol = 1e-12 * gscale;
+    // Start from the set of predicted penetrations.
+    for i in 0..q {
+        ws.active[i] = g[i] < 0.0;
+    }
+    let max_iter = 50 + 20 * q * q;
+    for iter in 0..max_iter {
+        // Solve the principal subsystem.
+        let mut m = 0;
+        for i in 0..q {
+            if ws.active[i] {
+                ws.idx[m] = i;
+                m += 1;
+            }
+        }
+        for a in 0..m {
+            let i = ws.idx[a];
+            for b in 0..m {
+                ws.sub[a * m + b] = wmat[i * q + ws.idx[b]];
+            }
+            ws.rhs[a] = -g[i];
+        }
+        if m > 0 {
+            if !lu_in_place(&mut ws.sub, m, &mut ws.piv, 1e-13) {
+                return Err(LcpFailure::Singular { active: m });
+            }
+            lu_solve(&ws.sub, m, &ws.piv, &mut ws.rhs);
+        }
+        p[..q].fill(0.0);
+        for a in 0..m {
+            p[ws.idx[a]] = ws.rhs[a];
+        }
+        for i in 0..q {
+            let mut s = g[i];
+            for a in 0..m {
+                let j = ws.idx[a];
+                s += wmat[i * q + j] * p[j];
+            }
+            ws.w[i] = s;
+        }
+        // Least index violating complementarity.
+        let pscale = p[..q].iter().fold(0.0_f64, |mx, v| mx.max(v.abs()));
+        let mut toggled = false;
+        for i in 0..q {
+            let bad = if ws.active[i] {
+                p[i] < -1e-12 * pscale
+            } else {
+                ws.w[i] < -tol
+            };
+            if bad {
+                ws.active[i] = !ws.active[i];
+                toggled = true;
+                break;
+            }
+        }
+        if !toggled {
+            for v in p[..q].iter_mut() {
+                if *v < 0.0 {
+                    *v = 0.0;
+                }
+            }
+            return Ok(iter + 1);
+        }
+    }
+    Err(LcpFailure::NoConvergence {
+        iterations: max_iter,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check(q: usize, w: &[f64], g: &[f64], p: &[f64]) {
+        for i in 0..q {
+            let wi: f64 = g[i] + (0..q).map(|j| w[i * q + j] * p[j]).sum::<f64>();
+            assert!(p[i] >= 0.0);
+            assert!(wi >= -1e-12, "w[{i}] = {wi}");
+            assert!((p[i] * wi).abs() < 1e-12, "complementarity {i}");
+        }
+    }
+
+    #[test]
+    fn single_pair_is_the_scalar_formula() {
+        let mut ws = LcpWorkspace::new(1);
+        let mut p = [0.0];
+        solve(1, &[2.0], &[-4.0], &mut p, &mut ws).unwrap();
+        assert_eq!(p[0], 2.0);
+        solve(1, &[2.0], &[4.0], &mut p, &mut ws).unwrap();
+        assert_eq!(p[0], 0.0);
+    }
+
+    #[test]
+    fn coupled_pairs_release_the_one_pulled_away() {
+        // Two pairs strongly coupled: pushing pair 0 opens pair 1, whose predicted
+        // penetration is small; a single linear solve would give it a tensile force.
+        let w = [1.0, 0.9, 0.9, 1.0];
+        let g = [-1.0, -0.1];
+        let mut p = [0.0; 2];
+        let mut ws = LcpWorkspace::new(2);
+        solve(2, &w, &g, &mut p, &mut ws).unwrap();
+        check(2, &w, &g, &p);
+        assert!(p[0] > 0.0 && p[1] == 0.0);
+    }
+
+    #[test]
+    fn random_p_matrices_are_solved() {
+        // Deterministic pseudo-random SPD plus small skew part (friction-like).
+        let mut seed = 12345_u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        for q in 1..8 {
+            let mut a = vec![0.0; q * q];
+            for v in a.iter_mut() {
+                *v = rnd();
+            }
+            let mut w = vec![0.0; q * q];
+            for i in 0..q {
+                for j in 0..q {
+                    let mut s = 0.0;
+                    for k in 0..q {
+                        s += a[i * q + k] * a[j * q + k];
+                    }
+                    w[i * q + j] = s + if i == j { 0.5 } else { 0.0 } + 0.05 * (rnd());
+                }
+            }
+            let g: Vec<f64> = (0..q).map(|_| rnd()).collect();
+            let mut p = vec![0.0; q];
+            let mut ws = LcpWorkspace::new(q);
+            solve(q, &w, &g, &mut p, &mut ws).unwrap();
+            check(q, &w, &g, &p);
+        }
+    }
+}

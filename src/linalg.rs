@@ -1,0 +1,275 @@
+//! Sparse storage and the factorisations the models need, as a thin layer over `faer`.
+//!
+//! [`Csc`] is a compressed-sparse-column matrix owned by rubsim (pattern built once from
+//! triplets, duplicates summed) with an allocation-free `y += α A x` for the time loop. The
+//! factorisations convert to `faer` views without copying the pattern: sparse Cholesky for
+//! symmetric positive definite stiffness (massless-stator condensation) and sparse LU for the
+//! unsymmetric M̃ of rotors with gyroscopics.
+
+use faer::linalg::solvers::Solve;
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{MatMut, Side};
+
+/// Square or rectangular sparse matrix in compressed sparse column form.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Csc {
+    nrows: usize,
+    ncols: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    val: Vec<f64>,
+}
+
+impl Csc {
+    /// Builds from `(row, col, value)` triplets; duplicates are summed, explicit zeros kept out.
+    ///
+    /// # Panics
+    /// If an index is out of range (a bug in the assembling code).
+    pub fn from_triplets(nrows: usize, ncols: usize, trip: &[(usize, usize, f64)]) -> Self {
+        let mut t: Vec<(usize, usize, f64)> = trip.to_vec();
+        for &(r, c, _) in &t {
+            assert!(r < nrows && c < ncols, "triplet ({r}, {c}) outside {nrows}×{ncols}");
+        }
+        t.sort_by(|a, b| (a.1, a.0).cmp(&(b.1, b.0)));
+        let mut col_ptr = vec![0usize; ncols + 1];
+        let mut row_idx = Vec::with_capacity(t.len());
+        let mut val: Vec<f64> = Vec::with_capacity(t.len());
+        let mut last: Option<(usize, usize)> = None;
+        for (r, c, v) in t {
+            if last == Some((r, c)) {
+                *val.last_mut().expect("previous entry") += v;
+            } else {
+                row_idx.push(r);
+                val.push(v);
+                col_ptr[c + 1] += 1;
+                last = Some((r, c));
+            }
+        }
+        for c in 0..ncols {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        Self {
+            nrows,
+            ncols,
+            col_ptr,
+            row_idx,
+            val,
+        }
+    }
+
+    /// All-zero matrix.
+    pub fn zeros(nrows: usize, ncols: usize) -> Self {
+        Self::from_triplets(nrows, ncols, &[])
+    }
+
+    /// Number of rows.
+    pub fn nrows(&self) -> usize {
+        self.nrows
+    }
+    /// Number of columns.
+    pub fn ncols(&self) -> usize {
+        self.ncols
+    }
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.val.len()
+    }
+
+    /// Iterates `(row, col, value)` over stored entries.
+    pub fn triplets(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        (0..self.ncols).flat_map(move |c| {
+            (self.col_ptr[c]..self.col_ptr[c + 1]).map(move |k| (self.row_idx[k], c, self.val[k]))
+        })
+    }
+
+    /// Entry `(r, c)` (zero when not stored).
+    pub fn get(&self, r: usize, c: usize) -> f64 {
+        (self.col_ptr[c]..self.col_ptr[c + 1])
+            .filter(|&k| self.row_idx[k] == r)
+            .map(|k| self.val[k])
+            .sum()
+    }
+
+    /// `α A + β B` on the union pattern (same shape).
+    pub fn lin_comb(alpha: f64, a: &Csc, beta: f64, b: &Csc) -> Csc {
+        assert_eq!((a.nrows, a.ncols), (b.nrows, b.ncols));
+        let t: Vec<(usize, usize, f64)> = a
+            .triplets()
+            .map(|(r, c, v)| (r, c, alpha * v))
+            .chain(b.triplets().map(|(r, c, v)| (r, c, beta * v)))
+            .filter(|x| x.2 != 0.0)
+            .collect();
+        Csc::from_triplets(a.nrows, a.ncols, &t)
+    }
+
+    /// `y += α A x` without allocating.
+    #[inline]
+    pub fn mul_add(&self, alpha: f64, x: &[f64], y: &mut [f64]) {
+        debug_assert_eq!(x.len(), self.ncols);
+        debug_assert_eq!(y.len(), self.nrows);
+        for c in 0..self.ncols {
+            let xc = alpha * x[c];
+            if xc == 0.0 {
+                continue;
+            }
+            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
+                y[self.row_idx[k]] += self.val[k] * xc;
+            }
+        }
+    }
+
+    /// True when every stored entry lies on the diagonal.
+    pub fn is_diagonal(&self) -> bool {
+        self.triplets().all(|(r, c, v)| r == c || v == 0.0)
+    }
+
+    /// The diagonal as a dense vector.
+    pub fn diagonal(&self) -> Vec<f64> {
+        let mut d = vec![0.0; self.nrows.min(self.ncols)];
+        for (r, c, v) in self.triplets() {
+            if r == c {
+                d[r] += v;
+            }
+        }
+        d
+    }
+
+    /// Largest |A_ij − A_ji| relative to the largest |A_ij| (0 for a symmetric matrix).
+    pub fn asymmetry(&self) -> f64 {
+        let scale = self.val.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        if scale == 0.0 {
+            return 0.0;
+        }
+        self.triplets()
+            .map(|(r, c, v)| (v - self.get(c, r)).abs())
+            .fold(0.0, f64::max)
+            / scale
+    }
+
+    fn faer_ref(&self) -> SparseColMatRef<'_, usize, f64> {
+        SparseColMatRef::new(
+            SymbolicSparseColMatRef::new_checked(
+                self.nrows,
+                self.ncols,
+                &self.col_ptr,
+                None,
+                &self.row_idx,
+            ),
+            &self.val,
+        )
+    }
+}
+
+/// Sparse Cholesky factor `A = L Lᵀ` of a symmetric positive definite matrix.
+pub struct Cholesky {
+    n: usize,
+    llt: faer::sparse::linalg::solvers::Llt<usize, f64>,
+}
+
+impl std::fmt::Debug for Cholesky {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Cholesky(n = {})", self.n)
+    }
+}
+
+impl Cholesky {
+    /// Factors `a` (both triangles stored; only the lower one is read).
+    pub fn new(a: &Csc) -> Result<Self, String> {
+        assert_eq!(a.nrows, a.ncols);
+        let llt = a
+            .faer_ref()
+            .sp_cholesky(Side::Lower)
+            .map_err(|e| format!("{e:?}"))?;
+        Ok(Self { n: a.nrows, llt })
+    }
+
+    /// Solves `A X = B` in place for a column-major `n×k` block `b` (k = b.len()/n).
+    pub fn solve_in_place(&self, b: &mut [f64]) {
+        solve_block(self.n, b, |m| self.llt.solve_in_place(m));
+    }
+}
+
+/// Sparse LU factor with partial pivoting of a general square matrix.
+pub struct Lu {
+    n: usize,
+    lu: faer::sparse::linalg::solvers::Lu<usize, f64>,
+}
+
+impl std::fmt::Debug for Lu {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Lu(n = {})", self.n)
+    }
+}
+
+impl Lu {
+    /// Factors `a`.
+    pub fn new(a: &Csc) -> Result<Self, String> {
+        assert_eq!(a.nrows, a.ncols);
+        let lu = a.faer_ref().sp_lu().map_err(|e| format!("{e:?}"))?;
+        Ok(Self { n: a.nrows, lu })
+    }
+
+    /// Solves `A X = B` in place for a column-major `n×k` block `b`.
+    pub fn solve_in_place(&self, b: &mut [f64]) {
+        solve_block(self.n, b, |m| self.lu.solve_in_place(m));
+    }
+}
+
+fn solve_block(n: usize, b: &mut [f64], f: impl FnOnce(MatMut<'_, f64>)) {
+    if n == 0 {
+        return;
+    }
+    assert_eq!(b.len() % n, 0, "right-hand side is not a multiple of n");
+    let k = b.len() / n;
+    let m = MatMut::from_column_major_slice_mut(b, n, k);
+    f(m);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lap(n: usize) -> Csc {
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push((i, i, 2.0));
+            if i + 1 < n {
+                t.push((i, i + 1, -1.0));
+                t.push((i + 1, i, -1.0));
+            }
+        }
+        Csc::from_triplets(n, n, &t)
+    }
+
+    #[test]
+    fn duplicates_are_summed_and_matvec_is_right() {
+        let a = Csc::from_triplets(2, 2, &[(0, 0, 1.0), (0, 0, 2.0), (1, 0, 4.0)]);
+        assert_eq!(a.nnz(), 2);
+        let mut y = [0.0; 2];
+        a.mul_add(2.0, &[1.0, 5.0], &mut y);
+        assert_eq!(y, [6.0, 8.0]);
+    }
+
+    #[test]
+    fn cholesky_and_lu_solve_laplacian() {
+        let n = 6;
+        let a = lap(n);
+        let x: Vec<f64> = (0..n).map(|i| i as f64 + 1.0).collect();
+        let mut b = vec![0.0; n];
+        a.mul_add(1.0, &x, &mut b);
+        let mut b1 = b.clone();
+        Cholesky::new(&a).unwrap().solve_in_place(&mut b1);
+        let mut b2 = b.clone();
+        Lu::new(&a).unwrap().solve_in_place(&mut b2);
+        for i in 0..n {
+            assert!((b1[i] - x[i]).abs() < 1e-12);
+            assert!((b2[i] - x[i]).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn cholesky_rejects_indefinite() {
+        let a = Csc::from_triplets(2, 2, &[(0, 0, 1.0), (1, 1, -1.0)]);
+        assert!(Cholesky::new(&a).is_err());
+    }
+}

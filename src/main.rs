@@ -1,0 +1,557 @@
+//! The `rubsim` command: scene → model → integrate → analyse → write.
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use rubsim::analysis::{self, Keep, RunSettings};
+use rubsim::model::Model;
+use rubsim::output::{self, OutDir};
+use rubsim::scene::{self, LoadedScene};
+use std::path::{Path, PathBuf};
+
+#[derive(Parser)]
+#[command(
+    name = "rubsim",
+    version,
+    about = "Rotor-to-stator rubbing vibration: FE contact with Lagrange multipliers and explicit central differences"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(clap::Args, Clone)]
+struct Common {
+    /// Scene file (TOML).
+    scene: PathBuf,
+    /// Override a scene value: `--set stator.0.clearance_nd=0.5` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Run one speed (run.speed_ratio or run.speed) and write summary.json and pictures.
+    Run {
+        #[command(flatten)]
+        c: Common,
+        /// Output directory (default: out/<scene name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Run the speed sweep of [run.sweep] in parallel; write sweep.csv, summary.json, pictures.
+    Sweep {
+        #[command(flatten)]
+        c: Common,
+        /// Output directory (default: out/<scene name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
+    /// Validate the scene and print the resolved model: what is built and what is left out.
+    Check {
+        #[command(flatten)]
+        c: Common,
+    },
+    /// Error against Δt and run time for each integrator at one or more speeds.
+    Convergence {
+        #[command(flatten)]
+        c: Common,
+        /// Speeds ω/ω_n (default: the scene's speed, or 1.7, 3.1, 4.9 for a sweep scene).
+        #[arg(long = "speed")]
+        speeds: Vec<f64>,
+        /// Finest level k of the study: steps per revolution = samples_per_rev · 2^k, k = 0..=K.
+        #[arg(long, default_value_t = 6)]
+        levels: u32,
+        /// Reference level (collocated integrator).
+        #[arg(long, default_value_t = 11)]
+        reference: u32,
+        /// Output directory (default: out/<scene name>/convergence).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Time the scene's sweep (no output files) and print wall time, ns per step and error.
+    Bench {
+        #[command(flatten)]
+        c: Common,
+        /// Repetitions (the best is reported).
+        #[arg(long, default_value_t = 3)]
+        repeat: usize,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
+}
+
+fn load(c: &Common) -> Result<(LoadedScene, Model)> {
+    let ls = scene::load(&c.scene, &c.set)?;
+    let model = Model::build(&ls).with_context(|| format!("{}: building the model", c.scene.display()))?;
+    Ok((ls, model))
+}
+
+fn default_out(scene: &Path) -> PathBuf {
+    let stem = scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "scene".into());
+    PathBuf::from("out").join(stem)
+}
+
+fn settings(ls: &LoadedScene) -> RunSettings {
+    RunSettings::from_run(&ls.scene.run, &ls.scene.output.component)
+}
+
+fn single_speed(ls: &LoadedScene, model: &Model) -> Option<f64> {
+    let r = &ls.scene.run;
+    r.speed_ratio
+        .or_else(|| r.speed.map(|w| w / model.rotor.natural_frequency()))
+}
+
+fn cascade_max(ls: &LoadedScene, speeds: &[f64]) -> f64 {
+    ls.scene
+        .output
+        .cascade_max_freq
+        .unwrap_or_else(|| speeds.iter().cloned().fold(1.0, f64::max))
+}
+
+fn summary_base(ls: &LoadedScene, model: &Model, command: &str) -> serde_json::Value {
+    serde_json::json!({
+        "rubsim_version": env!("CARGO_PKG_VERSION"),
+        "command": command,
+        "scene_file": ls.file.display().to_string(),
+        "overrides": ls.overrides,
+        "scene": ls.scene,
+        "model": {
+            "rotor": model.rotor.describe(),
+            "omega_n_rad_s": model.rotor.natural_frequency(),
+        },
+        "conventions": {
+            "units": "SI; _nd = displacement / |Z0(ω)|, force / (|Σ m_u e e^{iφ}| ω²), frequency / ω_n",
+            "axes": "x horizontal, y vertical, rotor spins counter-clockwise seen from +z",
+            "period": "Poincaré period in revolutions; 0 = not periodic",
+        }
+    })
+}
+
+fn run(c: &Common, out: Option<PathBuf>) -> Result<()> {
+    let (ls, model) = load(c)?;
+    let v = single_speed(&ls, &model).with_context(|| {
+        format!(
+            "{}: `rubsim run` needs run.speed_ratio or run.speed (this scene has a sweep: use `rubsim sweep`)",
+            c.scene.display()
+        )
+    })?;
+    let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene)))?;
+    let s = settings(&ls);
+    let fmax = ls.scene.output.cascade_max_freq.unwrap_or(v.max(1.0) * 1.5);
+    let keep = Keep {
+        orbit: true,
+        force_history: true,
+        spectrum_up_to: Some(fmax.ceil() as u32),
+    };
+    let t0 = std::time::Instant::now();
+    let r = analysis::run_speed(&model, &s, v, keep)?;
+    let case = model.case(r.omega)?;
+    if ls.scene.output.png {
+        output::write_run_pngs(
+            &mut outd,
+            &ls.scene.title,
+            &r,
+            output::boundary(&case),
+            &ls.scene.output.component,
+        )?;
+    }
+    let mut sum = summary_base(&ls, &model, "run");
+    sum["result"] = serde_json::to_value(&r)?;
+    sum["regime"] = output::regime_name(r.period).into();
+    sum["wall_s"] = t0.elapsed().as_secs_f64().into();
+    outd.write("summary.json", serde_json::to_string_pretty(&sum)?.as_bytes())?;
+    let dir = outd.dir().to_path_buf();
+    outd.commit()?;
+    println!(
+        "ω/ωn = {:.3}: {} | x/|Z0| ∈ [{:.3}, {:.3}], y/|Z0| ∈ [{:.3}, {:.3}] | 1× {:.3}, 1/2× {:.3}, 1/3× {:.3} | {} steps (Δt = {:.3e} s) in {:.3} s | est. rel. error {}",
+        r.speed_ratio,
+        output::regime_name(r.period),
+        r.extents_nd[0], r.extents_nd[1], r.extents_nd[2], r.extents_nd[3],
+        r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd,
+        r.stats.steps, r.plan.dt, r.stats.wall_s,
+        r.error.map(|e| format!("{:.1e}", e.extents_rel)).unwrap_or_else(|| "not estimated".into())
+    );
+    println!("results in {}", dir.display());
+    Ok(())
+}
+
+fn progress_bar(n: usize) -> ProgressBar {
+    let pb = ProgressBar::new(n as u64);
+    pb.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} speeds {msg}")
+            .expect("valid template"),
+    );
+    pb
+}
+
+fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
+    let (ls, model) = load(c)?;
+    let sw = ls.scene.run.sweep.clone().with_context(|| {
+        format!("{}: `rubsim sweep` needs a [run.sweep] table", c.scene.display())
+    })?;
+    let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene)))?;
+    let speeds = analysis::sweep_speeds(sw.from, sw.to, sw.step);
+    let variants: Vec<(String, Vec<String>)> = match &sw.vary {
+        None => vec![(String::new(), Vec::new())],
+        Some(v) => v
+            .values
+            .iter()
+            .map(|x| {
+                let name = v.key.rsplit('.').next().unwrap_or("value");
+                (format!("{name}_{x}/"), vec![format!("{}={}", v.key, x)])
+            })
+            .collect(),
+    };
+    let t0 = std::time::Instant::now();
+    let mut variant_summaries = Vec::new();
+    for (prefix, extra) in &variants {
+        let (ls_v, model_v) = if extra.is_empty() {
+            (ls.clone(), model.clone())
+        } else {
+            let mut sets = c.set.clone();
+            sets.extend(extra.iter().cloned());
+            load(&Common {
+                scene: c.scene.clone(),
+                set: sets,
+            })?
+        };
+        let s = settings(&ls_v);
+        let o = &ls_v.scene.output;
+        let fmax = cascade_max(&ls_v, &speeds);
+        let wanted: Vec<f64> = o
+            .orbit_grids
+            .iter()
+            .flatten()
+            .chain(o.force_histories.iter())
+            .copied()
+            .collect();
+        let fh = o.force_histories.clone();
+        let keep = move |v: f64| Keep {
+            orbit: wanted.iter().any(|w| (w - v).abs() < 1e-6) || wanted.is_empty(),
+            force_history: fh.iter().any(|w| (w - v).abs() < 1e-6),
+            spectrum_up_to: Some(fmax.ceil() as u32),
+        };
+        let pb = progress_bar(speeds.len());
+        if !prefix.is_empty() {
+            pb.set_message(prefix.trim_end_matches('/').to_string());
+        }
+        let res = analysis::sweep(&model_v, &s, &speeds, &keep, &|| pb.inc(1))?;
+        pb.finish_and_clear();
+        let bounds: Vec<_> = res
+            .speeds
+            .iter()
+            .map(|r| model_v.case(r.omega).map(|cs| output::boundary(&cs)))
+            .collect::<std::result::Result<_, _>>()?;
+        let grids = if o.orbit_grids.is_empty() {
+            let n = speeds.len();
+            vec![(0..9.min(n)).map(|i| speeds[i * (n - 1) / 8.max(1)]).collect()]
+        } else {
+            o.orbit_grids.clone()
+        };
+        let title = if extra.is_empty() {
+            ls_v.scene.title.clone()
+        } else {
+            format!("{} [{}]", ls_v.scene.title, extra.join(", "))
+        };
+        output::write_sweep(
+            &mut outd,
+            prefix,
+            &title,
+            &res,
+            &bounds,
+            &grids,
+            &o.force_histories,
+            fmax,
+            o.png,
+            &o.component,
+        )?;
+        let regimes = output::regime_ranges(&res.speeds);
+        let peaks = output::quasi_resonances(&res.speeds);
+        let total_steps: usize = res.speeds.iter().map(|r| r.stats.steps).sum();
+        let max_err = res
+            .speeds
+            .iter()
+            .filter_map(|r| r.error.map(|e| e.extents_rel))
+            .fold(0.0, f64::max);
+        println!(
+            "{}{} speeds in {:.3} s ({} steps){}",
+            if prefix.is_empty() { String::new() } else { format!("{}: ", extra.join(", ")) },
+            speeds.len(),
+            res.wall_s,
+            total_steps,
+            if max_err > 0.0 { format!(", largest estimated extents error {max_err:.1e}") } else { String::new() }
+        );
+        for r in &regimes {
+            println!(
+                "  {:>13}  ω/ωn {:.2} – {:.2}",
+                output::regime_name(r.period),
+                r.from,
+                r.to
+            );
+        }
+        if !peaks.is_empty() {
+            let p: Vec<String> = peaks
+                .iter()
+                .map(|(per, v)| format!("{v:.2} ({})", output::regime_name(*per)))
+                .collect();
+            println!("  quasi-resonance peaks: {}", p.join(", "));
+        }
+        variant_summaries.push(serde_json::json!({
+            "variant": extra,
+            "directory": prefix,
+            "wall_s": res.wall_s,
+            "steps": total_steps,
+            "max_estimated_extents_error": max_err,
+            "regimes": regimes,
+            "quasi_resonances": peaks,
+            "speeds": res.speeds,
+        }));
+    }
+    let mut sum = summary_base(&ls, &model, "sweep");
+    sum["sweeps"] = serde_json::Value::Array(variant_summaries);
+    sum["wall_s"] = t0.elapsed().as_secs_f64().into();
+    outd.write("summary.json", serde_json::to_string_pretty(&sum)?.as_bytes())?;
+    let dir = outd.dir().to_path_buf();
+    outd.commit()?;
+    println!("results in {}", dir.display());
+    Ok(())
+}
+
+fn check(c: &Common) -> Result<()> {
+    let (ls, model) = load(c)?;
+    let s = &ls.scene;
+    println!("scene: {}", c.scene.display());
+    if !s.title.is_empty() {
+        println!("title: {}", s.title);
+    }
+    for o in &ls.overrides {
+        println!("override: {o}");
+    }
+    println!("rotor: {}", model.rotor.describe());
+    let case = model.case(
+        single_speed(&ls, &model)
+            .or_else(|| s.run.sweep.as_ref().map(|w| w.from))
+            .unwrap_or(1.0)
+            * model.rotor.natural_frequency(),
+    )?;
+    for u in &case.rotor.unbalance {
+        println!(
+            "  unbalance m_u·e = {:.4e} kg·m at {:.1}° on DOFs {:?}",
+            u.me,
+            u.phase.to_degrees(),
+            u.dofs
+        );
+    }
+    for st in &model.stations {
+        println!(
+            "station `{}`: rotor node {}, radius {} m, friction μ = {}",
+            st.name, st.node, st.radius, st.friction
+        );
+    }
+    for (spec, m) in s.stators.iter().zip(&case.stators) {
+        let kind = match spec {
+            scene::StatorSpec::Rod(_) => "rod (2-D bar elements, lateral DOFs guided)",
+            scene::StatorSpec::Ring(_) => "rigid ring on isotropic springs (circle-in-circle contact)",
+            scene::StatorSpec::Fe(_) => "general 2-D FE stator",
+        };
+        let ks = m.contact_stiffness_bound();
+        println!(
+            "stator `{}` facing `{}`: {kind}; {} nodes, {} free DOFs, {} contact targets; contact stiffness ≤ {:.4e} N/m (ε ≤ {:.3})",
+            m.name,
+            spec.station(),
+            m.nodes.len(),
+            m.ndof,
+            m.targets.len(),
+            ks,
+            ks / case.rotor_stiffness
+        );
+        if m.massless() {
+            println!(
+                "  massless: enters the time loop as the {}×{} compliance of its contact DOFs (one sparse Cholesky per run), not as a mesh",
+                m.contact_dofs().len(),
+                m.contact_dofs().len()
+            );
+        } else {
+            println!(
+                "  with mass: lumped, integrated explicitly; ω_max ≤ {:.4e} rad/s",
+                m.omega_max_sq_bound().sqrt()
+            );
+        }
+        let nd = match spec {
+            scene::StatorSpec::Rod(r) => r.clearance_nd,
+            scene::StatorSpec::Ring(r) => r.clearance_nd,
+            scene::StatorSpec::Fe(_) => None,
+        };
+        match nd {
+            Some(nd) => println!(
+                "  clearance δ = {nd} |Z0(ω)| (= {:.4e} m at ω/ωn = {:.2}; changes with speed)",
+                m.clearance, case.speed_ratio
+            ),
+            None => println!("  clearance δ = {:.4e} m", m.clearance),
+        }
+    }
+    let st = settings(&ls);
+    let plan = rubsim::time::plan_steps(&case, &st.step)?;
+    let speeds = match &s.run.sweep {
+        Some(w) => {
+            let v = analysis::sweep_speeds(w.from, w.to, w.step);
+            format!(
+                "sweep ω/ωn {} … {} step {} ({} speeds{})",
+                w.from,
+                w.to,
+                w.step,
+                v.len(),
+                w.vary
+                    .as_ref()
+                    .map(|x| format!(", repeated for {} = {:?}", x.key, x.values))
+                    .unwrap_or_default()
+            )
+        }
+        None => format!("single speed ω/ωn = {:.4}", case.speed_ratio),
+    };
+    println!("run: {speeds}");
+    println!(
+        "  integrator {}; {} revolutions, first {} cut as transient; {} samples/rev recorded; error estimate {}",
+        s.run.integrator.name(),
+        s.run.revolutions,
+        s.run.transient_revolutions,
+        s.run.samples_per_rev,
+        if s.run.error_estimate { "by a companion run at 2Δt" } else { "off" }
+    );
+    println!(
+        "  Δt at ω/ωn = {:.2}: {:.4e} s ({} steps/rev); paper rule (n = {}) {:.4e} s; stability limit {:.4e} s; ω_max {:.4e} rad/s",
+        case.speed_ratio, plan.dt, plan.steps_per_rev, s.run.harmonics, plan.rule_dt, plan.limit, plan.omega_max
+    );
+    println!("built: {} rotor body with {} DOF, {} stator(s), {} contact candidate pair(s)",
+        match model.rotor { rubsim::model::Rotor::Jeffcott(_) => "Jeffcott", },
+        case.rotor.ndof,
+        case.stators.len(),
+        case.stators.iter().map(|m| m.targets.len()).sum::<usize>());
+    let mut left = vec!["FE rotor assembly and sparse LU of M̃ (Jeffcott M̃ is diagonal)"];
+    if case.stators.iter().all(|m| m.massless()) {
+        left.push("stator mass matrices and stator time stepping (all stators massless)");
+    }
+    left.push("mesher (no meshed stator)");
+    if !s.output.png {
+        left.push("PNG pictures");
+    }
+    println!("left out: {}", left.join("; "));
+    println!(
+        "outputs: summary.json{}{}",
+        if s.run.sweep.is_some() { ", sweep.csv" } else { "" },
+        if s.output.png {
+            if s.run.sweep.is_some() {
+                ", cascade.png, bifurcation.png, regime_map.png, orbits_N.png, contact_force.png"
+            } else {
+                ", orbit.png, spectrum.png, contact_force.png"
+            }
+        } else {
+            ""
+        }
+    );
+    Ok(())
+}
+
+fn convergence(c: &Common, speeds: &[f64], levels: u32, reference: u32, out: Option<PathBuf>) -> Result<()> {
+    let (ls, model) = load(c)?;
+    let speeds: Vec<f64> = if speeds.is_empty() {
+        match single_speed(&ls, &model) {
+            Some(v) => vec![v],
+            None => vec![1.7, 3.1, 4.9],
+        }
+    } else {
+        speeds.to_vec()
+    };
+    let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene).join("convergence")))?;
+    let mut s = settings(&ls);
+    s.error_estimate = false;
+    let lv: Vec<u32> = (0..=levels).collect();
+    let mut all = Vec::new();
+    for v in &speeds {
+        let res = analysis::convergence(&model, &s, *v, &lv, reference, 12)?;
+        println!("ω/ωn = {v}: reference collocated Δt = {:.3e} s, period {}", res.reference_dt, res.reference_period);
+        println!("  {:>18} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>6} {:>9}", "integrator", "Δt·ωn", "steps/rev", "orbit err", "ext err", "1× err", "sub err", "period", "wall s");
+        for p in &res.points {
+            println!(
+                "  {:>18} {:>10.3e} {:>8} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e} {:>6} {:>9.4}",
+                p.integrator, p.dt_wn, p.steps_per_rev, p.orbit_err, p.extents_err, p.lines_err[0],
+                p.lines_err[1].max(p.lines_err[2]), p.period, p.wall_s
+            );
+        }
+        for (n, o) in &res.orders {
+            println!("  observed order {n}: {o:.2}");
+        }
+        output::write_convergence(&mut outd, &format!("speed_{v}/"), &ls.scene.title, &res, ls.scene.output.png)?;
+        all.push(res);
+    }
+    let mut sum = summary_base(&ls, &model, "convergence");
+    sum["studies"] = serde_json::to_value(&all)?;
+    outd.write("summary.json", serde_json::to_string_pretty(&sum)?.as_bytes())?;
+    let dir = outd.dir().to_path_buf();
+    outd.commit()?;
+    println!("results in {}", dir.display());
+    Ok(())
+}
+
+fn bench(c: &Common, repeat: usize) -> Result<()> {
+    let (ls, model) = load(c)?;
+    let s = settings(&ls);
+    let speeds = match &ls.scene.run.sweep {
+        Some(w) => analysis::sweep_speeds(w.from, w.to, w.step),
+        None => vec![single_speed(&ls, &model).unwrap_or(1.0)],
+    };
+    let mut best: Option<analysis::SweepResults> = None;
+    for _ in 0..repeat.max(1) {
+        let r = analysis::sweep(&model, &s, &speeds, &|_| Keep::default(), &|| {})?;
+        if best.as_ref().is_none_or(|b| r.wall_s < b.wall_s) {
+            best = Some(r);
+        }
+    }
+    let r = best.expect("at least one repetition");
+    let steps: usize = r.speeds.iter().map(|x| x.stats.steps).sum();
+    let loop_s: f64 = r.speeds.iter().map(|x| x.stats.wall_s).sum();
+    let err = r.speeds.iter().filter_map(|x| x.error.map(|e| e.extents_rel)).fold(0.0, f64::max);
+    println!(
+        "bench {}: {} speeds, threads {}, best of {}: wall {:.3} s, {} steps (main runs), {:.1} ns/step (loop time per step, main runs), largest estimated extents error {:.2e}{}",
+        c.scene.display(),
+        speeds.len(),
+        rayon::current_num_threads(),
+        repeat.max(1),
+        r.wall_s,
+        steps,
+        loop_s / steps as f64 * 1e9,
+        err,
+        if s.error_estimate { " (wall includes the 2Δt companion runs)" } else { "" }
+    );
+    Ok(())
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let jobs = match &cli.cmd {
+        Cmd::Sweep { jobs, .. } | Cmd::Bench { jobs, .. } => *jobs,
+        _ => None,
+    };
+    if let Some(j) = jobs {
+        let _ = rayon::ThreadPoolBuilder::new().num_threads(j.max(1)).build_global();
+    }
+    let r = match &cli.cmd {
+        Cmd::Run { c, out } => run(c, out.clone()),
+        Cmd::Sweep { c, out, .. } => sweep(c, out.clone()),
+        Cmd::Check { c } => check(c),
+        Cmd::Convergence { c, speeds, levels, reference, out } => convergence(c, speeds, *levels, *reference, out.clone()),
+        Cmd::Bench { c, repeat, .. } => bench(c, *repeat),
+    };
+    if let Err(e) = r {
+        eprintln!("error: {e:#}");
+        std::process::exit(2);
+    }
+}

@@ -1,0 +1,477 @@
+//! Writing results: `summary.json`, `sweep.csv`, `convergence.csv` and PNG pictures.
+//!
+//! Every file is first written into a staging folder inside the output directory and moved
+//! into place only when the whole command has succeeded, `summary.json` last; a failed or
+//! killed run leaves no file that looks complete. The directory is checked for writability
+//! before any computation starts ([`OutDir::prepare`]).
+
+use crate::analysis::{ConvergenceResults, SpeedResults, SweepResults};
+use crate::error::{Error, Result};
+use crate::model::Case;
+use crate::plot::{self, Boundary, CascadeLine, Curve, OrbitPanel, Series};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// An output directory with a staging area.
+#[derive(Debug)]
+pub struct OutDir {
+    dir: PathBuf,
+    staging: PathBuf,
+    files: Vec<String>,
+    committed: bool,
+}
+
+impl OutDir {
+    /// Creates `dir` if needed and checks that files can be written there.
+    pub fn prepare(dir: &Path) -> Result<Self> {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Error::output(dir, format!("cannot create output directory: {e}")))?;
+        if !dir.is_dir() {
+            return Err(Error::output(dir, "output path exists and is not a directory"));
+        }
+        let staging = dir.join(format!(".rubsim-partial-{}", std::process::id()));
+        std::fs::create_dir_all(&staging)
+            .map_err(|e| Error::output(dir, format!("output directory is not writable: {e}")))?;
+        let probe = staging.join(".probe");
+        std::fs::File::create(&probe)
+            .and_then(|mut f| f.write_all(b"probe"))
+            .map_err(|e| Error::output(dir, format!("output directory is not writable: {e}")))?;
+        let _ = std::fs::remove_file(&probe);
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            staging,
+            files: Vec::new(),
+            committed: false,
+        })
+    }
+
+    /// The final directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Staging path of a file to be produced as `name` (relative, may contain `/`).
+    pub fn stage(&mut self, name: &str) -> Result<PathBuf> {
+        let p = self.staging.join(name);
+        if let Some(parent) = p.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| Error::output(parent, e))?;
+        }
+        if !self.files.iter().any(|f| f == name) {
+            self.files.push(name.to_string());
+        }
+        Ok(p)
+    }
+
+    /// Writes bytes to `name` in the staging area.
+    pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<()> {
+        let p = self.stage(name)?;
+        std::fs::write(&p, bytes).map_err(|e| Error::output(self.dir.join(name), e))
+    }
+
+    /// Moves every staged file into place (`summary.json` files last) and removes the staging
+    /// folder. Returns the final paths.
+    pub fn commit(mut self) -> Result<Vec<PathBuf>> {
+        let mut names = self.files.clone();
+        names.sort_by_key(|n| n.ends_with("summary.json"));
+        let mut out = Vec::new();
+        for n in &names {
+            let from = self.staging.join(n);
+            let to = self.dir.join(n);
+            if let Some(parent) = to.parent() {
+                std::fs::create_dir_all(parent).map_err(|e| Error::output(parent, e))?;
+            }
+            std::fs::rename(&from, &to).map_err(|e| Error::output(&to, e))?;
+            out.push(to);
+        }
+        let _ = std::fs::remove_dir_all(&self.staging);
+        self.committed = true;
+        Ok(out)
+    }
+}
+
+impl Drop for OutDir {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_dir_all(&self.staging);
+        }
+    }
+}
+
+/// Stator boundary drawn in orbit plots, in units of |Z0|.
+pub fn boundary(case: &Case) -> Boundary {
+    let z0 = if case.z0 > 0.0 { case.z0 } else { 1.0 };
+    match case.stators.first() {
+        Some(s) if s.is_ring => Boundary::Circle {
+            radius: s.clearance / z0,
+        },
+        Some(s) => match s.angle_deg {
+            Some(a) => Boundary::Line {
+                angle_deg: a,
+                distance: s.clearance / z0,
+            },
+            None => Boundary::None,
+        },
+        None => Boundary::None,
+    }
+}
+
+/// The `sweep.csv` header.
+pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel";
+
+/// One `sweep.csv` row.
+pub fn sweep_row(r: &SpeedResults) -> String {
+    format!(
+        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{}",
+        r.speed_ratio,
+        r.period,
+        r.extents_nd[0],
+        r.extents_nd[1],
+        r.extents_nd[2],
+        r.extents_nd[3],
+        r.amp_1x_nd,
+        r.amp_half_nd,
+        r.amp_third_nd,
+        r.contact_force_max_nd,
+        r.stats.steps,
+        r.stats.wall_s,
+        r.plan.dt,
+        r.plan.steps_per_rev,
+        r.z0,
+        r.clearances.first().copied().unwrap_or(f64::NAN),
+        r.contact_fraction,
+        r.stats.min_gap,
+        r.error
+            .map(|e| format!("{:.3e}", e.extents_rel))
+            .unwrap_or_default()
+    )
+}
+
+/// A contiguous speed range with one Poincaré period.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct RegimeRange {
+    /// Period (0 = not periodic).
+    pub period: usize,
+    /// First speed ω/ω_n.
+    pub from: f64,
+    /// Last speed ω/ω_n.
+    pub to: f64,
+}
+
+/// Groups consecutive speeds with the same period.
+pub fn regime_ranges(speeds: &[SpeedResults]) -> Vec<RegimeRange> {
+    let mut out: Vec<RegimeRange> = Vec::new();
+    for r in speeds {
+        match out.last_mut() {
+            Some(last) if last.period == r.period => last.to = r.speed_ratio,
+            _ => out.push(RegimeRange {
+                period: r.period,
+                from: r.speed_ratio,
+                to: r.speed_ratio,
+            }),
+        }
+    }
+    out
+}
+
+/// Speeds where the vertical orbit extent has a local maximum within a run of one period
+/// (the paper's "quasi-resonance" peaks).
+pub fn quasi_resonances(speeds: &[SpeedResults]) -> Vec<(usize, f64)> {
+    let size = |r: &SpeedResults| r.extents_nd[3] - r.extents_nd[2];
+    let mut out = Vec::new();
+    for rr in regime_ranges(speeds) {
+        if rr.period == 0 {
+            continue;
+        }
+        let group: Vec<&SpeedResults> = speeds
+            .iter()
+            .filter(|r| r.speed_ratio >= rr.from && r.speed_ratio <= rr.to)
+            .collect();
+        if group.len() < 3 {
+            continue;
+        }
+        let (i, _) = group
+            .iter()
+            .enumerate()
+            .fold((0, f64::NEG_INFINITY), |b, (i, r)| {
+                if size(r) > b.1 {
+                    (i, size(r))
+                } else {
+                    b
+                }
+            });
+        if i > 0 && i + 1 < group.len() {
+            out.push((rr.period, group[i].speed_ratio));
+        }
+    }
+    out
+}
+
+/// Writes the sweep's table and pictures into `out` under `prefix` (e.g. `""` or `"eps_5/"`).
+pub fn write_sweep(
+    out: &mut OutDir,
+    prefix: &str,
+    title: &str,
+    res: &SweepResults,
+    bounds: &[Boundary],
+    orbit_grids: &[Vec<f64>],
+    force_histories: &[f64],
+    cascade_max: f64,
+    png: bool,
+    component: &str,
+) -> Result<()> {
+    let mut csv = String::from(SWEEP_HEADER);
+    csv.push('\n');
+    for r in &res.speeds {
+        csv.push_str(&sweep_row(r));
+        csv.push('\n');
+    }
+    out.write(&format!("{prefix}sweep.csv"), csv.as_bytes())?;
+    if !png {
+        return Ok(());
+    }
+    let find = |v: f64| {
+        res.speeds
+            .iter()
+            .enumerate()
+            .min_by(|a, b| {
+                (a.1.speed_ratio - v)
+                    .abs()
+                    .total_cmp(&(b.1.speed_ratio - v).abs())
+            })
+            .map(|(i, _)| i)
+    };
+    let lines: Vec<CascadeLine> = res
+        .speeds
+        .iter()
+        .map(|r| CascadeLine {
+            speed: r.speed_ratio,
+            freq: r.spectrum.iter().map(|p| p.0).collect(),
+            amp: r.spectrum.iter().map(|p| p.1).collect(),
+        })
+        .collect();
+    let p = out.stage(&format!("{prefix}cascade.png"))?;
+    plot::cascade(
+        &p,
+        &format!("{title} — spectrum cascade of {component}/|Z0|"),
+        &lines,
+        cascade_max,
+        0.8 * res.speeds.first().map_or(0.1, |_| step_of(&res.speeds)) * 10.0,
+    )?;
+    let pts: Vec<(f64, f64)> = res
+        .speeds
+        .iter()
+        .flat_map(|r| {
+            let c = if component == "x" { 0 } else { 1 };
+            r.poincare_nd.iter().map(move |p| (r.speed_ratio, p[c]))
+        })
+        .collect();
+    let p = out.stage(&format!("{prefix}bifurcation.png"))?;
+    plot::bifurcation(
+        &p,
+        &format!("{title} — Poincaré section once per revolution"),
+        &pts,
+        &format!("{component}/|Z0| at ωt = 2πk"),
+    )?;
+    for (g, speeds) in orbit_grids.iter().enumerate() {
+        let panels: Vec<OrbitPanel> = speeds
+            .iter()
+            .filter_map(|v| find(*v))
+            .map(|i| {
+                let r = &res.speeds[i];
+                OrbitPanel {
+                    title: format!(
+                        "ω/ωn = {:.1}  ({})",
+                        r.speed_ratio,
+                        regime_name(r.period)
+                    ),
+                    x: r.orbit_nd.iter().map(|p| p[0]).collect(),
+                    y: r.orbit_nd.iter().map(|p| p[1]).collect(),
+                    boundary: bounds.get(i).cloned().unwrap_or(Boundary::None),
+                    poincare: r.poincare_nd.iter().map(|p| (p[0], p[1])).collect(),
+                }
+            })
+            .collect();
+        let p = out.stage(&format!("{prefix}orbits_{}.png", g + 1))?;
+        plot::orbit_grid(&p, &format!("{title} — orbits of the rotor centre"), &panels, 3)?;
+    }
+    if !force_histories.is_empty() {
+        let series: Vec<Series> = force_histories
+            .iter()
+            .filter_map(|v| find(*v))
+            .map(|i| {
+                let r = &res.speeds[i];
+                Series {
+                    label: format!("ω/ωn = {:.1}", r.speed_ratio),
+                    t: r.force_history.iter().map(|p| p.0).collect(),
+                    y: r.force_history.iter().map(|p| p.1).collect(),
+                }
+            })
+            .collect();
+        let p = out.stage(&format!("{prefix}contact_force.png"))?;
+        plot::stacked_series(
+            &p,
+            &format!("{title} — vertical contact force on the stator"),
+            &series,
+            "revolutions",
+            "F_y / (m_u e ω²)",
+        )?;
+    }
+    let size: Vec<(f64, f64)> = res
+        .speeds
+        .iter()
+        .map(|r| (r.speed_ratio, r.extents_nd[3] - r.extents_nd[2]))
+        .collect();
+    let per: Vec<(f64, f64)> = res
+        .speeds
+        .iter()
+        .map(|r| (r.speed_ratio, r.period as f64))
+        .collect();
+    let p = out.stage(&format!("{prefix}regime_map.png"))?;
+    plot::lines(
+        &p,
+        &format!("{title} — regime map"),
+        &[
+            Curve {
+                label: "vertical orbit size / |Z0|".into(),
+                points: size,
+            },
+            Curve {
+                label: "Poincaré period (0 = not periodic)".into(),
+                points: per,
+            },
+        ],
+        "ω/ωn",
+        "",
+    )?;
+    Ok(())
+}
+
+fn step_of(s: &[SpeedResults]) -> f64 {
+    if s.len() > 1 {
+        (s[s.len() - 1].speed_ratio - s[0].speed_ratio) / (s.len() - 1) as f64
+    } else {
+        0.1
+    }
+}
+
+/// "1×", "1/2×", … or "not periodic".
+pub fn regime_name(period: usize) -> String {
+    match period {
+        0 => "not periodic".into(),
+        1 => "1×".into(),
+        p => format!("1/{p}×"),
+    }
+}
+
+/// Writes the pictures of a single run.
+pub fn write_run_pngs(
+    out: &mut OutDir,
+    title: &str,
+    r: &SpeedResults,
+    bound: Boundary,
+    component: &str,
+) -> Result<()> {
+    let p = out.stage("orbit.png")?;
+    plot::orbit_grid(
+        &p,
+        title,
+        &[OrbitPanel {
+            title: format!("ω/ωn = {:.3}  ({})", r.speed_ratio, regime_name(r.period)),
+            x: r.orbit_nd.iter().map(|p| p[0]).collect(),
+            y: r.orbit_nd.iter().map(|p| p[1]).collect(),
+            boundary: bound,
+            poincare: r.poincare_nd.iter().map(|p| (p[0], p[1])).collect(),
+        }],
+        1,
+    )?;
+    let p = out.stage("spectrum.png")?;
+    plot::lines(
+        &p,
+        &format!("{title} — Hann-windowed spectrum of {component}/|Z0|"),
+        &[Curve {
+            label: format!("{component}/|Z0|"),
+            points: r.spectrum.clone(),
+        }],
+        "f / ωn",
+        "amplitude / |Z0|",
+    )?;
+    let p = out.stage("contact_force.png")?;
+    plot::stacked_series(
+        &p,
+        &format!("{title} — vertical contact force on the stator"),
+        &[Series {
+            label: format!("ω/ωn = {:.3}", r.speed_ratio),
+            t: r.force_history.iter().map(|p| p.0).collect(),
+            y: r.force_history.iter().map(|p| p.1).collect(),
+        }],
+        "revolutions",
+        "F_y / (m_u e ω²)",
+    )?;
+    Ok(())
+}
+
+/// Writes a convergence study: `convergence.csv` and the work-precision / error-vs-Δt plots.
+pub fn write_convergence(
+    out: &mut OutDir,
+    prefix: &str,
+    title: &str,
+    c: &ConvergenceResults,
+    png: bool,
+) -> Result<()> {
+    let mut csv = String::from(
+        "speed_ratio,integrator,dt_s,dt_wn,steps_per_rev,orbit_err,extents_err,err_1x,err_half,err_third,period,wall_s,steps\n",
+    );
+    for p in &c.points {
+        csv.push_str(&format!(
+            "{},{},{:.6e},{:.6e},{},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{},{:.6},{}\n",
+            c.speed_ratio,
+            p.integrator,
+            p.dt,
+            p.dt_wn,
+            p.steps_per_rev,
+            p.orbit_err,
+            p.extents_err,
+            p.lines_err[0],
+            p.lines_err[1],
+            p.lines_err[2],
+            p.period,
+            p.wall_s,
+            p.steps
+        ));
+    }
+    out.write(&format!("{prefix}convergence.csv"), csv.as_bytes())?;
+    if !png {
+        return Ok(());
+    }
+    let curves = |f: &dyn Fn(&crate::analysis::ConvergencePoint) -> (f64, f64)| -> Vec<Curve> {
+        c.orders
+            .iter()
+            .map(|(name, order)| Curve {
+                label: format!("{name} (observed order {order:.2})"),
+                points: c
+                    .points
+                    .iter()
+                    .filter(|p| p.integrator == *name)
+                    .map(f)
+                    .collect(),
+            })
+            .collect()
+    };
+    let p = out.stage(&format!("{prefix}work_precision.png"))?;
+    plot::loglog(
+        &p,
+        &format!("{title} — work-precision at ω/ωn = {}", c.speed_ratio),
+        &curves(&|p| (p.wall_s, p.orbit_err)),
+        "wall time of the run (s)",
+        "relative orbit error",
+    )?;
+    let p = out.stage(&format!("{prefix}error_vs_dt.png"))?;
+    plot::loglog(
+        &p,
+        &format!("{title} — orbit error against time step at ω/ωn = {}", c.speed_ratio),
+        &curves(&|p| (p.dt_wn, p.orbit_err)),
+        "Δt·ωn",
+        "relative orbit error",
+    )?;
+    Ok(())
+}

@@ -1,0 +1,992 @@
+//! Scene files: what the user asks for, as plain validated data.
+//!
+//! A scene is a TOML file read with serde; unknown keys are rejected. All physical values are SI
+//! (kg, m, s, N, Pa, rad/s); angles are given in degrees where the key says `_deg`. The paper's
+//! non-dimensional inputs (Table 2) are accepted beside the SI ones:
+//!
+//! * `clearance_nd` = δ/|Z0(ω)|, with |Z0| the steady unbalance response without stator at the
+//!   speed being run, so the clearance changes along a sweep;
+//! * `speed_ratio` = ω/ω_n;
+//! * `damping_ratio` ξ, with c = 2ξ√(m k);
+//! * `stiffness_ratio` ε = k_s/k_r.
+//!
+//! [`load`] reads a file, applies `--set key=value` overrides, deserialises and validates. Errors
+//! name the file, the dotted key and the line ([`crate::error::SceneError`]).
+
+use crate::error::SceneError;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// A whole scene.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Free text shown in reports.
+    #[serde(default)]
+    pub title: String,
+    /// The rotor model.
+    pub rotor: RotorSpec,
+    /// Contact stations: rotor sections that can rub (`[[station]]`).
+    #[serde(default, rename = "station")]
+    pub stations: Vec<StationSpec>,
+    /// Stators, each facing one station (`[[stator]]`).
+    #[serde(default, rename = "stator")]
+    pub stators: Vec<StatorSpec>,
+    /// What to run.
+    pub run: RunSpec,
+    /// What to write.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+/// Rotor models.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum RotorSpec {
+    /// Jeffcott rotor: one lateral mode, 2 DOF (x, y) at the disk (paper Eq. 50).
+    Jeffcott(JeffcottSpec),
+}
+
+/// Jeffcott rotor data. Give `mass` or `disk`; `stiffness` or `shaft`; `damping` or
+/// `damping_ratio`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JeffcottSpec {
+    /// Modal mass m_r (kg).
+    pub mass: Option<f64>,
+    /// Modal stiffness k_r (N/m).
+    pub stiffness: Option<f64>,
+    /// Viscous damping c_r (N·s/m).
+    pub damping: Option<f64>,
+    /// Damping ratio ξ (c = 2ξ√(m k)).
+    pub damping_ratio: Option<f64>,
+    /// Mass from a disk: m = ρ π D²/4 · t.
+    pub disk: Option<DiskSpec>,
+    /// Stiffness from a simply supported shaft with the disk at mid-span: k = 48 E I / L³.
+    pub shaft: Option<ShaftSpec>,
+    /// Unbalances (`[[rotor.unbalance]]`).
+    #[serde(default)]
+    pub unbalance: Vec<UnbalanceSpec>,
+}
+
+/// A solid disk.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiskSpec {
+    /// Outer diameter (m).
+    pub diameter: f64,
+    /// Axial thickness (m).
+    pub thickness: f64,
+    /// Density (kg/m³).
+    pub density: f64,
+}
+
+/// A uniform solid shaft, simply supported at both ends.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShaftSpec {
+    /// Young's modulus (Pa).
+    pub youngs_modulus: f64,
+    /// Diameter (m).
+    pub diameter: f64,
+    /// Length between supports (m).
+    pub length: f64,
+}
+
+/// An unbalance: force m_u e ω² (cos(ωt+φ), sin(ωt+φ)).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnbalanceSpec {
+    /// Unbalance mass m_u (kg).
+    pub mass: f64,
+    /// Its radius e (m).
+    pub radius: f64,
+    /// Phase φ (degrees).
+    #[serde(default)]
+    pub phase_deg: f64,
+    /// Rotor node (Jeffcott: 0).
+    #[serde(default)]
+    pub node: usize,
+}
+
+/// A contact station: a radially rigid circular rotor section.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StationSpec {
+    /// Name the stators refer to.
+    pub name: String,
+    /// Rotor node of the section centre (Jeffcott: 0).
+    #[serde(default)]
+    pub node: usize,
+    /// Section radius r (m).
+    pub radius: f64,
+    /// Coulomb friction coefficient μ (permanent slip, Eq. 19).
+    #[serde(default)]
+    pub friction: f64,
+}
+
+/// Stator models.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum StatorSpec {
+    /// The paper's elastic rod, meshed with 2-D bar elements, its axis radial.
+    Rod(RodSpec),
+    /// Rigid ring on isotropic radial springs around the station (classic rub model).
+    Ring(RingSpec),
+    /// General 2-D finite-element stator given as nodes, elements and fixed DOFs.
+    Fe(FeStatorSpec),
+}
+
+impl StatorSpec {
+    /// The stator's name.
+    pub fn name(&self) -> &str {
+        match self {
+            StatorSpec::Rod(s) => &s.name,
+            StatorSpec::Ring(s) => &s.name,
+            StatorSpec::Fe(s) => &s.name,
+        }
+    }
+    /// The station it faces.
+    pub fn station(&self) -> &str {
+        match self {
+            StatorSpec::Rod(s) => &s.station,
+            StatorSpec::Ring(s) => &s.station,
+            StatorSpec::Fe(s) => &s.station,
+        }
+    }
+}
+
+/// Elastic rod stator (paper Fig. 4). The tip faces the station at clearance δ along
+/// `angle_deg` (90° = +y, above the rotor); the far end is fixed; lateral DOFs are guided so the
+/// bar model is not singular. Stiffness k_s = E A / L, or ε k_r when `stiffness_ratio` is given.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RodSpec {
+    /// Stator name.
+    pub name: String,
+    /// Station it faces.
+    pub station: String,
+    /// Clearance δ between rotor surface and rod tip (m).
+    pub clearance: Option<f64>,
+    /// Clearance as δ/|Z0(ω)| (paper's δ_nd).
+    pub clearance_nd: Option<f64>,
+    /// Rod length L (m).
+    pub length: f64,
+    /// Cross-section area A (m²).
+    pub area: f64,
+    /// Young's modulus E (Pa); ignored for stiffness when `stiffness_ratio` is given.
+    pub youngs_modulus: Option<f64>,
+    /// ε = k_s/k_r; overrides E so that E A / L = ε k_r.
+    pub stiffness_ratio: Option<f64>,
+    /// Density ρ (kg/m³); 0 (default) makes the rod massless.
+    #[serde(default)]
+    pub density: f64,
+    /// Number of bar elements along the rod.
+    #[serde(default = "one")]
+    pub elements: usize,
+    /// Direction from the station centre to the tip (degrees from +x, counter-clockwise).
+    #[serde(default = "ninety")]
+    pub angle_deg: f64,
+    /// Rayleigh damping `[α, β]`, C = α M + β K (only with mass).
+    #[serde(default)]
+    pub rayleigh: [f64; 2],
+}
+
+/// Rigid ring on isotropic springs: radial force k_s (R − δ) when the rotor displacement R
+/// relative to the ring exceeds δ.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RingSpec {
+    /// Stator name.
+    pub name: String,
+    /// Station it faces.
+    pub station: String,
+    /// Radial clearance δ (m).
+    pub clearance: Option<f64>,
+    /// Clearance as δ/|Z0(ω)|.
+    pub clearance_nd: Option<f64>,
+    /// Support stiffness k_s (N/m).
+    pub stiffness: Option<f64>,
+    /// ε = k_s/k_r.
+    pub stiffness_ratio: Option<f64>,
+    /// Ring mass (kg); 0 (default) makes it massless.
+    #[serde(default)]
+    pub mass: f64,
+    /// Support damping (N·s/m), only with mass.
+    #[serde(default)]
+    pub damping: f64,
+}
+
+/// General 2-D FE stator in the station plane, coordinates relative to the undeformed station
+/// centre. Node DOFs are `[u_x, u_y]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeStatorSpec {
+    /// Stator name.
+    pub name: String,
+    /// Station it faces.
+    pub station: String,
+    /// Node coordinates `[x, y]` (m).
+    pub nodes: Vec<[f64; 2]>,
+    /// Elements.
+    pub elements: Vec<FeElementSpec>,
+    /// Fixed DOFs as `[node, component]` with component 0 = x, 1 = y.
+    pub fixed: Vec<[usize; 2]>,
+    /// Nodes that can touch the rotor (the contact boundary).
+    pub contact_nodes: Vec<usize>,
+    /// Rayleigh damping `[α, β]`, C = α M + β K (only with mass).
+    #[serde(default)]
+    pub rayleigh: [f64; 2],
+    /// Lumped point masses `[node, kg]` added to element masses.
+    #[serde(default)]
+    pub point_masses: Vec<(usize, f64)>,
+}
+
+/// Elements of the general FE stator.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum FeElementSpec {
+    /// 2-node bar (truss) element: axial stiffness E A / L, lumped mass ρ A L / 2 per node.
+    Bar {
+        /// The two node indices.
+        nodes: [usize; 2],
+        /// Young's modulus (Pa).
+        youngs_modulus: f64,
+        /// Area (m²).
+        area: f64,
+        /// Density (kg/m³); 0 for massless.
+        #[serde(default)]
+        density: f64,
+    },
+    /// Grounded spring on one node along a direction (N/m).
+    Spring {
+        /// Node index.
+        node: usize,
+        /// Stiffness (N/m).
+        stiffness: f64,
+        /// Direction (degrees from +x).
+        angle_deg: f64,
+    },
+}
+
+/// Time integrators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorKind {
+    /// The paper's scheme: explicit central differences with forward-increment Lagrange
+    /// multipliers (Eqs. 34–47), massless stators by Eq. 49. First order in Δt with a massless
+    /// stator; unconditionally stable with respect to the stator stiffness.
+    ForwardIncrement,
+    /// Central differences with the massless stator's contact force solved at tₙ from the rotor
+    /// position at tₙ (stator force collocated with the displacement). Second order; its stable
+    /// step shrinks as the stator stiffens (Δt < 2/√((k_r + k_s)/m)). Stators with mass are
+    /// coupled by forward increment as in the paper.
+    Collocated,
+}
+
+impl IntegratorKind {
+    /// Name as written in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::ForwardIncrement => "forward_increment",
+            IntegratorKind::Collocated => "collocated",
+        }
+    }
+    /// Nominal order in Δt with a massless stator (used by the error estimate).
+    pub fn nominal_order(self) -> f64 {
+        match self {
+            IntegratorKind::ForwardIncrement => 1.0,
+            IntegratorKind::Collocated => 2.0,
+        }
+    }
+}
+
+/// What to run.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    /// Speed as ω/ω_n (single run).
+    pub speed_ratio: Option<f64>,
+    /// Speed ω (rad/s) (single run).
+    pub speed: Option<f64>,
+    /// Speed sweep over ω/ω_n.
+    pub sweep: Option<SweepSpec>,
+    /// Total simulated revolutions.
+    #[serde(default = "default_revs")]
+    pub revolutions: usize,
+    /// Revolutions cut as transient before analysis.
+    #[serde(default = "default_transient")]
+    pub transient_revolutions: usize,
+    /// Integrator; default `collocated` (see docs/VALIDATION.md for why).
+    #[serde(default = "default_integrator")]
+    pub integrator: IntegratorKind,
+    /// Time step override (s). Rounded down so a revolution holds a whole number of steps.
+    pub dt: Option<f64>,
+    /// The paper's rule Δt ≤ min(T_min/(32 n), 2π/(32 n ω)) with n = `harmonics`.
+    #[serde(default = "default_harmonics")]
+    pub harmonics: f64,
+    /// Recorded samples per revolution (a power of two is best for the FFT).
+    #[serde(default = "default_spr")]
+    pub samples_per_rev: usize,
+    /// Estimate the discretisation error by a companion run at 2Δt.
+    #[serde(default = "yes")]
+    pub error_estimate: bool,
+    /// Initial rotor station displacement `[x, y]` (m) at node 0.
+    #[serde(default)]
+    pub initial_displacement: [f64; 2],
+    /// Initial rotor station velocity `[vx, vy]` (m/s) at node 0.
+    #[serde(default)]
+    pub initial_velocity: [f64; 2],
+}
+
+/// Speed sweep over ω/ω_n, inclusive of both ends.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSpec {
+    /// First ω/ω_n.
+    pub from: f64,
+    /// Last ω/ω_n.
+    pub to: f64,
+    /// Increment.
+    pub step: f64,
+    /// Optional parameter study: one sweep per value of a scene key (Sec. 4.2 sensitivity).
+    pub vary: Option<VarySpec>,
+}
+
+/// A sensitivity study: the sweep is repeated for each value of one scene key.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VarySpec {
+    /// Dotted key, as for `--set` (e.g. `stator.0.clearance_nd`).
+    pub key: String,
+    /// Values to set.
+    pub values: Vec<f64>,
+}
+
+/// What to write.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Write PNG pictures.
+    #[serde(default = "yes")]
+    pub png: bool,
+    /// Orbit grids: each a list of ω/ω_n values (a 3×3 grid like Figs. 5–7).
+    #[serde(default)]
+    pub orbit_grids: Vec<Vec<f64>>,
+    /// Speeds whose contact-force histories are plotted (Fig. 9).
+    #[serde(default)]
+    pub force_histories: Vec<f64>,
+    /// Response component analysed in spectra and cascades: `"y"` (vertical, default) or `"x"`.
+    #[serde(default = "default_component")]
+    pub component: String,
+    /// Upper frequency of cascades, in units of ω_n (default: the top speed).
+    pub cascade_max_freq: Option<f64>,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        Self {
+            png: true,
+            orbit_grids: Vec::new(),
+            force_histories: Vec::new(),
+            component: default_component(),
+            cascade_max_freq: None,
+        }
+    }
+}
+
+fn one() -> usize {
+    1
+}
+fn ninety() -> f64 {
+    90.0
+}
+fn yes() -> bool {
+    true
+}
+fn default_revs() -> usize {
+    220
+}
+fn default_transient() -> usize {
+    100
+}
+fn default_integrator() -> IntegratorKind {
+    IntegratorKind::Collocated
+}
+fn default_harmonics() -> f64 {
+    4.0
+}
+fn default_spr() -> usize {
+    64
+}
+fn default_component() -> String {
+    "y".into()
+}
+
+/// A scene with where it came from, for error messages.
+#[derive(Debug, Clone)]
+pub struct LoadedScene {
+    /// The validated scene.
+    pub scene: Scene,
+    /// The file it was read from.
+    pub file: PathBuf,
+    /// The file's text (for locating keys in later errors).
+    pub source: String,
+    /// Overrides applied (`key=value`).
+    pub overrides: Vec<String>,
+}
+
+impl LoadedScene {
+    /// An `Invalid` error for `key`, with the line of that key in the file when present.
+    pub fn invalid(&self, key: &str, message: impl Into<String>) -> SceneError {
+        invalid_at(&self.file, &self.source, key, message)
+    }
+}
+
+fn invalid_at(file: &Path, source: &str, key: &str, message: impl Into<String>) -> SceneError {
+    SceneError::Invalid {
+        file: file.to_path_buf(),
+        key: key.to_string(),
+        line: locate_key(source, key),
+        message: message.into(),
+    }
+}
+
+/// Reads, overrides, deserialises and validates a scene file.
+pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError> {
+    let source = std::fs::read_to_string(path).map_err(|e| SceneError::Read {
+        file: path.to_path_buf(),
+        source: e,
+    })?;
+    parse(path, &source, overrides)
+}
+
+/// Like [`load`] but from text already in memory (`path` is used in messages only).
+pub fn parse(path: &Path, source: &str, overrides: &[String]) -> Result<LoadedScene, SceneError> {
+    let mut value: toml::Value = toml::from_str(source).map_err(|e| SceneError::Parse {
+        file: path.to_path_buf(),
+        message: e.to_string().trim_end().to_string(),
+    })?;
+    for a in overrides {
+        apply_override(&mut value, a)?;
+    }
+    let scene: Scene = if overrides.is_empty() {
+        toml::from_str(source)
+    } else {
+        // Re-serialise so spans in messages refer to the overridden document.
+        let text = toml::to_string(&value).map_err(|e| SceneError::Parse {
+            file: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        toml::from_str(&text)
+    }
+    .map_err(|e| SceneError::Parse {
+        file: path.to_path_buf(),
+        message: e.to_string().trim_end().to_string(),
+    })?;
+    let loaded = LoadedScene {
+        scene,
+        file: path.to_path_buf(),
+        source: source.to_string(),
+        overrides: overrides.to_vec(),
+    };
+    validate(&loaded)?;
+    Ok(loaded)
+}
+
+/// Applies one `path.to.key=value` assignment; array elements are addressed by index
+/// (`stator.0.clearance_nd=0.5`). The value is parsed as TOML (number, bool, array, inline
+/// table, quoted string) and falls back to a bare string.
+pub fn apply_override(root: &mut toml::Value, assignment: &str) -> Result<(), SceneError> {
+    let err = |m: &str| SceneError::Override {
+        assignment: assignment.to_string(),
+        message: m.to_string(),
+    };
+    let (key, raw) = assignment
+        .split_once('=')
+        .ok_or_else(|| err("expected key=value"))?;
+    let key = key.trim();
+    if key.is_empty() {
+        return Err(err("empty key"));
+    }
+    let raw = raw.trim();
+    let value: toml::Value = match toml::from_str::<toml::Table>(&format!("v = {raw}")) {
+        Ok(mut t) => t.remove("v").expect("parsed key"),
+        Err(_) => toml::Value::String(raw.to_string()),
+    };
+    let parts: Vec<&str> = key.split('.').collect();
+    let mut cur = root;
+    for (i, part) in parts.iter().enumerate() {
+        let last = i + 1 == parts.len();
+        // Scene arrays of tables are named in the singular in TOML (`[[stator]]`).
+        cur = match cur {
+            toml::Value::Table(t) => {
+                if last {
+                    t.insert(part.to_string(), value);
+                    return Ok(());
+                }
+                t.entry(part.to_string())
+                    .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+            }
+            toml::Value::Array(a) => {
+                let idx: usize = part
+                    .parse()
+                    .map_err(|_| err(&format!("`{part}` is not an index into an array")))?;
+                let len = a.len();
+                let slot = a.get_mut(idx).ok_or_else(|| {
+                    err(&format!("index {idx} out of range (array has {len} entries)"))
+                })?;
+                if last {
+                    *slot = value;
+                    return Ok(());
+                }
+                slot
+            }
+            _ => {
+                return Err(err(&format!(
+                    "`{}` is not a table or array",
+                    parts[..i].join(".")
+                )))
+            }
+        };
+    }
+    unreachable!("loop returns on the last part")
+}
+
+/// 1-based line of a dotted key (`stator.0.clearance_nd`, `rotor.mass`) in TOML text, if
+/// present. Array indices count `[[name]]` headers. When the full key is absent, the line of its
+/// deepest present parent is returned (e.g. the `[[stator]]` header of a missing key).
+pub fn locate_key(source: &str, key: &str) -> Option<usize> {
+    use toml_edit::{Item, Table, Value};
+    enum Cur<'a> {
+        Item(&'a Item),
+        Table(&'a Table),
+    }
+    let doc: toml_edit::ImDocument<&str> = toml_edit::ImDocument::parse(source).ok()?;
+    let mut cur = Cur::Table(doc.as_table());
+    let mut span = None;
+    for part in key.split('.') {
+        let idx = part.parse::<usize>().ok();
+        let next = match (&cur, idx) {
+            (Cur::Table(t), None) => t.get_key_value(part).map(|(k, v)| (k.span(), Cur::Item(v))),
+            (Cur::Item(Item::Table(t)), None) => {
+                t.get_key_value(part).map(|(k, v)| (k.span(), Cur::Item(v)))
+            }
+            (Cur::Item(Item::Value(Value::InlineTable(t))), None) => {
+                t.get_key_value(part).map(|(k, _)| (k.span(), Cur::Item(&Item::None)))
+            }
+            (Cur::Item(Item::ArrayOfTables(a)), Some(i)) => {
+                a.get(i).map(|t| (t.span(), Cur::Table(t)))
+            }
+            (Cur::Item(Item::Value(Value::Array(a))), Some(i)) => {
+                a.get(i).map(|v| (v.span(), Cur::Item(&Item::None)))
+            }
+            _ => None,
+        };
+        match next {
+            Some((s, c)) => {
+                span = s.or(span);
+                cur = c;
+            }
+            None => break,
+        }
+    }
+    let start = span?.start;
+    Some(source[..start.min(source.len())].matches('\n').count() + 1)
+}
+
+fn positive(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
+    if !(v.is_finite() && v > 0.0) {
+        return Err(ls.invalid(key, format!("must be a positive finite number, got {v}")));
+    }
+    Ok(())
+}
+
+fn non_negative(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
+    if !(v.is_finite() && v >= 0.0) {
+        return Err(ls.invalid(key, format!("must be zero or positive, got {v}")));
+    }
+    Ok(())
+}
+
+fn exactly_one(
+    ls: &LoadedScene,
+    key_a: &str,
+    a: bool,
+    key_b: &str,
+    b: bool,
+    at: &str,
+) -> Result<(), SceneError> {
+    match (a, b) {
+        (true, true) => Err(ls.invalid(at, format!("give `{key_a}` or `{key_b}`, not both"))),
+        (false, false) => Err(ls.invalid(at, format!("missing: give `{key_a}` or `{key_b}`"))),
+        _ => Ok(()),
+    }
+}
+
+/// Checks every admissibility rule that types cannot express.
+pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
+    let s = &ls.scene;
+    match &s.rotor {
+        RotorSpec::Jeffcott(j) => {
+            exactly_one(ls, "mass", j.mass.is_some(), "disk", j.disk.is_some(), "rotor")?;
+            exactly_one(
+                ls,
+                "stiffness",
+                j.stiffness.is_some(),
+                "shaft",
+                j.shaft.is_some(),
+                "rotor",
+            )?;
+            exactly_one(
+                ls,
+                "damping",
+                j.damping.is_some(),
+                "damping_ratio",
+                j.damping_ratio.is_some(),
+                "rotor",
+            )?;
+            if let Some(m) = j.mass {
+                positive(ls, "rotor.mass", m)?;
+            }
+            if let Some(k) = j.stiffness {
+                positive(ls, "rotor.stiffness", k)?;
+            }
+            if let Some(c) = j.damping {
+                non_negative(ls, "rotor.damping", c)?;
+            }
+            if let Some(z) = j.damping_ratio {
+                non_negative(ls, "rotor.damping_ratio", z)?;
+            }
+            if let Some(d) = &j.disk {
+                positive(ls, "rotor.disk.diameter", d.diameter)?;
+                positive(ls, "rotor.disk.thickness", d.thickness)?;
+                positive(ls, "rotor.disk.density", d.density)?;
+            }
+            if let Some(sh) = &j.shaft {
+                positive(ls, "rotor.shaft.youngs_modulus", sh.youngs_modulus)?;
+                positive(ls, "rotor.shaft.diameter", sh.diameter)?;
+                positive(ls, "rotor.shaft.length", sh.length)?;
+            }
+            for (i, u) in j.unbalance.iter().enumerate() {
+                non_negative(ls, &format!("rotor.unbalance.{i}.mass"), u.mass)?;
+                non_negative(ls, &format!("rotor.unbalance.{i}.radius"), u.radius)?;
+                if u.node != 0 {
+                    return Err(ls.invalid(
+                        &format!("rotor.unbalance.{i}.node"),
+                        "a Jeffcott rotor has only node 0",
+                    ));
+                }
+            }
+        }
+    }
+    let mut names = std::collections::HashSet::new();
+    for (i, st) in s.stations.iter().enumerate() {
+        let k = |f: &str| format!("station.{i}.{f}");
+        positive(ls, &k("radius"), st.radius)?;
+        non_negative(ls, &k("friction"), st.friction)?;
+        if !names.insert(st.name.as_str()) {
+            return Err(ls.invalid(&k("name"), format!("duplicate station name `{}`", st.name)));
+        }
+        let RotorSpec::Jeffcott(_) = &s.rotor;
+        if st.node != 0 {
+            return Err(ls.invalid(&k("node"), "a Jeffcott rotor has only node 0"));
+        }
+    }
+    for (i, stator) in s.stators.iter().enumerate() {
+        let k = |f: &str| format!("stator.{i}.{f}");
+        if !s.stations.iter().any(|st| st.name == stator.station()) {
+            let known: Vec<&str> = s.stations.iter().map(|s| s.name.as_str()).collect();
+            return Err(ls.invalid(
+                &k("station"),
+                format!(
+                    "no station named `{}` (stations: {})",
+                    stator.station(),
+                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
+                ),
+            ));
+        }
+        match stator {
+            StatorSpec::Rod(r) => {
+                validate_clearance(ls, i, r.clearance, r.clearance_nd)?;
+                positive(ls, &k("length"), r.length)?;
+                positive(ls, &k("area"), r.area)?;
+                exactly_one(
+                    ls,
+                    "youngs_modulus",
+                    r.youngs_modulus.is_some(),
+                    "stiffness_ratio",
+                    r.stiffness_ratio.is_some(),
+                    &format!("stator.{i}"),
+                )?;
+                if let Some(e) = r.youngs_modulus {
+                    positive(ls, &k("youngs_modulus"), e)?;
+                }
+                if let Some(e) = r.stiffness_ratio {
+                    positive(ls, &k("stiffness_ratio"), e)?;
+                }
+                non_negative(ls, &k("density"), r.density)?;
+                if r.elements == 0 {
+                    return Err(ls.invalid(&k("elements"), "must be at least 1"));
+                }
+                for v in r.rayleigh {
+                    non_negative(ls, &k("rayleigh"), v)?;
+                }
+            }
+            StatorSpec::Ring(r) => {
+                validate_clearance(ls, i, r.clearance, r.clearance_nd)?;
+                exactly_one(
+                    ls,
+                    "stiffness",
+                    r.stiffness.is_some(),
+                    "stiffness_ratio",
+                    r.stiffness_ratio.is_some(),
+                    &format!("stator.{i}"),
+                )?;
+                if let Some(v) = r.stiffness {
+                    positive(ls, &k("stiffness"), v)?;
+                }
+                if let Some(v) = r.stiffness_ratio {
+                    positive(ls, &k("stiffness_ratio"), v)?;
+                }
+                non_negative(ls, &k("mass"), r.mass)?;
+                non_negative(ls, &k("damping"), r.damping)?;
+            }
+            StatorSpec::Fe(f) => {
+                let nn = f.nodes.len();
+                if nn == 0 {
+                    return Err(ls.invalid(&k("nodes"), "a stator needs at least one node"));
+                }
+                for (e, el) in f.elements.iter().enumerate() {
+                    let ek = |x: &str| format!("stator.{i}.elements.{e}.{x}");
+                    match el {
+                        FeElementSpec::Bar {
+                            nodes,
+                            youngs_modulus,
+                            area,
+                            density,
+                        } => {
+                            for n in nodes {
+                                if *n >= nn {
+                                    return Err(ls.invalid(
+                                        &ek("nodes"),
+                                        format!("node {n} does not exist (stator has {nn} nodes)"),
+                                    ));
+                                }
+                            }
+                            let a = f.nodes[nodes[0]];
+                            let b = f.nodes[nodes[1]];
+                            if (a[0] - b[0]).hypot(a[1] - b[1]) <= 0.0 {
+                                return Err(ls.invalid(&ek("nodes"), "zero-length bar"));
+                            }
+                            positive(ls, &ek("youngs_modulus"), *youngs_modulus)?;
+                            positive(ls, &ek("area"), *area)?;
+                            non_negative(ls, &ek("density"), *density)?;
+                        }
+                        FeElementSpec::Spring {
+                            node, stiffness, ..
+                        } => {
+                            if *node >= nn {
+                                return Err(ls.invalid(
+                                    &ek("node"),
+                                    format!("node {node} does not exist (stator has {nn} nodes)"),
+                                ));
+                            }
+                            positive(ls, &ek("stiffness"), *stiffness)?;
+                        }
+                    }
+                }
+                for fx in &f.fixed {
+                    if fx[0] >= nn || fx[1] > 1 {
+                        return Err(ls.invalid(
+                            &k("fixed"),
+                            format!("[{}, {}] is not a valid [node, component] (component 0 = x, 1 = y)", fx[0], fx[1]),
+                        ));
+                    }
+                }
+                if f.contact_nodes.is_empty() {
+                    return Err(ls.invalid(&k("contact_nodes"), "no contact nodes given"));
+                }
+                for c in &f.contact_nodes {
+                    if *c >= nn {
+                        return Err(ls.invalid(
+                            &k("contact_nodes"),
+                            format!("node {c} does not exist (stator has {nn} nodes)"),
+                        ));
+                    }
+                }
+                for (n, m) in &f.point_masses {
+                    if *n >= nn {
+                        return Err(ls.invalid(&k("point_masses"), format!("node {n} does not exist")));
+                    }
+                    non_negative(ls, &k("point_masses"), *m)?;
+                }
+                for v in f.rayleigh {
+                    non_negative(ls, &k("rayleigh"), v)?;
+                }
+            }
+        }
+    }
+    let r = &s.run;
+    let n_speed = [r.speed_ratio.is_some(), r.speed.is_some(), r.sweep.is_some()]
+        .iter()
+        .filter(|b| **b)
+        .count();
+    if n_speed != 1 {
+        return Err(ls.invalid(
+            "run",
+            "give exactly one of `speed_ratio`, `speed` or `[run.sweep]`",
+        ));
+    }
+    if let Some(v) = r.speed_ratio {
+        positive(ls, "run.speed_ratio", v)?;
+    }
+    if let Some(v) = r.speed {
+        positive(ls, "run.speed", v)?;
+    }
+    if let Some(sw) = &r.sweep {
+        positive(ls, "run.sweep.from", sw.from)?;
+        positive(ls, "run.sweep.to", sw.to)?;
+        positive(ls, "run.sweep.step", sw.step)?;
+        if sw.to < sw.from {
+            return Err(ls.invalid("run.sweep.to", "must not be below `from`"));
+        }
+        if let Some(v) = &sw.vary {
+            if v.values.is_empty() {
+                return Err(ls.invalid("run.sweep.vary.values", "no values"));
+            }
+        }
+    }
+    if r.revolutions <= r.transient_revolutions {
+        return Err(ls.invalid(
+            "run.revolutions",
+            format!(
+                "must exceed transient_revolutions ({}), got {}",
+                r.transient_revolutions, r.revolutions
+            ),
+        ));
+    }
+    if let Some(dt) = r.dt {
+        positive(ls, "run.dt", dt)?;
+    }
+    positive(ls, "run.harmonics", r.harmonics)?;
+    if r.samples_per_rev < 8 {
+        return Err(ls.invalid("run.samples_per_rev", "must be at least 8"));
+    }
+    if s.output.component != "x" && s.output.component != "y" {
+        return Err(ls.invalid("output.component", "must be \"x\" or \"y\""));
+    }
+    Ok(())
+}
+
+fn validate_clearance(
+    ls: &LoadedScene,
+    i: usize,
+    c: Option<f64>,
+    c_nd: Option<f64>,
+) -> Result<(), SceneError> {
+    exactly_one(
+        ls,
+        "clearance",
+        c.is_some(),
+        "clearance_nd",
+        c_nd.is_some(),
+        &format!("stator.{i}"),
+    )?;
+    if let Some(v) = c {
+        positive(ls, &format!("stator.{i}.clearance"), v)?;
+    }
+    if let Some(v) = c_nd {
+        positive(ls, &format!("stator.{i}.clearance_nd"), v)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const OK: &str = r#"
+title = "t"
+[rotor]
+kind = "jeffcott"
+mass = 2.0
+stiffness = 8.0e4
+damping_ratio = 0.2
+[[rotor.unbalance]]
+mass = 0.01
+radius = 0.05
+
+[[station]]
+name = "disk"
+radius = 0.06
+friction = 0.1
+
+[[stator]]
+kind = "rod"
+name = "rod"
+station = "disk"
+clearance_nd = 0.6
+length = 0.04
+area = 25e-6
+stiffness_ratio = 25
+
+[run]
+speed_ratio = 1.7
+"#;
+
+    fn p(text: &str, ov: &[&str]) -> Result<LoadedScene, SceneError> {
+        let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
+        parse(Path::new("scene.toml"), text, &ov)
+    }
+
+    #[test]
+    fn parses_a_valid_scene() {
+        let s = p(OK, &[]).unwrap();
+        assert_eq!(s.scene.stators.len(), 1);
+        assert_eq!(s.scene.run.integrator, IntegratorKind::Collocated);
+    }
+
+    #[test]
+    fn unknown_key_names_line() {
+        let bad = OK.replace("radius = 0.06", "radius = 0.06\nfrobnicate = 1");
+        let e = p(&bad, &[]).unwrap_err().to_string();
+        assert!(e.contains("frobnicate"), "{e}");
+        assert!(e.contains("line 15"), "{e}");
+    }
+
+    #[test]
+    fn negative_mass_names_key_and_line() {
+        let bad = OK.replace("mass = 2.0", "mass = -2.0");
+        let e = p(&bad, &[]).unwrap_err().to_string();
+        assert!(e.contains("rotor.mass") && e.contains("scene.toml:5"), "{e}");
+    }
+
+    #[test]
+    fn clearance_in_array_of_tables_is_located() {
+        let bad = OK.replace("clearance_nd = 0.6", "clearance_nd = -0.6");
+        let e = p(&bad, &[]).unwrap_err().to_string();
+        assert!(e.contains("stator.0.clearance_nd") && e.contains(":21"), "{e}");
+    }
+
+    #[test]
+    fn override_changes_values_and_is_validated() {
+        let s = p(OK, &["stator.0.clearance_nd=0.3", "run.speed_ratio=2.5"]).unwrap();
+        match &s.scene.stators[0] {
+            StatorSpec::Rod(r) => assert_eq!(r.clearance_nd, Some(0.3)),
+            _ => panic!(),
+        }
+        assert_eq!(s.scene.run.speed_ratio, Some(2.5));
+        let e = p(OK, &["station.0.friction=-1"]).unwrap_err().to_string();
+        assert!(e.contains("station.0.friction"), "{e}");
+        let e = p(OK, &["stator.3.clearance=1"]).unwrap_err().to_string();
+        assert!(e.contains("out of range"), "{e}");
+    }
+
+    #[test]
+    fn missing_section_is_named() {
+        let bad = OK.replace("[run]\nspeed_ratio = 1.7", "");
+        let e = p(&bad, &[]).unwrap_err().to_string();
+        assert!(e.contains("run"), "{e}");
+    }
+}

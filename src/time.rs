@@ -1,0 +1,833 @@
+//! Explicit central differences with forward-increment Lagrange multipliers (paper Sec. 2.5).
+//!
+//! Each step (Eqs. 34–47):
+//! 1. predict every body with λ = 0: `M̃ u*ⁿ⁺¹ = f̃ⁿ`, `M̃ = M/Δt² + C/(2Δt)`,
+//!    `f̃ⁿ = fⁿ + (2M/Δt² − K) uⁿ + (C/(2Δt) − M/Δt²) uⁿ⁻¹` (Eqs. 35–36);
+//! 2. freeze `n`, `a` of every candidate pair at the prediction and compute the gaps `g*`;
+//! 3. solve the complementarity problem `p ≥ 0`, `g* + W p ≥ 0`, `pᵀ(g* + W p) = 0` with
+//!    `W = G_N M̃⁻¹ G_NTᵀ` summed over the bodies in the pair (Eq. 45, with sign handling);
+//! 4. correct `uⁿ⁺¹ = u* + M̃⁻¹ G_NTᵀ p` (Eq. 47, compression-positive `p`).
+//!
+//! Massless stators (Eq. 49) are undeformed at the start of the step and enter `W` through
+//! their compliance `K⁻¹` on the contact DOFs, computed once per run.
+//!
+//! The [`IntegratorKind::Collocated`] variant solves the massless stators' contact at tₙ with
+//! the rotor held at uⁿ (a static complementarity problem on the stator compliance) and applies
+//! that force in the central-difference step — second order, but explicit in the stator
+//! stiffness, so its stable step is `2/ω_c`, `ω_c = √((k_r + k_s)/m)`.
+//!
+//! The loop allocates nothing: every buffer lives in the workspace built before it, and the
+//! recorder is sized for the whole run.
+
+use crate::contact::lcp::{self, LcpWorkspace};
+use crate::contact::{exact_gap, pair_state, target_disp, Candidate, PairState};
+use crate::error::SolveError;
+use crate::linalg::{Csc, Lu};
+use crate::math::V2;
+use crate::model::{Case, StatorModel};
+use crate::scene::IntegratorKind;
+use std::f64::consts::PI;
+use std::time::Instant;
+
+/// Time-step choices of a run.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct StepPlan {
+    /// Time step (s).
+    pub dt: f64,
+    /// Steps per revolution (an integer multiple of `samples_per_rev`).
+    pub steps_per_rev: usize,
+    /// Total steps.
+    pub steps: usize,
+    /// Record every this many steps.
+    pub record_every: usize,
+    /// Explicit stability limit (s).
+    pub limit: f64,
+    /// The paper's rule Δt = min(T_min/(32n), 2π/(32nω)) (s).
+    pub rule_dt: f64,
+    /// Highest frequency of the system including contact stiffness (rad/s).
+    pub omega_max: f64,
+}
+
+/// Parameters of a run that fix the step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepParams {
+    /// Integrator.
+    pub integrator: IntegratorKind,
+    /// Override Δt (s).
+    pub dt: Option<f64>,
+    /// Paper rule's n.
+    pub harmonics: f64,
+    /// Total revolutions.
+    pub revolutions: usize,
+    /// Recorded samples per revolution.
+    pub samples_per_rev: usize,
+}
+
+/// Contact stiffness bound (N/m) per station, from massless (`massless = true`) or all stators.
+fn station_contact_stiffness(case: &Case, massless_only: bool) -> Vec<f64> {
+    let mut k = vec![0.0; case.stations.len()];
+    for s in &case.stators {
+        if !massless_only || s.massless() {
+            k[s.station] += s.contact_stiffness_bound();
+        }
+    }
+    k
+}
+
+/// Chooses Δt: the paper's rule (Sec. 3), capped by the explicit stability limit of what
+/// enters the loop with mass (and, for the collocated integrator, the massless stators'
+/// contact stiffness), or the user's override checked against that limit. Δt is then reduced
+/// so a revolution holds a whole number of recorded samples and steps.
+pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
+    let m = case.rotor_mass;
+    let kr = case.rotor_stiffness;
+    let xi = case.rotor.c.get(0, 0) / (2.0 * (m * kr).sqrt());
+    let k_all = station_contact_stiffness(case, false);
+    let k_ml = station_contact_stiffness(case, true);
+    let w_contact = k_all
+        .iter()
+        .map(|k| ((kr + k) / m).sqrt())
+        .fold(case.rotor_omega_max, f64::max);
+    let w_stators = case
+        .stators
+        .iter()
+        .map(|s| s.omega_max_sq_bound().sqrt())
+        .fold(0.0, f64::max);
+    let omega_max = w_contact.max(w_stators);
+    // Stability: CD with implicit viscous damping, Δt ≤ (2/ω)(√(1+ξ²) − ξ).
+    let lim = |w: f64, z: f64| 2.0 / w * ((1.0 + z * z).sqrt() - z);
+    let mut limit = lim(case.rotor_omega_max, xi.min(1.0));
+    let mut reason = format!("free rotor, ω = {:.4e} rad/s", case.rotor_omega_max);
+    if w_stators > 0.0 {
+        let l = lim(w_stators, 0.0);
+        if l < limit {
+            limit = l;
+            reason = format!("stator with mass, ω ≤ {w_stators:.4e} rad/s");
+        }
+    }
+    if p.integrator == IntegratorKind::Collocated {
+        for k in &k_ml {
+            if *k > 0.0 {
+                let w = ((kr + k) / m).sqrt();
+                let l = lim(w, (xi * case.rotor_omega_max / w).min(1.0));
+                if l < limit {
+                    limit = l;
+                    reason = format!(
+                        "massless stator stiffness applied explicitly, ω_c = √((k_r + k_s)/m) = {w:.4e} rad/s"
+                    );
+                }
+            }
+        }
+    }
+    let t_min = 2.0 * PI / omega_max;
+    let rule_dt = (t_min / (32.0 * p.harmonics)).min(2.0 * PI / (32.0 * p.harmonics * case.omega));
+    let dt0 = match p.dt {
+        Some(dt) => {
+            if dt > limit {
+                return Err(SolveError::StepTooLarge {
+                    dt,
+                    limit,
+                    integrator: p.integrator.name().into(),
+                    reason,
+                });
+            }
+            dt
+        }
+        None => rule_dt.min(0.8 * limit),
+    };
+    let t_rev = 2.0 * PI / case.omega;
+    let spr = p.samples_per_rev;
+    let per_sample = (t_rev / (dt0 * spr as f64) - 1e-9).ceil().max(1.0) as usize;
+    let steps_per_rev = per_sample * spr;
+    Ok(StepPlan {
+        dt: t_rev / steps_per_rev as f64,
+        steps_per_rev,
+        steps: steps_per_rev * p.revolutions,
+        record_every: per_sample,
+        limit,
+        rule_dt,
+        omega_max,
+    })
+}
+
+/// What the run keeps: rotor-station displacements and contact forces on the rotor, every
+/// `every` steps, plus the massless stators' elastic energy.
+#[derive(Debug, Clone, Default)]
+pub struct Record {
+    /// Number of stations.
+    pub nstations: usize,
+    /// Sample times (s).
+    pub t: Vec<f64>,
+    /// Station displacements `[x, y]` per sample and station (m), sample-major.
+    pub disp: Vec<V2>,
+    /// Total contact force on each station `[Fx, Fy]` (N), sample-major.
+    pub force: Vec<V2>,
+    /// Normal part of the contact force on each station (N), sample-major.
+    pub force_normal: Vec<V2>,
+    /// Elastic energy stored in massless stators (J) per sample.
+    pub stator_energy: Vec<f64>,
+    /// Active pairs per sample.
+    pub active: Vec<u32>,
+}
+
+impl Record {
+    fn with_capacity(nstations: usize, samples: usize) -> Self {
+        Self {
+            nstations,
+            t: Vec::with_capacity(samples),
+            disp: Vec::with_capacity(samples * nstations),
+            force: Vec::with_capacity(samples * nstations),
+            force_normal: Vec::with_capacity(samples * nstations),
+            stator_energy: Vec::with_capacity(samples),
+            active: Vec::with_capacity(samples),
+        }
+    }
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+    /// True when nothing was recorded.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+    /// Displacement of station `s` at sample `i`.
+    pub fn disp_at(&self, i: usize, s: usize) -> V2 {
+        self.disp[i * self.nstations + s]
+    }
+    /// Contact force on station `s` at sample `i`.
+    pub fn force_at(&self, i: usize, s: usize) -> V2 {
+        self.force[i * self.nstations + s]
+    }
+}
+
+/// Counters of a finished run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct RunStats {
+    /// Steps taken.
+    pub steps: usize,
+    /// Wall time of the loop (s).
+    pub wall_s: f64,
+    /// Most negative gap after correction over the run (m); ≥ 0 means no penetration.
+    pub min_gap: f64,
+    /// Largest number of simultaneously active pairs.
+    pub max_active: usize,
+    /// Steps with at least one active pair.
+    pub contact_steps: usize,
+    /// Total principal pivots of the complementarity solves.
+    pub pivots: usize,
+}
+
+/// M̃⁻¹ of a body with mass.
+#[derive(Debug)]
+enum MInv {
+    Diag(Vec<f64>),
+    Lu {
+        lu: Lu,
+        /// Columns M̃⁻¹ e_d for contact DOFs, column-major n × ncd.
+        cols: Vec<f64>,
+        col_of: Vec<usize>,
+    },
+}
+
+/// A body with mass, integrated explicitly.
+#[derive(Debug)]
+struct DynBody {
+    n: usize,
+    aop: Csc,
+    bop: Csc,
+    minv: MInv,
+    u_prev: Vec<f64>,
+    u: Vec<f64>,
+    u_next: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+impl DynBody {
+    fn new(m: &Csc, c: &Csc, k: &Csc, dt: f64, contact_dofs: &[usize]) -> Result<Self, String> {
+        let n = m.nrows();
+        let aop = Csc::lin_comb(2.0 / (dt * dt), m, -1.0, k);
+        let bop = Csc::lin_comb(1.0 / (2.0 * dt), c, -1.0 / (dt * dt), m);
+        let mt = Csc::lin_comb(1.0 / (dt * dt), m, 1.0 / (2.0 * dt), c);
+        let minv = if mt.is_diagonal() {
+            let d = mt.diagonal();
+            if let Some(i) = d.iter().position(|v| *v <= 0.0) {
+                return Err(format!("M̃ has a non-positive diagonal entry at DOF {i}"));
+            }
+            MInv::Diag(d.iter().map(|v| 1.0 / v).collect())
+        } else {
+            let lu = Lu::new(&mt)?;
+            let mut col_of = vec![usize::MAX; n];
+            let mut cols = vec![0.0; n * contact_dofs.len()];
+            for (j, &d) in contact_dofs.iter().enumerate() {
+                col_of[d] = j;
+                cols[j * n + d] = 1.0;
+            }
+            lu.solve_in_place(&mut cols);
+            MInv::Lu { lu, cols, col_of }
+        };
+        Ok(Self {
+            n,
+            aop,
+            bop,
+            minv,
+            u_prev: vec![0.0; n],
+            u: vec![0.0; n],
+            u_next: vec![0.0; n],
+            rhs: vec![0.0; n],
+        })
+    }
+
+    /// `u_next = M̃⁻¹ (rhs + A u + B u_prev)`; `rhs` holds the external force on entry.
+    fn predict(&mut self) {
+        self.aop.mul_add(1.0, &self.u, &mut self.rhs);
+        self.bop.mul_add(1.0, &self.u_prev, &mut self.rhs);
+        match &self.minv {
+            MInv::Diag(inv) => {
+                for i in 0..self.n {
+                    self.u_next[i] = inv[i] * self.rhs[i];
+                }
+            }
+            MInv::Lu { lu, .. } => {
+                self.u_next.copy_from_slice(&self.rhs);
+                lu.solve_in_place(&mut self.u_next);
+            }
+        }
+    }
+
+    #[inline]
+    fn flex(&self, a: usize, b: usize) -> f64 {
+        match &self.minv {
+            MInv::Diag(inv) => {
+                if a == b {
+                    inv[a]
+                } else {
+                    0.0
+                }
+            }
+            MInv::Lu { cols, col_of, .. } => cols[col_of[b] * self.n + a],
+        }
+    }
+
+    /// `u_next += M̃⁻¹ e_d · f`.
+    #[inline]
+    fn apply(&mut self, d: usize, f: f64) {
+        match &self.minv {
+            MInv::Diag(inv) => self.u_next[d] += inv[d] * f,
+            MInv::Lu { cols, col_of, .. } => {
+                let c = &cols[col_of[d] * self.n..(col_of[d] + 1) * self.n];
+                for (u, v) in self.u_next.iter_mut().zip(c) {
+                    *u += v * f;
+                }
+            }
+        }
+    }
+
+    fn rotate(&mut self) {
+        std::mem::swap(&mut self.u_prev, &mut self.u);
+        std::mem::swap(&mut self.u, &mut self.u_next);
+    }
+}
+
+/// A massless stator: compliance columns `K⁻¹ e_d` for its contact DOFs.
+#[derive(Debug)]
+struct Compliance {
+    n: usize,
+    cols: Vec<f64>,
+    col_of: Vec<usize>,
+    /// Current displacement (m).
+    u: Vec<f64>,
+}
+
+impl Compliance {
+    fn new(s: &StatorModel) -> Result<Self, String> {
+        let n = s.ndof;
+        let cd = s.contact_dofs();
+        let mut col_of = vec![usize::MAX; n];
+        let mut cols = vec![0.0; n * cd.len()];
+        for (j, &d) in cd.iter().enumerate() {
+            col_of[d] = j;
+            cols[j * n + d] = 1.0;
+        }
+        if n > 0 {
+            crate::linalg::Cholesky::new(&s.k)?.solve_in_place(&mut cols);
+        }
+        Ok(Self {
+            n,
+            cols,
+            col_of,
+            u: vec![0.0; n],
+        })
+    }
+    #[inline]
+    fn flex(&self, a: usize, b: usize) -> f64 {
+        self.cols[self.col_of[b] * self.n + a]
+    }
+    #[inline]
+    fn apply(&mut self, d: usize, f: f64) {
+        let c = &self.cols[self.col_of[d] * self.n..(self.col_of[d] + 1) * self.n];
+        for (u, v) in self.u.iter_mut().zip(c) {
+            *u += v * f;
+        }
+    }
+}
+
+#[derive(Debug)]
+enum StatorDyn {
+    Massless(Compliance),
+    Massive(DynBody),
+}
+
+impl StatorDyn {
+    /// Current (predicted) displacement vector.
+    fn disp(&self) -> &[f64] {
+        match self {
+            StatorDyn::Massless(c) => &c.u,
+            StatorDyn::Massive(b) => &b.u_next,
+        }
+    }
+    fn flex(&self, a: usize, b: usize) -> f64 {
+        match self {
+            StatorDyn::Massless(c) => c.flex(a, b),
+            StatorDyn::Massive(d) => d.flex(a, b),
+        }
+    }
+    fn apply(&mut self, d: usize, f: f64) {
+        match self {
+            StatorDyn::Massless(c) => c.apply(d, f),
+            StatorDyn::Massive(b) => b.apply(d, f),
+        }
+    }
+}
+
+/// Initial state of the rotor (node 0 of station 0's node or node 0).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Initial {
+    /// Displacement `[x, y]` (m).
+    pub u: V2,
+    /// Velocity `[vx, vy]` (m/s).
+    pub v: V2,
+}
+
+/// Integrates one case with a step plan, returning the record and counters.
+pub fn integrate(
+    case: &Case,
+    integrator: IntegratorKind,
+    plan: &StepPlan,
+    init: Initial,
+) -> Result<(Record, RunStats), SolveError> {
+    let dt = plan.dt;
+    let omega = case.omega;
+    let model_err = |m: String| SolveError::Contact {
+        step: 0,
+        time: 0.0,
+        pairs: 0,
+        message: m,
+    };
+    // Rotor contact DOFs: every station's node.
+    let mut rotor_cd: Vec<usize> = case
+        .stations
+        .iter()
+        .flat_map(|s| case.rotor.node_dofs[s.node])
+        .collect();
+    rotor_cd.sort_unstable();
+    rotor_cd.dedup();
+    let mut rotor = DynBody::new(&case.rotor.m, &case.rotor.c, &case.rotor.k, dt, &rotor_cd)
+        .map_err(|e| model_err(format!("rotor: {e}")))?;
+    let mut stators: Vec<StatorDyn> = Vec::with_capacity(case.stators.len());
+    for s in &case.stators {
+        stators.push(if s.massless() {
+            StatorDyn::Massless(
+                Compliance::new(s).map_err(|e| model_err(format!("stator `{}`: {e}", s.name)))?,
+            )
+        } else {
+            StatorDyn::Massive(
+                DynBody::new(&s.m, &s.c, &s.k, dt, &s.contact_dofs())
+                    .map_err(|e| model_err(format!("stator `{}`: {e}", s.name)))?,
+            )
+        });
+    }
+    let mut cands: Vec<Candidate> = Vec::new();
+    for (k, s) in case.stators.iter().enumerate() {
+        let st = &case.stations[s.station];
+        for t in 0..s.targets.len() {
+            cands.push(Candidate {
+                station: s.station,
+                stator: k,
+                target: t,
+                mu: st.friction,
+                radius: st.radius,
+            });
+        }
+    }
+    let nc = cands.len();
+    let station_dofs: Vec<[usize; 2]> = case
+        .stations
+        .iter()
+        .map(|s| case.rotor.node_dofs[s.node])
+        .collect();
+    let massless: Vec<bool> = case.stators.iter().map(|s| s.massless()).collect();
+    let collocated = integrator == IntegratorKind::Collocated;
+
+    // Initial conditions on node 0's DOFs (station 0's node when there is one).
+    let node0 = case.stations.first().map_or(0, |s| s.node);
+    let d0 = case.rotor.node_dofs[node0];
+    let mdiag = case.rotor.m.diagonal();
+    {
+        let mut f0 = vec![0.0; rotor.n];
+        case.rotor.add_unbalance(omega, 0.0, &mut f0);
+        let mut u0 = vec![0.0; rotor.n];
+        let mut v0 = vec![0.0; rotor.n];
+        for c in 0..2 {
+            u0[d0[c]] = init.u[c];
+            v0[d0[c]] = init.v[c];
+        }
+        case.rotor.k.mul_add(-1.0, &u0, &mut f0);
+        case.rotor.c.mul_add(-1.0, &v0, &mut f0);
+        for i in 0..rotor.n {
+            let a0 = if case.rotor.m.is_diagonal() && mdiag[i] > 0.0 {
+                f0[i] / mdiag[i]
+            } else {
+                0.0
+            };
+            rotor.u[i] = u0[i];
+            rotor.u_prev[i] = u0[i] - dt * v0[i] + 0.5 * dt * dt * a0;
+        }
+    }
+    let scale = case
+        .z0
+        .max(case.stators.iter().map(|s| s.clearance).filter(|c| c.is_finite()).fold(0.0, f64::max))
+        .max(init.u[0].hypot(init.u[1]))
+        .max(1e-9);
+    let bound = 1e4 * scale;
+
+    // Workspaces.
+    let mut ws = LcpWorkspace::new(nc.max(1));
+    let mut states = vec![PairState::default(); nc];
+    let mut sel: Vec<usize> = Vec::with_capacity(nc);
+    let mut wmat = vec![0.0; nc * nc];
+    let mut gvec = vec![0.0; nc];
+    let mut pvec = vec![0.0; nc];
+    let nsamples = plan.steps / plan.record_every + 2;
+    let nst = case.stations.len().max(1);
+    let mut rec = Record::with_capacity(nst, nsamples);
+    let mut fst = vec![[0.0; 2]; nst];
+    let mut fst_n = vec![[0.0; 2]; nst];
+    let mut stats = RunStats {
+        min_gap: f64::INFINITY,
+        ..Default::default()
+    };
+    let start = Instant::now();
+
+    // One LCP over a selection of pairs; `rotor_in` says whether the rotor's flexibility
+    // enters W (forward increment) or the rotor is held (collocated static solve).
+    #[allow(clippy::too_many_arguments)]
+    fn solve_pairs(
+        sel: &[usize],
+        cands: &[Candidate],
+        states: &[PairState],
+        case: &Case,
+        station_dofs: &[[usize; 2]],
+        rotor: &mut DynBody,
+        rotor_in: bool,
+        stators: &mut [StatorDyn],
+        wmat: &mut [f64],
+        gvec: &mut [f64],
+        pvec: &mut [f64],
+        ws: &mut LcpWorkspace,
+        fst: &mut [V2],
+        fst_n: &mut [V2],
+        step: usize,
+        time: f64,
+    ) -> Result<usize, SolveError> {
+        let q = sel.len();
+        for (i, &ci) in sel.iter().enumerate() {
+            let c = &cands[ci];
+            let si = &states[ci];
+            let rdi = station_dofs[c.station];
+            let tdi = case.stators[c.stator].targets[c.target].dofs();
+            gvec[i] = si.g;
+            for (j, &cj) in sel.iter().enumerate() {
+                let d = &cands[cj];
+                let bj = states[cj].b(d.mu);
+                let mut w = 0.0;
+                if rotor_in {
+                    let rdj = station_dofs[d.station];
+                    for a in 0..2 {
+                        for b in 0..2 {
+                            w += si.n[a] * rotor.flex(rdi[a], rdj[b]) * bj[b];
+                        }
+                    }
+                }
+                if c.stator == d.stator {
+                    let tdj = case.stators[d.stator].targets[d.target].dofs();
+                    let body = &stators[c.stator];
+                    for a in 0..2 {
+                        for b in 0..2 {
+                            if let (Some(x), Some(y)) = (tdi[a], tdj[b]) {
+                                w += si.n[a] * body.flex(x, y) * bj[b];
+                            }
+                        }
+                    }
+                }
+                wmat[i * q + j] = w;
+            }
+        }
+        let piv = lcp::solve(q, &wmat[..q * q], &gvec[..q], &mut pvec[..q], ws).map_err(|e| {
+            SolveError::Contact {
+                step,
+                time,
+                pairs: q,
+                message: e.to_string(),
+            }
+        })?;
+        for (i, &ci) in sel.iter().enumerate() {
+            let p = pvec[i];
+            if p == 0.0 {
+                continue;
+            }
+            let c = &cands[ci];
+            let b = states[ci].b(c.mu);
+            let n = states[ci].n;
+            let rd = station_dofs[c.station];
+            if rotor_in {
+                rotor.apply(rd[0], -b[0] * p);
+                rotor.apply(rd[1], -b[1] * p);
+            }
+            fst[c.station][0] -= b[0] * p;
+            fst[c.station][1] -= b[1] * p;
+            fst_n[c.station][0] -= n[0] * p;
+            fst_n[c.station][1] -= n[1] * p;
+            let td = case.stators[c.stator].targets[c.target].dofs();
+            for a in 0..2 {
+                if let Some(d) = td[a] {
+                    stators[c.stator].apply(d, b[a] * p);
+                }
+            }
+        }
+        Ok(piv)
+    }
+
+    let stator_energy = |stators: &[StatorDyn], states: &[PairState], sel: &[usize], pvec: &[f64]| {
+        let mut e = 0.0;
+        for (i, &ci) in sel.iter().enumerate() {
+            let c = &cands[ci];
+            if let StatorDyn::Massless(cm) = &stators[c.stator] {
+                let b = states[ci].b(c.mu);
+                let us = target_disp(case.stators[c.stator].targets[c.target].dofs(), &cm.u);
+                e += 0.5 * pvec[i] * (b[0] * us[0] + b[1] * us[1]);
+            }
+        }
+        e
+    };
+
+    let mut energy_now = 0.0;
+    let record = |rec: &mut Record,
+                  t: f64,
+                  rotor_u: &[f64],
+                  fst: &[V2],
+                  fst_n: &[V2],
+                  energy: f64,
+                  active: usize| {
+        rec.t.push(t);
+        for (s, d) in station_dofs.iter().enumerate() {
+            rec.disp.push([rotor_u[d[0]], rotor_u[d[1]]]);
+            rec.force.push(fst[s]);
+            rec.force_normal.push(fst_n[s]);
+        }
+        if station_dofs.is_empty() {
+            rec.disp.push([rotor_u[d0[0]], rotor_u[d0[1]]]);
+            rec.force.push([0.0; 2]);
+            rec.force_normal.push([0.0; 2]);
+        }
+        rec.stator_energy.push(energy);
+        rec.active.push(active as u32);
+    };
+
+    if !collocated {
+        record(&mut rec, 0.0, &rotor.u, &fst, &fst_n, 0.0, 0);
+    }
+    for step in 0..=plan.steps {
+        let t = step as f64 * dt;
+        for f in fst.iter_mut().chain(fst_n.iter_mut()) {
+            *f = [0.0; 2];
+        }
+        rotor.rhs.fill(0.0);
+        let mut active_now = 0;
+        if collocated {
+            // Static contact of massless stators with the rotor held at uⁿ.
+            sel.clear();
+            let mut deepest = 0.0_f64;
+            for (k, st) in stators.iter_mut().enumerate() {
+                if let StatorDyn::Massless(c) = st {
+                    if massless[k] {
+                        c.u.fill(0.0);
+                    }
+                }
+            }
+            for (ci, c) in cands.iter().enumerate() {
+                if !massless[c.stator] {
+                    continue;
+                }
+                let rd = station_dofs[c.station];
+                let uc = [rotor.u[rd[0]], rotor.u[rd[1]]];
+                let tg = &case.stators[c.stator].targets[c.target];
+                states[ci] = pair_state(tg, c.radius, uc, [0.0; 2], omega);
+                deepest = deepest.max(-states[ci].g);
+            }
+            if deepest > 0.0 {
+                for (ci, c) in cands.iter().enumerate() {
+                    if massless[c.stator] && states[ci].g < deepest {
+                        sel.push(ci);
+                    }
+                }
+                stats.pivots += solve_pairs(
+                    &sel, &cands, &states, case, &station_dofs, &mut rotor, false,
+                    &mut stators, &mut wmat, &mut gvec, &mut pvec, &mut ws, &mut fst,
+                    &mut fst_n, step, t,
+                )?;
+                active_now = pvec[..sel.len()].iter().filter(|p| **p > 0.0).count();
+                energy_now = stator_energy(&stators, &states, &sel, &pvec);
+                for &ci in sel.iter() {
+                    let c = &cands[ci];
+                    let rd = station_dofs[c.station];
+                    let uc = [rotor.u[rd[0]], rotor.u[rd[1]]];
+                    let tg = &case.stators[c.stator].targets[c.target];
+                    if let StatorDyn::Massless(cm) = &stators[c.stator] {
+                        let g = exact_gap(tg, c.radius, uc, target_disp(tg.dofs(), &cm.u));
+                        stats.min_gap = stats.min_gap.min(g);
+                    }
+                }
+            } else {
+                energy_now = 0.0;
+            }
+            if step % plan.record_every == 0 {
+                record(&mut rec, t, &rotor.u, &fst, &fst_n, energy_now, active_now);
+            }
+            if step == plan.steps {
+                break;
+            }
+            for (s, d) in station_dofs.iter().enumerate() {
+                rotor.rhs[d[0]] += fst[s][0];
+                rotor.rhs[d[1]] += fst[s][1];
+            }
+        } else if step == plan.steps {
+            break;
+        }
+        // Predict.
+        case.rotor.add_unbalance(omega, t, &mut rotor.rhs);
+        rotor.predict();
+        for (k, st) in stators.iter_mut().enumerate() {
+            match st {
+                StatorDyn::Massive(b) => {
+                    b.rhs.fill(0.0);
+                    b.predict();
+                }
+                StatorDyn::Massless(c) => {
+                    if !collocated && massless[k] {
+                        c.u.fill(0.0);
+                    }
+                }
+            }
+        }
+        // Forward-increment contact on the predicted configuration.
+        sel.clear();
+        let mut deepest = 0.0_f64;
+        for (ci, c) in cands.iter().enumerate() {
+            if collocated && massless[c.stator] {
+                continue;
+            }
+            let rd = station_dofs[c.station];
+            let uc = [rotor.u_next[rd[0]], rotor.u_next[rd[1]]];
+            let tg = &case.stators[c.stator].targets[c.target];
+            let us = target_disp(tg.dofs(), stators[c.stator].disp());
+            states[ci] = pair_state(tg, c.radius, uc, us, omega);
+            deepest = deepest.max(-states[ci].g);
+        }
+        if deepest > 0.0 {
+            for (ci, c) in cands.iter().enumerate() {
+                if !(collocated && massless[c.stator]) && states[ci].g < deepest {
+                    sel.push(ci);
+                }
+            }
+            if !collocated {
+                for f in fst.iter_mut().chain(fst_n.iter_mut()) {
+                    *f = [0.0; 2];
+                }
+            }
+            stats.pivots += solve_pairs(
+                &sel, &cands, &states, case, &station_dofs, &mut rotor, true, &mut stators,
+                &mut wmat, &mut gvec, &mut pvec, &mut ws, &mut fst, &mut fst_n, step, t,
+            )?;
+            let act = pvec[..sel.len()].iter().filter(|p| **p > 0.0).count();
+            if !collocated {
+                active_now = act;
+                energy_now = stator_energy(&stators, &states, &sel, &pvec);
+            }
+            for &ci in sel.iter() {
+                let c = &cands[ci];
+                let rd = station_dofs[c.station];
+                let uc = [rotor.u_next[rd[0]], rotor.u_next[rd[1]]];
+                let tg = &case.stators[c.stator].targets[c.target];
+                let us = target_disp(tg.dofs(), stators[c.stator].disp());
+                stats.min_gap = stats.min_gap.min(exact_gap(tg, c.radius, uc, us));
+            }
+        } else if !collocated {
+            energy_now = 0.0;
+        }
+        if active_now > 0 {
+            stats.contact_steps += 1;
+            stats.max_active = stats.max_active.max(active_now);
+        }
+        // Stability guard.
+        for (i, v) in rotor.u_next.iter().enumerate() {
+            if !(v.abs() <= bound) {
+                return Err(if v.is_finite() {
+                    SolveError::Diverged {
+                        step: step + 1,
+                        time: t + dt,
+                        magnitude: v.abs(),
+                        bound,
+                        dt,
+                        limit: plan.limit,
+                    }
+                } else {
+                    SolveError::NonFinite {
+                        step: step + 1,
+                        time: t + dt,
+                        what: "rotor".into(),
+                        dof: i,
+                        dt,
+                        limit: plan.limit,
+                    }
+                });
+            }
+        }
+        for (k, st) in stators.iter().enumerate() {
+            if let Some(i) = st.disp().iter().position(|v| !v.is_finite()) {
+                return Err(SolveError::NonFinite {
+                    step: step + 1,
+                    time: t + dt,
+                    what: format!("stator `{}`", case.stators[k].name),
+                    dof: i,
+                    dt,
+                    limit: plan.limit,
+                });
+            }
+        }
+        rotor.rotate();
+        for st in stators.iter_mut() {
+            if let StatorDyn::Massive(b) = st {
+                b.rotate();
+            }
+        }
+        stats.steps += 1;
+        if !collocated && (step + 1) % plan.record_every == 0 {
+            record(&mut rec, t + dt, &rotor.u, &fst, &fst_n, energy_now, active_now);
+        }
+    }
+    stats.wall_s = start.elapsed().as_secs_f64();
+    if stats.min_gap == f64::INFINITY {
+        stats.min_gap = f64::NAN;
+    }
+    Ok((rec, stats))
+}
