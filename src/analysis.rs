@@ -128,7 +128,12 @@ pub struct SpeedResults {
 }
 
 /// Runs one speed: builds the case, plans Δt, integrates, analyses.
-pub fn run_speed(model: &Model, s: &RunSettings, speed_ratio: f64, keep: Keep) -> Result<SpeedResults> {
+pub fn run_speed(
+    model: &Model,
+    s: &RunSettings,
+    speed_ratio: f64,
+    keep: Keep,
+) -> Result<SpeedResults> {
     let omega = speed_ratio * model.rotor.natural_frequency();
     let case = model.case(omega)?;
     let plan = plan_steps(&case, &s.step)?;

@@ -28,9 +28,12 @@ impl Csc {
     pub fn from_triplets(nrows: usize, ncols: usize, trip: &[(usize, usize, f64)]) -> Self {
         let mut t: Vec<(usize, usize, f64)> = trip.to_vec();
         for &(r, c, _) in &t {
-            assert!(r < nrows && c < ncols, "triplet ({r}, {c}) outside {nrows}×{ncols}");
+            assert!(
+                r < nrows && c < ncols,
+                "triplet ({r}, {c}) outside {nrows}×{ncols}"
+            );
         }
-        t.sort_by(|a, b| (a.1, a.0).cmp(&(b.1, b.0)));
+        t.sort_by_key(|a| (a.1, a.0));
         let mut col_ptr = vec![0usize; ncols + 1];
         let mut row_idx = Vec::with_capacity(t.len());
         let mut val: Vec<f64> = Vec::with_capacity(t.len());
@@ -107,8 +110,8 @@ impl Csc {
     pub fn mul_add(&self, alpha: f64, x: &[f64], y: &mut [f64]) {
         debug_assert_eq!(x.len(), self.ncols);
         debug_assert_eq!(y.len(), self.nrows);
-        for c in 0..self.ncols {
-            let xc = alpha * x[c];
+        for (c, xv) in x.iter().enumerate() {
+            let xc = alpha * xv;
             if xc == 0.0 {
                 continue;
             }

@@ -87,7 +87,8 @@ enum Cmd {
 
 fn load(c: &Common) -> Result<(LoadedScene, Model)> {
     let ls = scene::load(&c.scene, &c.set)?;
-    let model = Model::build(&ls).with_context(|| format!("{}: building the model", c.scene.display()))?;
+    let model =
+        Model::build(&ls).with_context(|| format!("{}: building the model", c.scene.display()))?;
     Ok((ls, model))
 }
 
@@ -167,7 +168,10 @@ fn run(c: &Common, out: Option<PathBuf>) -> Result<()> {
     sum["result"] = serde_json::to_value(&r)?;
     sum["regime"] = output::regime_name(r.period).into();
     sum["wall_s"] = t0.elapsed().as_secs_f64().into();
-    outd.write("summary.json", serde_json::to_string_pretty(&sum)?.as_bytes())?;
+    outd.write(
+        "summary.json",
+        serde_json::to_string_pretty(&sum)?.as_bytes(),
+    )?;
     let dir = outd.dir().to_path_buf();
     outd.commit()?;
     println!(
@@ -186,8 +190,10 @@ fn run(c: &Common, out: Option<PathBuf>) -> Result<()> {
 fn progress_bar(n: usize) -> ProgressBar {
     let pb = ProgressBar::new(n as u64);
     pb.set_style(
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} speeds {msg}")
-            .expect("valid template"),
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} speeds {msg}",
+        )
+        .expect("valid template"),
     );
     pb
 }
@@ -195,7 +201,10 @@ fn progress_bar(n: usize) -> ProgressBar {
 fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
     let (ls, model) = load(c)?;
     let sw = ls.scene.run.sweep.clone().with_context(|| {
-        format!("{}: `rubsim sweep` needs a [run.sweep] table", c.scene.display())
+        format!(
+            "{}: `rubsim sweep` needs a [run.sweep] table",
+            c.scene.display()
+        )
     })?;
     let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene)))?;
     let speeds = analysis::sweep_speeds(sw.from, sw.to, sw.step);
@@ -252,7 +261,9 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
             .collect::<std::result::Result<_, _>>()?;
         let grids = if o.orbit_grids.is_empty() {
             let n = speeds.len();
-            vec![(0..9.min(n)).map(|i| speeds[i * (n - 1) / 8.max(1)]).collect()]
+            vec![(0..9.min(n))
+                .map(|i| speeds[i * (n - 1) / 8])
+                .collect()]
         } else {
             o.orbit_grids.clone()
         };
@@ -264,14 +275,16 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
         output::write_sweep(
             &mut outd,
             prefix,
-            &title,
             &res,
-            &bounds,
-            &grids,
-            &o.force_histories,
-            fmax,
-            o.png,
-            &o.component,
+            &output::SweepFigures {
+                title: &title,
+                bounds: &bounds,
+                orbit_grids: &grids,
+                force_histories: &o.force_histories,
+                cascade_max: fmax,
+                png: o.png,
+                component: &o.component,
+            },
         )?;
         let regimes = output::regime_ranges(&res.speeds);
         let peaks = output::quasi_resonances(&res.speeds);
@@ -283,11 +296,19 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
             .fold(0.0, f64::max);
         println!(
             "{}{} speeds in {:.3} s ({} steps){}",
-            if prefix.is_empty() { String::new() } else { format!("{}: ", extra.join(", ")) },
+            if prefix.is_empty() {
+                String::new()
+            } else {
+                format!("{}: ", extra.join(", "))
+            },
             speeds.len(),
             res.wall_s,
             total_steps,
-            if max_err > 0.0 { format!(", largest estimated extents error {max_err:.1e}") } else { String::new() }
+            if max_err > 0.0 {
+                format!(", largest estimated extents error {max_err:.1e}")
+            } else {
+                String::new()
+            }
         );
         for r in &regimes {
             println!(
@@ -318,7 +339,10 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
     let mut sum = summary_base(&ls, &model, "sweep");
     sum["sweeps"] = serde_json::Value::Array(variant_summaries);
     sum["wall_s"] = t0.elapsed().as_secs_f64().into();
-    outd.write("summary.json", serde_json::to_string_pretty(&sum)?.as_bytes())?;
+    outd.write(
+        "summary.json",
+        serde_json::to_string_pretty(&sum)?.as_bytes(),
+    )?;
     let dir = outd.dir().to_path_buf();
     outd.commit()?;
     println!("results in {}", dir.display());
@@ -359,7 +383,9 @@ fn check(c: &Common) -> Result<()> {
     for (spec, m) in s.stators.iter().zip(&case.stators) {
         let kind = match spec {
             scene::StatorSpec::Rod(_) => "rod (2-D bar elements, lateral DOFs guided)",
-            scene::StatorSpec::Ring(_) => "rigid ring on isotropic springs (circle-in-circle contact)",
+            scene::StatorSpec::Ring(_) => {
+                "rigid ring on isotropic springs (circle-in-circle contact)"
+            }
             scene::StatorSpec::Fe(_) => "general 2-D FE stator",
         };
         let ks = m.contact_stiffness_bound();
@@ -430,11 +456,15 @@ fn check(c: &Common) -> Result<()> {
         "  Δt at ω/ωn = {:.2}: {:.4e} s ({} steps/rev); paper rule (n = {}) {:.4e} s; stability limit {:.4e} s; ω_max {:.4e} rad/s",
         case.speed_ratio, plan.dt, plan.steps_per_rev, s.run.harmonics, plan.rule_dt, plan.limit, plan.omega_max
     );
-    println!("built: {} rotor body with {} DOF, {} stator(s), {} contact candidate pair(s)",
-        match model.rotor { rubsim::model::Rotor::Jeffcott(_) => "Jeffcott", },
+    println!(
+        "built: {} rotor body with {} DOF, {} stator(s), {} contact candidate pair(s)",
+        match model.rotor {
+            rubsim::model::Rotor::Jeffcott(_) => "Jeffcott",
+        },
         case.rotor.ndof,
         case.stators.len(),
-        case.stators.iter().map(|m| m.targets.len()).sum::<usize>());
+        case.stators.iter().map(|m| m.targets.len()).sum::<usize>()
+    );
     let mut left = vec!["FE rotor assembly and sparse LU of M̃ (Jeffcott M̃ is diagonal)"];
     if case.stators.iter().all(|m| m.massless()) {
         left.push("stator mass matrices and stator time stepping (all stators massless)");
@@ -446,7 +476,11 @@ fn check(c: &Common) -> Result<()> {
     println!("left out: {}", left.join("; "));
     println!(
         "outputs: summary.json{}{}",
-        if s.run.sweep.is_some() { ", sweep.csv" } else { "" },
+        if s.run.sweep.is_some() {
+            ", sweep.csv"
+        } else {
+            ""
+        },
         if s.output.png {
             if s.run.sweep.is_some() {
                 ", cascade.png, bifurcation.png, regime_map.png, orbits_N.png, contact_force.png"
@@ -460,7 +494,13 @@ fn check(c: &Common) -> Result<()> {
     Ok(())
 }
 
-fn convergence(c: &Common, speeds: &[f64], levels: u32, reference: u32, out: Option<PathBuf>) -> Result<()> {
+fn convergence(
+    c: &Common,
+    speeds: &[f64],
+    levels: u32,
+    reference: u32,
+    out: Option<PathBuf>,
+) -> Result<()> {
     let (ls, model) = load(c)?;
     let speeds: Vec<f64> = if speeds.is_empty() {
         match single_speed(&ls, &model) {
@@ -470,31 +510,62 @@ fn convergence(c: &Common, speeds: &[f64], levels: u32, reference: u32, out: Opt
     } else {
         speeds.to_vec()
     };
-    let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene).join("convergence")))?;
+    let mut outd =
+        OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene).join("convergence")))?;
     let mut s = settings(&ls);
     s.error_estimate = false;
     let lv: Vec<u32> = (0..=levels).collect();
     let mut all = Vec::new();
     for v in &speeds {
         let res = analysis::convergence(&model, &s, *v, &lv, reference, 12)?;
-        println!("ω/ωn = {v}: reference collocated Δt = {:.3e} s, period {}", res.reference_dt, res.reference_period);
-        println!("  {:>18} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>6} {:>9}", "integrator", "Δt·ωn", "steps/rev", "orbit err", "ext err", "1× err", "sub err", "period", "wall s");
+        println!(
+            "ω/ωn = {v}: reference collocated Δt = {:.3e} s, period {}",
+            res.reference_dt, res.reference_period
+        );
+        println!(
+            "  {:>18} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>6} {:>9}",
+            "integrator",
+            "Δt·ωn",
+            "steps/rev",
+            "orbit err",
+            "ext err",
+            "1× err",
+            "sub err",
+            "period",
+            "wall s"
+        );
         for p in &res.points {
             println!(
                 "  {:>18} {:>10.3e} {:>8} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e} {:>6} {:>9.4}",
-                p.integrator, p.dt_wn, p.steps_per_rev, p.orbit_err, p.extents_err, p.lines_err[0],
-                p.lines_err[1].max(p.lines_err[2]), p.period, p.wall_s
+                p.integrator,
+                p.dt_wn,
+                p.steps_per_rev,
+                p.orbit_err,
+                p.extents_err,
+                p.lines_err[0],
+                p.lines_err[1].max(p.lines_err[2]),
+                p.period,
+                p.wall_s
             );
         }
         for (n, o) in &res.orders {
             println!("  observed order {n}: {o:.2}");
         }
-        output::write_convergence(&mut outd, &format!("speed_{v}/"), &ls.scene.title, &res, ls.scene.output.png)?;
+        output::write_convergence(
+            &mut outd,
+            &format!("speed_{v}/"),
+            &ls.scene.title,
+            &res,
+            ls.scene.output.png,
+        )?;
         all.push(res);
     }
     let mut sum = summary_base(&ls, &model, "convergence");
     sum["studies"] = serde_json::to_value(&all)?;
-    outd.write("summary.json", serde_json::to_string_pretty(&sum)?.as_bytes())?;
+    outd.write(
+        "summary.json",
+        serde_json::to_string_pretty(&sum)?.as_bytes(),
+    )?;
     let dir = outd.dir().to_path_buf();
     outd.commit()?;
     println!("results in {}", dir.display());
@@ -518,7 +589,11 @@ fn bench(c: &Common, repeat: usize) -> Result<()> {
     let r = best.expect("at least one repetition");
     let steps: usize = r.speeds.iter().map(|x| x.stats.steps).sum();
     let loop_s: f64 = r.speeds.iter().map(|x| x.stats.wall_s).sum();
-    let err = r.speeds.iter().filter_map(|x| x.error.map(|e| e.extents_rel)).fold(0.0, f64::max);
+    let err = r
+        .speeds
+        .iter()
+        .filter_map(|x| x.error.map(|e| e.extents_rel))
+        .fold(0.0, f64::max);
     println!(
         "bench {}: {} speeds, threads {}, best of {}: wall {:.3} s, {} steps (main runs), {:.1} ns/step (loop time per step, main runs), largest estimated extents error {:.2e}{}",
         c.scene.display(),
@@ -541,17 +616,34 @@ fn main() {
         _ => None,
     };
     if let Some(j) = jobs {
-        let _ = rayon::ThreadPoolBuilder::new().num_threads(j.max(1)).build_global();
+        let _ = rayon::ThreadPoolBuilder::new()
+            .num_threads(j.max(1))
+            .build_global();
     }
     let r = match &cli.cmd {
         Cmd::Run { c, out } => run(c, out.clone()),
         Cmd::Sweep { c, out, .. } => sweep(c, out.clone()),
         Cmd::Check { c } => check(c),
-        Cmd::Convergence { c, speeds, levels, reference, out } => convergence(c, speeds, *levels, *reference, out.clone()),
+        Cmd::Convergence {
+            c,
+            speeds,
+            levels,
+            reference,
+            out,
+        } => convergence(c, speeds, *levels, *reference, out.clone()),
         Cmd::Bench { c, repeat, .. } => bench(c, *repeat),
     };
     if let Err(e) = r {
-        eprintln!("error: {e:#}");
+        // `{e:#}` would repeat a cause its parent already quotes (e.g. the I/O error of
+        // "cannot read scene file: …"); append only causes not already shown.
+        let mut msg = e.to_string();
+        for cause in e.chain().skip(1) {
+            let c = cause.to_string();
+            if !msg.ends_with(&c) {
+                msg = format!("{msg}: {c}");
+            }
+        }
+        eprintln!("error: {msg}");
         std::process::exit(2);
     }
 }

@@ -34,6 +34,7 @@ pub fn spin_tangent(omega: f64, n: V2) -> V2 {
 ///
 /// Returns `false` when a pivot is smaller than `tiny` times the largest entry (singular).
 /// Allocation free: the caller owns every buffer.
+#[allow(clippy::needless_range_loop)] // dense index kernel
 pub fn lu_in_place(a: &mut [f64], n: usize, piv: &mut [usize], tiny: f64) -> bool {
     let scale = a[..n * n].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     if scale == 0.0 {
@@ -73,6 +74,7 @@ pub fn lu_in_place(a: &mut [f64], n: usize, piv: &mut [usize], tiny: f64) -> boo
 }
 
 /// Solves `A x = b` in place (`b` becomes `x`) with the factors from [`lu_in_place`].
+#[allow(clippy::needless_range_loop)] // dense index kernel
 pub fn lu_solve(a: &[f64], n: usize, piv: &[usize], b: &mut [f64]) {
     for k in 0..n {
         b.swap(k, piv[k]);

@@ -27,7 +27,10 @@ impl OutDir {
         std::fs::create_dir_all(dir)
             .map_err(|e| Error::output(dir, format!("cannot create output directory: {e}")))?;
         if !dir.is_dir() {
-            return Err(Error::output(dir, "output path exists and is not a directory"));
+            return Err(Error::output(
+                dir,
+                "output path exists and is not a directory",
+            ));
         }
         let staging = dir.join(format!(".rubsim-partial-{}", std::process::id()));
         std::fs::create_dir_all(&staging)
@@ -206,19 +209,41 @@ pub fn quasi_resonances(speeds: &[SpeedResults]) -> Vec<(usize, f64)> {
     out
 }
 
+/// What a sweep draws.
+#[derive(Debug, Clone)]
+pub struct SweepFigures<'a> {
+    /// Title on every picture.
+    pub title: &'a str,
+    /// Stator boundary per speed (orbit panels).
+    pub bounds: &'a [Boundary],
+    /// Orbit grids (lists of ω/ω_n).
+    pub orbit_grids: &'a [Vec<f64>],
+    /// Speeds whose contact-force histories are drawn.
+    pub force_histories: &'a [f64],
+    /// Upper frequency of the cascade (f/ω_n).
+    pub cascade_max: f64,
+    /// Write PNGs at all.
+    pub png: bool,
+    /// Analysed component, `"x"` or `"y"`.
+    pub component: &'a str,
+}
+
 /// Writes the sweep's table and pictures into `out` under `prefix` (e.g. `""` or `"eps_5/"`).
 pub fn write_sweep(
     out: &mut OutDir,
     prefix: &str,
-    title: &str,
     res: &SweepResults,
-    bounds: &[Boundary],
-    orbit_grids: &[Vec<f64>],
-    force_histories: &[f64],
-    cascade_max: f64,
-    png: bool,
-    component: &str,
+    fig: &SweepFigures<'_>,
 ) -> Result<()> {
+    let SweepFigures {
+        title,
+        bounds,
+        orbit_grids,
+        force_histories,
+        cascade_max,
+        png,
+        component,
+    } = fig.clone();
     let mut csv = String::from(SWEEP_HEADER);
     csv.push('\n');
     for r in &res.speeds {
@@ -279,11 +304,7 @@ pub fn write_sweep(
             .map(|i| {
                 let r = &res.speeds[i];
                 OrbitPanel {
-                    title: format!(
-                        "ω/ωn = {:.1}  ({})",
-                        r.speed_ratio,
-                        regime_name(r.period)
-                    ),
+                    title: format!("ω/ωn = {:.1}  ({})", r.speed_ratio, regime_name(r.period)),
                     x: r.orbit_nd.iter().map(|p| p[0]).collect(),
                     y: r.orbit_nd.iter().map(|p| p[1]).collect(),
                     boundary: bounds.get(i).cloned().unwrap_or(Boundary::None),
@@ -292,7 +313,12 @@ pub fn write_sweep(
             })
             .collect();
         let p = out.stage(&format!("{prefix}orbits_{}.png", g + 1))?;
-        plot::orbit_grid(&p, &format!("{title} — orbits of the rotor centre"), &panels, 3)?;
+        plot::orbit_grid(
+            &p,
+            &format!("{title} — orbits of the rotor centre"),
+            &panels,
+            3,
+        )?;
     }
     if !force_histories.is_empty() {
         let series: Vec<Series> = force_histories
@@ -468,7 +494,10 @@ pub fn write_convergence(
     let p = out.stage(&format!("{prefix}error_vs_dt.png"))?;
     plot::loglog(
         &p,
-        &format!("{title} — orbit error against time step at ω/ωn = {}", c.speed_ratio),
+        &format!(
+            "{title} — orbit error against time step at ω/ωn = {}",
+            c.speed_ratio
+        ),
         &curves(&|p| (p.dt_wn, p.orbit_err)),
         "Δt·ωn",
         "relative orbit error",

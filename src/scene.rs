@@ -463,27 +463,24 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError
 
 /// Like [`load`] but from text already in memory (`path` is used in messages only).
 pub fn parse(path: &Path, source: &str, overrides: &[String]) -> Result<LoadedScene, SceneError> {
-    let mut value: toml::Value = toml::from_str(source).map_err(|e| SceneError::Parse {
-        file: path.to_path_buf(),
-        message: e.to_string().trim_end().to_string(),
-    })?;
+    let mut value: toml::Value =
+        toml::from_str(source).map_err(|e| parse_error(path, source, e))?;
     for a in overrides {
         apply_override(&mut value, a)?;
     }
     let scene: Scene = if overrides.is_empty() {
-        toml::from_str(source)
+        toml::from_str(source).map_err(|e| parse_error(path, source, e))?
     } else {
-        // Re-serialise so spans in messages refer to the overridden document.
-        let text = toml::to_string(&value).map_err(|e| SceneError::Parse {
-            file: path.to_path_buf(),
-            message: e.to_string(),
-        })?;
-        toml::from_str(&text)
-    }
-    .map_err(|e| SceneError::Parse {
-        file: path.to_path_buf(),
-        message: e.to_string().trim_end().to_string(),
-    })?;
+        // No spans here (the lines of a re-serialised document would not be the file's): when
+        // the file alone fails the same way, report that with its lines, else blame the --set.
+        Scene::deserialize(value).map_err(|e| match toml::from_str::<Scene>(source) {
+            Err(fe) if fe.message() == e.message() => parse_error(path, source, fe),
+            _ => SceneError::Override {
+                assignment: overrides.join(" --set "),
+                message: e.to_string().trim_end().replace('\n', " "),
+            },
+        })?
+    };
     let loaded = LoadedScene {
         scene,
         file: path.to_path_buf(),
@@ -492,6 +489,41 @@ pub fn parse(path: &Path, source: &str, overrides: &[String]) -> Result<LoadedSc
     };
     validate(&loaded)?;
     Ok(loaded)
+}
+
+/// A TOML/serde error in the file's own text. In a `kind`-tagged table (`[rotor]`,
+/// `[[stator]]`) serde reports an unknown key at the table header; name the key's own line too.
+fn parse_error(path: &Path, source: &str, e: toml::de::Error) -> SceneError {
+    let mut message = e.to_string().trim_end().to_string();
+    let key = e
+        .message()
+        .strip_prefix("unknown field `")
+        .and_then(|r| r.split('`').next());
+    if let (Some(span), Some(key)) = (e.span(), key) {
+        let header = source[..span.start.min(source.len())].matches('\n').count();
+        let is_header = |l: &str| {
+            let l = l.trim_start();
+            let name = l.trim_start_matches('[').trim_start();
+            l.starts_with('[') && name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '"')
+        };
+        let is_key = |l: &str| {
+            let r = l.trim_start().strip_prefix(key).map(str::trim_start);
+            r.is_some_and(|r| r.starts_with(['=', '.']))
+        };
+        let found = source
+            .lines()
+            .enumerate()
+            .skip(header + 1)
+            .take_while(|(_, l)| !is_header(l))
+            .find(|(_, l)| is_key(l));
+        if let Some((n, _)) = found {
+            message.push_str(&format!("\n`{key}` is on line {}", n + 1));
+        }
+    }
+    SceneError::Parse {
+        file: path.to_path_buf(),
+        message,
+    }
 }
 
 /// Applies one `path.to.key=value` assignment; array elements are addressed by index
@@ -534,7 +566,9 @@ pub fn apply_override(root: &mut toml::Value, assignment: &str) -> Result<(), Sc
                     .map_err(|_| err(&format!("`{part}` is not an index into an array")))?;
                 let len = a.len();
                 let slot = a.get_mut(idx).ok_or_else(|| {
-                    err(&format!("index {idx} out of range (array has {len} entries)"))
+                    err(&format!(
+                        "index {idx} out of range (array has {len} entries)"
+                    ))
                 })?;
                 if last {
                     *slot = value;
@@ -572,9 +606,9 @@ pub fn locate_key(source: &str, key: &str) -> Option<usize> {
             (Cur::Item(Item::Table(t)), None) => {
                 t.get_key_value(part).map(|(k, v)| (k.span(), Cur::Item(v)))
             }
-            (Cur::Item(Item::Value(Value::InlineTable(t))), None) => {
-                t.get_key_value(part).map(|(k, _)| (k.span(), Cur::Item(&Item::None)))
-            }
+            (Cur::Item(Item::Value(Value::InlineTable(t))), None) => t
+                .get_key_value(part)
+                .map(|(k, _)| (k.span(), Cur::Item(&Item::None))),
             (Cur::Item(Item::ArrayOfTables(a)), Some(i)) => {
                 a.get(i).map(|t| (t.span(), Cur::Table(t)))
             }
@@ -629,7 +663,14 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
     let s = &ls.scene;
     match &s.rotor {
         RotorSpec::Jeffcott(j) => {
-            exactly_one(ls, "mass", j.mass.is_some(), "disk", j.disk.is_some(), "rotor")?;
+            exactly_one(
+                ls,
+                "mass",
+                j.mass.is_some(),
+                "disk",
+                j.disk.is_some(),
+                "rotor",
+            )?;
             exactly_one(
                 ls,
                 "stiffness",
@@ -702,7 +743,11 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
                 format!(
                     "no station named `{}` (stations: {})",
                     stator.station(),
-                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
                 ),
             ));
         }
@@ -817,7 +862,9 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
                 }
                 for (n, m) in &f.point_masses {
                     if *n >= nn {
-                        return Err(ls.invalid(&k("point_masses"), format!("node {n} does not exist")));
+                        return Err(
+                            ls.invalid(&k("point_masses"), format!("node {n} does not exist"))
+                        );
                     }
                     non_negative(ls, &k("point_masses"), *m)?;
                 }
@@ -828,10 +875,14 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
         }
     }
     let r = &s.run;
-    let n_speed = [r.speed_ratio.is_some(), r.speed.is_some(), r.sweep.is_some()]
-        .iter()
-        .filter(|b| **b)
-        .count();
+    let n_speed = [
+        r.speed_ratio.is_some(),
+        r.speed.is_some(),
+        r.sweep.is_some(),
+    ]
+    .iter()
+    .filter(|b| **b)
+    .count();
     if n_speed != 1 {
         return Err(ls.invalid(
             "run",
@@ -959,14 +1010,20 @@ speed_ratio = 1.7
     fn negative_mass_names_key_and_line() {
         let bad = OK.replace("mass = 2.0", "mass = -2.0");
         let e = p(&bad, &[]).unwrap_err().to_string();
-        assert!(e.contains("rotor.mass") && e.contains("scene.toml:5"), "{e}");
+        assert!(
+            e.contains("rotor.mass") && e.contains("scene.toml:5"),
+            "{e}"
+        );
     }
 
     #[test]
     fn clearance_in_array_of_tables_is_located() {
         let bad = OK.replace("clearance_nd = 0.6", "clearance_nd = -0.6");
         let e = p(&bad, &[]).unwrap_err().to_string();
-        assert!(e.contains("stator.0.clearance_nd") && e.contains(":21"), "{e}");
+        assert!(
+            e.contains("stator.0.clearance_nd") && e.contains(":21"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -52,7 +52,8 @@ pub fn hann_spectrum(x: &[f64]) -> Vec<f64> {
     let mut planner = RealFftPlanner::<f64>::new();
     let fft = planner.plan_fft_forward(n);
     let mut out = fft.make_output_vec();
-    fft.process(&mut buf, &mut out).expect("buffer sizes from the planner");
+    fft.process(&mut buf, &mut out)
+        .expect("buffer sizes from the planner");
     out.iter().map(|c| 2.0 * c.norm() / wsum).collect()
 }
 
@@ -69,8 +70,20 @@ pub fn line_amplitude(spec: &[f64], k: f64) -> f64 {
 /// `[x_min, x_max, y_min, y_max]` of a set of points.
 pub fn extents(pts: &[V2]) -> [f64; 4] {
     pts.iter().fold(
-        [f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY],
-        |e, p| [e[0].min(p[0]), e[1].max(p[0]), e[2].min(p[1]), e[3].max(p[1])],
+        [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ],
+        |e, p| {
+            [
+                e[0].min(p[0]),
+                e[1].max(p[0]),
+                e[2].min(p[1]),
+                e[3].max(p[1]),
+            ]
+        },
     )
 }
 
@@ -98,7 +111,9 @@ mod tests {
 
     #[test]
     fn period_detection() {
-        let p2: Vec<V2> = (0..40).map(|k| if k % 2 == 0 { [1.0, 0.0] } else { [0.0, 1.0] }).collect();
+        let p2: Vec<V2> = (0..40)
+            .map(|k| if k % 2 == 0 { [1.0, 0.0] } else { [0.0, 1.0] })
+            .collect();
         assert_eq!(poincare_period(&p2, 1.0, 8, 1e-3), 2);
         let p3: Vec<V2> = (0..40).map(|k| [(k % 3) as f64, 0.0]).collect();
         assert_eq!(poincare_period(&p3, 2.0, 8, 1e-3), 3);

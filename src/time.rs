@@ -222,7 +222,7 @@ pub struct RunStats {
 enum MInv {
     Diag(Vec<f64>),
     Lu {
-        lu: Lu,
+        lu: Box<Lu>,
         /// Columns M̃⁻¹ e_d for contact DOFs, column-major n × ncd.
         cols: Vec<f64>,
         col_of: Vec<usize>,
@@ -263,7 +263,11 @@ impl DynBody {
                 cols[j * n + d] = 1.0;
             }
             lu.solve_in_place(&mut cols);
-            MInv::Lu { lu, cols, col_of }
+            MInv::Lu {
+                lu: Box::new(lu),
+                cols,
+                col_of,
+            }
         };
         Ok(Self {
             n,
@@ -283,8 +287,8 @@ impl DynBody {
         self.bop.mul_add(1.0, &self.u_prev, &mut self.rhs);
         match &self.minv {
             MInv::Diag(inv) => {
-                for i in 0..self.n {
-                    self.u_next[i] = inv[i] * self.rhs[i];
+                for ((u, r), d) in self.u_next.iter_mut().zip(&self.rhs).zip(inv) {
+                    *u = d * r;
                 }
             }
             MInv::Lu { lu, .. } => {
@@ -374,7 +378,7 @@ impl Compliance {
 #[derive(Debug)]
 enum StatorDyn {
     Massless(Compliance),
-    Massive(DynBody),
+    Massive(Box<DynBody>),
 }
 
 impl StatorDyn {
@@ -440,10 +444,10 @@ pub fn integrate(
                 Compliance::new(s).map_err(|e| model_err(format!("stator `{}`: {e}", s.name)))?,
             )
         } else {
-            StatorDyn::Massive(
+            StatorDyn::Massive(Box::new(
                 DynBody::new(&s.m, &s.c, &s.k, dt, &s.contact_dofs())
                     .map_err(|e| model_err(format!("stator `{}`: {e}", s.name)))?,
-            )
+            ))
         });
     }
     let mut cands: Vec<Candidate> = Vec::new();
@@ -495,7 +499,13 @@ pub fn integrate(
     }
     let scale = case
         .z0
-        .max(case.stators.iter().map(|s| s.clearance).filter(|c| c.is_finite()).fold(0.0, f64::max))
+        .max(
+            case.stators
+                .iter()
+                .map(|s| s.clearance)
+                .filter(|c| c.is_finite())
+                .fold(0.0, f64::max),
+        )
         .max(init.u[0].hypot(init.u[1]))
         .max(1e-9);
     let bound = 1e4 * scale;
@@ -520,7 +530,7 @@ pub fn integrate(
 
     // One LCP over a selection of pairs; `rotor_in` says whether the rotor's flexibility
     // enters W (forward increment) or the rotor is held (collocated static solve).
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
     fn solve_pairs(
         sel: &[usize],
         cands: &[Candidate],
@@ -607,18 +617,19 @@ pub fn integrate(
         Ok(piv)
     }
 
-    let stator_energy = |stators: &[StatorDyn], states: &[PairState], sel: &[usize], pvec: &[f64]| {
-        let mut e = 0.0;
-        for (i, &ci) in sel.iter().enumerate() {
-            let c = &cands[ci];
-            if let StatorDyn::Massless(cm) = &stators[c.stator] {
-                let b = states[ci].b(c.mu);
-                let us = target_disp(case.stators[c.stator].targets[c.target].dofs(), &cm.u);
-                e += 0.5 * pvec[i] * (b[0] * us[0] + b[1] * us[1]);
+    let stator_energy =
+        |stators: &[StatorDyn], states: &[PairState], sel: &[usize], pvec: &[f64]| {
+            let mut e = 0.0;
+            for (i, &ci) in sel.iter().enumerate() {
+                let c = &cands[ci];
+                if let StatorDyn::Massless(cm) = &stators[c.stator] {
+                    let b = states[ci].b(c.mu);
+                    let us = target_disp(case.stators[c.stator].targets[c.target].dofs(), &cm.u);
+                    e += 0.5 * pvec[i] * (b[0] * us[0] + b[1] * us[1]);
+                }
             }
-        }
-        e
-    };
+            e
+        };
 
     let mut energy_now = 0.0;
     let record = |rec: &mut Record,
@@ -681,9 +692,22 @@ pub fn integrate(
                     }
                 }
                 stats.pivots += solve_pairs(
-                    &sel, &cands, &states, case, &station_dofs, &mut rotor, false,
-                    &mut stators, &mut wmat, &mut gvec, &mut pvec, &mut ws, &mut fst,
-                    &mut fst_n, step, t,
+                    &sel,
+                    &cands,
+                    &states,
+                    case,
+                    &station_dofs,
+                    &mut rotor,
+                    false,
+                    &mut stators,
+                    &mut wmat,
+                    &mut gvec,
+                    &mut pvec,
+                    &mut ws,
+                    &mut fst,
+                    &mut fst_n,
+                    step,
+                    t,
                 )?;
                 active_now = pvec[..sel.len()].iter().filter(|p| **p > 0.0).count();
                 energy_now = stator_energy(&stators, &states, &sel, &pvec);
@@ -755,8 +779,22 @@ pub fn integrate(
                 }
             }
             stats.pivots += solve_pairs(
-                &sel, &cands, &states, case, &station_dofs, &mut rotor, true, &mut stators,
-                &mut wmat, &mut gvec, &mut pvec, &mut ws, &mut fst, &mut fst_n, step, t,
+                &sel,
+                &cands,
+                &states,
+                case,
+                &station_dofs,
+                &mut rotor,
+                true,
+                &mut stators,
+                &mut wmat,
+                &mut gvec,
+                &mut pvec,
+                &mut ws,
+                &mut fst,
+                &mut fst_n,
+                step,
+                t,
             )?;
             let act = pvec[..sel.len()].iter().filter(|p| **p > 0.0).count();
             if !collocated {
@@ -780,7 +818,7 @@ pub fn integrate(
         }
         // Stability guard.
         for (i, v) in rotor.u_next.iter().enumerate() {
-            if !(v.abs() <= bound) {
+            if v.is_nan() || v.abs() > bound {
                 return Err(if v.is_finite() {
                     SolveError::Diverged {
                         step: step + 1,
@@ -822,7 +860,15 @@ pub fn integrate(
         }
         stats.steps += 1;
         if !collocated && (step + 1) % plan.record_every == 0 {
-            record(&mut rec, t + dt, &rotor.u, &fst, &fst_n, energy_now, active_now);
+            record(
+                &mut rec,
+                t + dt,
+                &rotor.u,
+                &fst,
+                &fst_n,
+                energy_now,
+                active_now,
+            );
         }
     }
     stats.wall_s = start.elapsed().as_secs_f64();

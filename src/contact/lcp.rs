@@ -79,6 +79,7 @@ impl LcpWorkspace {
 ///
 /// # Panics
 /// If `q` exceeds the workspace capacity (a sizing bug in the caller).
+#[allow(clippy::needless_range_loop)] // dense index kernel
 pub fn solve(
     q: usize,
     wmat: &[f64],
@@ -94,8 +95,8 @@ pub fn solve(
     }
     let tol = 1e-12 * gscale;
     // Start from the set of predicted penetrations.
-    for i in 0..q {
-        ws.active[i] = g[i] < 0.0;
+    for (a, gi) in ws.active.iter_mut().zip(&g[..q]) {
+        *a = *gi < 0.0;
     }
     let max_iter = 50 + 20 * q * q;
     for iter in 0..max_iter {
@@ -202,7 +203,9 @@ mod tests {
         // Deterministic pseudo-random SPD plus small skew part (friction-like).
         let mut seed = 12345_u64;
         let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
         };
         for q in 1..8 {

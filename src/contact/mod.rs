@@ -96,7 +96,11 @@ pub fn pair_state(target: &Target, radius: f64, uc: V2, us: V2, omega: f64) -> P
         } => {
             let d = [uc[0] - center0[0] - us[0], uc[1] - center0[1] - us[1]];
             let l = norm(d);
-            let n = if l > 0.0 { [d[0] / l, d[1] / l] } else { [1.0, 0.0] };
+            let n = if l > 0.0 {
+                [d[0] / l, d[1] / l]
+            } else {
+                [1.0, 0.0]
+            };
             PairState {
                 n,
                 a: spin_tangent(omega, n),

@@ -167,7 +167,9 @@ impl Model {
                 .expect("validated station name");
             let st = &self.stations[si];
             let zs = self.rotor.z0(st.node, omega);
-            let resolve_clearance = |c: Option<f64>, c_nd: Option<f64>| -> Result<f64, ModelError> {
+            let resolve_clearance = |c: Option<f64>,
+                                     c_nd: Option<f64>|
+             -> Result<f64, ModelError> {
                 match (c, c_nd) {
                     (Some(c), _) => Ok(c),
                     (None, Some(nd)) => {
@@ -208,7 +210,9 @@ impl Model {
                 }
                 StatorSpec::Ring(r) => {
                     let clearance = resolve_clearance(r.clearance, r.clearance_nd)?;
-                    let ks = r.stiffness.unwrap_or_else(|| r.stiffness_ratio.unwrap_or(0.0) * kr);
+                    let ks = r
+                        .stiffness
+                        .unwrap_or_else(|| r.stiffness_ratio.unwrap_or(0.0) * kr);
                     StatorModel::ring(&r.name, si, st.radius, clearance, ks, r.mass, r.damping)
                 }
                 StatorSpec::Fe(f) => {

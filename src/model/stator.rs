@@ -254,8 +254,16 @@ impl StatorModel {
             node_dofs: vec![[Some(0), Some(1)]],
             ndof: 2,
             k: d(stiffness),
-            m: if mass > 0.0 { d(mass) } else { Csc::zeros(2, 2) },
-            c: if mass > 0.0 { d(damping) } else { Csc::zeros(2, 2) },
+            m: if mass > 0.0 {
+                d(mass)
+            } else {
+                Csc::zeros(2, 2)
+            },
+            c: if mass > 0.0 {
+                d(damping)
+            } else {
+                Csc::zeros(2, 2)
+            },
             targets: vec![Target::Ring {
                 center0: [0.0, 0.0],
                 inner_radius: radius + clearance,
@@ -467,10 +475,7 @@ impl StatorModel {
         for (r, _, v) in self.k.triplets() {
             rows[r] += v.abs();
         }
-        rows.iter()
-            .zip(&md)
-            .map(|(s, m)| s / m)
-            .fold(0.0, f64::max)
+        rows.iter().zip(&md).map(|(s, m)| s / m).fold(0.0, f64::max)
     }
 
     /// Axial force (N) and stress (Pa) in each bar for a free-DOF displacement `u`; springs give

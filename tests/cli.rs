@@ -1,0 +1,660 @@
+//! Command-line tests: the real `rubsim` binary on small scenes in temporary directories.
+//!
+//! Requirement under test: bad input gets a clear error that names the file, key or line and
+//! what is wrong, a non-zero exit, and nothing lost or half-written. Plus the happy paths of
+//! `check`, `run` and `sweep`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use tempfile::TempDir;
+
+/// A small scene file shipped with the tests.
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/scenes")
+        .join(name)
+}
+
+fn read(p: &Path) -> String {
+    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Runs `rubsim args…` with `cwd` as working directory (so a default `out/` lands there).
+fn rubsim(cwd: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rubsim"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run the rubsim binary")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Asserts success and returns stdout.
+fn ok(cwd: &Path, args: &[&str]) -> String {
+    let o = rubsim(cwd, args);
+    assert!(
+        o.status.success(),
+        "rubsim {args:?} failed ({}):\n{}",
+        o.status,
+        text(&o.stderr)
+    );
+    text(&o.stdout)
+}
+
+/// Asserts a clean failure (non-zero exit, an `error:` message, no panic) and returns stderr.
+fn fails(cwd: &Path, args: &[&str]) -> String {
+    let o = rubsim(cwd, args);
+    let err = text(&o.stderr);
+    assert!(
+        !o.status.success(),
+        "rubsim {args:?} should fail, got success:\n{}",
+        text(&o.stdout)
+    );
+    assert_ne!(
+        o.status.code(),
+        Some(101),
+        "rubsim {args:?} panicked:\n{err}"
+    );
+    assert!(
+        err.contains("error:"),
+        "no error message for {args:?}:\n{err}"
+    );
+    assert!(
+        !err.contains("panicked"),
+        "rubsim {args:?} panicked:\n{err}"
+    );
+    assert!(
+        !text(&o.stdout).contains("results in"),
+        "rubsim {args:?} claims results:\n{}",
+        text(&o.stdout)
+    );
+    err
+}
+
+/// Writes a copy of a test scene with `from` replaced by `to` (which must occur) into `dir`.
+fn variant(dir: &Path, base: &str, name: &str, from: &str, to: &str) -> PathBuf {
+    let src = read(&data(base));
+    assert!(src.contains(from), "`{from}` not in {base}");
+    let p = dir.join(name);
+    std::fs::write(&p, src.replacen(from, to, 1)).unwrap();
+    p
+}
+
+/// 1-based line of the first line of `p` containing `needle`.
+fn line_of(p: &Path, needle: &str) -> usize {
+    read(p)
+        .lines()
+        .position(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("`{needle}` not in {}", p.display()))
+        + 1
+}
+
+/// Every file and directory below `dir` (relative paths).
+fn tree(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        let Ok(rd) = std::fs::read_dir(&d) else {
+            continue;
+        };
+        for e in rd {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                todo.push(p.clone());
+            }
+            out.push(p.strip_prefix(dir).unwrap().to_path_buf());
+        }
+    }
+    out.sort();
+    out
+}
+
+/// After a failed command: the output directory (if created at all) holds nothing that looks
+/// complete and no staging folder.
+fn assert_nothing_written(out: &Path) {
+    for p in tree(out) {
+        let name = p.file_name().unwrap().to_string_lossy().to_string();
+        assert!(
+            name != "summary.json" && !name.starts_with(".rubsim-partial-"),
+            "failed run left {} in {}: {:?}",
+            p.display(),
+            out.display(),
+            tree(out)
+        );
+    }
+}
+
+/// Fails `check`, `run` and `sweep` on `scene` (with extra args), the latter two into a fresh
+/// `--out`, and checks that nothing is written; returns the `run` stderr.
+fn fails_everywhere(tmp: &Path, scene: &Path, extra: &[&str]) -> String {
+    let mut run_err = None;
+    for cmd in ["check", "run", "sweep"] {
+        let out = tmp.join(format!("out-{cmd}"));
+        let _ = std::fs::remove_dir_all(&out);
+        let mut args = vec![cmd, scene.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        if cmd != "check" {
+            args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+        }
+        let err = fails(tmp, &args);
+        assert_nothing_written(&out);
+        assert_nothing_written(&tmp.join("out"));
+        if cmd == "run" {
+            run_err = Some(err);
+        }
+    }
+    run_err.unwrap()
+}
+
+fn json(p: &Path) -> serde_json::Value {
+    serde_json::from_str(&read(p)).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+fn is_png(p: &Path) -> bool {
+    std::fs::read(p).is_ok_and(|b| b.len() > 8 && b.starts_with(b"\x89PNG\r\n\x1a\n"))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bad input
+
+#[test]
+fn malformed_toml_names_file_and_line() {
+    let tmp = TempDir::new().unwrap();
+    for (name, from, to, needle) in [
+        ("header.toml", "[run]", "[run", "[run"),
+        ("value.toml", "mass = 2.0", "mass = 2.0 2", "mass = 2.0 2"),
+        (
+            "string.toml",
+            "name = \"rod\"",
+            "name = \"rod",
+            "name = \"rod",
+        ),
+    ] {
+        let p = variant(tmp.path(), "single.toml", name, from, to);
+        let line = line_of(&p, needle);
+        let err = fails_everywhere(tmp.path(), &p, &[]);
+        assert!(err.contains(name), "file not named:\n{err}");
+        assert!(
+            err.contains(&format!("line {line}")),
+            "line {line} not named:\n{err}"
+        );
+    }
+}
+
+#[test]
+fn unknown_key_names_key_and_line() {
+    let tmp = TempDir::new().unwrap();
+    // [[station]] is a plain table; [[stator]] and [rotor] are tagged by `kind`, where serde
+    // alone would only point at the table header.
+    for (name, after) in [
+        ("station.toml", "friction = 0.1"),
+        ("stator.toml", "area = 25e-6"),
+        ("rotor.toml", "damping_ratio = 0.2"),
+    ] {
+        let p = variant(
+            tmp.path(),
+            "single.toml",
+            name,
+            after,
+            &format!("{after}\nfrobnicate = 3"),
+        );
+        let line = line_of(&p, "frobnicate");
+        let err = fails_everywhere(tmp.path(), &p, &[]);
+        assert!(err.contains(name), "file not named:\n{err}");
+        assert!(
+            err.contains("unknown field `frobnicate`"),
+            "key not named:\n{err}"
+        );
+        assert!(
+            err.contains(&format!("line {line}")),
+            "line {line} not named:\n{err}"
+        );
+    }
+}
+
+#[test]
+fn inadmissible_values_name_dotted_key_and_file_line() {
+    let tmp = TempDir::new().unwrap();
+    let cases = [
+        ("mass0.toml", "mass = 2.0", "mass = 0", "rotor.mass"),
+        (
+            "stiff.toml",
+            "stiffness = 8.0e4",
+            "stiffness = -1",
+            "rotor.stiffness",
+        ),
+        (
+            "clear0.toml",
+            "clearance_nd = 0.6",
+            "clearance = 0",
+            "stator.0.clearance",
+        ),
+        (
+            "clearnd.toml",
+            "clearance_nd = 0.6",
+            "clearance_nd = -0.5",
+            "stator.0.clearance_nd",
+        ),
+        (
+            "mu.toml",
+            "friction = 0.1",
+            "friction = -0.1",
+            "station.0.friction",
+        ),
+    ];
+    for (name, from, to, key) in cases {
+        let p = variant(tmp.path(), "single.toml", name, from, to);
+        let line = line_of(&p, to);
+        let err = fails_everywhere(tmp.path(), &p, &[]);
+        assert!(
+            err.contains(&format!("key `{key}`")),
+            "{key} not named:\n{err}"
+        );
+        let at = format!("{}:{line}", p.display());
+        assert!(err.contains(&at), "`{at}` not named:\n{err}");
+        assert!(
+            err.contains("positive"),
+            "what is wrong is not said:\n{err}"
+        );
+    }
+}
+
+#[test]
+fn missing_sections_are_named() {
+    let tmp = TempDir::new().unwrap();
+    let src = read(&data("single.toml"));
+    let cut = |from: &str, to: &str| {
+        let (a, b) = (src.find(from).unwrap(), src.find(to).unwrap());
+        format!("{}{}", &src[..a], &src[b..])
+    };
+    for (name, text, section) in [
+        ("norun.toml", cut("[run]", "[output]"), "run"),
+        ("norotor.toml", cut("[rotor]", "[[station]]"), "rotor"),
+    ] {
+        let p = tmp.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        let err = fails_everywhere(tmp.path(), &p, &[]);
+        assert!(err.contains(name), "file not named:\n{err}");
+        assert!(
+            err.contains(&format!("missing field `{section}`")),
+            "missing [{section}] not named:\n{err}"
+        );
+    }
+    // A [run] without any speed.
+    let p = variant(
+        tmp.path(),
+        "single.toml",
+        "nospeed.toml",
+        "speed_ratio = 1.7",
+        "",
+    );
+    let err = fails_everywhere(tmp.path(), &p, &[]);
+    assert!(
+        err.contains("`run`") && err.contains("speed_ratio"),
+        "{err}"
+    );
+}
+
+#[test]
+fn unreadable_scene_names_the_path() {
+    let tmp = TempDir::new().unwrap();
+    let missing = tmp.path().join("no/such/scene.toml");
+    let err = fails_everywhere(tmp.path(), &missing, &[]);
+    assert!(
+        err.contains(&missing.display().to_string()),
+        "path not named:\n{err}"
+    );
+    assert!(err.contains("cannot read"), "{err}");
+    // The I/O reason is given once, not repeated by the error chain.
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+
+    let dir = tmp.path().join("a_directory.toml");
+    std::fs::create_dir(&dir).unwrap();
+    let err = fails(tmp.path(), &["check", dir.to_str().unwrap()]);
+    assert!(
+        err.contains("a_directory.toml") && err.contains("cannot read"),
+        "{err}"
+    );
+}
+
+#[test]
+fn bad_overrides_are_reported() {
+    let tmp = TempDir::new().unwrap();
+    let s = data("single.toml");
+    let cases: [(&str, &[&str]); 6] = [
+        (
+            "stator.7.clearance=1",
+            &["stator.7.clearance", "out of range"],
+        ),
+        (
+            "run.speed_ratio=abc",
+            &["run.speed_ratio", "abc", "expected f64"],
+        ),
+        ("run.speed_ratio=-2", &["run.speed_ratio", "positive"]),
+        (
+            "rotor.frobnicate=1",
+            &["rotor.frobnicate", "unknown field `frobnicate`"],
+        ),
+        ("bogus.key=3", &["bogus.key", "unknown field `bogus`"]),
+        ("no_equals_sign", &["no_equals_sign", "key=value"]),
+    ];
+    for (set, wanted) in cases {
+        let err = fails_everywhere(tmp.path(), &s, &["--set", set]);
+        for w in wanted {
+            assert!(err.contains(w), "--set {set}: `{w}` not in:\n{err}");
+        }
+    }
+    // A type error from --set must not cite lines of some rewritten document as the file's.
+    let err = fails(
+        tmp.path(),
+        &["check", s.to_str().unwrap(), "--set", "run.speed_ratio=abc"],
+    );
+    assert!(err.contains("--set run.speed_ratio=abc"), "{err}");
+    assert!(
+        !err.contains("line "),
+        "cites a line that is not in the file:\n{err}"
+    );
+    // With an override present, an error in the file still cites the file's own line.
+    let p = variant(
+        tmp.path(),
+        "single.toml",
+        "typo.toml",
+        "length = 0.04",
+        "lenght = 0.04",
+    );
+    let line = line_of(&p, "lenght");
+    let err = fails(
+        tmp.path(),
+        &["check", p.to_str().unwrap(), "--set", "rotor.mass=3"],
+    );
+    assert!(
+        err.contains("lenght") && err.contains(&format!("line {line}")),
+        "{err}"
+    );
+}
+
+#[test]
+fn step_above_stability_limit_is_refused() {
+    let tmp = TempDir::new().unwrap();
+    let err = fails_everywhere(tmp.path(), &data("single.toml"), &["--set", "run.dt=1.0"]);
+    assert!(err.contains("stability limit"), "{err}");
+    let out = tmp.path().join("sweep");
+    let err = fails(
+        tmp.path(),
+        &[
+            "sweep",
+            data("sweep.toml").to_str().unwrap(),
+            "--set",
+            "run.dt=1.0",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(err.contains("stability limit"), "{err}");
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn wrong_command_for_the_scene_is_explained() {
+    let tmp = TempDir::new().unwrap();
+    let out = tmp.path().join("o");
+    let o = out.to_str().unwrap();
+    let err = fails(
+        tmp.path(),
+        &["run", data("sweep.toml").to_str().unwrap(), "--out", o],
+    );
+    assert!(
+        err.contains("sweep.toml") && err.contains("rubsim sweep"),
+        "{err}"
+    );
+    let err = fails(
+        tmp.path(),
+        &["sweep", data("single.toml").to_str().unwrap(), "--out", o],
+    );
+    assert!(
+        err.contains("single.toml") && err.contains("[run.sweep]"),
+        "{err}"
+    );
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn output_path_that_is_a_file_is_refused_before_computing() {
+    let tmp = TempDir::new().unwrap();
+    let file = tmp.path().join("results.txt");
+    std::fs::write(&file, "keep me").unwrap();
+    for (cmd, scene) in [("run", "single.toml"), ("sweep", "sweep.toml")] {
+        // run.dt=1.0 would fail in the integration: the output error must come first.
+        let err = fails(
+            tmp.path(),
+            &[
+                cmd,
+                data(scene).to_str().unwrap(),
+                "--set",
+                "run.dt=1.0",
+                "--out",
+                file.to_str().unwrap(),
+            ],
+        );
+        assert!(
+            err.contains(&file.display().to_string()),
+            "path not named:\n{err}"
+        );
+        assert!(
+            !err.contains("stability"),
+            "computed before checking the output:\n{err}"
+        );
+        assert_eq!(read(&file), "keep me");
+    }
+    assert_eq!(tree(tmp.path()), vec![PathBuf::from("results.txt")]);
+}
+
+#[test]
+fn failed_rerun_keeps_previous_results() {
+    let tmp = TempDir::new().unwrap();
+    let out = tmp.path().join("res");
+    let o = out.to_str().unwrap();
+    let s = data("sweep.toml");
+    let s = s.to_str().unwrap();
+    ok(tmp.path(), &["sweep", s, "--out", o]);
+    let before: Vec<(PathBuf, Vec<u8>)> = tree(&out)
+        .into_iter()
+        .map(|p| (p.clone(), std::fs::read(out.join(&p)).unwrap()))
+        .collect();
+    fails(tmp.path(), &["sweep", s, "--set", "run.dt=1.0", "--out", o]);
+    fails(
+        tmp.path(),
+        &["sweep", s, "--set", "rotor.mass=0", "--out", o],
+    );
+    let after: Vec<(PathBuf, Vec<u8>)> = tree(&out)
+        .into_iter()
+        .map(|p| (p.clone(), std::fs::read(out.join(&p)).unwrap()))
+        .collect();
+    assert!(before == after, "a failed rerun changed {}", out.display());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Happy paths
+
+#[test]
+fn check_prints_the_resolved_model() {
+    let tmp = TempDir::new().unwrap();
+    let paper = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/paper/partial_rub.toml");
+    let stdout = ok(tmp.path(), &["check", paper.to_str().unwrap()]);
+    for w in [
+        "massless",
+        "left out",
+        "Δt",
+        "stability limit",
+        "Jeffcott",
+        "rod",
+    ] {
+        assert!(stdout.contains(w), "`{w}` not in check output:\n{stdout}");
+    }
+    // check writes nothing.
+    assert!(tree(tmp.path()).is_empty(), "{:?}", tree(tmp.path()));
+}
+
+#[test]
+fn run_writes_summary_and_pictures() {
+    let tmp = TempDir::new().unwrap();
+    let out = tmp.path().join("single");
+    let stdout = ok(
+        tmp.path(),
+        &[
+            "run",
+            data("single.toml").to_str().unwrap(),
+            "--set",
+            "output.png=true",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(stdout.contains("results in"), "{stdout}");
+    let sum = json(&out.join("summary.json"));
+    assert_eq!(sum["command"], "run");
+    let r = &sum["result"];
+    let period = r["period"].as_u64().expect("result.period is an integer");
+    assert!(period >= 1, "period {period}");
+    let min_gap = r["stats"]["min_gap"]
+        .as_f64()
+        .expect("result.stats.min_gap");
+    assert!(min_gap >= -1e-9, "penetration: min_gap = {min_gap}");
+    assert!(
+        r["contact_fraction"].as_f64().unwrap() > 0.0,
+        "scene should rub"
+    );
+    for png in ["orbit.png", "spectrum.png", "contact_force.png"] {
+        assert!(is_png(&out.join(png)), "{png} is not a PNG");
+    }
+    assert!(
+        !tree(&out)
+            .iter()
+            .any(|p| p.to_string_lossy().contains(".rubsim-partial-")),
+        "staging folder left: {:?}",
+        tree(&out)
+    );
+}
+
+#[test]
+fn run_without_out_writes_to_out_scene_name() {
+    let tmp = TempDir::new().unwrap();
+    ok(tmp.path(), &["run", data("single.toml").to_str().unwrap()]);
+    let sum = json(&tmp.path().join("out/single/summary.json"));
+    assert_eq!(sum["command"], "run");
+    // png = false in the scene.
+    assert!(!tmp.path().join("out/single/orbit.png").exists());
+}
+
+const SWEEP_COLUMNS: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s";
+
+/// Rows of sweep.csv below its header (checked), each split into fields.
+fn sweep_rows(out: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let csv = read(&out.join("sweep.csv"));
+    let mut lines = csv.lines();
+    let header = lines.next().expect("sweep.csv header");
+    assert!(
+        header == SWEEP_COLUMNS || header.starts_with(&format!("{SWEEP_COLUMNS},")),
+        "sweep.csv header: {header}"
+    );
+    let cols: Vec<String> = header.split(',').map(String::from).collect();
+    let rows: Vec<Vec<String>> = lines
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    for r in &rows {
+        assert_eq!(r.len(), cols.len(), "ragged row {r:?}");
+    }
+    (cols, rows)
+}
+
+#[test]
+fn sweep_writes_csv_and_rerun_replaces_it() {
+    let tmp = TempDir::new().unwrap();
+    let out = tmp.path().join("sweep");
+    let o = out.to_str().unwrap();
+    let s = data("sweep.toml");
+    let s = s.to_str().unwrap();
+
+    ok(tmp.path(), &["sweep", s, "--out", o]);
+    let (cols, rows) = sweep_rows(&out);
+    let speeds: Vec<f64> = rows.iter().map(|r| r[0].parse().unwrap()).collect();
+    assert_eq!(speeds.len(), 3, "one row per speed: {rows:?}");
+    for (got, want) in speeds.iter().zip([1.5, 2.0, 2.5]) {
+        assert!((got - want).abs() < 1e-9, "speeds {speeds:?}");
+    }
+    for r in &rows {
+        r[1].parse::<u64>().expect("period is an integer");
+        assert!(r[10].parse::<u64>().unwrap() > 0, "steps {r:?}");
+    }
+    let sum = json(&out.join("summary.json"));
+    assert_eq!(sum["command"], "sweep");
+    assert_eq!(sum["sweeps"][0]["speeds"].as_array().unwrap().len(), 3);
+    let cf = cols
+        .iter()
+        .position(|c| c == "contact_fraction")
+        .expect("contact_fraction column");
+
+    // Rerun with a different setting into the same directory: files are replaced.
+    ok(
+        tmp.path(),
+        &[
+            "sweep",
+            s,
+            "--set",
+            "run.sweep.to=2.0",
+            "--set",
+            "stator.0.clearance_nd=5",
+            "--out",
+            o,
+        ],
+    );
+    let (_, rows) = sweep_rows(&out);
+    assert_eq!(rows.len(), 2, "sweep.csv not replaced: {rows:?}");
+    for r in &rows {
+        assert_eq!(
+            r[cf].parse::<f64>().unwrap(),
+            0.0,
+            "no contact expected: {r:?}"
+        );
+    }
+    let sum = json(&out.join("summary.json"));
+    assert_eq!(sum["sweeps"][0]["speeds"].as_array().unwrap().len(), 2);
+    assert_eq!(sum["overrides"][1], "stator.0.clearance_nd=5");
+    assert!(
+        tree(&out)
+            .iter()
+            .all(|p| !p.to_string_lossy().contains(".rubsim-partial-")),
+        "{:?}",
+        tree(&out)
+    );
+}
+
+#[test]
+fn override_changes_the_result() {
+    let tmp = TempDir::new().unwrap();
+    let s = data("single.toml");
+    let s = s.to_str().unwrap();
+    let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+    ok(tmp.path(), &["run", s, "--out", a.to_str().unwrap()]);
+    ok(
+        tmp.path(),
+        &[
+            "run",
+            s,
+            "--set",
+            "stator.0.clearance_nd=5",
+            "--out",
+            b.to_str().unwrap(),
+        ],
+    );
+    let (a, b) = (json(&a.join("summary.json")), json(&b.join("summary.json")));
+    assert!(a["result"]["contact_fraction"].as_f64().unwrap() > 0.0);
+    assert_eq!(b["result"]["contact_fraction"].as_f64().unwrap(), 0.0);
+    assert_eq!(b["result"]["stats"]["contact_steps"].as_u64().unwrap(), 0);
+    assert_eq!(b["overrides"][0], "stator.0.clearance_nd=5");
+    assert_eq!(b["scene"]["stator"][0]["clearance_nd"].as_f64(), Some(5.0));
+}
