@@ -38,6 +38,9 @@ enum Cmd {
         /// Output directory (default: out/<scene name>).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Run at this ω/ω_n instead of the scene's speed (also picks one speed of a sweep scene).
+        #[arg(long)]
+        speed: Option<f64>,
     },
     /// Run the speed sweep of [run.sweep] in parallel; write sweep.csv, summary.json, pictures.
     Sweep {
@@ -136,11 +139,16 @@ fn summary_base(ls: &LoadedScene, model: &Model, command: &str) -> serde_json::V
     })
 }
 
-fn run(c: &Common, out: Option<PathBuf>) -> Result<()> {
+fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
     let (ls, model) = load(c)?;
-    let v = single_speed(&ls, &model).with_context(|| {
+    if let Some(v) = speed {
+        if !(v.is_finite() && v > 0.0) {
+            anyhow::bail!("--speed must be a positive ω/ω_n, got {v}");
+        }
+    }
+    let v = speed.or_else(|| single_speed(&ls, &model)).with_context(|| {
         format!(
-            "{}: `rubsim run` needs run.speed_ratio or run.speed (this scene has a sweep: use `rubsim sweep`)",
+            "{}: `rubsim run` needs run.speed_ratio or run.speed, or --speed (this scene has a sweep: use `rubsim sweep`)",
             c.scene.display()
         )
     })?;
@@ -261,9 +269,7 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
             .collect::<std::result::Result<_, _>>()?;
         let grids = if o.orbit_grids.is_empty() {
             let n = speeds.len();
-            vec![(0..9.min(n))
-                .map(|i| speeds[i * (n - 1) / 8])
-                .collect()]
+            vec![(0..9.min(n)).map(|i| speeds[i * (n - 1) / 8]).collect()]
         } else {
             o.orbit_grids.clone()
         };
@@ -621,7 +627,7 @@ fn main() {
             .build_global();
     }
     let r = match &cli.cmd {
-        Cmd::Run { c, out } => run(c, out.clone()),
+        Cmd::Run { c, out, speed } => run(c, out.clone(), *speed),
         Cmd::Sweep { c, out, .. } => sweep(c, out.clone()),
         Cmd::Check { c } => check(c),
         Cmd::Convergence {

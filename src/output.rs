@@ -12,6 +12,10 @@ use crate::plot::{self, Boundary, CascadeLine, Curve, OrbitPanel, Series};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// Name of the manifest listing the files of the last completed run in a directory.
+pub const MANIFEST: &str = ".rubsim-files";
+const STAGING_PREFIX: &str = ".rubsim-partial-";
+
 /// An output directory with a staging area.
 #[derive(Debug)]
 pub struct OutDir {
@@ -19,20 +23,47 @@ pub struct OutDir {
     staging: PathBuf,
     files: Vec<String>,
     committed: bool,
+    created: bool,
+}
+
+/// True when a staging folder's owner process no longer runs (Linux `/proc`; elsewhere
+/// staging folders of other processes are left alone).
+fn stale_staging(name: &str) -> bool {
+    match name
+        .strip_prefix(STAGING_PREFIX)
+        .and_then(|p| p.parse::<u32>().ok())
+    {
+        Some(pid) => {
+            Path::new("/proc/self").exists()
+                && pid != std::process::id()
+                && !Path::new(&format!("/proc/{pid}")).exists()
+        }
+        None => false,
+    }
 }
 
 impl OutDir {
-    /// Creates `dir` if needed and checks that files can be written there.
+    /// Creates `dir` if needed and checks that files can be written there; removes staging
+    /// folders left by killed runs.
     pub fn prepare(dir: &Path) -> Result<Self> {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| Error::output(dir, format!("cannot create output directory: {e}")))?;
-        if !dir.is_dir() {
+        if dir.exists() && !dir.is_dir() {
             return Err(Error::output(
                 dir,
                 "output path exists and is not a directory",
             ));
         }
-        let staging = dir.join(format!(".rubsim-partial-{}", std::process::id()));
+        let created = !dir.exists();
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Error::output(dir, format!("cannot create output directory: {e}")))?;
+        if let Ok(rd) = std::fs::read_dir(dir) {
+            for e in rd.flatten() {
+                let name = e.file_name().to_string_lossy().to_string();
+                if stale_staging(&name) {
+                    let _ = std::fs::remove_dir_all(e.path());
+                }
+            }
+        }
+        let staging = dir.join(format!("{STAGING_PREFIX}{}", std::process::id()));
         std::fs::create_dir_all(&staging)
             .map_err(|e| Error::output(dir, format!("output directory is not writable: {e}")))?;
         let probe = staging.join(".probe");
@@ -45,6 +76,7 @@ impl OutDir {
             staging,
             files: Vec::new(),
             committed: false,
+            created,
         })
     }
 
@@ -71,11 +103,20 @@ impl OutDir {
         std::fs::write(&p, bytes).map_err(|e| Error::output(self.dir.join(name), e))
     }
 
-    /// Moves every staged file into place (`summary.json` files last) and removes the staging
-    /// folder. Returns the final paths.
+    /// Moves every staged file into place (`summary.json` files last), removes the files of
+    /// the previous run in this directory that this run did not produce (from its manifest),
+    /// writes the new manifest and removes the staging folder. Returns the final paths.
     pub fn commit(mut self) -> Result<Vec<PathBuf>> {
         let mut names = self.files.clone();
         names.sort_by_key(|n| n.ends_with("summary.json"));
+        let manifest = self.dir.join(MANIFEST);
+        if let Ok(old) = std::fs::read_to_string(&manifest) {
+            for f in old.lines().filter(|l| !l.is_empty() && !l.contains("..")) {
+                if !names.iter().any(|n| n == f) {
+                    let _ = std::fs::remove_file(self.dir.join(f));
+                }
+            }
+        }
         let mut out = Vec::new();
         for n in &names {
             let from = self.staging.join(n);
@@ -86,6 +127,8 @@ impl OutDir {
             std::fs::rename(&from, &to).map_err(|e| Error::output(&to, e))?;
             out.push(to);
         }
+        std::fs::write(&manifest, names.join("\n") + "\n")
+            .map_err(|e| Error::output(&manifest, e))?;
         let _ = std::fs::remove_dir_all(&self.staging);
         self.committed = true;
         Ok(out)
@@ -96,6 +139,10 @@ impl Drop for OutDir {
     fn drop(&mut self) {
         if !self.committed {
             let _ = std::fs::remove_dir_all(&self.staging);
+            if self.created {
+                // Only removes the directory when it is still empty.
+                let _ = std::fs::remove_dir(&self.dir);
+            }
         }
     }
 }
@@ -503,4 +550,48 @@ pub fn write_convergence(
         "relative orbit error",
     )?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rerun_replaces_results_and_failed_run_leaves_nothing() {
+        let tmp = std::env::temp_dir().join(format!("rubsim-outdir-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&tmp);
+        let mut o = OutDir::prepare(&tmp).unwrap();
+        o.write("a.csv", b"1").unwrap();
+        o.write("b.png", b"2").unwrap();
+        o.write("summary.json", b"{}").unwrap();
+        o.commit().unwrap();
+        assert!(tmp.join("b.png").exists());
+        // A rerun that produces fewer files removes the stale one.
+        let mut o = OutDir::prepare(&tmp).unwrap();
+        o.write("a.csv", b"3").unwrap();
+        o.write("summary.json", b"{}").unwrap();
+        o.commit().unwrap();
+        assert!(!tmp.join("b.png").exists());
+        assert_eq!(std::fs::read(tmp.join("a.csv")).unwrap(), b"3");
+        // A run that fails (dropped without commit) changes nothing and leaves no staging.
+        {
+            let mut o = OutDir::prepare(&tmp).unwrap();
+            o.write("a.csv", b"half").unwrap();
+        }
+        assert_eq!(std::fs::read(tmp.join("a.csv")).unwrap(), b"3");
+        // A staging folder of a dead process is cleaned up by the next prepare.
+        let dead = tmp.join(format!("{STAGING_PREFIX}{}", u32::MAX - 7));
+        std::fs::create_dir_all(&dead).unwrap();
+        let o = OutDir::prepare(&tmp).unwrap();
+        assert!(!dead.exists());
+        drop(o);
+        let left: Vec<_> = std::fs::read_dir(&tmp)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().to_string())
+            .filter(|n| n.starts_with(STAGING_PREFIX))
+            .collect();
+        assert!(left.is_empty(), "{left:?}");
+        std::fs::remove_dir_all(&tmp).unwrap();
+    }
 }
