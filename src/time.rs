@@ -74,8 +74,9 @@ fn station_contact_stiffness(case: &Case, massless_only: bool) -> Vec<f64> {
     k
 }
 
-/// Chooses Δt: the paper's rule (Sec. 3), capped by the explicit stability limit of what
-/// enters the loop with mass (and, for the collocated integrator, the massless stators'
+/// Chooses Δt: the paper's rule (Sec. 3) with T_min = 2π/ω_c, ω_c the highest frequency of the
+/// rotor with every stator's contact stiffness added, capped by the explicit stability limit of
+/// what enters the loop with mass (and, for the collocated integrator, the massless stators'
 /// contact stiffness), or the user's override checked against that limit. Δt is then reduced
 /// so a revolution holds a whole number of recorded samples and steps.
 pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
@@ -119,7 +120,9 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
             }
         }
     }
-    let t_min = 2.0 * PI / omega_max;
+    // T_min of the paper's rule: the shortest period the response is made of — rotor modes and
+    // the contact frequency. Internal modes of stators with mass only bound stability (below).
+    let t_min = 2.0 * PI / w_contact;
     let rule_dt = (t_min / (32.0 * p.harmonics)).min(2.0 * PI / (32.0 * p.harmonics * case.omega));
     let dt0 = match p.dt {
         Some(dt) => {
