@@ -85,6 +85,10 @@ enum Cmd {
         /// Worker threads (default: all cores).
         #[arg(long)]
         jobs: Option<usize>,
+        /// Also run a converged reference sweep (collocated, Δt 16× finer) and report the
+        /// orbit-extents error of the timed sweep against it.
+        #[arg(long)]
+        reference: bool,
     },
 }
 
@@ -578,7 +582,7 @@ fn convergence(
     Ok(())
 }
 
-fn bench(c: &Common, repeat: usize) -> Result<()> {
+fn bench(c: &Common, repeat: usize, reference: bool) -> Result<()> {
     let (ls, model) = load(c)?;
     let s = settings(&ls);
     let speeds = match &ls.scene.run.sweep {
@@ -612,6 +616,45 @@ fn bench(c: &Common, repeat: usize) -> Result<()> {
         err,
         if s.error_estimate { " (wall includes the 2Δt companion runs)" } else { "" }
     );
+    if reference {
+        let mut rs = s;
+        rs.error_estimate = false;
+        rs.step.integrator = rubsim::scene::IntegratorKind::Collocated;
+        rs.step.harmonics *= 16.0;
+        let rr = analysis::sweep(&model, &rs, &speeds, &|_| Keep::default(), &|| {})?;
+        let mut errs: Vec<(f64, f64, usize)> = r
+            .speeds
+            .iter()
+            .zip(&rr.speeds)
+            .map(|(a, b)| {
+                let span =
+                    (b.extents_nd[1] - b.extents_nd[0]).max(b.extents_nd[3] - b.extents_nd[2]);
+                let e = (0..4)
+                    .map(|i| (a.extents_nd[i] - b.extents_nd[i]).abs())
+                    .fold(0.0, f64::max)
+                    / span;
+                (a.speed_ratio, e, b.period)
+            })
+            .collect();
+        let periodic: Vec<f64> = errs.iter().filter(|x| x.2 > 0).map(|x| x.1).collect();
+        let worst = errs
+            .iter()
+            .cloned()
+            .fold((0.0, 0.0, 0), |m, x| if x.1 > m.1 { x } else { m });
+        errs.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let median = errs[errs.len() / 2].1;
+        println!(
+            "reference: collocated, Δt 16× finer ({:.3} s): orbit-extents error of the timed sweep — median {:.2e}, largest over periodic speeds {:.2e}, largest overall {:.2e} at ω/ωn = {} (reference period {}); {} of {} speeds above 1%",
+            rr.wall_s,
+            median,
+            periodic.iter().cloned().fold(0.0, f64::max),
+            worst.1,
+            worst.0,
+            worst.2,
+            errs.iter().filter(|x| x.1 > 0.01).count(),
+            errs.len()
+        );
+    }
     Ok(())
 }
 
@@ -637,7 +680,12 @@ fn main() {
             reference,
             out,
         } => convergence(c, speeds, *levels, *reference, out.clone()),
-        Cmd::Bench { c, repeat, .. } => bench(c, *repeat),
+        Cmd::Bench {
+            c,
+            repeat,
+            reference,
+            ..
+        } => bench(c, *repeat, *reference),
     };
     if let Err(e) = r {
         // `{e:#}` would repeat a cause its parent already quotes (e.g. the I/O error of

@@ -217,6 +217,7 @@ fn dry_whip_threshold() {
         "μ = 0.1 from 2.5δ (inside the unstable orbit): must decay, ratio {inside}"
     );
     let below = backward_whirl(0.07, 4.0, 30);
+    eprintln!("dry whip radius ratio after 30 rev: μ=0.1 from 4δ {grow:.3}, from 2.5δ {inside:.3}; μ=0.07 from 4δ {below:.3}");
     assert!(
         below < 1.0,
         "μ = 0.07 < μ_c: backward whirl must decay, ratio {below}"

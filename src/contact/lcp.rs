@@ -93,6 +93,16 @@ pub fn solve(
     if q == 0 || gscale == 0.0 {
         return Ok(0);
     }
+    if q == 1 {
+        // Scalar complementarity: p = max(0, −g/W).
+        if g[0] < 0.0 {
+            if wmat[0] <= 0.0 {
+                return Err(LcpFailure::Singular { active: 1 });
+            }
+            p[0] = -g[0] / wmat[0];
+        }
+        return Ok(1);
+    }
     let tol = 1e-12 * gscale;
     // Start from the set of predicted penetrations.
     for (a, gi) in ws.active.iter_mut().zip(&g[..q]) {
