@@ -172,8 +172,6 @@ pub fn run_speed(
                         lines_rel: lerr,
                         same_period: c.period == res.period,
                     });
-                    res.stats.wall_s += 0.0; // companion time reported separately below
-                    res.plan = plan;
                 }
             }
         }
@@ -233,7 +231,6 @@ pub fn analyse(
             ncontact += 1;
         }
     }
-    let wn = case.omega / case.speed_ratio;
     let spectrum = match keep.spectrum_up_to {
         Some(fm) => spec
             .iter()
@@ -244,7 +241,6 @@ pub fn analyse(
         None => Vec::new(),
     };
     let t_rev = 2.0 * std::f64::consts::PI / case.omega;
-    let _ = wn;
     SpeedResults {
         speed_ratio: case.speed_ratio,
         omega: case.omega,
@@ -298,6 +294,20 @@ pub struct SweepResults {
     pub wall_s: f64,
 }
 
+impl SweepResults {
+    /// Steps of the main runs (companion runs of the error estimate excluded).
+    pub fn total_steps(&self) -> usize {
+        self.speeds.iter().map(|r| r.stats.steps).sum()
+    }
+    /// Largest estimated relative orbit-extents error over the speeds (0 when not estimated).
+    pub fn max_estimated_error(&self) -> f64 {
+        self.speeds
+            .iter()
+            .filter_map(|r| r.error.map(|e| e.extents_rel))
+            .fold(0.0, f64::max)
+    }
+}
+
 /// Runs all speeds in parallel (rayon); `progress` is called after each speed.
 pub fn sweep(
     model: &Model,
@@ -310,12 +320,9 @@ pub fn sweep(
     let res: Vec<Result<SpeedResults>> = speeds
         .par_iter()
         .map(|&v| {
-            let r = run_speed(model, s, v, keep(v)).map_err(|e| match e {
-                Error::Solve(se) => Error::Output {
-                    path: std::path::PathBuf::from(format!("speed ω/ω_n = {v}")),
-                    message: se.to_string(),
-                },
-                other => other,
+            let r = run_speed(model, s, v, keep(v)).map_err(|e| Error::AtSpeed {
+                speed_ratio: v,
+                source: Box::new(e),
             });
             progress();
             r
@@ -394,7 +401,6 @@ pub fn convergence(
         Ok((r, rec))
     };
     let (rref, recref) = run(IntegratorKind::Collocated, ref_level)?;
-    let z0 = if case.z0 > 0.0 { case.z0 } else { 1.0 };
     let nrec = recref.len();
     let cmp_from = nrec.saturating_sub(compare_revs * spr + 1);
     let ref_orbit: Vec<V2> = (cmp_from..nrec).map(|i| recref.disp_at(i, 0)).collect();
@@ -429,7 +435,6 @@ pub fn convergence(
                 .map(|i| (r.extents_nd[i] - rref.extents_nd[i]).abs())
                 .fold(0.0, f64::max)
                 / ref_span;
-            let _ = z0;
             points.push(ConvergencePoint {
                 integrator: kind.name(),
                 dt: r.plan.dt,

@@ -143,6 +143,14 @@ pub enum Error {
     /// Time integration error.
     #[error(transparent)]
     Solve(#[from] SolveError),
+    /// An error while running one speed of a sweep.
+    #[error("at ω/ω_n = {speed_ratio}: {source}")]
+    AtSpeed {
+        /// The speed ratio being run.
+        speed_ratio: f64,
+        /// What went wrong.
+        source: Box<Error>,
+    },
     /// Output writing error.
     #[error("{path}: {message}")]
     Output {

@@ -298,12 +298,8 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
         )?;
         let regimes = output::regime_ranges(&res.speeds);
         let peaks = output::quasi_resonances(&res.speeds);
-        let total_steps: usize = res.speeds.iter().map(|r| r.stats.steps).sum();
-        let max_err = res
-            .speeds
-            .iter()
-            .filter_map(|r| r.error.map(|e| e.extents_rel))
-            .fold(0.0, f64::max);
+        let total_steps = res.total_steps();
+        let max_err = res.max_estimated_error();
         println!(
             "{}{} speeds in {:.3} s ({} steps){}",
             if prefix.is_empty() {
@@ -597,13 +593,9 @@ fn bench(c: &Common, repeat: usize, reference: bool) -> Result<()> {
         }
     }
     let r = best.expect("at least one repetition");
-    let steps: usize = r.speeds.iter().map(|x| x.stats.steps).sum();
+    let steps = r.total_steps();
     let loop_s: f64 = r.speeds.iter().map(|x| x.stats.wall_s).sum();
-    let err = r
-        .speeds
-        .iter()
-        .filter_map(|x| x.error.map(|e| e.extents_rel))
-        .fold(0.0, f64::max);
+    let err = r.max_estimated_error();
     println!(
         "bench {}: {} speeds, threads {}, best of {}: wall {:.3} s, {} steps (main runs), {:.1} ns/step (loop time per step, main runs), largest estimated extents error {:.2e}{}",
         c.scene.display(),

@@ -4,7 +4,6 @@ use rubsim::analysis::{self, Keep, RunSettings};
 use rubsim::model::Model;
 use rubsim::scene::{self, IntegratorKind, LoadedScene};
 use rubsim::time::{integrate, plan_steps, Initial, Record};
-use std::f64::consts::PI;
 use std::path::Path;
 
 const PAPER: &str = include_str!("../scenes/paper/partial_rub.toml");
@@ -299,7 +298,7 @@ fn energy_balance_closes() {
 
 #[test]
 fn paper_regimes_at_pinned_speeds_and_no_penetration() {
-    let (ls, model) = load(PAPER, &[]);
+    let (_, model) = load(PAPER, &[]);
     for kind in ["collocated", "forward_increment"] {
         let (ls2, _) = load(PAPER, &[&format!("run.integrator=\"{kind}\"")]);
         let mut s = settings(&ls2);
@@ -307,7 +306,6 @@ fn paper_regimes_at_pinned_speeds_and_no_penetration() {
         if kind == "forward_increment" {
             s.step.harmonics = 16.0;
         }
-        let _ = &ls;
         for (nu, period) in [
             (1.0, 1),
             (1.7, 1),
@@ -409,5 +407,4 @@ fn unstable_step_is_refused_with_the_limit() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("stability limit"), "{e}");
-    let _ = PI;
 }
