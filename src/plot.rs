@@ -368,7 +368,7 @@ pub fn bifurcation(path: &Path, title: &str, points: &[(f64, f64)], y_label: &st
             return Ok(());
         }
         let dot = RGBColor(10, 30, 90).filled();
-        let radius = if pts.len() < 2000 { 2 } else { 1 };
+        let radius = if pts.len() < 20_000 { 3 } else { 1 };
         chart.draw_series(pts.iter().map(|&p| Circle::new(p, radius, dot)))?;
         Ok(())
     })
