@@ -117,6 +117,16 @@ pub enum SolveError {
         /// What sets the limit.
         reason: String,
     },
+    /// A frame writer (VTK/HDF5) failed while the run was streaming its output.
+    #[error("writing the frame of step {step} (t = {time:.6e} s) failed: {message}")]
+    FrameOutput {
+        /// Step index.
+        step: usize,
+        /// Time (s).
+        time: f64,
+        /// The writer's message.
+        message: String,
+    },
     /// The contact complementarity problem could not be solved.
     #[error("contact solve failed at step {step} (t = {time:.6e} s) with {pairs} candidate pairs: {message}")]
     Contact {

@@ -406,6 +406,56 @@ impl StatorDyn {
     }
 }
 
+/// Force of one active contact pair in a frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PairForce {
+    /// Station index.
+    pub station: usize,
+    /// Stator index.
+    pub stator: usize,
+    /// Stator node of the target (ring targets: 0).
+    pub node: usize,
+    /// Unit normal from the section centre toward the stator.
+    pub n: V2,
+    /// Normal force p ≥ 0 (N, compression).
+    pub p: f64,
+    /// Force on the stator node `(n + μ a) p` (N); the rotor section gets its opposite.
+    pub force: V2,
+}
+
+/// The full state at one instant, handed to a [`FrameSink`] (VTK/HDF5 writers).
+pub struct Frame<'a> {
+    /// Step index.
+    pub step: usize,
+    /// Time (s).
+    pub t: f64,
+    /// Rotor DOF vector (m, rad).
+    pub rotor_u: &'a [f64],
+    /// Pairs in contact at this instant.
+    pub pairs: &'a [PairForce],
+    stators: &'a [StatorDyn],
+}
+
+impl Frame<'_> {
+    /// Free-DOF displacement vector of stator `k` (m), in the numbering of
+    /// [`crate::model::StatorModel::node_dofs`].
+    pub fn stator_u(&self, k: usize) -> &[f64] {
+        match &self.stators[k] {
+            StatorDyn::Massless(c) => &c.u,
+            StatorDyn::Massive(b) => &b.u,
+        }
+    }
+}
+
+/// Receives frames during integration, every [`FrameSink::every`] steps (state at that step).
+/// Writers stream to disk from here, so memory does not grow with the run.
+pub trait FrameSink {
+    /// Interval in steps (0: never called).
+    fn every(&self) -> usize;
+    /// Consumes one frame; an error stops the run.
+    fn frame(&mut self, frame: &Frame<'_>) -> Result<(), String>;
+}
+
 /// Initial state of the rotor (node 0 of station 0's node or node 0).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Initial {
@@ -421,6 +471,17 @@ pub fn integrate(
     integrator: IntegratorKind,
     plan: &StepPlan,
     init: Initial,
+) -> Result<(Record, RunStats), SolveError> {
+    integrate_with(case, integrator, plan, init, None)
+}
+
+/// [`integrate`] with an optional [`FrameSink`] receiving full-state frames.
+pub fn integrate_with(
+    case: &Case,
+    integrator: IntegratorKind,
+    plan: &StepPlan,
+    init: Initial,
+    mut sink: Option<&mut dyn FrameSink>,
 ) -> Result<(Record, RunStats), SolveError> {
     let dt = plan.dt;
     let omega = case.omega;
@@ -657,11 +718,63 @@ pub fn integrate(
         rec.active.push(active as u32);
     };
 
+    // Frames: pairs in contact at the frame's instant, preallocated.
+    let mut frame_pairs: Vec<PairForce> = Vec::with_capacity(nc);
+    let collect_pairs =
+        |out: &mut Vec<PairForce>, sel: &[usize], states: &[PairState], pvec: &[f64]| {
+            for (i, &ci) in sel.iter().enumerate() {
+                let p = pvec[i];
+                if p > 0.0 && out.len() < out.capacity() {
+                    let c = &cands[ci];
+                    let b = states[ci].b(c.mu);
+                    let node = match &case.stators[c.stator].targets[c.target] {
+                        crate::model::Target::Node { node, .. } => *node,
+                        crate::model::Target::Ring { .. } => 0,
+                    };
+                    out.push(PairForce {
+                        station: c.station,
+                        stator: c.stator,
+                        node,
+                        n: states[ci].n,
+                        p,
+                        force: [b[0] * p, b[1] * p],
+                    });
+                }
+            }
+        };
+    let emit = |sink: &mut Option<&mut dyn FrameSink>,
+                step: usize,
+                t: f64,
+                rotor_u: &[f64],
+                pairs: &[PairForce],
+                stators: &[StatorDyn]|
+     -> Result<(), SolveError> {
+        if let Some(s) = sink.as_mut() {
+            let every = s.every();
+            if every > 0 && step % every == 0 {
+                s.frame(&Frame {
+                    step,
+                    t,
+                    rotor_u,
+                    pairs,
+                    stators,
+                })
+                .map_err(|message| SolveError::FrameOutput {
+                    step,
+                    time: t,
+                    message,
+                })?;
+            }
+        }
+        Ok(())
+    };
     if !collocated {
         record(&mut rec, 0.0, &rotor.u, &fst, &fst_n, 0.0, 0);
+        emit(&mut sink, 0, 0.0, &rotor.u, &frame_pairs, &stators)?;
     }
     for step in 0..=plan.steps {
         let t = step as f64 * dt;
+        frame_pairs.clear();
         for f in fst.iter_mut().chain(fst_n.iter_mut()) {
             *f = [0.0; 2];
         }
@@ -714,6 +827,7 @@ pub fn integrate(
                 )?;
                 active_now = pvec[..sel.len()].iter().filter(|p| **p > 0.0).count();
                 energy_now = stator_energy(&stators, &states, &sel, &pvec);
+                collect_pairs(&mut frame_pairs, &sel, &states, &pvec);
                 for &ci in sel.iter() {
                     let c = &cands[ci];
                     let rd = station_dofs[c.station];
@@ -730,6 +844,7 @@ pub fn integrate(
             if step % plan.record_every == 0 {
                 record(&mut rec, t, &rotor.u, &fst, &fst_n, energy_now, active_now);
             }
+            emit(&mut sink, step, t, &rotor.u, &frame_pairs, &stators)?;
             if step == plan.steps {
                 break;
             }
@@ -800,6 +915,7 @@ pub fn integrate(
                 t,
             )?;
             let act = pvec[..sel.len()].iter().filter(|p| **p > 0.0).count();
+            collect_pairs(&mut frame_pairs, &sel, &states, &pvec);
             if !collocated {
                 active_now = act;
                 energy_now = stator_energy(&stators, &states, &sel, &pvec);
@@ -862,16 +978,26 @@ pub fn integrate(
             }
         }
         stats.steps += 1;
-        if !collocated && (step + 1) % plan.record_every == 0 {
-            record(
-                &mut rec,
+        if !collocated {
+            if (step + 1) % plan.record_every == 0 {
+                record(
+                    &mut rec,
+                    t + dt,
+                    &rotor.u,
+                    &fst,
+                    &fst_n,
+                    energy_now,
+                    active_now,
+                );
+            }
+            emit(
+                &mut sink,
+                step + 1,
                 t + dt,
                 &rotor.u,
-                &fst,
-                &fst_n,
-                energy_now,
-                active_now,
-            );
+                &frame_pairs,
+                &stators,
+            )?;
         }
     }
     stats.wall_s = start.elapsed().as_secs_f64();
