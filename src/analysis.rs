@@ -9,7 +9,10 @@ use crate::math::{loglog_slope, V2};
 use crate::model::Model;
 use crate::scene::{IntegratorKind, RunSpec};
 use crate::signal::{extents, hann_spectrum, line_amplitude, poincare_period};
-use crate::time::{integrate, plan_steps, Initial, Record, RunStats, StepParams, StepPlan};
+use crate::time::{
+    integrate, integrate_with, plan_steps, FrameSink, Initial, Record, RunStats, StepParams,
+    StepPlan,
+};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -69,7 +72,7 @@ pub struct Keep {
 /// Discretisation-error estimate from a companion run at about 2Δt (Richardson, nominal order).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ErrorEstimate {
-    /// Companion Δt (s).
+    /// Companion Δt (s): about 2Δt, or Δt/2 when 2Δt would be unstable.
     pub dt_coarse: f64,
     /// Order assumed.
     pub order: f64,
@@ -134,21 +137,43 @@ pub fn run_speed(
     speed_ratio: f64,
     keep: Keep,
 ) -> Result<SpeedResults> {
+    run_speed_with(model, s, speed_ratio, keep, None)
+}
+
+/// [`run_speed`] with a [`FrameSink`] receiving the main run's frames (not the error
+/// estimate's companion run).
+pub fn run_speed_with(
+    model: &Model,
+    s: &RunSettings,
+    speed_ratio: f64,
+    keep: Keep,
+    sink: Option<&mut dyn FrameSink>,
+) -> Result<SpeedResults> {
     let omega = speed_ratio * model.rotor.natural_frequency();
     let case = model.case(omega)?;
     let plan = plan_steps(&case, &s.step)?;
-    let (rec, stats) = integrate(&case, s.step.integrator, &plan, s.initial)?;
+    let (rec, stats) = integrate_with(&case, s.step.integrator, &plan, s.initial, sink)?;
     let mut res = analyse(&case, s, &plan, &rec, stats, keep);
     if s.error_estimate {
+        // Companion run at 2Δt; when 2Δt is above the stability limit, at Δt/2 instead.
         let mut coarse = s.step;
         coarse.dt = Some(2.0 * plan.dt);
-        if let Ok(cplan) = plan_steps(&case, &coarse) {
-            if cplan.steps_per_rev < plan.steps_per_rev {
-                if let Ok((crec, cstats)) = integrate(&case, s.step.integrator, &cplan, s.initial) {
+        let cplan = plan_steps(&case, &coarse)
+            .ok()
+            .filter(|c| c.steps_per_rev < plan.steps_per_rev)
+            .or_else(|| {
+                let mut fine = s.step;
+                fine.dt = Some(0.5 * plan.dt);
+                plan_steps(&case, &fine).ok()
+            });
+        if let Some(cplan) = cplan.filter(|c| c.steps_per_rev != plan.steps_per_rev) {
+            if let Ok((crec, cstats)) = integrate(&case, s.step.integrator, &cplan, s.initial) {
+                {
                     let c = analyse(&case, s, &cplan, &crec, cstats, Keep::default());
+                    // Error of the main run ≈ |Q_h − Q_c| / |r^p − 1|, r = h_c / h.
                     let r = plan.steps_per_rev as f64 / cplan.steps_per_rev as f64;
                     let p = s.step.integrator.nominal_order();
-                    let denom = r.powf(p) - 1.0;
+                    let denom = (r.powf(p) - 1.0).abs();
                     let span = extent_scale(&res.extents_nd);
                     let ext = (0..4)
                         .map(|i| (res.extents_nd[i] - c.extents_nd[i]).abs())
@@ -316,11 +341,21 @@ pub fn sweep(
     keep: &(dyn Fn(f64) -> Keep + Sync),
     progress: &(dyn Fn() + Sync),
 ) -> Result<SweepResults> {
+    sweep_with(speeds, &|v| run_speed(model, s, v, keep(v)), progress)
+}
+
+/// Runs `run(ω/ω_n)` for all speeds in parallel (rayon), e.g. [`run_speed_with`] with a
+/// per-speed [`FrameSink`]; `progress` is called after each speed.
+pub fn sweep_with(
+    speeds: &[f64],
+    run: &(dyn Fn(f64) -> Result<SpeedResults> + Sync),
+    progress: &(dyn Fn() + Sync),
+) -> Result<SweepResults> {
     let t0 = std::time::Instant::now();
     let res: Vec<Result<SpeedResults>> = speeds
         .par_iter()
         .map(|&v| {
-            let r = run_speed(model, s, v, keep(v)).map_err(|e| Error::AtSpeed {
+            let r = run(v).map_err(|e| Error::AtSpeed {
                 speed_ratio: v,
                 source: Box::new(e),
             });

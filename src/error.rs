@@ -141,6 +141,131 @@ pub enum SolveError {
     },
 }
 
+/// Errors of the stator geometry pipeline: running gmsh, reading its meshes, checking them.
+///
+/// Every variant names the file (geometry, STEP or mesh) and, where it applies, the physical
+/// group, so that a user can find the line of the `.geo` to fix.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// A file named by a scene or a `.geo` does not exist.
+    #[error("{file}: no such file{}", referenced_by.as_ref().map(|r| format!(" (named in {})", r.display())).unwrap_or_default())]
+    MissingFile {
+        /// The file that was looked for.
+        file: PathBuf,
+        /// The scene or geometry that names it.
+        referenced_by: Option<PathBuf>,
+    },
+    /// A file exists but cannot be read or written.
+    #[error("{file}: {source}")]
+    Io {
+        /// The file.
+        file: PathBuf,
+        /// The I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The gmsh executable cannot be started.
+    #[error("{geometry}: cannot run gmsh `{program}` ({message}); install gmsh (scripts/setup.sh, or `apt-get install gmsh`) or point RUBSIM_GMSH at it")]
+    GmshNotFound {
+        /// The geometry that was to be meshed.
+        geometry: PathBuf,
+        /// The program name or path tried.
+        program: String,
+        /// The operating system's message.
+        message: String,
+    },
+    /// gmsh ran and failed (or produced no mesh); `message` holds gmsh's own error lines.
+    #[error("{geometry}: gmsh failed{}:\n{message}", status.map(|s| format!(" (exit status {s})")).unwrap_or_default())]
+    GmshFailed {
+        /// The geometry being meshed.
+        geometry: PathBuf,
+        /// gmsh's exit status, when it exited.
+        status: Option<i32>,
+        /// gmsh's error and warning lines.
+        message: String,
+    },
+    /// A `-setnumber` parameter that the geometry does not define with `DefineConstant`.
+    #[error("{geometry}: parameter `{name}` is not defined by the geometry (it defines: {})", if known.is_empty() { "nothing".to_string() } else { known.join(", ") })]
+    UnknownParameter {
+        /// The geometry.
+        geometry: PathBuf,
+        /// The parameter given.
+        name: String,
+        /// The parameters the geometry defines.
+        known: Vec<String>,
+    },
+    /// The mesh file is not valid MSH 4.1.
+    #[error("{file}: not a readable gmsh MSH 4.1 mesh: {message}")]
+    Parse {
+        /// The mesh file.
+        file: PathBuf,
+        /// Parser message.
+        message: String,
+    },
+    /// A physical group the scene relies on is not in the mesh.
+    #[error("{file}: no physical group `{name}` (groups in the mesh: {}); define it in the geometry with Physical Curve/Surface/Volume(\"{name}\")", if available.is_empty() { "none".to_string() } else { available.join(", ") })]
+    MissingGroup {
+        /// The mesh file.
+        file: PathBuf,
+        /// The group looked for.
+        name: String,
+        /// The groups the mesh has, as `name (dim d)`.
+        available: Vec<String>,
+    },
+    /// A physical group has the wrong dimension or holds nothing usable.
+    #[error("{file}: physical group `{group}`: {message}")]
+    BadGroup {
+        /// The mesh file.
+        file: PathBuf,
+        /// The group.
+        group: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The mesh has no nodes or no cells of the stator's dimension.
+    #[error("{file}: empty mesh: {message}")]
+    Empty {
+        /// The mesh file.
+        file: PathBuf,
+        /// What is missing.
+        message: String,
+    },
+    /// Elements whose Jacobian determinant is not positive (inverted or degenerate).
+    #[error("{file}: {count} inverted or degenerate element(s) in group `{group}`, first gmsh element {element} (det J = {det:.3e}); check the orientation of the surfaces or the node order")]
+    Inverted {
+        /// The mesh file.
+        file: PathBuf,
+        /// The material group of the element.
+        group: String,
+        /// gmsh tag of the first offending element.
+        element: u64,
+        /// Its smallest Jacobian determinant.
+        det: f64,
+        /// Number of offending elements.
+        count: usize,
+    },
+    /// Parts of the mesh do not share their interfaces (coincident or hanging nodes).
+    #[error("{file}: non-conforming mesh: {message}")]
+    NonConforming {
+        /// The mesh file.
+        file: PathBuf,
+        /// What was found.
+        message: String,
+    },
+    /// An element type the stator elements do not implement.
+    #[error("{file}: physical group `{group}` holds {count} element(s) of gmsh type {kind}, which rubsim does not implement (2-D: 3/6-node triangles, 4/8/9-node quadrilaterals; 3-D: 4/10-node tetrahedra; lines: 2-node)")]
+    UnsupportedCell {
+        /// The mesh file.
+        file: PathBuf,
+        /// The group holding them.
+        group: String,
+        /// gmsh element type name.
+        kind: String,
+        /// How many.
+        count: usize,
+    },
+}
+
 /// Crate-wide error.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
@@ -153,6 +278,9 @@ pub enum Error {
     /// Time integration error.
     #[error(transparent)]
     Solve(#[from] SolveError),
+    /// Geometry, meshing or mesh reading error.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
     /// An error while running one speed of a sweep.
     #[error("at ω/ω_n = {speed_ratio}: {source}")]
     AtSpeed {

@@ -163,6 +163,82 @@ impl Csc {
     }
 }
 
+/// Two matrices on one row-compressed pattern, for `y += A x + B z` in one pass (the explicit
+/// step's right-hand side): one read of the pattern, one write per row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PairCsr {
+    nrows: usize,
+    ncols: usize,
+    row_ptr: Vec<usize>,
+    col_idx: Vec<usize>,
+    a: Vec<f64>,
+    b: Vec<f64>,
+}
+
+impl PairCsr {
+    /// Union pattern of `a` and `b` (same shape).
+    ///
+    /// # Panics
+    /// If the shapes differ.
+    pub fn new(a: &Csc, b: &Csc) -> Self {
+        assert_eq!((a.nrows, a.ncols), (b.nrows, b.ncols));
+        let mut t: Vec<(usize, usize, f64, f64)> = a
+            .triplets()
+            .map(|(r, c, v)| (r, c, v, 0.0))
+            .chain(b.triplets().map(|(r, c, v)| (r, c, 0.0, v)))
+            .collect();
+        t.sort_by_key(|x| (x.0, x.1));
+        let mut row_ptr = vec![0usize; a.nrows + 1];
+        let (mut col_idx, mut av, mut bv) = (Vec::new(), Vec::new(), Vec::new());
+        let mut last = None;
+        for (r, c, x, y) in t {
+            if last == Some((r, c)) {
+                *av.last_mut().expect("entry") += x;
+                *bv.last_mut().expect("entry") += y;
+            } else {
+                col_idx.push(c);
+                av.push(x);
+                bv.push(y);
+                row_ptr[r + 1] += 1;
+                last = Some((r, c));
+            }
+        }
+        for r in 0..a.nrows {
+            row_ptr[r + 1] += row_ptr[r];
+        }
+        Self {
+            nrows: a.nrows,
+            ncols: a.ncols,
+            row_ptr,
+            col_idx,
+            a: av,
+            b: bv,
+        }
+    }
+
+    /// `y += A x + B z`, allocation free.
+    ///
+    /// # Panics
+    /// If a slice length does not match the shape.
+    #[inline]
+    pub fn mul_add(&self, x: &[f64], z: &[f64], y: &mut [f64]) {
+        assert!(x.len() == self.ncols && z.len() == self.ncols && y.len() == self.nrows);
+        for (r, yr) in y.iter_mut().enumerate() {
+            let (s, e) = (self.row_ptr[r], self.row_ptr[r + 1]);
+            let mut acc = 0.0;
+            for ((c, a), b) in self.col_idx[s..e]
+                .iter()
+                .zip(&self.a[s..e])
+                .zip(&self.b[s..e])
+            {
+                // `col_idx < ncols` by construction and x, z have ncols entries (asserted).
+                acc += a * x[*c] + b * z[*c];
+            }
+            *yr += acc;
+        }
+    }
+}
+
 /// Sparse Cholesky factor `A = L Lᵀ` of a symmetric positive definite matrix.
 pub struct Cholesky {
     n: usize,
@@ -215,6 +291,69 @@ impl Lu {
     /// Solves `A X = B` in place for a column-major `n×k` block `b`.
     pub fn solve_in_place(&self, b: &mut [f64]) {
         solve_block(self.n, b, |m| self.lu.solve_in_place(m));
+    }
+}
+
+/// Sparse LU for the time loop: factored once, solves one right-hand side at a time without
+/// allocating (the solve scratch is allocated with the factor).
+pub struct StepLu {
+    n: usize,
+    symbolic: faer::sparse::linalg::lu::SymbolicLu<usize>,
+    numeric: faer::sparse::linalg::lu::NumericLu<usize, f64>,
+    scratch: faer::dyn_stack::MemBuffer,
+}
+
+impl std::fmt::Debug for StepLu {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "StepLu(n = {})", self.n)
+    }
+}
+
+impl StepLu {
+    /// Symbolic and numeric factorisation of `a` (sequential).
+    pub fn new(a: &Csc) -> Result<Self, String> {
+        use faer::dyn_stack::{MemBuffer, MemStack};
+        use faer::sparse::linalg::lu::{factorize_symbolic_lu, NumericLu};
+        assert_eq!(a.nrows, a.ncols);
+        let r = a.faer_ref();
+        let symbolic = factorize_symbolic_lu(r.symbolic(), Default::default())
+            .map_err(|e| format!("{e:?}"))?;
+        let mut numeric = NumericLu::new();
+        let par = faer::Par::Seq;
+        let mut mem =
+            MemBuffer::new(symbolic.factorize_numeric_lu_scratch::<f64>(par, Default::default()));
+        symbolic
+            .factorize_numeric_lu(
+                &mut numeric,
+                r,
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|e| format!("{e:?}"))?;
+        let scratch = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
+        Ok(Self {
+            n: a.nrows,
+            symbolic,
+            numeric,
+            scratch,
+        })
+    }
+
+    /// Solves `A x = b` in place for one vector, allocation free.
+    pub fn solve_in_place(&mut self, b: &mut [f64]) {
+        use faer::dyn_stack::MemStack;
+        use faer::sparse::linalg::lu::LuRef;
+        assert_eq!(b.len(), self.n);
+        // SAFETY: `numeric` was produced by `symbolic.factorize_numeric_lu` in `new`.
+        let lu = unsafe { LuRef::new_unchecked(&self.symbolic, &self.numeric) };
+        let rhs = MatMut::from_column_major_slice_mut(b, self.n, 1);
+        lu.solve_in_place_with_conj(
+            faer::Conj::No,
+            rhs,
+            faer::Par::Seq,
+            MemStack::new(&mut self.scratch),
+        );
     }
 }
 

@@ -9,6 +9,9 @@ use rubsim::output::{self, OutDir};
 use rubsim::scene::{self, LoadedScene};
 use std::path::{Path, PathBuf};
 
+mod mesh_cmd;
+mod rotordyn_cmd;
+
 #[derive(Parser)]
 #[command(
     name = "rubsim",
@@ -31,6 +34,9 @@ struct Common {
 
 #[derive(Subcommand)]
 enum Cmd {
+    /// Mesh a stator geometry (.geo or STEP) with gmsh into the cache `meshes/` and report it:
+    /// nodes, cells, physical groups, conformity, the contact boundary.
+    Mesh(mesh_cmd::MeshArgs),
     /// Run one speed (run.speed_ratio or run.speed) and write summary.json and pictures.
     Run {
         #[command(flatten)]
@@ -72,6 +78,63 @@ enum Cmd {
         #[arg(long, default_value_t = 11)]
         reference: u32,
         /// Output directory (default: out/<scene name>/convergence).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Damped modes of the rotor alone at one speed, and its static deflection under gravity.
+    Modal {
+        #[command(flatten)]
+        c: Common,
+        /// Speed ω/ω_n.
+        #[arg(long, default_value_t = 0.0)]
+        speed: f64,
+        /// Number of modes.
+        #[arg(long, default_value_t = 8)]
+        modes: usize,
+        /// Gravity (m/s², along −y) for the static deflection.
+        #[arg(long, default_value_t = 9.81)]
+        gravity: f64,
+        /// Output directory (default: out/<scene name>/modal).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Campbell diagram with mode tracking, forward/backward labels and critical speeds.
+    Campbell {
+        #[command(flatten)]
+        c: Common,
+        /// First speed ω/ω_n.
+        #[arg(long, default_value_t = 0.0)]
+        from: f64,
+        /// Last speed ω/ω_n.
+        #[arg(long, default_value_t = 6.0)]
+        to: f64,
+        /// Number of speeds.
+        #[arg(long, default_value_t = 31)]
+        points: usize,
+        /// Number of modes tracked.
+        #[arg(long, default_value_t = 6)]
+        modes: usize,
+        /// Output directory (default: out/<scene name>/campbell).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Unbalance response (Bode and polar) of the rotor alone at chosen nodes.
+    Unbalance {
+        #[command(flatten)]
+        c: Common,
+        /// First speed ω/ω_n.
+        #[arg(long, default_value_t = 0.05)]
+        from: f64,
+        /// Last speed ω/ω_n.
+        #[arg(long, default_value_t = 6.0)]
+        to: f64,
+        /// Number of speeds.
+        #[arg(long, default_value_t = 400)]
+        points: usize,
+        /// Nodes (repeatable; default: the stations' nodes).
+        #[arg(long = "node")]
+        nodes: Vec<usize>,
+        /// Output directory (default: out/<scene name>/unbalance).
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -165,7 +228,22 @@ fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
         spectrum_up_to: Some(fmax.ceil() as u32),
     };
     let t0 = std::time::Instant::now();
-    let r = analysis::run_speed(&model, &s, v, keep)?;
+    // VTK/HDF5 time series (output.vtk, output.hdf5) stream into the staging folder.
+    let scene_json = serde_json::to_string(&ls.scene)?;
+    let staging = outd.staging_dir().to_path_buf();
+    let (r, series) = rubsim::results::run_speed(
+        &model,
+        &s,
+        v,
+        keep,
+        &ls.scene.output,
+        &scene_json,
+        &staging,
+        "",
+    )?;
+    for name in &series {
+        outd.adopt(name)?;
+    }
     let case = model.case(r.omega)?;
     if ls.scene.output.png {
         output::write_run_pngs(
@@ -264,7 +342,26 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
         if !prefix.is_empty() {
             pb.set_message(prefix.trim_end_matches('/').to_string());
         }
-        let res = analysis::sweep(&model_v, &s, &speeds, &keep, &|| pb.inc(1))?;
+        // Per-speed VTK/HDF5 time series (output.per_speed) into `speed_<ν>/` sub-folders.
+        let selected = rubsim::results::per_speed_selection(o, &speeds)
+            .map_err(|m| ls_v.invalid("output.per_speed", m))?;
+        let scene_json = serde_json::to_string(&ls_v.scene)?;
+        let staging = outd.staging_dir().to_path_buf();
+        let (res, series) = rubsim::results::sweep(
+            &model_v,
+            &s,
+            &speeds,
+            &keep,
+            &|| pb.inc(1),
+            &selected,
+            o,
+            &scene_json,
+            &staging,
+            prefix,
+        )?;
+        for name in &series {
+            outd.adopt(name)?;
+        }
         pb.finish_and_clear();
         let bounds: Vec<_> = res
             .speeds
@@ -393,6 +490,7 @@ fn check(c: &Common) -> Result<()> {
                 "rigid ring on isotropic springs (circle-in-circle contact)"
             }
             scene::StatorSpec::Fe(_) => "general 2-D FE stator",
+            scene::StatorSpec::Mesh(_) => "meshed stator (gmsh)",
         };
         let ks = m.contact_stiffness_bound();
         println!(
@@ -405,11 +503,26 @@ fn check(c: &Common) -> Result<()> {
             ks,
             ks / case.rotor_stiffness
         );
+        if let Some(md) = &m.mesh {
+            println!(
+                "  mesh {} ({}) from {}: {}-D, {} cells, contact group {} nodes",
+                md.mesh_file.display(),
+                if md.from_cache {
+                    "up to date, gmsh not run"
+                } else {
+                    "meshed by gmsh now"
+                },
+                md.geometry.display(),
+                md.dim,
+                md.cells,
+                m.targets.len()
+            );
+        }
         if m.massless() {
             println!(
-                "  massless: enters the time loop as the {}×{} compliance of its contact DOFs (one sparse Cholesky per run), not as a mesh",
+                "  massless: enters the time loop as the compliance of its {} contact DOFs (one sparse Cholesky; {}), not as a mesh",
                 m.contact_dofs().len(),
-                m.contact_dofs().len()
+                if m.contact_dofs().len() <= 32 { "every column up front" } else { "columns computed when a node first touches, cached" }
             );
         } else {
             println!(
@@ -421,6 +534,7 @@ fn check(c: &Common) -> Result<()> {
             scene::StatorSpec::Rod(r) => r.clearance_nd,
             scene::StatorSpec::Ring(r) => r.clearance_nd,
             scene::StatorSpec::Fe(_) => None,
+            scene::StatorSpec::Mesh(m) => m.clearance_nd,
         };
         match nd {
             Some(nd) => println!(
@@ -466,16 +580,23 @@ fn check(c: &Common) -> Result<()> {
         "built: {} rotor body with {} DOF, {} stator(s), {} contact candidate pair(s)",
         match model.rotor {
             rubsim::model::Rotor::Jeffcott(_) => "Jeffcott",
+            rubsim::model::Rotor::Fe(_) =>
+                "finite-element (sparse M, C + ΩG, K; M̃ factored once per speed by sparse LU)",
         },
         case.rotor.ndof,
         case.stators.len(),
         case.stators.iter().map(|m| m.targets.len()).sum::<usize>()
     );
-    let mut left = vec!["FE rotor assembly and sparse LU of M̃ (Jeffcott M̃ is diagonal)"];
+    let mut left = Vec::new();
+    if matches!(model.rotor, rubsim::model::Rotor::Jeffcott(_)) {
+        left.push("FE rotor assembly and sparse LU of M̃ (Jeffcott M̃ is diagonal)");
+    }
     if case.stators.iter().all(|m| m.massless()) {
         left.push("stator mass matrices and stator time stepping (all stators massless)");
     }
-    left.push("mesher (no meshed stator)");
+    if case.stators.iter().all(|m| m.mesh.is_none()) {
+        left.push("mesher (no meshed stator)");
+    }
     if !s.output.png {
         left.push("PNG pictures");
     }
@@ -497,6 +618,9 @@ fn check(c: &Common) -> Result<()> {
             ""
         }
     );
+    for line in rubsim::results::describe(&s.output, &plan, s.run.sweep.is_some()) {
+        println!("  {line}");
+    }
     Ok(())
 }
 
@@ -651,6 +775,12 @@ fn bench(c: &Common, repeat: usize, reference: bool) -> Result<()> {
 }
 
 fn main() {
+    // Die quietly on a closed pipe (`rubsim … | head`) instead of panicking in println!.
+    // SAFETY: restoring the default disposition of SIGPIPE before any thread is started.
+    #[cfg(unix)]
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let jobs = match &cli.cmd {
         Cmd::Sweep { jobs, .. } | Cmd::Bench { jobs, .. } => *jobs,
@@ -665,6 +795,30 @@ fn main() {
         Cmd::Run { c, out, speed } => run(c, out.clone(), *speed),
         Cmd::Sweep { c, out, .. } => sweep(c, out.clone()),
         Cmd::Check { c } => check(c),
+        Cmd::Mesh(a) => mesh_cmd::mesh(a),
+        Cmd::Modal {
+            c,
+            speed,
+            modes,
+            gravity,
+            out,
+        } => rotordyn_cmd::modal(c, *speed, *modes, *gravity, out.clone()),
+        Cmd::Campbell {
+            c,
+            from,
+            to,
+            points,
+            modes,
+            out,
+        } => rotordyn_cmd::campbell(c, *from, *to, *points, *modes, out.clone()),
+        Cmd::Unbalance {
+            c,
+            from,
+            to,
+            points,
+            nodes,
+            out,
+        } => rotordyn_cmd::unbalance(c, *from, *to, *points, nodes, out.clone()),
         Cmd::Convergence {
             c,
             speeds,

@@ -97,6 +97,27 @@ impl OutDir {
         Ok(p)
     }
 
+    /// The staging folder: files written below it and [`OutDir::adopt`]ed are moved into place
+    /// by [`OutDir::commit`] (for writers that run on other threads, e.g. per-speed results).
+    pub fn staging_dir(&self) -> &Path {
+        &self.staging
+    }
+
+    /// Registers `name` (relative), already written below [`OutDir::staging_dir`], for commit.
+    pub fn adopt(&mut self, name: &str) -> Result<()> {
+        let p = self.staging.join(name);
+        if !p.is_file() {
+            return Err(Error::output(
+                self.dir.join(name),
+                "was not written to the staging folder",
+            ));
+        }
+        if !self.files.iter().any(|f| f == name) {
+            self.files.push(name.to_string());
+        }
+        Ok(())
+    }
+
     /// Writes bytes to `name` in the staging area.
     pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<()> {
         let p = self.stage(name)?;

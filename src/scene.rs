@@ -45,6 +45,171 @@ pub struct Scene {
 pub enum RotorSpec {
     /// Jeffcott rotor: one lateral mode, 2 DOF (x, y) at the disk (paper Eq. 50).
     Jeffcott(JeffcottSpec),
+    /// Finite-element rotor: Timoshenko shaft segments, disks, bearings (`kind = "fe"`).
+    Fe(FeRotorSpec),
+}
+
+/// Finite-element rotor. Nodes are numbered from the left end of the first shaft segment;
+/// each segment adds `elements` equal elements. DOFs per node `[u_x, u_y, θ_x, θ_y]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeRotorSpec {
+    /// Shaft segments, left to right (`[[rotor.shaft]]`).
+    pub shaft: Vec<ShaftSegmentSpec>,
+    /// Rigid disks (`[[rotor.disk]]`).
+    #[serde(default)]
+    pub disk: Vec<FeDiskSpec>,
+    /// Bearings (`[[rotor.bearing]]`).
+    #[serde(default)]
+    pub bearing: Vec<BearingSpec>,
+    /// Point masses (`[[rotor.point_mass]]`).
+    #[serde(default)]
+    pub point_mass: Vec<PointMassSpec>,
+    /// Unbalances (`[[rotor.unbalance]]`, with `node`).
+    #[serde(default)]
+    pub unbalance: Vec<UnbalanceSpec>,
+    /// Rayleigh damping `[α, β]`: C += α M + β K.
+    #[serde(default)]
+    pub rayleigh: [f64; 2],
+    /// Shear deformation (Timoshenko); false = Euler–Bernoulli.
+    #[serde(default = "yes")]
+    pub shear: bool,
+    /// Rotary inertia of the shaft.
+    #[serde(default = "yes")]
+    pub rotary_inertia: bool,
+    /// Gyroscopic coupling (shaft and disks).
+    #[serde(default = "yes")]
+    pub gyroscopic: bool,
+}
+
+/// A uniform shaft segment. Material by `material` name (`steel`: E 211 GPa, ν 0.3,
+/// ρ 7810 kg/m³; `aluminium`: 69 GPa, 0.33, 2700; `titanium`: 110 GPa, 0.34, 4430) or by
+/// `youngs_modulus`, `poisson`, `density` (these override the named values).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShaftSegmentSpec {
+    /// Segment length (m).
+    pub length: f64,
+    /// Outer diameter (m).
+    pub outer_diameter: f64,
+    /// Inner diameter (m), 0 for solid.
+    #[serde(default)]
+    pub inner_diameter: f64,
+    /// Number of equal elements.
+    #[serde(default = "one")]
+    pub elements: usize,
+    /// Material name.
+    pub material: Option<String>,
+    /// E (Pa).
+    pub youngs_modulus: Option<f64>,
+    /// ν.
+    pub poisson: Option<f64>,
+    /// ρ (kg/m³).
+    pub density: Option<f64>,
+}
+
+/// A rigid disk: give `mass`, `polar_inertia`, `diametral_inertia`, or the geometry
+/// `outer_diameter`, `width`, `bore` (default 0) and `density` (or `material`).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeDiskSpec {
+    /// Node.
+    pub node: usize,
+    /// Mass (kg).
+    pub mass: Option<f64>,
+    /// I_p (kg·m²).
+    pub polar_inertia: Option<f64>,
+    /// I_d (kg·m²).
+    pub diametral_inertia: Option<f64>,
+    /// Outer diameter (m).
+    pub outer_diameter: Option<f64>,
+    /// Bore (m).
+    #[serde(default)]
+    pub bore: f64,
+    /// Axial width (m).
+    pub width: Option<f64>,
+    /// Density (kg/m³).
+    pub density: Option<f64>,
+    /// Material name (for the density).
+    pub material: Option<String>,
+}
+
+/// A scalar or a table aligned with `speeds`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ScalarOrTable {
+    /// Constant.
+    Scalar(f64),
+    /// One value per entry of `speeds`.
+    Table(Vec<f64>),
+}
+
+/// A bearing between a rotor node and ground (or a pedestal). Isotropic `stiffness` /
+/// `damping`, or the 2×2 coefficients `kxx kxy kyx kyy`, `cxx cxy cyx cyy` (N/m, N·s/m);
+/// each may be a table over `speeds` (rad/s).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BearingSpec {
+    /// Node.
+    pub node: usize,
+    /// Isotropic stiffness (sets kxx = kyy).
+    pub stiffness: Option<ScalarOrTable>,
+    /// Isotropic damping (sets cxx = cyy).
+    pub damping: Option<ScalarOrTable>,
+    /// k_xx.
+    pub kxx: Option<ScalarOrTable>,
+    /// k_xy.
+    pub kxy: Option<ScalarOrTable>,
+    /// k_yx.
+    pub kyx: Option<ScalarOrTable>,
+    /// k_yy.
+    pub kyy: Option<ScalarOrTable>,
+    /// c_xx.
+    pub cxx: Option<ScalarOrTable>,
+    /// c_xy.
+    pub cxy: Option<ScalarOrTable>,
+    /// c_yx.
+    pub cyx: Option<ScalarOrTable>,
+    /// c_yy.
+    pub cyy: Option<ScalarOrTable>,
+    /// Speeds of the tables (rad/s, ascending).
+    #[serde(default)]
+    pub speeds: Vec<f64>,
+    /// Pedestal between the bearing and ground.
+    pub pedestal: Option<PedestalSpec>,
+}
+
+/// Pedestal: mass on isotropic spring and damper to ground.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PedestalSpec {
+    /// Mass (kg).
+    pub mass: f64,
+    /// Stiffness to ground (N/m).
+    pub stiffness: f64,
+    /// Damping to ground (N·s/m).
+    #[serde(default)]
+    pub damping: f64,
+}
+
+/// A point mass on a node's translations.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointMassSpec {
+    /// Node.
+    pub node: usize,
+    /// Mass (kg).
+    pub mass: f64,
+}
+
+/// `(E, ν, ρ)` of a named material.
+pub fn material(name: &str) -> Option<(f64, f64, f64)> {
+    match name.to_ascii_lowercase().as_str() {
+        "steel" => Some((211e9, 0.3, 7810.0)),
+        "aluminium" | "aluminum" => Some((69e9, 0.33, 2700.0)),
+        "titanium" => Some((110e9, 0.34, 4430.0)),
+        _ => None,
+    }
 }
 
 /// Jeffcott rotor data. Give `mass` or `disk`; `stiffness` or `shaft`; `damping` or
@@ -135,6 +300,8 @@ pub enum StatorSpec {
     Ring(RingSpec),
     /// General 2-D finite-element stator given as nodes, elements and fixed DOFs.
     Fe(FeStatorSpec),
+    /// Stator meshed by gmsh from a parametric `.geo`, a CAD file or a `.msh` file.
+    Mesh(Box<MeshStatorSpec>),
 }
 
 impl StatorSpec {
@@ -144,6 +311,7 @@ impl StatorSpec {
             StatorSpec::Rod(s) => &s.name,
             StatorSpec::Ring(s) => &s.name,
             StatorSpec::Fe(s) => &s.name,
+            StatorSpec::Mesh(s) => &s.name,
         }
     }
     /// The station it faces.
@@ -152,8 +320,166 @@ impl StatorSpec {
             StatorSpec::Rod(s) => &s.station,
             StatorSpec::Ring(s) => &s.station,
             StatorSpec::Fe(s) => &s.station,
+            StatorSpec::Mesh(s) => &s.station,
         }
     }
+}
+
+/// Stator meshed by gmsh (`kind = "mesh"`).
+///
+/// The geometry is a parametric gmsh `.geo` (its `DefineConstant` parameters set from
+/// `parameters`), a CAD file (`.step`, `.stp`, `.brep`, `.iges`: imported through OpenCASCADE,
+/// its bodies grouped as `stator` and each boundary entity as `boundary_<tag>`), or a ready
+/// `.msh` (MSH 4.1). Relative paths are resolved against the scene file's directory, then its
+/// ancestors (so `geometry/annulus.geo` works from `scenes/stators/`). Meshes are cached in
+/// `meshes/` by content; an up-to-date mesh never runs gmsh.
+///
+/// Coordinates of the geometry are relative to the undeformed centre of the station (m), rotor
+/// axis z. Physical groups are the contract: `contact_group` (curves in 2-D, surfaces in 3-D)
+/// holds the nodes that can touch the rotor, the `fixed*` groups the supports; 2-D groups of a
+/// 2-D mesh (volumes of a 3-D mesh) are material regions, `regions` overriding the default
+/// material per group.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshStatorSpec {
+    /// Stator name.
+    pub name: String,
+    /// Station it faces.
+    pub station: String,
+    /// Geometry file (`.geo`, `.step`/`.stp`/`.brep`/`.iges`/`.igs`, or `.msh`).
+    pub geometry: String,
+    /// gmsh parameters (`-setnumber name value`), declared by the geometry's `DefineConstant`.
+    #[serde(default)]
+    pub parameters: std::collections::BTreeMap<String, f64>,
+    /// Element order: 1 (linear) or 2 (quadratic).
+    #[serde(default = "one_u8")]
+    pub order: u8,
+    /// Quadrilaterals instead of triangles (gmsh `Mesh.RecombineAll`); 2-D only.
+    #[serde(default)]
+    pub quads: bool,
+    /// 8-node instead of 9-node quadratic quadrilaterals.
+    #[serde(default)]
+    pub serendipity: bool,
+    /// Factor on every mesh size of the geometry (gmsh `-clscale`).
+    #[serde(default = "unit")]
+    pub size_factor: f64,
+    /// 2-D meshes: `"stress"` (default) or `"strain"`.
+    #[serde(default = "plane_stress")]
+    pub plane: String,
+    /// 2-D meshes: out-of-plane thickness (m).
+    pub thickness: Option<f64>,
+    /// Young's modulus E (Pa) of the default material.
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν of the default material.
+    pub poisson_ratio: f64,
+    /// Density ρ (kg/m³) of the default material; 0 everywhere makes the stator massless.
+    #[serde(default)]
+    pub density: f64,
+    /// Material of particular regions (physical groups of the mesh's dimension).
+    #[serde(default)]
+    pub regions: Vec<RegionSpec>,
+    /// Physical group of the contact boundary.
+    #[serde(default = "contact_group")]
+    pub contact_group: String,
+    /// Physical groups whose nodes are fixed in every direction.
+    #[serde(default = "fixed_groups")]
+    pub fixed: Vec<String>,
+    /// Physical groups whose nodes have u_x = 0 (symmetry planes, guides).
+    #[serde(default)]
+    pub fixed_x: Vec<String>,
+    /// Physical groups whose nodes have u_y = 0.
+    #[serde(default)]
+    pub fixed_y: Vec<String>,
+    /// 3-D meshes: physical groups whose nodes have u_z = 0.
+    #[serde(default)]
+    pub fixed_z: Vec<String>,
+    /// Grounded springs on the nodes of a group.
+    #[serde(default)]
+    pub springs: Vec<SpringSupportSpec>,
+    /// Bars and frames (beam-columns) on the line elements of a group (2-D meshes).
+    #[serde(default)]
+    pub frames: Vec<FrameSpec>,
+    /// Rayleigh damping `[α, β]`, C = α M + β K (only with mass).
+    #[serde(default)]
+    pub rayleigh: [f64; 2],
+    /// Place the mesh so its nearest contact node is at clearance δ (m) from the rotor surface,
+    /// by a rigid translation along `approach_deg`. Without `clearance`/`clearance_nd` the
+    /// geometry's own position sets the clearance.
+    pub clearance: Option<f64>,
+    /// As `clearance`, given as δ/|Z0(ω)| (re-placed at every speed).
+    pub clearance_nd: Option<f64>,
+    /// Direction (degrees from +x) from the station centre toward the stator along which it is
+    /// translated to its clearance.
+    #[serde(default = "ninety")]
+    pub approach_deg: f64,
+}
+
+/// Material of a region (physical group) of a meshed stator; unset values are the stator's.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSpec {
+    /// Physical group name.
+    pub group: String,
+    /// Young's modulus (Pa).
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio.
+    pub poisson_ratio: Option<f64>,
+    /// Density (kg/m³).
+    pub density: Option<f64>,
+    /// Thickness (m), 2-D.
+    pub thickness: Option<f64>,
+}
+
+/// Grounded springs on the nodes of a group: the stiffness is the group's total, shared
+/// equally by its nodes.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSupportSpec {
+    /// Physical group name.
+    pub group: String,
+    /// Total stiffness `[k_x, k_y]` (N/m).
+    pub stiffness: [f64; 2],
+}
+
+/// Bars (without `inertia`) or frames (with it) on the line elements of a group.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrameSpec {
+    /// Physical group of lines (dimension 1).
+    pub group: String,
+    /// Young's modulus (Pa).
+    pub youngs_modulus: f64,
+    /// Cross-section area (m²).
+    pub area: f64,
+    /// Second moment of area about z (m⁴); absent: pin-jointed bars.
+    pub inertia: Option<f64>,
+    /// Shear correction factor κ: Timoshenko frames; absent: Euler–Bernoulli.
+    pub shear_factor: Option<f64>,
+    /// Poisson's ratio (for G = E / (2(1+ν))).
+    #[serde(default = "poisson")]
+    pub poisson_ratio: f64,
+    /// Density (kg/m³).
+    #[serde(default)]
+    pub density: f64,
+}
+
+fn one_u8() -> u8 {
+    1
+}
+fn unit() -> f64 {
+    1.0
+}
+fn poisson() -> f64 {
+    0.3
+}
+fn plane_stress() -> String {
+    "stress".into()
+}
+fn contact_group() -> String {
+    "stator_contact".into()
+}
+fn fixed_groups() -> Vec<String> {
+    vec!["stator_fixed".into()]
 }
 
 /// Elastic rod stator (paper Fig. 4). The tip faces the station at clearance δ along
@@ -381,6 +707,74 @@ pub struct OutputSpec {
     pub component: String,
     /// Upper frequency of cascades, in units of ω_n (default: the top speed).
     pub cascade_max_freq: Option<f64>,
+    /// VTK XML time series: `.vtu` frames and a `.pvd` collection (absent: not written).
+    pub vtk: Option<SeriesSpec>,
+    /// HDF5 time series with a transient VTKHDF group (absent: not written).
+    pub hdf5: Option<SeriesSpec>,
+    /// Which speeds of a sweep write the time series above, into `speed_<ω/ω_n>/` sub-folders:
+    /// `false` (default: none), `true` (all) or a list of ω/ω_n. `rubsim run` always writes them.
+    #[serde(default)]
+    pub per_speed: PerSpeed,
+}
+
+/// A time-series writer (`output.vtk`, `output.hdf5`): which frames, which fields.
+///
+/// Frames are taken at the integration steps that are multiples of `every` and lie within
+/// `[from_revolution, to_revolution]` (revolutions of the rotor since t = 0).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SeriesSpec {
+    /// Steps between frames (default: the recording interval, i.e. `run.samples_per_rev`
+    /// frames per revolution, on the same instants as the analysis).
+    pub every: Option<usize>,
+    /// Fields to write (default: all).
+    #[serde(default = "all_series_fields")]
+    pub fields: Vec<SeriesField>,
+    /// First revolution written (default 0, the start of the run).
+    #[serde(default)]
+    pub from_revolution: f64,
+    /// Last revolution written (default: the end of the run, `run.revolutions`).
+    pub to_revolution: Option<f64>,
+}
+
+/// Fields of the time series.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SeriesField {
+    /// Node displacements of rotor and stators (m).
+    Displacement,
+    /// Node velocities (m/s), by a backward difference over one time step.
+    Velocity,
+    /// Contact: pair normal forces (multipliers) and forces, node contact forces (N).
+    ContactForce,
+    /// Stator element axial force (N), stress (Pa) and strain.
+    Stress,
+}
+
+/// All [`SeriesField`]s.
+pub fn all_series_fields() -> Vec<SeriesField> {
+    vec![
+        SeriesField::Displacement,
+        SeriesField::Velocity,
+        SeriesField::ContactForce,
+        SeriesField::Stress,
+    ]
+}
+
+/// Per-speed time series of a sweep: `false`, `true` or a list of ω/ω_n.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum PerSpeed {
+    /// None (`false`) or every speed (`true`).
+    All(bool),
+    /// These speeds ω/ω_n (each must be one of the sweep's speeds).
+    Speeds(Vec<f64>),
+}
+
+impl Default for PerSpeed {
+    fn default() -> Self {
+        PerSpeed::All(false)
+    }
 }
 
 impl Default for OutputSpec {
@@ -391,6 +785,9 @@ impl Default for OutputSpec {
             force_histories: Vec::new(),
             component: default_component(),
             cascade_max_freq: None,
+            vtk: None,
+            hdf5: None,
+            per_speed: PerSpeed::default(),
         }
     }
 }
@@ -720,6 +1117,10 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
                 }
             }
         }
+        RotorSpec::Fe(_) => {}
+    }
+    if let RotorSpec::Fe(f) = &s.rotor {
+        validate_fe_rotor(ls, f)?;
     }
     let mut names = std::collections::HashSet::new();
     for (i, st) in s.stations.iter().enumerate() {
@@ -729,8 +1130,7 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
         if !names.insert(st.name.as_str()) {
             return Err(ls.invalid(&k("name"), format!("duplicate station name `{}`", st.name)));
         }
-        let RotorSpec::Jeffcott(_) = &s.rotor;
-        if st.node != 0 {
+        if matches!(s.rotor, RotorSpec::Jeffcott(_)) && st.node != 0 {
             return Err(ls.invalid(&k("node"), "a Jeffcott rotor has only node 0"));
         }
     }
@@ -872,6 +1272,7 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
                     non_negative(ls, &k("rayleigh"), v)?;
                 }
             }
+            StatorSpec::Mesh(m) => validate_mesh_stator(ls, i, m)?,
         }
     }
     let r = &s.run;
@@ -926,6 +1327,317 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
     }
     if s.output.component != "x" && s.output.component != "y" {
         return Err(ls.invalid("output.component", "must be \"x\" or \"y\""));
+    }
+    validate_series(ls)?;
+    Ok(())
+}
+
+fn validate_fe_rotor(ls: &LoadedScene, f: &FeRotorSpec) -> Result<(), SceneError> {
+    if f.shaft.is_empty() {
+        return Err(ls.invalid(
+            "rotor.shaft",
+            "an FE rotor needs at least one [[rotor.shaft]] segment",
+        ));
+    }
+    let mut nodes = 1;
+    for (i, seg) in f.shaft.iter().enumerate() {
+        let k = |x: &str| format!("rotor.shaft.{i}.{x}");
+        positive(ls, &k("length"), seg.length)?;
+        positive(ls, &k("outer_diameter"), seg.outer_diameter)?;
+        non_negative(ls, &k("inner_diameter"), seg.inner_diameter)?;
+        if seg.inner_diameter >= seg.outer_diameter {
+            return Err(ls.invalid(&k("inner_diameter"), "must be smaller than outer_diameter"));
+        }
+        if seg.elements == 0 {
+            return Err(ls.invalid(&k("elements"), "must be at least 1"));
+        }
+        nodes += seg.elements;
+        let named = match &seg.material {
+            Some(m) => Some(material(m).ok_or_else(|| {
+                ls.invalid(&k("material"), format!("unknown material `{m}` (known: steel, aluminium, titanium; or give youngs_modulus, poisson, density)"))
+            })?),
+            None => None,
+        };
+        if named.is_none() && (seg.youngs_modulus.is_none() || seg.density.is_none()) {
+            return Err(ls.invalid(
+                &format!("rotor.shaft.{i}"),
+                "give `material` or `youngs_modulus` and `density`",
+            ));
+        }
+        if let Some(e) = seg.youngs_modulus {
+            positive(ls, &k("youngs_modulus"), e)?;
+        }
+        if let Some(r) = seg.density {
+            non_negative(ls, &k("density"), r)?;
+        }
+        if let Some(nu) = seg.poisson {
+            if !(nu > -1.0 && nu < 0.5) {
+                return Err(ls.invalid(&k("poisson"), format!("must lie in (−1, 0.5), got {nu}")));
+            }
+        }
+    }
+    let node_ok = |key: String, n: usize| -> Result<(), SceneError> {
+        if n >= nodes {
+            Err(ls.invalid(
+                &key,
+                format!(
+                    "node {n} does not exist (the shaft has nodes 0..={})",
+                    nodes - 1
+                ),
+            ))
+        } else {
+            Ok(())
+        }
+    };
+    for (i, d) in f.disk.iter().enumerate() {
+        node_ok(format!("rotor.disk.{i}.node"), d.node)?;
+        let inertial = d.mass.is_some();
+        let geo = d.outer_diameter.is_some() || d.width.is_some();
+        if inertial == geo {
+            return Err(ls.invalid(&format!("rotor.disk.{i}"), "give `mass` (+ inertias) or the geometry `outer_diameter`, `width` (+ `bore`, `density`/`material`), not both"));
+        }
+        if geo
+            && (d.outer_diameter.is_none()
+                || d.width.is_none()
+                || (d.density.is_none() && d.material.is_none()))
+        {
+            return Err(ls.invalid(
+                &format!("rotor.disk.{i}"),
+                "geometry needs `outer_diameter`, `width` and `density` or `material`",
+            ));
+        }
+        for (name, v) in [
+            ("mass", d.mass),
+            ("polar_inertia", d.polar_inertia),
+            ("diametral_inertia", d.diametral_inertia),
+            ("outer_diameter", d.outer_diameter),
+            ("width", d.width),
+        ] {
+            if let Some(v) = v {
+                non_negative(ls, &format!("rotor.disk.{i}.{name}"), v)?;
+            }
+        }
+        if let Some(m) = &d.material {
+            if material(m).is_none() {
+                return Err(ls.invalid(
+                    &format!("rotor.disk.{i}.material"),
+                    format!("unknown material `{m}`"),
+                ));
+            }
+        }
+    }
+    if f.bearing.is_empty() {
+        return Err(ls.invalid(
+            "rotor",
+            "an FE rotor needs at least one [[rotor.bearing]] (a free rotor has no equilibrium)",
+        ));
+    }
+    for (i, b) in f.bearing.iter().enumerate() {
+        node_ok(format!("rotor.bearing.{i}.node"), b.node)?;
+        let n = b.speeds.len();
+        for w in b.speeds.windows(2) {
+            if w[1] <= w[0] {
+                return Err(ls.invalid(
+                    &format!("rotor.bearing.{i}.speeds"),
+                    "must be strictly ascending",
+                ));
+            }
+        }
+        let all = [
+            ("stiffness", &b.stiffness),
+            ("damping", &b.damping),
+            ("kxx", &b.kxx),
+            ("kxy", &b.kxy),
+            ("kyx", &b.kyx),
+            ("kyy", &b.kyy),
+            ("cxx", &b.cxx),
+            ("cxy", &b.cxy),
+            ("cyx", &b.cyx),
+            ("cyy", &b.cyy),
+        ];
+        for (name, v) in all {
+            if let Some(ScalarOrTable::Table(t)) = v {
+                if t.len() != n {
+                    return Err(ls.invalid(
+                        &format!("rotor.bearing.{i}.{name}"),
+                        format!("table has {} values but `speeds` has {n}", t.len()),
+                    ));
+                }
+            }
+        }
+        if b.stiffness.is_some() && (b.kxx.is_some() || b.kyy.is_some()) {
+            return Err(ls.invalid(
+                &format!("rotor.bearing.{i}"),
+                "give `stiffness` or `kxx`/`kyy`, not both",
+            ));
+        }
+        if b.stiffness.is_none() && b.kxx.is_none() && b.kyy.is_none() {
+            return Err(ls.invalid(
+                &format!("rotor.bearing.{i}"),
+                "missing stiffness (`stiffness` or `kxx`, `kyy`)",
+            ));
+        }
+        if let Some(p) = &b.pedestal {
+            positive(ls, &format!("rotor.bearing.{i}.pedestal.mass"), p.mass)?;
+            positive(
+                ls,
+                &format!("rotor.bearing.{i}.pedestal.stiffness"),
+                p.stiffness,
+            )?;
+            non_negative(
+                ls,
+                &format!("rotor.bearing.{i}.pedestal.damping"),
+                p.damping,
+            )?;
+        }
+    }
+    for (i, p) in f.point_mass.iter().enumerate() {
+        node_ok(format!("rotor.point_mass.{i}.node"), p.node)?;
+        non_negative(ls, &format!("rotor.point_mass.{i}.mass"), p.mass)?;
+    }
+    for (i, u) in f.unbalance.iter().enumerate() {
+        node_ok(format!("rotor.unbalance.{i}.node"), u.node)?;
+        non_negative(ls, &format!("rotor.unbalance.{i}.mass"), u.mass)?;
+        non_negative(ls, &format!("rotor.unbalance.{i}.radius"), u.radius)?;
+    }
+    for v in f.rayleigh {
+        non_negative(ls, "rotor.rayleigh", v)?;
+    }
+    for (i, st) in ls.scene.stations.iter().enumerate() {
+        node_ok(format!("station.{i}.node"), st.node)?;
+    }
+    Ok(())
+}
+
+/// Checks `output.vtk`, `output.hdf5` and `output.per_speed`.
+fn validate_series(ls: &LoadedScene) -> Result<(), SceneError> {
+    let o = &ls.scene.output;
+    let revs = ls.scene.run.revolutions as f64;
+    for (name, spec) in [("vtk", &o.vtk), ("hdf5", &o.hdf5)] {
+        let Some(sp) = spec else { continue };
+        let k = |f: &str| format!("output.{name}.{f}");
+        if sp.every == Some(0) {
+            return Err(ls.invalid(&k("every"), "must be at least 1 (steps between frames)"));
+        }
+        if sp.fields.is_empty() {
+            return Err(ls.invalid(&k("fields"), "no fields: leave the key out to write all"));
+        }
+        non_negative(ls, &k("from_revolution"), sp.from_revolution)?;
+        let to = sp.to_revolution.unwrap_or(revs);
+        if !(to.is_finite() && to >= sp.from_revolution && sp.from_revolution <= revs) {
+            return Err(ls.invalid(
+                &k("to_revolution"),
+                format!(
+                    "the window [{}, {to}] revolutions must be ordered and overlap the run (0 to {revs})",
+                    sp.from_revolution
+                ),
+            ));
+        }
+    }
+    if o.per_speed != PerSpeed::All(false) && o.vtk.is_none() && o.hdf5.is_none() {
+        return Err(ls.invalid(
+            "output.per_speed",
+            "asks for per-speed time series, but neither `output.vtk` nor `output.hdf5` is given",
+        ));
+    }
+    if let PerSpeed::Speeds(v) = &o.per_speed {
+        for x in v {
+            positive(ls, "output.per_speed", *x)?;
+        }
+    }
+    Ok(())
+}
+
+/// Admissibility of a meshed stator's values (what the mesh needs is checked when it is read).
+fn validate_mesh_stator(ls: &LoadedScene, i: usize, m: &MeshStatorSpec) -> Result<(), SceneError> {
+    let k = |f: &str| format!("stator.{i}.{f}");
+    if m.geometry.trim().is_empty() {
+        return Err(ls.invalid(&k("geometry"), "empty path"));
+    }
+    for (name, v) in &m.parameters {
+        if !v.is_finite() {
+            return Err(ls.invalid(&k(&format!("parameters.{name}")), "must be finite"));
+        }
+    }
+    if !(m.order == 1 || m.order == 2) {
+        return Err(ls.invalid(&k("order"), format!("must be 1 or 2, got {}", m.order)));
+    }
+    positive(ls, &k("size_factor"), m.size_factor)?;
+    if m.plane != "stress" && m.plane != "strain" {
+        return Err(ls.invalid(&k("plane"), "must be \"stress\" or \"strain\""));
+    }
+    if let Some(t) = m.thickness {
+        positive(ls, &k("thickness"), t)?;
+    }
+    let poisson_ok = |key: &str, v: f64| {
+        if v.is_finite() && v > -1.0 && v < 0.5 {
+            Ok(())
+        } else {
+            Err(ls.invalid(key, format!("must lie in (−1, 0.5), got {v}")))
+        }
+    };
+    positive(ls, &k("youngs_modulus"), m.youngs_modulus)?;
+    poisson_ok(&k("poisson_ratio"), m.poisson_ratio)?;
+    non_negative(ls, &k("density"), m.density)?;
+    for (r, reg) in m.regions.iter().enumerate() {
+        let rk = |f: &str| format!("stator.{i}.regions.{r}.{f}");
+        if let Some(v) = reg.youngs_modulus {
+            positive(ls, &rk("youngs_modulus"), v)?;
+        }
+        if let Some(v) = reg.poisson_ratio {
+            poisson_ok(&rk("poisson_ratio"), v)?;
+        }
+        if let Some(v) = reg.density {
+            non_negative(ls, &rk("density"), v)?;
+        }
+        if let Some(v) = reg.thickness {
+            positive(ls, &rk("thickness"), v)?;
+        }
+    }
+    for (r, sp) in m.springs.iter().enumerate() {
+        for v in sp.stiffness {
+            non_negative(ls, &format!("stator.{i}.springs.{r}.stiffness"), v)?;
+        }
+    }
+    for (r, fr) in m.frames.iter().enumerate() {
+        let fk = |f: &str| format!("stator.{i}.frames.{r}.{f}");
+        positive(ls, &fk("youngs_modulus"), fr.youngs_modulus)?;
+        positive(ls, &fk("area"), fr.area)?;
+        if let Some(v) = fr.inertia {
+            positive(ls, &fk("inertia"), v)?;
+        }
+        if let Some(v) = fr.shear_factor {
+            positive(ls, &fk("shear_factor"), v)?;
+            if fr.inertia.is_none() {
+                return Err(ls.invalid(
+                    &fk("shear_factor"),
+                    "a shear factor needs `inertia` (bars carry no shear)",
+                ));
+            }
+        }
+        poisson_ok(&fk("poisson_ratio"), fr.poisson_ratio)?;
+        non_negative(ls, &fk("density"), fr.density)?;
+    }
+    if m.clearance.is_some() && m.clearance_nd.is_some() {
+        return Err(ls.invalid(
+            &format!("stator.{i}"),
+            "give `clearance` or `clearance_nd`, not both",
+        ));
+    }
+    if let Some(v) = m.clearance {
+        positive(ls, &k("clearance"), v)?;
+    }
+    if let Some(v) = m.clearance_nd {
+        positive(ls, &k("clearance_nd"), v)?;
+    }
+    for v in m.rayleigh {
+        non_negative(ls, &k("rayleigh"), v)?;
+    }
+    if m.fixed.is_empty() && m.fixed_x.is_empty() && m.fixed_y.is_empty() && m.springs.is_empty() {
+        return Err(ls.invalid(
+            &k("fixed"),
+            "the stator has no supports: name a fixed group or springs",
+        ));
     }
     Ok(())
 }

@@ -20,9 +20,10 @@
 //! recorder is sized for the whole run.
 
 use crate::contact::lcp::{self, LcpWorkspace};
+use crate::contact::search::BroadPhase;
 use crate::contact::{exact_gap, pair_state, target_disp, Candidate, PairState};
 use crate::error::SolveError;
-use crate::linalg::{Csc, Lu};
+use crate::linalg::{Csc, PairCsr, StepLu};
 use crate::math::V2;
 use crate::model::{Case, StatorModel};
 use crate::scene::IntegratorKind;
@@ -82,13 +83,15 @@ fn station_contact_stiffness(case: &Case, massless_only: bool) -> Vec<f64> {
 pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
     let m = case.rotor_mass;
     let kr = case.rotor_stiffness;
-    let xi = case.rotor.c.get(0, 0) / (2.0 * (m * kr).sqrt());
+    let xi = case.rotor_xi_max;
     let k_all = station_contact_stiffness(case, false);
     let k_ml = station_contact_stiffness(case, true);
+    // Contact frequency of the reference (Jeffcott-equivalent) system, √((k_r + k_s)/m_r):
+    // the T_min of the paper's rule. FE rotors' own high modes only bound stability.
     let w_contact = k_all
         .iter()
         .map(|k| ((kr + k) / m).sqrt())
-        .fold(case.rotor_omega_max, f64::max);
+        .fold(case.speed_ratio.recip() * case.omega, f64::max);
     let w_stators = case
         .stators
         .iter()
@@ -107,14 +110,16 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
         }
     }
     if p.integrator == IntegratorKind::Collocated {
-        for k in &k_ml {
+        for (s, k) in k_ml.iter().enumerate() {
             if *k > 0.0 {
-                let w = ((kr + k) / m).sqrt();
+                // Weyl bound: ω² ≤ ω_max,rotor² + k_s (M⁻¹)_ii at the station node (exact
+                // for the Jeffcott rotor: (k_r + k_s)/m).
+                let w = (case.rotor_omega_max.powi(2) + k * case.station_inv_mass[s]).sqrt();
                 let l = lim(w, (xi * case.rotor_omega_max / w).min(1.0));
                 if l < limit {
                     limit = l;
                     reason = format!(
-                        "massless stator stiffness applied explicitly, ω_c = √((k_r + k_s)/m) = {w:.4e} rad/s"
+                        "massless stator stiffness applied explicitly, ω_c ≤ √(ω_max² + k_s (M⁻¹)_ii) = {w:.4e} rad/s"
                     );
                 }
             }
@@ -225,7 +230,7 @@ pub struct RunStats {
 enum MInv {
     Diag(Vec<f64>),
     Lu {
-        lu: Box<Lu>,
+        lu: Box<StepLu>,
         /// Columns M̃⁻¹ e_d for contact DOFs, column-major n × ncd.
         cols: Vec<f64>,
         col_of: Vec<usize>,
@@ -236,8 +241,8 @@ enum MInv {
 #[derive(Debug)]
 struct DynBody {
     n: usize,
-    aop: Csc,
-    bop: Csc,
+    /// `A = 2M/Δt² − K` and `B = C/(2Δt) − M/Δt²` on one pattern.
+    ab: PairCsr,
     minv: MInv,
     u_prev: Vec<f64>,
     u: Vec<f64>,
@@ -258,14 +263,16 @@ impl DynBody {
             }
             MInv::Diag(d.iter().map(|v| 1.0 / v).collect())
         } else {
-            let lu = Lu::new(&mt)?;
+            let mut lu = StepLu::new(&mt)?;
             let mut col_of = vec![usize::MAX; n];
             let mut cols = vec![0.0; n * contact_dofs.len()];
             for (j, &d) in contact_dofs.iter().enumerate() {
                 col_of[d] = j;
                 cols[j * n + d] = 1.0;
             }
-            lu.solve_in_place(&mut cols);
+            for c in cols.chunks_mut(n) {
+                lu.solve_in_place(c);
+            }
             MInv::Lu {
                 lu: Box::new(lu),
                 cols,
@@ -274,8 +281,7 @@ impl DynBody {
         };
         Ok(Self {
             n,
-            aop,
-            bop,
+            ab: PairCsr::new(&aop, &bop),
             minv,
             u_prev: vec![0.0; n],
             u: vec![0.0; n],
@@ -286,11 +292,10 @@ impl DynBody {
 
     /// `u_next = M̃⁻¹ (rhs + A u + B u_prev)`; `rhs` holds the external force on entry.
     fn predict(&mut self) {
-        self.aop.mul_add(1.0, &self.u, &mut self.rhs);
-        self.bop.mul_add(1.0, &self.u_prev, &mut self.rhs);
-        match &self.minv {
+        self.ab.mul_add(&self.u, &self.u_prev, &mut self.rhs);
+        match &mut self.minv {
             MInv::Diag(inv) => {
-                for ((u, r), d) in self.u_next.iter_mut().zip(&self.rhs).zip(inv) {
+                for ((u, r), d) in self.u_next.iter_mut().zip(&self.rhs).zip(inv.iter()) {
                     *u = d * r;
                 }
             }
@@ -335,46 +340,118 @@ impl DynBody {
     }
 }
 
-/// A massless stator: compliance columns `K⁻¹ e_d` for its contact DOFs.
+/// A massless stator condensed to its contact boundary (Eq. 49): the columns `K⁻¹ e_d` of the
+/// contact DOFs `d`, kept only at the contact DOFs (`ncd` numbers each), from one sparse
+/// Cholesky factor of K (shared by every run of a meshed stator). Small boundaries
+/// (≤ [`Compliance::EAGER`] contact DOFs) get every column up front; larger ones get a column
+/// the first time its DOF enters a contact problem, cached for the run. The loop's work is then
+/// proportional to the contact DOFs, not to the mesh: only the contact entries of `u` are kept
+/// current, and the full field is rebuilt by one solve when a frame asks for it
+/// ([`Compliance::refresh`]).
 #[derive(Debug)]
 struct Compliance {
-    n: usize,
+    chol: Option<std::sync::Arc<crate::linalg::Cholesky>>,
+    /// Contact DOFs, sorted.
+    cd: Vec<usize>,
+    /// Free DOF → index in `cd` (`usize::MAX` for interior DOFs).
+    slot: Vec<usize>,
+    /// Contact slot → start of its column in `cols` (`usize::MAX` until computed).
+    col: Vec<usize>,
+    /// Cached columns, `cd.len()` entries each (rows at the contact DOFs).
     cols: Vec<f64>,
-    col_of: Vec<usize>,
-    /// Current displacement (m).
+    /// Force applied at each contact slot since the last reset (N).
+    f: Vec<f64>,
+    /// Scratch of length n for column solves and refreshes.
+    rhs: Vec<f64>,
+    /// Displacement (m): contact entries current, interior entries valid after `refresh`.
     u: Vec<f64>,
 }
 
 impl Compliance {
+    /// Boundaries with at most this many contact DOFs are condensed up front.
+    const EAGER: usize = 32;
+
     fn new(s: &StatorModel) -> Result<Self, String> {
         let n = s.ndof;
         let cd = s.contact_dofs();
-        let mut col_of = vec![usize::MAX; n];
-        let mut cols = vec![0.0; n * cd.len()];
+        let mut slot = vec![usize::MAX; n];
         for (j, &d) in cd.iter().enumerate() {
-            col_of[d] = j;
-            cols[j * n + d] = 1.0;
+            slot[d] = j;
         }
-        if n > 0 {
-            crate::linalg::Cholesky::new(&s.k)?.solve_in_place(&mut cols);
-        }
-        Ok(Self {
-            n,
-            cols,
-            col_of,
+        let chol = if n == 0 {
+            None
+        } else {
+            Some(match &s.mesh {
+                Some(md) => md.factor(&s.k)?,
+                None => std::sync::Arc::new(crate::linalg::Cholesky::new(&s.k)?),
+            })
+        };
+        let ncd = cd.len();
+        let mut c = Self {
+            chol,
+            col: vec![usize::MAX; ncd],
+            cols: Vec::with_capacity(ncd * ncd.min(Self::EAGER.max(16))),
+            f: vec![0.0; ncd],
+            rhs: vec![0.0; n],
             u: vec![0.0; n],
-        })
+            cd,
+            slot,
+        };
+        if ncd <= Self::EAGER {
+            for j in 0..ncd {
+                c.ensure(c.cd[j]);
+            }
+        }
+        Ok(c)
+    }
+    /// Computes the column of contact DOF `d` if it is not cached yet.
+    fn ensure(&mut self, d: usize) {
+        let j = self.slot[d];
+        if self.col[j] != usize::MAX {
+            return;
+        }
+        self.rhs.fill(0.0);
+        self.rhs[d] = 1.0;
+        if let Some(ch) = &self.chol {
+            ch.solve_in_place(&mut self.rhs);
+        }
+        self.col[j] = self.cols.len();
+        let rhs = &self.rhs;
+        self.cols.extend(self.cd.iter().map(|&e| rhs[e]));
     }
     #[inline]
     fn flex(&self, a: usize, b: usize) -> f64 {
-        self.cols[self.col_of[b] * self.n + a]
+        let c = self.col[self.slot[b]];
+        debug_assert!(c != usize::MAX, "compliance column of DOF {b} not prepared");
+        self.cols[c + self.slot[a]]
     }
     #[inline]
     fn apply(&mut self, d: usize, f: f64) {
-        let c = &self.cols[self.col_of[d] * self.n..(self.col_of[d] + 1) * self.n];
-        for (u, v) in self.u.iter_mut().zip(c) {
-            *u += v * f;
+        self.ensure(d);
+        let j = self.slot[d];
+        self.f[j] += f;
+        let c = &self.cols[self.col[j]..self.col[j] + self.cd.len()];
+        for (&e, v) in self.cd.iter().zip(c) {
+            self.u[e] += v * f;
         }
+    }
+    /// Undeformed: no contact force (Eq. 49).
+    fn reset(&mut self) {
+        for &e in &self.cd {
+            self.u[e] = 0.0;
+        }
+        self.f.fill(0.0);
+    }
+    /// Rebuilds the whole displacement field from the contact forces (one solve).
+    fn refresh(&mut self) {
+        self.rhs.fill(0.0);
+        for (&e, f) in self.cd.iter().zip(&self.f) {
+            self.rhs[e] = *f;
+        }
+        if let Some(ch) = &self.chol {
+            ch.solve_in_place(&mut self.rhs);
+        }
+        self.u.copy_from_slice(&self.rhs);
     }
 }
 
@@ -402,6 +479,22 @@ impl StatorDyn {
         match self {
             StatorDyn::Massless(c) => c.apply(d, f),
             StatorDyn::Massive(b) => b.apply(d, f),
+        }
+    }
+    /// Makes `flex` available for a target's DOFs (massless: computes missing columns).
+    fn prepare(&mut self, dofs: [Option<usize>; 2]) {
+        if let StatorDyn::Massless(c) = self {
+            for d in dofs.into_iter().flatten() {
+                c.ensure(d);
+            }
+        }
+    }
+    /// First DOF whose current value is not finite (massless: the contact DOFs, the only ones
+    /// the loop updates).
+    fn first_non_finite(&self) -> Option<usize> {
+        match self {
+            StatorDyn::Massless(c) => c.cd.iter().copied().find(|&d| !c.u[d].is_finite()),
+            StatorDyn::Massive(b) => b.u_next.iter().position(|v| !v.is_finite()),
         }
     }
 }
@@ -535,6 +628,47 @@ pub fn integrate_with(
         .collect();
     let massless: Vec<bool> = case.stators.iter().map(|s| s.massless()).collect();
     let collocated = integrator == IntegratorKind::Collocated;
+    // Broad phase (contact::search): node targets of massless stators stay at their
+    // undeformed position in every prediction and are indexed; the others (stators with mass,
+    // ring targets) are visited every step.
+    let mut indexed = Vec::new();
+    let mut dynamic = Vec::new();
+    for (ci, c) in cands.iter().enumerate() {
+        match &case.stators[c.stator].targets[c.target] {
+            crate::model::Target::Node { x0, .. } if massless[c.stator] => {
+                indexed.push((ci, c.station, *x0))
+            }
+            _ => dynamic.push(ci),
+        }
+    }
+    let broad = BroadPhase::new(&indexed, 16);
+    drop(indexed);
+    let mut near: Vec<usize> = Vec::with_capacity(nc);
+    let mut centre: Vec<V2> = vec![[0.0; 2]; case.stations.len()];
+    let mut reach: Vec<f64> = vec![0.0; case.stations.len()];
+    // The candidates that may have g < margin with the stations displaced as in `u`: from the
+    // index when `with_index`, plus the dynamic candidates whose stator passes `keep`; sorted.
+    let gather = |near: &mut Vec<usize>,
+                  u: &[f64],
+                  margin: f64,
+                  with_index: bool,
+                  keep: &dyn Fn(usize) -> bool,
+                  centre: &mut [V2],
+                  reach: &mut [f64]| {
+        near.clear();
+        if with_index && !broad.is_empty() {
+            for (s, d) in station_dofs.iter().enumerate() {
+                centre[s] = [u[d[0]], u[d[1]]];
+                reach[s] = case.stations[s].radius + margin;
+            }
+            broad.query(centre, reach, near);
+        }
+        let before = near.len();
+        near.extend(dynamic.iter().copied().filter(|&ci| keep(cands[ci].stator)));
+        if before > 0 && near.len() > before {
+            near.sort_unstable();
+        }
+    };
 
     // Initial conditions on node 0's DOFs (station 0's node when there is one).
     let node0 = case.stations.first().map_or(0, |s| s.node);
@@ -575,12 +709,30 @@ pub fn integrate_with(
     let bound = 1e4 * scale;
 
     // Workspaces.
-    let mut ws = LcpWorkspace::new(nc.max(1));
+    // The dense contact buffers are sized for up to LCP_CAP pairs at once (all candidates when
+    // fewer) and grow in the loop only if a contact problem is larger (large meshed stators).
+    const LCP_CAP: usize = 256;
+    let cap0 = nc.clamp(1, LCP_CAP);
+    let mut ws = LcpWorkspace::new(cap0);
     let mut states = vec![PairState::default(); nc];
     let mut sel: Vec<usize> = Vec::with_capacity(nc);
-    let mut wmat = vec![0.0; nc * nc];
-    let mut gvec = vec![0.0; nc];
-    let mut pvec = vec![0.0; nc];
+    let mut wmat = vec![0.0; cap0 * cap0];
+    let mut gvec = vec![0.0; cap0];
+    let mut pvec = vec![0.0; cap0];
+    fn grow(
+        q: usize,
+        ws: &mut LcpWorkspace,
+        wmat: &mut Vec<f64>,
+        g: &mut Vec<f64>,
+        p: &mut Vec<f64>,
+    ) {
+        if q > ws.capacity() {
+            *ws = LcpWorkspace::new(q);
+            wmat.resize(q * q, 0.0);
+            g.resize(q, 0.0);
+            p.resize(q, 0.0);
+        }
+    }
     let nsamples = plan.steps / plan.record_every + 2;
     let nst = case.stations.len().max(1);
     let mut rec = Record::with_capacity(nst, nsamples);
@@ -614,6 +766,10 @@ pub fn integrate_with(
         time: f64,
     ) -> Result<usize, SolveError> {
         let q = sel.len();
+        for &ci in sel {
+            let c = &cands[ci];
+            stators[c.stator].prepare(case.stators[c.stator].targets[c.target].dofs());
+        }
         for (i, &ci) in sel.iter().enumerate() {
             let c = &cands[ci];
             let si = &states[ci];
@@ -747,11 +903,18 @@ pub fn integrate_with(
                 t: f64,
                 rotor_u: &[f64],
                 pairs: &[PairForce],
-                stators: &[StatorDyn]|
+                stators: &mut [StatorDyn]|
      -> Result<(), SolveError> {
         if let Some(s) = sink.as_mut() {
             let every = s.every();
             if every > 0 && step % every == 0 {
+                // Massless stators keep only their contact DOFs current: rebuild the field.
+                for st in stators.iter_mut() {
+                    if let StatorDyn::Massless(c) = st {
+                        c.refresh();
+                    }
+                }
+                let stators = &*stators;
                 s.frame(&Frame {
                     step,
                     t,
@@ -770,7 +933,7 @@ pub fn integrate_with(
     };
     if !collocated {
         record(&mut rec, 0.0, &rotor.u, &fst, &fst_n, 0.0, 0);
-        emit(&mut sink, 0, 0.0, &rotor.u, &frame_pairs, &stators)?;
+        emit(&mut sink, 0, 0.0, &rotor.u, &frame_pairs, &mut stators)?;
     }
     for step in 0..=plan.steps {
         let t = step as f64 * dt;
@@ -787,14 +950,22 @@ pub fn integrate_with(
             for (k, st) in stators.iter_mut().enumerate() {
                 if let StatorDyn::Massless(c) = st {
                     if massless[k] {
-                        c.u.fill(0.0);
+                        c.reset();
                     }
                 }
             }
-            for (ci, c) in cands.iter().enumerate() {
-                if !massless[c.stator] {
-                    continue;
-                }
+            let keep = |k: usize| massless[k];
+            gather(
+                &mut near,
+                &rotor.u,
+                0.0,
+                true,
+                &keep,
+                &mut centre,
+                &mut reach,
+            );
+            for &ci in &near {
+                let c = &cands[ci];
                 let rd = station_dofs[c.station];
                 let uc = [rotor.u[rd[0]], rotor.u[rd[1]]];
                 let tg = &case.stators[c.stator].targets[c.target];
@@ -802,11 +973,27 @@ pub fn integrate_with(
                 deepest = deepest.max(-states[ci].g);
             }
             if deepest > 0.0 {
-                for (ci, c) in cands.iter().enumerate() {
-                    if massless[c.stator] && states[ci].g < deepest {
+                // Every pair with g < deepest, from the nodes within r + deepest.
+                gather(
+                    &mut near,
+                    &rotor.u,
+                    deepest,
+                    true,
+                    &keep,
+                    &mut centre,
+                    &mut reach,
+                );
+                for &ci in &near {
+                    let c = &cands[ci];
+                    let rd = station_dofs[c.station];
+                    let uc = [rotor.u[rd[0]], rotor.u[rd[1]]];
+                    let tg = &case.stators[c.stator].targets[c.target];
+                    states[ci] = pair_state(tg, c.radius, uc, [0.0; 2], omega);
+                    if states[ci].g < deepest {
                         sel.push(ci);
                     }
                 }
+                grow(sel.len(), &mut ws, &mut wmat, &mut gvec, &mut pvec);
                 stats.pivots += solve_pairs(
                     &sel,
                     &cands,
@@ -844,7 +1031,7 @@ pub fn integrate_with(
             if step % plan.record_every == 0 {
                 record(&mut rec, t, &rotor.u, &fst, &fst_n, energy_now, active_now);
             }
-            emit(&mut sink, step, t, &rotor.u, &frame_pairs, &stators)?;
+            emit(&mut sink, step, t, &rotor.u, &frame_pairs, &mut stators)?;
             if step == plan.steps {
                 break;
             }
@@ -866,7 +1053,7 @@ pub fn integrate_with(
                 }
                 StatorDyn::Massless(c) => {
                     if !collocated && massless[k] {
-                        c.u.fill(0.0);
+                        c.reset();
                     }
                 }
             }
@@ -874,20 +1061,44 @@ pub fn integrate_with(
         // Forward-increment contact on the predicted configuration.
         sel.clear();
         let mut deepest = 0.0_f64;
-        for (ci, c) in cands.iter().enumerate() {
-            if collocated && massless[c.stator] {
-                continue;
-            }
+        let keep = |k: usize| !(collocated && massless[k]);
+        let u_pred = &rotor.u_next;
+        gather(
+            &mut near,
+            u_pred,
+            0.0,
+            !collocated,
+            &keep,
+            &mut centre,
+            &mut reach,
+        );
+        for &ci in &near {
+            let c = &cands[ci];
             let rd = station_dofs[c.station];
-            let uc = [rotor.u_next[rd[0]], rotor.u_next[rd[1]]];
+            let uc = [u_pred[rd[0]], u_pred[rd[1]]];
             let tg = &case.stators[c.stator].targets[c.target];
             let us = target_disp(tg.dofs(), stators[c.stator].disp());
             states[ci] = pair_state(tg, c.radius, uc, us, omega);
             deepest = deepest.max(-states[ci].g);
         }
         if deepest > 0.0 {
-            for (ci, c) in cands.iter().enumerate() {
-                if !(collocated && massless[c.stator]) && states[ci].g < deepest {
+            gather(
+                &mut near,
+                u_pred,
+                deepest,
+                !collocated,
+                &keep,
+                &mut centre,
+                &mut reach,
+            );
+            for &ci in &near {
+                let c = &cands[ci];
+                let rd = station_dofs[c.station];
+                let uc = [u_pred[rd[0]], u_pred[rd[1]]];
+                let tg = &case.stators[c.stator].targets[c.target];
+                let us = target_disp(tg.dofs(), stators[c.stator].disp());
+                states[ci] = pair_state(tg, c.radius, uc, us, omega);
+                if states[ci].g < deepest {
                     sel.push(ci);
                 }
             }
@@ -896,6 +1107,7 @@ pub fn integrate_with(
                     *f = [0.0; 2];
                 }
             }
+            grow(sel.len(), &mut ws, &mut wmat, &mut gvec, &mut pvec);
             stats.pivots += solve_pairs(
                 &sel,
                 &cands,
@@ -960,7 +1172,7 @@ pub fn integrate_with(
             }
         }
         for (k, st) in stators.iter().enumerate() {
-            if let Some(i) = st.disp().iter().position(|v| !v.is_finite()) {
+            if let Some(i) = st.first_non_finite() {
                 return Err(SolveError::NonFinite {
                     step: step + 1,
                     time: t + dt,
@@ -996,7 +1208,7 @@ pub fn integrate_with(
                 t + dt,
                 &rotor.u,
                 &frame_pairs,
-                &stators,
+                &mut stators,
             )?;
         }
     }

@@ -245,6 +245,7 @@ fn energy_residual(kind: IntegratorKind) -> f64 {
     let (rec, _) = integrate(&case, kind, &plan, Initial::default()).unwrap();
     let (m, k, c) = match &model.rotor {
         rubsim::model::Rotor::Jeffcott(j) => (j.mass, j.stiffness, j.damping),
+        rubsim::model::Rotor::Fe(_) => unreachable!("the paper scene is a Jeffcott rotor"),
     };
     let dt = plan.dt;
     let me = 0.008 * 0.045;

@@ -19,6 +19,7 @@
 //! complementarity problem ([`lcp`]).
 
 pub mod lcp;
+pub mod search;
 
 use crate::math::{dot, norm, spin_tangent, V2};
 use crate::model::Target;

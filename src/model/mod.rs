@@ -5,6 +5,8 @@
 //! scene gives it non-dimensionally, the stator geometry placed at that clearance — into a
 //! [`Case`] that the integrator runs.
 
+pub mod fe_rotor;
+pub mod mesh_stator;
 pub mod rotor;
 pub mod stator;
 
@@ -26,11 +28,32 @@ pub struct Station {
     pub friction: f64,
 }
 
+/// An FE rotor with the quantities the non-dimensional inputs refer to.
+#[derive(Debug, Clone)]
+pub struct FeModel {
+    /// The assembled rotor.
+    pub rotor: fe_rotor::FeRotor,
+    /// First undamped natural frequency at rest without gyroscopics (rad/s): the ω_n of ω/ω_n.
+    pub omega_n: f64,
+    /// Largest natural frequency (rad/s), for the explicit stability limit.
+    pub omega_max: f64,
+    /// Node whose response and stiffness define |Z0| and k_r (first station's node).
+    pub reference_node: usize,
+    /// Static stiffness at the reference node, k_r = 1/(K⁻¹)_yy (N/m): what ε = k_s/k_r uses.
+    pub k_ref: f64,
+    /// Damping ratio of the highest mode from Rayleigh damping, (α/ω + βω)/2 at ω_max.
+    pub xi_max: f64,
+    /// `(M⁻¹)_xx` per node (1/kg).
+    pub inv_mass_node: Vec<f64>,
+}
+
 /// Rotor model kinds.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub enum Rotor {
     /// Jeffcott rotor.
     Jeffcott(Jeffcott),
+    /// Finite-element rotor.
+    Fe(Box<FeModel>),
 }
 
 impl Rotor {
@@ -38,35 +61,117 @@ impl Rotor {
     pub fn natural_frequency(&self) -> f64 {
         match self {
             Rotor::Jeffcott(j) => j.natural_frequency(),
+            Rotor::Fe(f) => f.omega_n,
         }
     }
     /// |Z0(ω)| at a rotor node (m).
-    pub fn z0(&self, _node: usize, omega: f64) -> f64 {
+    pub fn z0(&self, node: usize, omega: f64) -> f64 {
         match self {
             Rotor::Jeffcott(j) => j.z0(omega),
+            Rotor::Fe(f) => match f.rotor.unbalance_response(omega) {
+                Ok(q) => fe_rotor::ellipse_major(q[4 * node], q[4 * node + 1]),
+                Err(_) => f64::NAN,
+            },
         }
     }
     /// The linear body at speed ω.
-    pub fn body(&self, _omega: f64) -> RotorBody {
+    pub fn body(&self, omega: f64) -> RotorBody {
         match self {
             Rotor::Jeffcott(j) => j.body(),
+            Rotor::Fe(f) => f.rotor.body(omega),
         }
     }
     /// Stiffness k_r that `stiffness_ratio` ε refers to (N/m).
     pub fn reference_stiffness(&self) -> f64 {
         match self {
             Rotor::Jeffcott(j) => j.stiffness,
+            Rotor::Fe(f) => f.k_ref,
         }
     }
     /// Mass that the contact stiffness acts on, for the contact frequency √((k_r+k_s)/m) (kg).
     pub fn reference_mass(&self) -> f64 {
         match self {
             Rotor::Jeffcott(j) => j.mass,
+            Rotor::Fe(f) => f.k_ref / (f.omega_n * f.omega_n),
         }
     }
     /// Largest natural frequency of the free rotor (rad/s).
     pub fn omega_max(&self) -> f64 {
-        self.natural_frequency()
+        match self {
+            Rotor::Jeffcott(j) => j.natural_frequency(),
+            Rotor::Fe(f) => f.omega_max,
+        }
+    }
+    /// `(M, K, C, G)` at speed ω: C without the gyroscopic part, G per unit spin.
+    pub fn matrices(
+        &self,
+        omega: f64,
+    ) -> (
+        crate::linalg::Csc,
+        crate::linalg::Csc,
+        crate::linalg::Csc,
+        crate::linalg::Csc,
+    ) {
+        match self {
+            Rotor::Jeffcott(j) => {
+                let b = j.body();
+                (b.m, b.k, b.c, crate::linalg::Csc::zeros(2, 2))
+            }
+            Rotor::Fe(f) => (
+                f.rotor.m.clone(),
+                f.rotor.k(omega),
+                f.rotor.c(omega),
+                f.rotor.g.clone(),
+            ),
+        }
+    }
+    /// Number of rotor nodes.
+    pub fn node_count(&self) -> usize {
+        match self {
+            Rotor::Jeffcott(_) => 1,
+            Rotor::Fe(f) => f.rotor.nodes(),
+        }
+    }
+    /// `[u_x, u_y]` DOFs of a node.
+    pub fn node_dofs(&self, node: usize) -> [usize; 2] {
+        match self {
+            Rotor::Jeffcott(_) => [0, 1],
+            Rotor::Fe(_) => [4 * node, 4 * node + 1],
+        }
+    }
+    /// Complex unbalance response vector at speed ω (see [`fe_rotor::FeRotor::unbalance_response`]).
+    pub fn unbalance_response(
+        &self,
+        omega: f64,
+    ) -> Result<Vec<num_complex::Complex64>, ModelError> {
+        match self {
+            Rotor::Jeffcott(j) => {
+                let b = j.body();
+                let u = b.unbalance_resultant();
+                let f = num_complex::Complex64::new(u[0], u[1]) * omega * omega;
+                let d = num_complex::Complex64::new(
+                    j.stiffness - j.mass * omega * omega,
+                    j.damping * omega,
+                );
+                let x = f / d;
+                Ok(vec![x, x * num_complex::Complex64::new(0.0, -1.0)])
+            }
+            Rotor::Fe(f) => f.rotor.unbalance_response(omega),
+        }
+    }
+    /// `(M⁻¹)_xx` at a node (1/kg).
+    pub fn inv_mass(&self, node: usize) -> f64 {
+        match self {
+            Rotor::Jeffcott(j) => 1.0 / j.mass,
+            Rotor::Fe(f) => f.inv_mass_node[node],
+        }
+    }
+    /// Damping ratio used in the explicit stability limit of the highest rotor mode.
+    pub fn damping_ratio_max(&self) -> f64 {
+        match self {
+            Rotor::Jeffcott(j) => j.damping_ratio(),
+            Rotor::Fe(f) => f.xi_max,
+        }
     }
     /// One-line description.
     pub fn describe(&self) -> String {
@@ -79,6 +184,21 @@ impl Rotor {
                 j.damping_ratio(),
                 j.natural_frequency(),
                 j.natural_frequency() / (2.0 * std::f64::consts::PI)
+            ),
+            Rotor::Fe(f) => format!(
+                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF, {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; ω_n = {:.4} rad/s ({:.4} Hz), ω_max = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
+                f.rotor.nodes(),
+                f.rotor.nodes() - 1,
+                f.rotor.ndof,
+                f.rotor.disks.len(),
+                f.rotor.bearings.len(),
+                f.rotor.total_mass,
+                f.rotor.total_polar_inertia,
+                f.omega_n,
+                f.omega_n / (2.0 * std::f64::consts::PI),
+                f.omega_max,
+                f.reference_node,
+                f.k_ref
             ),
         }
     }
@@ -93,6 +213,9 @@ pub struct Model {
     pub stations: Vec<Station>,
     /// Stator specifications (resolved per speed).
     pub stator_specs: Vec<StatorSpec>,
+    /// Meshed stators, built once (speed independent) and placed per speed; `None` for the
+    /// other kinds. Same order as `stator_specs`.
+    pub mesh_stators: Vec<Option<std::sync::Arc<StatorModel>>>,
 }
 
 /// Everything the integrator needs at one speed.
@@ -108,6 +231,10 @@ pub struct Case {
     pub rotor_mass: f64,
     /// Rotor stiffness k_r (N/m).
     pub rotor_stiffness: f64,
+    /// Damping ratio of the highest rotor mode (for the stability limit).
+    pub rotor_xi_max: f64,
+    /// `(M⁻¹)_xx` at each station's node (1/kg), for the contact stability bound.
+    pub station_inv_mass: Vec<f64>,
     /// Largest free-rotor natural frequency (rad/s).
     pub rotor_omega_max: f64,
     /// Stations.
@@ -126,6 +253,43 @@ impl Model {
         let s = &ls.scene;
         let rotor = match &s.rotor {
             RotorSpec::Jeffcott(j) => Rotor::Jeffcott(Jeffcott::from_spec(j)),
+            RotorSpec::Fe(f) => {
+                let mut rotor = fe_rotor::FeRotor::build(&fe_rotor::data_from_spec(f))?;
+                if !f.gyroscopic {
+                    rotor.g = crate::linalg::Csc::zeros(rotor.ndof, rotor.ndof);
+                }
+                let freqs = rotor.undamped_frequencies(0.0)?;
+                let omega_n = freqs.iter().copied().find(|w| *w > 1e-6).ok_or_else(|| {
+                    ModelError::Singular {
+                        what: "rotor".into(),
+                        detail: "no positive natural frequency".into(),
+                    }
+                })?;
+                let omega_max = freqs.last().copied().unwrap_or(omega_n);
+                let reference_node = s
+                    .stations
+                    .first()
+                    .map_or_else(|| f.unbalance.first().map_or(0, |u| u.node), |st| st.node);
+                let k_ref = rotor.node_stiffness(reference_node)?;
+                let minv = fe_rotor::dense(&rotor.m).try_inverse().ok_or_else(|| {
+                    ModelError::Singular {
+                        what: "rotor mass matrix".into(),
+                        detail: "not invertible".into(),
+                    }
+                })?;
+                let inv_mass_node = (0..rotor.nodes()).map(|i| minv[(4 * i, 4 * i)]).collect();
+                let [a, b] = f.rayleigh;
+                let xi_max = (0.5 * (a / omega_max + b * omega_max)).min(1.0);
+                Rotor::Fe(Box::new(FeModel {
+                    rotor,
+                    omega_n,
+                    omega_max,
+                    reference_node,
+                    k_ref,
+                    xi_max,
+                    inv_mass_node,
+                }))
+            }
         };
         let stations = s
             .stations
@@ -137,10 +301,25 @@ impl Model {
                 friction: st.friction,
             })
             .collect();
+        let mut mesh_stators = Vec::with_capacity(s.stators.len());
+        for spec in &s.stators {
+            mesh_stators.push(match spec {
+                StatorSpec::Mesh(ms) => {
+                    let si = s
+                        .stations
+                        .iter()
+                        .position(|st| st.name == ms.station)
+                        .expect("validated station name");
+                    Some(std::sync::Arc::new(mesh_stator::build(ms, &ls.file, si)?))
+                }
+                _ => None,
+            });
+        }
         let m = Model {
             rotor,
             stations,
             stator_specs: s.stators.clone(),
+            mesh_stators,
         };
         // Build once at ω_n to surface model errors (singular stators) before any run.
         m.case(m.rotor.natural_frequency())?;
@@ -161,7 +340,7 @@ impl Model {
         let u = body.unbalance_resultant();
         let kr = self.rotor.reference_stiffness();
         let mut stators = Vec::new();
-        for spec in &self.stator_specs {
+        for (spec_index, spec) in self.stator_specs.iter().enumerate() {
             let si = self
                 .station_index(spec.station())
                 .expect("validated station name");
@@ -236,6 +415,28 @@ impl Model {
                     }
                     m
                 }
+                StatorSpec::Mesh(ms) => {
+                    let template = self.mesh_stators[spec_index]
+                        .as_ref()
+                        .expect("meshed stators are built with the model");
+                    let mut m = StatorModel::clone(template);
+                    if ms.clearance.is_some() || ms.clearance_nd.is_some() {
+                        let clearance = resolve_clearance(ms.clearance, ms.clearance_nd)?;
+                        mesh_stator::place(&mut m, st.radius, clearance, ms.approach_deg)?;
+                    } else {
+                        m.clearance = mesh_stator::clearance_of(&m, st.radius);
+                    }
+                    if m.clearance.is_nan() || m.clearance <= 0.0 {
+                        return Err(ModelError::Inconsistent {
+                            what: format!("stator `{}`", ms.name),
+                            message: format!(
+                                "a contact node lies inside the rotor section (clearance {:.3e} m ≤ 0): check the geometry's radii against the station radius {} m",
+                                m.clearance, st.radius
+                            ),
+                        });
+                    }
+                    m
+                }
             };
             stators.push(model);
         }
@@ -245,6 +446,12 @@ impl Model {
             rotor: body,
             rotor_mass: self.rotor.reference_mass(),
             rotor_stiffness: kr,
+            rotor_xi_max: self.rotor.damping_ratio_max(),
+            station_inv_mass: self
+                .stations
+                .iter()
+                .map(|s| self.rotor.inv_mass(s.node))
+                .collect(),
             rotor_omega_max: self.rotor.omega_max(),
             stations: self.stations.clone(),
             stators,

@@ -65,6 +65,26 @@ pub enum StatorElement {
         /// Unit direction.
         dir: V2,
     },
+    /// 2-D continuum cell of a meshed stator (plane stress or strain).
+    Solid2 {
+        /// Cell type (3/6-node triangle, 4/8/9-node quadrilateral).
+        kind: crate::mesh::CellKind,
+        /// Node indices in gmsh order, counter-clockwise.
+        nodes: Vec<usize>,
+        /// Material and thickness.
+        material: crate::element::solid2d::Elastic2,
+    },
+    /// Frame (beam-column) between two nodes with rotation DOFs θ_z (meshed-stator supports).
+    Frame {
+        /// Node indices.
+        nodes: [usize; 2],
+        /// Free DOFs of θ_z at the two nodes (numbered after the translations).
+        rot_dofs: [Option<usize>; 2],
+        /// Cross-section.
+        section: crate::element::frame::FrameSection,
+        /// Undeformed length (m).
+        length: f64,
+    },
 }
 
 /// A stator ready for the integrator.
@@ -96,6 +116,8 @@ pub struct StatorModel {
     pub angle_deg: Option<f64>,
     /// True for a ring (the clearance is a circle).
     pub is_ring: bool,
+    /// Meshed stators: the mesh's provenance and quantities shared by every speed.
+    pub mesh: Option<std::sync::Arc<super::mesh_stator::MeshStatorData>>,
 }
 
 impl StatorModel {
@@ -273,6 +295,7 @@ impl StatorModel {
             clearance,
             angle_deg: None,
             is_ring: true,
+            mesh: None,
         }
     }
 
@@ -354,6 +377,9 @@ impl StatorModel {
                     ];
                     scatter(&node_dofs[*node], &ke);
                 }
+                StatorElement::Solid2 { .. } | StatorElement::Frame { .. } => {
+                    unreachable!("meshed-stator elements are assembled by model::mesh_stator")
+                }
             }
         }
         let k = Csc::from_triplets(ndof, ndof, &kt);
@@ -399,6 +425,7 @@ impl StatorModel {
             clearance: f64::NAN,
             angle_deg: None,
             is_ring: false,
+            mesh: None,
         };
         if ndof > 0 {
             Cholesky::new(&model.k).map_err(|e| ModelError::Singular {
@@ -416,39 +443,69 @@ impl StatorModel {
     /// `K_cc` the stiffness condensed on the contact DOFs and `T` a rigid translation. Any
     /// subset of targets in contact is softer (Schur complement argument).
     pub fn contact_stiffness_bound(&self) -> f64 {
-        // K_cc = (C_cc)^-1 with C_cc the compliance on contact DOFs.
+        match &self.mesh {
+            // Invariant under the rigid placement: computed once for every speed.
+            Some(md) => *md
+                .contact_stiffness
+                .get_or_init(|| self.contact_stiffness_schur()),
+            None => self.contact_stiffness_schur(),
+        }
+    }
+
+    /// `Tᵀ S T` with `S = K_cc − K_ci K_ii⁻¹ K_ic` the Schur complement on the contact DOFs
+    /// (= (K⁻¹)_cc⁻¹): one sparse Cholesky of the interior block and two solves, whatever the
+    /// number of contact DOFs.
+    fn contact_stiffness_schur(&self) -> f64 {
         let cd = self.contact_dofs();
         if cd.is_empty() {
             return 0.0;
         }
         let n = self.ndof;
-        let chol = match Cholesky::new(&self.k) {
-            Ok(c) => c,
-            Err(_) => return f64::INFINITY,
-        };
-        let nc = cd.len();
-        let mut cols = vec![0.0; n * nc];
-        for (j, &d) in cd.iter().enumerate() {
-            cols[j * n + d] = 1.0;
-        }
-        chol.solve_in_place(&mut cols);
-        let cmat = nalgebra::DMatrix::from_fn(nc, nc, |i, j| cols[j * n + cd[i]]);
-        let kcc = match cmat.try_inverse() {
-            Some(k) => k,
-            None => return f64::INFINITY,
-        };
-        // Translation matrix T (nc × 2).
-        let mut t = nalgebra::DMatrix::zeros(nc, 2);
+        // Translation component of each contact DOF (T), interior numbering of the others.
+        let mut comp: Vec<Option<usize>> = vec![None; n];
         for tg in &self.targets {
-            for comp in 0..2 {
-                if let Some(d) = tg.dofs()[comp] {
-                    let i = cd.iter().position(|x| *x == d).expect("contact dof");
-                    t[(i, comp)] = 1.0;
+            for (c, d) in tg.dofs().iter().enumerate() {
+                if let Some(d) = d {
+                    comp[*d] = Some(c);
                 }
             }
         }
-        let k2 = t.transpose() * kcc * t;
-        let (a, b, c) = (k2[(0, 0)], k2[(0, 1)], k2[(1, 1)]);
+        let mut inner = vec![usize::MAX; n];
+        let mut ni = 0;
+        for (d, c) in comp.iter().enumerate() {
+            if c.is_none() {
+                inner[d] = ni;
+                ni += 1;
+            }
+        }
+        let mut k2 = [[0.0; 2]; 2];
+        let mut rhs = vec![0.0; 2 * ni];
+        let mut kii = Vec::new();
+        for (r, c, v) in self.k.triplets() {
+            match (comp[r], comp[c]) {
+                (Some(a), Some(b)) => k2[a][b] += v,
+                (None, Some(b)) => rhs[b * ni + inner[r]] += v,
+                (None, None) => kii.push((inner[r], inner[c], v)),
+                (Some(_), None) => {}
+            }
+        }
+        if ni > 0 {
+            let kii = Csc::from_triplets(ni, ni, &kii);
+            let chol = match Cholesky::new(&kii) {
+                Ok(c) => c,
+                Err(_) => return f64::INFINITY,
+            };
+            let mut x = rhs.clone();
+            chol.solve_in_place(&mut x);
+            for a in 0..2 {
+                for b in 0..2 {
+                    k2[a][b] -= (0..ni)
+                        .map(|i| rhs[a * ni + i] * x[b * ni + i])
+                        .sum::<f64>();
+                }
+            }
+        }
+        let (a, b, c) = (k2[0][0], 0.5 * (k2[0][1] + k2[1][0]), k2[1][1]);
         0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt()
     }
 
@@ -478,8 +535,9 @@ impl StatorModel {
         rows.iter().zip(&md).map(|(s, m)| s / m).fold(0.0, f64::max)
     }
 
-    /// Axial force (N) and stress (Pa) in each bar for a free-DOF displacement `u`; springs give
-    /// their force and NaN stress.
+    /// Axial force (N) and stress (Pa) in each bar and frame for a free-DOF displacement `u`;
+    /// springs give their force and NaN stress; 2-D cells NaN force and the von Mises stress at
+    /// their centroid (nodal stresses: [`super::mesh_stator::nodal_stress`]).
     pub fn element_forces(&self, u: &[f64]) -> Vec<(f64, f64)> {
         let disp = |n: usize| -> V2 {
             let d = self.node_dofs[n];
@@ -509,6 +567,31 @@ impl StatorModel {
                 } => {
                     let d = disp(*node);
                     (stiffness * (d[0] * dir[0] + d[1] * dir[1]), f64::NAN)
+                }
+                StatorElement::Solid2 {
+                    kind,
+                    nodes,
+                    material,
+                } => (
+                    f64::NAN,
+                    super::mesh_stator::centroid_von_mises(self, *kind, nodes, material, u),
+                ),
+                StatorElement::Frame {
+                    nodes,
+                    rot_dofs,
+                    section,
+                    ..
+                } => {
+                    let (a, b) = (disp(nodes[0]), disp(nodes[1]));
+                    let r = |k: usize| rot_dofs[k].map_or(0.0, |i| u[i]);
+                    let ue = [a[0], a[1], r(0), b[0], b[1], r(1)];
+                    let (n, _, _) = crate::element::frame::frame_section_forces(
+                        self.nodes[nodes[0]],
+                        self.nodes[nodes[1]],
+                        section,
+                        &ue,
+                    );
+                    (n, n / section.area)
                 }
             })
             .collect()

@@ -1,0 +1,31 @@
+// Plain annulus (a ring stator or seal land) around the rotor axis, in the station plane z = 0.
+//
+// Parameters (SI, set from a scene's `parameters` table or `rubsim mesh --set name=value`):
+//   ri  inner radius (m): the station radius plus the radial clearance
+//   ro  outer radius (m)
+//   h   target element size (m)
+//   n   elements around the circumference (0: from h)
+//
+// Physical groups (the contract with scenes):
+//   stator          the ring (surface; material region)
+//   stator_contact  the inner circle (curve): nodes the rotor can touch
+//   stator_fixed    the outer circle (curve): clamped
+SetFactory("OpenCASCADE");
+DefineConstant[ ri = 0.0601, ro = 0.08, h = 0.004, n = 0 ];
+
+Disk(1) = {0, 0, 0, ro, ro};
+Disk(2) = {0, 0, 0, ri, ri};
+BooleanDifference(3) = { Surface{1}; Delete; }{ Surface{2}; Delete; };
+b() = Boundary{ Surface{3}; };
+// Outer circle first, inner second (the order BooleanDifference leaves them in).
+outer = b(0);
+inner = b(1);
+If (n > 0)
+  Transfinite Curve{outer, inner} = n + 1;
+EndIf
+Mesh.MeshSizeMax = h;
+Mesh.MeshSizeMin = 0;
+
+Physical Surface("stator") = {3};
+Physical Curve("stator_contact") = {inner};
+Physical Curve("stator_fixed") = {outer};

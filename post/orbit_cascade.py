@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""Orbits and spectrum cascade from rubsim's HDF5 time series.
+
+    .venv/bin/python post/orbit_cascade.py out/sweep/speed_*/results.vtkhdf --png cascade.png
+
+Each argument is one run's `results.vtkhdf` (a `rubsim run`, or the per-speed folders of a
+`rubsim sweep` with `output.per_speed` and `output.hdf5`). For each run the steady window
+(after `run.transient_revolutions`) of station 0 is used: its orbit (x, y in µm) and the
+Hann-windowed amplitude spectrum of `output.component` against f/ω_n, drawn as a waterfall over
+ω/ω_n. The frames must be evenly spaced with a whole number per revolution (the default
+`every`). Prints one line per run: ω/ω_n and the 1×, 1/2×, 1/3× amplitudes (m), the numbers
+`summary.json` gives as `amp_*_nd` × `z0`.
+
+Renders with pyvista off screen (works headless).
+"""
+import argparse
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import rubsim_results as rr  # noqa: E402
+
+
+def lines(series):
+    """{order: amplitude (m)} of the 1×, 1/2× and 1/3× lines over the steady window."""
+    f, spec, nrev = rr.spectrum(series)
+    return {o: rr.line_amplitude(spec, o * nrev) for o in (1.0, 0.5, 1.0 / 3.0)}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("results", nargs="+", help="results.vtkhdf files, one per speed")
+    ap.add_argument("--png", required=True, help="output picture")
+    ap.add_argument("--fmax", type=float, help="top frequency of the cascade (f/ω_n; default: top speed)")
+    ap.add_argument("--size", type=int, nargs=2, default=[1400, 640])
+    args = ap.parse_args(argv)
+    import pyvista as pv
+
+    runs = sorted((rr.Series(p) for p in args.results), key=lambda s: s.speed_ratio)
+    fmax = args.fmax or max(max(s.speed_ratio for s in runs), 1.0)
+    pl = pv.Plotter(off_screen=True, shape=(1, 2), window_size=args.size)
+    pl.set_background("white")
+    # Orbits, µm, side by side along x.
+    pl.subplot(0, 0)
+    pl.add_text("orbits of station 0 (um), steady window; label: w/wn", font_size=10)
+    out = []
+    offset = 0.0
+    cmap = pv.LookupTable("viridis")
+    for i, s in enumerate(runs):
+        a, b = s.steady()
+        xy = s.station_disp(0)[a:b] * 1e6
+        w = float(np.ptp(xy[:, 0])) if len(xy) else 1.0
+        pts = np.c_[xy[:, 0] - xy[:, 0].min() + offset, xy[:, 1], np.zeros(len(xy))]
+        color = cmap.map_value(i / max(len(runs) - 1, 1))
+        pl.add_mesh(pv.lines_from_points(pts), color=color, line_width=2)
+        pl.add_point_labels([pts[0] + [0.0, 0.0, 0.0]], [f"{s.speed_ratio:g}"], font_size=10, point_size=1, shape=None)
+        offset += w * 1.2 + 1e-9
+        amp = lines(s)
+        out.append((s.speed_ratio, amp[1.0], amp[0.5], amp[1.0 / 3.0]))
+    pl.view_xy()
+    pl.show_bounds(xtitle="x (um, shifted per speed)", ytitle="y (um)", color="black", font_size=8)
+    # Cascade: amplitude (µm) over f/ω_n (x) and ω/ω_n (y).
+    pl.subplot(0, 1)
+    pl.add_text("spectrum cascade of station 0 (um)", font_size=10)
+    top = max((rr.spectrum(s)[1].max() for s in runs), default=1.0) * 1e6 or 1.0
+    zs = (fmax / top) * 0.5
+    for s in runs:
+        f, spec, _ = rr.spectrum(s)
+        keep = f <= fmax
+        pts = np.c_[f[keep], np.full(keep.sum(), s.speed_ratio), spec[keep] * 1e6 * zs]
+        pl.add_mesh(pv.lines_from_points(pts), color="navy", line_width=2)
+    pl.show_bounds(xtitle="f / wn", ytitle="w / wn", ztitle=f"amplitude (um x{zs:.3g})", color="black", font_size=8)
+    pl.view_vector((0.35, -1.0, 0.8))
+    pl.screenshot(args.png)
+    pl.close()
+    for v, a1, a2, a3 in out:
+        print(f"ω/ωn = {v:g}: 1× {a1:.6e} m, 1/2× {a2:.6e} m, 1/3× {a3:.6e} m")
+    print(args.png)
+    return out
+
+
+if __name__ == "__main__":
+    main()

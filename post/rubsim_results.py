@@ -1,0 +1,142 @@
+"""Readers for rubsim's time series (docs/OUTPUTS.md): the HDF5 file `results.vtkhdf` and the
+VTK collection `results.pvd`. Used by post/animate.py, post/orbit_cascade.py and the tests.
+
+Only reads files; needs numpy and h5py (pyvista for the grids).
+"""
+import json
+import math
+import os
+
+import numpy as np
+
+#: `part` cell data values.
+PART_STATOR, PART_ROTOR, PART_CONTACT = 0, 1, 2
+
+
+class Series:
+    """The plain datasets of one `results.vtkhdf` (SI units).
+
+    Attributes: `t` (s), `step`, `u` (rotor DOFs, frames × ndof, m), `v` (m/s, or None),
+    `p` (pair normal forces, frames × pairs, N, or None), `pairs` (station, stator, node),
+    `station_force` (frames × stations × 2, N, on the rotor, or None), `scene` (dict),
+    `attrs` (root attributes), `node_dofs` (rotor node → [x DOF, y DOF]).
+    """
+
+    def __init__(self, path):
+        import h5py
+
+        self.path = path
+        with h5py.File(path, "r") as f:
+            self.attrs = {k: _plain(v) for k, v in f.attrs.items()}
+            self.scene = json.loads(self.attrs["scene"])
+            self.units = json.loads(self.attrs["units"])
+            self.t = f["time"][:]
+            self.step = f["step"][:]
+            self.node_dofs = f["rotor/node_dofs"][:]
+            self.u = f["rotor/u"][:] if "u" in f["rotor"] else None
+            self.v = f["rotor/v"][:] if "v" in f["rotor"] else None
+            c = f["contact"]
+            self.pairs = c["pairs"][:]
+            self.p = c["p"][:] if "p" in c else None
+            self.pair_force = c["force"][:] if "force" in c else None
+            self.station_force = c["station_force"][:] if "station_force" in c else None
+            self.num_points = int(f["VTKHDF/NumberOfPoints"][0])
+
+    @property
+    def omega(self):
+        """Speed ω (rad/s)."""
+        return float(self.attrs["omega_rad_s"])
+
+    @property
+    def speed_ratio(self):
+        """ω/ω_n."""
+        return float(self.attrs["speed_ratio"])
+
+    @property
+    def omega_n(self):
+        """ω_n (rad/s) that speed ratios refer to."""
+        return self.omega / self.speed_ratio
+
+    def station_disp(self, station=0):
+        """Displacement [x, y] of a station's rotor node per frame (m)."""
+        st = self.scene.get("station", [])
+        node = st[station].get("node", 0) if st else 0
+        d = self.node_dofs[node]
+        return self.u[:, d]
+
+    def frames_per_rev(self):
+        """Frames per revolution when frames are evenly spaced and whole per revolution."""
+        spr = int(self.attrs["steps_per_rev"])
+        every = int(self.attrs["every"])
+        if spr % every:
+            raise ValueError(f"{self.path}: {every} steps between frames do not divide a revolution ({spr} steps)")
+        return spr // every
+
+    def steady(self):
+        """Frame range [first, last) of the analysis window: after `run.transient_revolutions`,
+        up to `run.revolutions` (as the summary's orbit extents and spectra)."""
+        spr = int(self.attrs["steps_per_rev"])
+        run = self.scene["run"]
+        s0, s1 = run["transient_revolutions"] * spr, run["revolutions"] * spr
+        idx = np.nonzero((self.step >= s0) & (self.step < s1))[0]
+        return int(idx[0]), int(idx[-1]) + 1
+
+
+def _plain(v):
+    if isinstance(v, bytes):
+        return v.decode()
+    if isinstance(v, np.generic):
+        return v.item()
+    return v
+
+
+def hann_spectrum(x):
+    """One-sided amplitude spectrum with a Hann window, mean removed (as rubsim's
+    `signal::hann_spectrum`): a sine of amplitude A on bin k reads A at bin k."""
+    x = np.asarray(x, dtype=float)
+    n = len(x)
+    w = 0.5 * (1.0 - np.cos(2.0 * math.pi * np.arange(n) / n))
+    return 2.0 * np.abs(np.fft.rfft((x - x.mean()) * w)) / (n / 2.0)
+
+
+def line_amplitude(spec, k):
+    """Largest amplitude within one bin of bin `k` (as `signal::line_amplitude`)."""
+    c = int(round(k))
+    return max((spec[i] for i in range(c - 1, c + 2) if 0 < i < len(spec)), default=0.0)
+
+
+def spectrum(series, component=None, station=0):
+    """(f/ω_n, amplitude in m) of a station displacement component over the steady window."""
+    comp = component or series.scene.get("output", {}).get("component", "y")
+    a, b = series.steady()
+    x = series.station_disp(station)[a:b, 0 if comp == "x" else 1]
+    spec = hann_spectrum(x)
+    nrev = (b - a) / series.frames_per_rev()
+    f = np.arange(len(spec)) / nrev * series.speed_ratio
+    return f, spec, nrev
+
+
+def pvd_frames(path):
+    """[(time, absolute path of the .vtu)] of a .pvd collection."""
+    import xml.etree.ElementTree as ET
+
+    root = ET.parse(path).getroot()
+    base = os.path.dirname(os.path.abspath(path))
+    return [(float(d.get("timestep")), os.path.join(base, d.get("file"))) for d in root.iter("DataSet")]
+
+
+def find_scene(results_path):
+    """The resolved scene of a run: from the HDF5 file's `scene` attribute, or the summary.json
+    beside a .pvd (a sweep's per-speed folder: the summary.json one level up)."""
+    d = os.path.dirname(os.path.abspath(results_path))
+    h = os.path.join(d, "results.vtkhdf")
+    if results_path.endswith(".vtkhdf") or os.path.exists(h):
+        import h5py
+
+        with h5py.File(results_path if results_path.endswith(".vtkhdf") else h, "r") as f:
+            return json.loads(_plain(f.attrs["scene"]))
+    for s in (os.path.join(d, "summary.json"), os.path.join(os.path.dirname(d), "summary.json")):
+        if os.path.exists(s):
+            with open(s) as f:
+                return json.load(f)["scene"]
+    return None

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs what rubsim needs on a fresh Debian machine (idempotent, quick when done):
+#   - Debian: gmsh (stator meshing), libhdf5-dev + pkg-config (HDF5 output), build tools
+#   - Python venv .venv with pyvista, vtk, meshio, h5py, pytest (post-processing scripts and
+#     tests) and imageio + imageio-ffmpeg (GIF/MP4 movies of post/animate.py)
+# Needs root (or sudo) for apt-get. Skip parts with RUBSIM_SKIP_APT=1 / RUBSIM_SKIP_PY=1.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+need=()
+for p in gmsh libhdf5-dev pkg-config; do
+  dpkg -s "$p" >/dev/null 2>&1 || need+=("$p")
+done
+if [ "${RUBSIM_SKIP_APT:-0}" != 1 ] && [ ${#need[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
+  echo "setup: installing ${need[*]}" >&2
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
+fi
+if [ "${RUBSIM_SKIP_PY:-0}" != 1 ]; then
+  if [ ! -x .venv/bin/python ] || ! .venv/bin/python -c "import pyvista, vtk, meshio, h5py, pytest, imageio, imageio_ffmpeg" 2>/dev/null; then
+    echo "setup: creating .venv with pyvista, vtk, meshio, h5py, pytest, imageio, imageio-ffmpeg" >&2
+    python3 -m venv .venv
+    .venv/bin/pip install -q --upgrade pip
+    .venv/bin/pip install -q pyvista vtk meshio h5py pytest imageio imageio-ffmpeg
+  fi
+fi

@@ -1,0 +1,474 @@
+//! 3-D isoparametric tetrahedra for stators meshed as solids: 4-node (linear) and 10-node
+//! (quadratic) tetrahedra in gmsh's node order (see [`CellKind`]).
+//!
+//! # Conventions
+//!
+//! * Element DOFs `[u_x0, u_y0, u_z0, u_x1, …]` (m); local matrices row-major `3n × 3n`.
+//! * Voigt strain `ε = [ε_xx, ε_yy, ε_zz, γ_yz, γ_xz, γ_xy]` (engineering shear), stress
+//!   `σ = D ε` (Pa), tension positive; isotropic
+//!   `D = E/((1+ν)(1−2ν)) [1−ν ν ν; ν 1−ν ν; ν ν 1−ν] ⊕ G I₃`, `G = E/(2(1+ν))`.
+//! * Reference tetrahedron `(0,0,0), (1,0,0), (0,1,0), (0,0,1)` (volume 1/6); barycentric
+//!   `L₀ = 1−ξ−η−ζ, L₁ = ξ, L₂ = η, L₃ = ζ`; `Tet10`: corners `L_i(2L_i−1)`, edges `4 L_a L_b`.
+//! * Quadrature: 1 point (Tet4 stiffness), 4 points degree 2 (Tet10 stiffness, Tet4 mass),
+//!   14 points degree 5 (Tet10 mass and error norms, Walkington's rule).
+//! * Consistent mass `∫ ρ NᵀN dV`; lumped by HRZ (positive for `Tet10`, whose row sums are not).
+//!
+//! Kernels fill caller buffers and do not check the Jacobian ([`det_j_range`] does).
+
+use crate::mesh::CellKind;
+
+/// Largest number of nodes of a tetrahedron.
+pub const MAX_NODES: usize = 10;
+
+/// Isotropic linear elastic solid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Elastic3 {
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν.
+    pub poisson_ratio: f64,
+}
+
+impl Elastic3 {
+    /// The 6×6 constitutive matrix (Pa).
+    pub fn d(&self) -> [[f64; 6]; 6] {
+        let (e, v) = (self.youngs_modulus, self.poisson_ratio);
+        let c = e / ((1.0 + v) * (1.0 - 2.0 * v));
+        let g = e / (2.0 * (1.0 + v));
+        let mut d = [[0.0; 6]; 6];
+        for i in 0..3 {
+            for j in 0..3 {
+                d[i][j] = if i == j { c * (1.0 - v) } else { c * v };
+            }
+            d[3 + i][3 + i] = g;
+        }
+        d
+    }
+
+    /// Stress `σ = D ε` (Pa) of a Voigt strain.
+    pub fn stress(&self, eps: [f64; 6]) -> [f64; 6] {
+        let d = self.d();
+        std::array::from_fn(|i| (0..6).map(|j| d[i][j] * eps[j]).sum())
+    }
+}
+
+/// von Mises stress of a Voigt stress `[σ_xx, σ_yy, σ_zz, τ_yz, τ_xz, τ_xy]` (Pa).
+pub fn von_mises(s: [f64; 6]) -> f64 {
+    (0.5 * ((s[0] - s[1]).powi(2) + (s[1] - s[2]).powi(2) + (s[2] - s[0]).powi(2))
+        + 3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]))
+        .sqrt()
+}
+
+const A4: f64 = 0.138_196_601_125_010_5;
+const B4: f64 = 0.585_410_196_624_968_5;
+const TET1: [([f64; 3], f64); 1] = [([0.25, 0.25, 0.25], 1.0 / 6.0)];
+const TET4: [([f64; 3], f64); 4] = [
+    ([A4, A4, A4], 1.0 / 24.0),
+    ([B4, A4, A4], 1.0 / 24.0),
+    ([A4, B4, A4], 1.0 / 24.0),
+    ([A4, A4, B4], 1.0 / 24.0),
+];
+const WA: f64 = 0.092_735_250_310_891_2;
+const WWA: f64 = 0.012_248_840_519_393_66;
+const WB: f64 = 0.310_885_919_263_300_6;
+const WWB: f64 = 0.018_781_320_953_002_64;
+const WC: f64 = 0.454_496_295_874_350_4;
+const WD: f64 = 0.5 - WC;
+const WWC: f64 = 0.007_091_003_462_846_911;
+const TET14: [([f64; 3], f64); 14] = [
+    ([WA, WA, WA], WWA),
+    ([1.0 - 3.0 * WA, WA, WA], WWA),
+    ([WA, 1.0 - 3.0 * WA, WA], WWA),
+    ([WA, WA, 1.0 - 3.0 * WA], WWA),
+    ([WB, WB, WB], WWB),
+    ([1.0 - 3.0 * WB, WB, WB], WWB),
+    ([WB, 1.0 - 3.0 * WB, WB], WWB),
+    ([WB, WB, 1.0 - 3.0 * WB], WWB),
+    // (ξ, η, ζ) of the six points with two barycentric coordinates WC and two WD.
+    ([WC, WD, WD], WWC),
+    ([WD, WC, WD], WWC),
+    ([WD, WD, WC], WWC),
+    ([WC, WC, WD], WWC),
+    ([WC, WD, WC], WWC),
+    ([WD, WC, WC], WWC),
+];
+
+/// Which integrand a rule must integrate exactly.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rule {
+    /// Stiffness of an undistorted cell.
+    Stiffness,
+    /// Consistent mass of an undistorted cell.
+    Mass,
+    /// Degree 5, for error norms.
+    Accurate,
+}
+
+/// Quadrature points `(ξ, w)` of a tetrahedron.
+///
+/// # Panics
+/// If `kind` is not a tetrahedron.
+pub fn quadrature(kind: CellKind, rule: Rule) -> &'static [([f64; 3], f64)] {
+    match (kind, rule) {
+        (CellKind::Tet4, Rule::Stiffness) => &TET1,
+        (CellKind::Tet4, Rule::Mass) | (CellKind::Tet10, Rule::Stiffness) => &TET4,
+        (CellKind::Tet10, Rule::Mass) | (CellKind::Tet4 | CellKind::Tet10, Rule::Accurate) => {
+            &TET14
+        }
+        _ => panic!("{} is not a tetrahedron", kind.name()),
+    }
+}
+
+/// Reference coordinates of the nodes.
+///
+/// # Panics
+/// If `kind` is not a tetrahedron.
+pub fn node_xi(kind: CellKind) -> &'static [[f64; 3]] {
+    const C: [[f64; 3]; 10] = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.5, 0.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.0, 0.5, 0.0],
+        [0.0, 0.0, 0.5],
+        [0.0, 0.5, 0.5],
+        [0.5, 0.0, 0.5],
+    ];
+    match kind {
+        CellKind::Tet4 => &C[..4],
+        CellKind::Tet10 => &C,
+        _ => panic!("{} is not a tetrahedron", kind.name()),
+    }
+}
+
+/// gmsh's edges of the 10-node tetrahedron, nodes 4…9.
+const EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (0, 2), (0, 3), (2, 3), (1, 3)];
+
+/// Shape functions and reference derivatives at `xi`.
+///
+/// # Panics
+/// If `kind` is not a tetrahedron or the buffers are too short.
+pub fn shape(kind: CellKind, xi: [f64; 3], n: &mut [f64], dn: &mut [[f64; 3]]) {
+    let l = [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]];
+    let dl = [
+        [-1.0, -1.0, -1.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    match kind {
+        CellKind::Tet4 => {
+            n[..4].copy_from_slice(&l);
+            dn[..4].copy_from_slice(&dl);
+        }
+        CellKind::Tet10 => {
+            for i in 0..4 {
+                n[i] = l[i] * (2.0 * l[i] - 1.0);
+                for k in 0..3 {
+                    dn[i][k] = (4.0 * l[i] - 1.0) * dl[i][k];
+                }
+            }
+            for (m, (a, b)) in EDGES.into_iter().enumerate() {
+                n[4 + m] = 4.0 * l[a] * l[b];
+                for k in 0..3 {
+                    dn[4 + m][k] = 4.0 * (dl[a][k] * l[b] + l[a] * dl[b][k]);
+                }
+            }
+        }
+        _ => panic!("{} is not a tetrahedron", kind.name()),
+    }
+}
+
+/// Physical gradients into `g`; returns det J.
+fn gradients(
+    kind: CellKind,
+    x: &[[f64; 3]],
+    xi: [f64; 3],
+    n: &mut [f64],
+    g: &mut [[f64; 3]],
+) -> f64 {
+    let nn = kind.nodes();
+    let mut dn = [[0.0; 3]; MAX_NODES];
+    shape(kind, xi, n, &mut dn);
+    let mut j = [[0.0; 3]; 3];
+    for a in 0..nn {
+        for r in 0..3 {
+            for c in 0..3 {
+                j[r][c] += x[a][r] * dn[a][c];
+            }
+        }
+    }
+    let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+    // inv = adj(J)/det; ∂N/∂x_k = Σ_c ∂N/∂ξ_c (J⁻¹)_{c k}.
+    let inv = [
+        [
+            (j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det,
+            (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det,
+            (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det,
+        ],
+        [
+            (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det,
+            (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det,
+            (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det,
+        ],
+        [
+            (j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det,
+            (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det,
+            (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det,
+        ],
+    ];
+    for a in 0..nn {
+        for k in 0..3 {
+            g[a][k] = (0..3).map(|c| dn[a][c] * inv[c][k]).sum();
+        }
+    }
+    det
+}
+
+/// Smallest and largest det J over the stiffness points and the corners.
+pub fn det_j_range(kind: CellKind, x: &[[f64; 3]]) -> (f64, f64) {
+    let mut n = [0.0; MAX_NODES];
+    let mut g = [[0.0; 3]; MAX_NODES];
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    let pts = quadrature(kind, Rule::Stiffness)
+        .iter()
+        .map(|p| p.0)
+        .chain(node_xi(kind)[..4].iter().copied());
+    for xi in pts {
+        let d = gradients(kind, x, xi, &mut n, &mut g);
+        lo = lo.min(d);
+        hi = hi.max(d);
+    }
+    (lo, hi)
+}
+
+/// Element stiffness `∫ Bᵀ D B dV` into `ke` (row-major `3n × 3n`, N/m).
+///
+/// # Panics
+/// If `ke.len() != (3n)²`.
+pub fn stiffness(kind: CellKind, x: &[[f64; 3]], mat: &Elastic3, ke: &mut [f64]) {
+    let nn = kind.nodes();
+    let nd = 3 * nn;
+    assert_eq!(ke.len(), nd * nd, "stiffness buffer size");
+    ke.fill(0.0);
+    let d = mat.d();
+    let mut n = [0.0; MAX_NODES];
+    let mut g = [[0.0; 3]; MAX_NODES];
+    // B_a (6×3) for gradient (gx, gy, gz).
+    let b_of = |v: [f64; 3]| -> [[f64; 3]; 6] {
+        [
+            [v[0], 0.0, 0.0],
+            [0.0, v[1], 0.0],
+            [0.0, 0.0, v[2]],
+            [0.0, v[2], v[1]],
+            [v[2], 0.0, v[0]],
+            [v[1], v[0], 0.0],
+        ]
+    };
+    for &(xi, w) in quadrature(kind, Rule::Stiffness) {
+        let f = w * gradients(kind, x, xi, &mut n, &mut g);
+        for a in 0..nn {
+            let ba = b_of(g[a]);
+            // D B_a (6×3)
+            let mut db = [[0.0; 3]; 6];
+            for r in 0..6 {
+                for c in 0..3 {
+                    db[r][c] = (0..6).map(|k| d[r][k] * ba[k][c]).sum();
+                }
+            }
+            for b in 0..nn {
+                let bb = b_of(g[b]);
+                for r in 0..3 {
+                    for c in 0..3 {
+                        let v: f64 = (0..6).map(|k| bb[k][r] * db[k][c]).sum();
+                        ke[(3 * b + r) * nd + 3 * a + c] += f * v;
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn scalar_mass(kind: CellKind, x: &[[f64; 3]], rho: f64, s: &mut [f64]) {
+    let nn = kind.nodes();
+    let mut n = [0.0; MAX_NODES];
+    let mut g = [[0.0; 3]; MAX_NODES];
+    s[..nn * nn].fill(0.0);
+    for &(xi, w) in quadrature(kind, Rule::Mass) {
+        let f = w * gradients(kind, x, xi, &mut n, &mut g) * rho;
+        for a in 0..nn {
+            for b in 0..nn {
+                s[a * nn + b] += f * n[a] * n[b];
+            }
+        }
+    }
+}
+
+/// Consistent mass into `me` (row-major `3n × 3n`, kg); `rho` in kg/m³.
+///
+/// # Panics
+/// If `me.len() != (3n)²`.
+pub fn mass_consistent(kind: CellKind, x: &[[f64; 3]], rho: f64, me: &mut [f64]) {
+    let nn = kind.nodes();
+    let nd = 3 * nn;
+    assert_eq!(me.len(), nd * nd, "mass buffer size");
+    me.fill(0.0);
+    let mut s = [0.0; MAX_NODES * MAX_NODES];
+    scalar_mass(kind, x, rho, &mut s);
+    for a in 0..nn {
+        for b in 0..nn {
+            for c in 0..3 {
+                me[(3 * a + c) * nd + 3 * b + c] = s[a * nn + b];
+            }
+        }
+    }
+}
+
+/// HRZ lumped mass per node (kg) into `m[..n]`.
+pub fn mass_lumped(kind: CellKind, x: &[[f64; 3]], rho: f64, m: &mut [f64]) {
+    let nn = kind.nodes();
+    let mut s = [0.0; MAX_NODES * MAX_NODES];
+    scalar_mass(kind, x, rho, &mut s);
+    let total: f64 = s[..nn * nn].iter().sum();
+    let diag: f64 = (0..nn).map(|a| s[a * nn + a]).sum();
+    for a in 0..nn {
+        m[a] = if diag > 0.0 {
+            s[a * nn + a] * total / diag
+        } else {
+            0.0
+        };
+    }
+}
+
+/// Voigt strain at `xi` for element displacements `u` (`[u_x0, u_y0, u_z0, …]`).
+pub fn strain(kind: CellKind, x: &[[f64; 3]], u: &[f64], xi: [f64; 3]) -> [f64; 6] {
+    let mut n = [0.0; MAX_NODES];
+    let mut g = [[0.0; 3]; MAX_NODES];
+    gradients(kind, x, xi, &mut n, &mut g);
+    let mut e = [0.0; 6];
+    for a in 0..kind.nodes() {
+        let (ux, uy, uz) = (u[3 * a], u[3 * a + 1], u[3 * a + 2]);
+        let [gx, gy, gz] = g[a];
+        e[0] += gx * ux;
+        e[1] += gy * uy;
+        e[2] += gz * uz;
+        e[3] += gz * uy + gy * uz;
+        e[4] += gz * ux + gx * uz;
+        e[5] += gy * ux + gx * uy;
+    }
+    e
+}
+
+/// Position, displacement and det J at `xi` (for error norms).
+pub fn interpolate(
+    kind: CellKind,
+    x: &[[f64; 3]],
+    u: &[f64],
+    xi: [f64; 3],
+) -> ([f64; 3], [f64; 3], f64) {
+    let mut n = [0.0; MAX_NODES];
+    let mut g = [[0.0; 3]; MAX_NODES];
+    let det = gradients(kind, x, xi, &mut n, &mut g);
+    let mut p = [0.0; 3];
+    let mut v = [0.0; 3];
+    for a in 0..kind.nodes() {
+        for k in 0..3 {
+            p[k] += n[a] * x[a][k];
+            v[k] += n[a] * u[3 * a + k];
+        }
+    }
+    (p, v, det)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cell(kind: CellKind) -> Vec<[f64; 3]> {
+        node_xi(kind)
+            .iter()
+            .map(|p| {
+                [
+                    0.1 + 0.02 * p[0] + 0.004 * p[1] - 0.002 * p[2],
+                    0.05 - 0.003 * p[0] + 0.018 * p[1] + 0.001 * p[2],
+                    0.2 + 0.002 * p[0] + 0.001 * p[1] + 0.015 * p[2],
+                ]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn quadrature_degrees_and_partition_of_unity() {
+        let f = |n: u32| (1..=n).product::<u32>().max(1) as f64;
+        for (rule, deg) in [(Rule::Stiffness, 2), (Rule::Mass, 5), (Rule::Accurate, 5)] {
+            let q = quadrature(CellKind::Tet10, rule);
+            for a in 0..=deg {
+                for b in 0..=(deg - a) {
+                    for c in 0..=(deg - a - b) {
+                        let exact = f(a) * f(b) * f(c) / f(a + b + c + 3);
+                        let s: f64 = q
+                            .iter()
+                            .map(|(p, w)| {
+                                w * p[0].powi(a as i32) * p[1].powi(b as i32) * p[2].powi(c as i32)
+                            })
+                            .sum();
+                        assert!((s - exact).abs() < 1e-15, "{rule:?} {a}{b}{c}");
+                    }
+                }
+            }
+        }
+        for kind in [CellKind::Tet4, CellKind::Tet10] {
+            let mut n = [0.0; MAX_NODES];
+            let mut dn = [[0.0; 3]; MAX_NODES];
+            for (i, p) in node_xi(kind).iter().enumerate() {
+                shape(kind, *p, &mut n, &mut dn);
+                for (j, nj) in n[..kind.nodes()].iter().enumerate() {
+                    let delta = if i == j { 1.0 } else { 0.0 };
+                    assert!((nj - delta).abs() < 1e-14);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn stiffness_has_six_rigid_modes_and_mass_totals() {
+        for kind in [CellKind::Tet4, CellKind::Tet10] {
+            let x = cell(kind);
+            assert!(det_j_range(kind, &x).0 > 0.0);
+            let nd = 3 * kind.nodes();
+            let mat = Elastic3 {
+                youngs_modulus: 2e11,
+                poisson_ratio: 0.3,
+            };
+            let mut ke = vec![0.0; nd * nd];
+            stiffness(kind, &x, &mat, &mut ke);
+            let kk = nalgebra::DMatrix::from_row_slice(nd, nd, &ke);
+            let scale = ke.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            assert!((&kk - kk.transpose()).amax() < 1e-12 * scale);
+            let ev = kk.symmetric_eigen().eigenvalues;
+            assert_eq!(ev.iter().filter(|v| v.abs() < 1e-8 * scale).count(), 6);
+            // Rigid rotation about z gives no force.
+            let rot: Vec<f64> = x.iter().flat_map(|p| [-p[1], p[0], 0.0]).collect();
+            for i in 0..nd {
+                let f: f64 = (0..nd).map(|j| ke[i * nd + j] * rot[j]).sum();
+                assert!(f.abs() < 1e-9 * scale);
+            }
+            let vol = {
+                let d = det_j_range(kind, &x).0;
+                d / 6.0
+            };
+            let mut me = vec![0.0; nd * nd];
+            mass_consistent(kind, &x, 7800.0, &mut me);
+            assert!((me.iter().sum::<f64>() / 3.0 / (7800.0 * vol) - 1.0).abs() < 1e-12);
+            let mut ml = [0.0; MAX_NODES];
+            mass_lumped(kind, &x, 7800.0, &mut ml);
+            assert!(ml[..kind.nodes()].iter().all(|m| *m > 0.0));
+            assert!((ml.iter().sum::<f64>() / (7800.0 * vol) - 1.0).abs() < 1e-12);
+        }
+    }
+}

@@ -1,0 +1,268 @@
+//! Timoshenko shaft element with rotary inertia, shear deformation and gyroscopic coupling
+//! (Nelson 1980; Friswell, Penny, Garvey & Lees, *Dynamics of Rotating Machines*, 2010).
+//!
+//! # DOFs and signs
+//!
+//! Element DOF order `[u_x1, u_y1, θ_x1, θ_y1, u_x2, u_y2, θ_x2, θ_y2]` (m, rad), the rotor axis
+//! is z. Rotations follow the right-hand rule about the axes: in the x–z plane `θ_y = ∂u_x/∂z`,
+//! in the y–z plane `θ_x = −∂u_y/∂z`. Each plane is the classical planar Timoshenko element in
+//! `[w₁, φ₁, w₂, φ₂]` with `φ = ∂w/∂z` (x–z: `w = u_x`, `φ = θ_y`; y–z: `w = u_y`, `φ = −θ_x`).
+//!
+//! With `Φ = 12 E I / (κ_s G A L²)`:
+//! * stiffness `E I/(L³(1+Φ)) [12, 6L, −12, 6L; 6L, (4+Φ)L², −6L, (2−Φ)L²; …]`;
+//! * translational mass `ρ A L/(1+Φ)² [m₁ … m₆]` (m₁ = 13/35 + 7Φ/10 + Φ²/3, …);
+//! * rotary mass `ρ I/(L(1+Φ)²) [r₁ … r₄]` (r₁ = 6/5, r₂ = 1/10 − Φ/2, …);
+//! * gyroscopic `G` (the equations read `M q̈ + (C + Ω G) q̇ + K q = f`), built from the
+//!   rotary-mass pattern `R = ρ I_p ∫ N_φᵀ N_φ dz = 2 M_r` (I_p = 2I for a circular section)
+//!   as `G[x–z rows, y–z cols] = R`, `G[y–z rows, x–z cols] = −R` in planar coordinates. At a
+//!   node's rotations this is the rigid-disk form `I_d θ̈_x + Ω I_p θ̇_y = M_x`,
+//!   `I_d θ̈_y − Ω I_p θ̇_x = M_y`; `G` is skew-symmetric.
+
+/// Section and material data of one element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShaftSection {
+    /// Length L (m).
+    pub length: f64,
+    /// Outer diameter (m).
+    pub outer_diameter: f64,
+    /// Inner diameter (m), 0 for a solid shaft.
+    pub inner_diameter: f64,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
+    /// Density ρ (kg/m³).
+    pub density: f64,
+    /// Include shear deformation (Timoshenko); false gives Euler–Bernoulli (Φ = 0).
+    pub shear: bool,
+    /// Include rotary inertia and the gyroscopic matrix.
+    pub rotary_inertia: bool,
+}
+
+impl ShaftSection {
+    /// Area A = π(D² − d²)/4 (m²).
+    pub fn area(&self) -> f64 {
+        std::f64::consts::PI * (self.outer_diameter.powi(2) - self.inner_diameter.powi(2)) / 4.0
+    }
+    /// Second moment I = π(D⁴ − d⁴)/64 (m⁴).
+    pub fn inertia(&self) -> f64 {
+        std::f64::consts::PI * (self.outer_diameter.powi(4) - self.inner_diameter.powi(4)) / 64.0
+    }
+    /// Cowper's shear factor of a tube, κ_s = 6(1+ν)(1+r²)² / ((7+6ν)(1+r²)² + (20+12ν)r²),
+    /// r = d/D (5/6-like: 0.886 for a solid section with ν = 0.3).
+    pub fn shear_factor(&self) -> f64 {
+        let nu = self.poisson;
+        let r = self.inner_diameter / self.outer_diameter;
+        let a = (1.0 + r * r).powi(2);
+        6.0 * (1.0 + nu) * a / ((7.0 + 6.0 * nu) * a + (20.0 + 12.0 * nu) * r * r)
+    }
+    /// Shear parameter Φ = 12 E I/(κ_s G A L²), G = E/(2(1+ν)); 0 without shear.
+    pub fn phi(&self) -> f64 {
+        if !self.shear {
+            return 0.0;
+        }
+        let g = self.youngs_modulus / (2.0 * (1.0 + self.poisson));
+        12.0 * self.youngs_modulus * self.inertia()
+            / (self.shear_factor() * g * self.area() * self.length.powi(2))
+    }
+    /// Mass ρ A L (kg).
+    pub fn mass(&self) -> f64 {
+        self.density * self.area() * self.length
+    }
+}
+
+/// Element matrices (8×8, row-major), DOF order as in the module docs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShaftMatrices {
+    /// Mass (translational + rotary), kg and kg·m².
+    pub m: [[f64; 8]; 8],
+    /// Stiffness, N/m, N, N·m.
+    pub k: [[f64; 8]; 8],
+    /// Gyroscopic matrix per unit spin (multiply by Ω, rad/s), kg·m².
+    pub g: [[f64; 8]; 8],
+}
+
+/// Planar DOF indices of the x–z and y–z planes and the sign that maps element DOFs to planar
+/// `[w₁, φ₁, w₂, φ₂]`.
+const XZ: [usize; 4] = [0, 3, 4, 7];
+const YZ: [usize; 4] = [1, 2, 5, 6];
+const SYZ: [f64; 4] = [1.0, -1.0, 1.0, -1.0];
+
+/// A 4×4 planar element matrix in `[w₁, φ₁, w₂, φ₂]`.
+type Planar = [[f64; 4]; 4];
+
+/// Planar (K, M_t, M_r).
+#[allow(non_snake_case)]
+fn planar(s: &ShaftSection) -> (Planar, Planar, Planar) {
+    let L = s.length;
+    let p = s.phi();
+    let ei = s.youngs_modulus * s.inertia();
+    let kf = ei / (L.powi(3) * (1.0 + p));
+    let K = [
+        [12.0 * kf, 6.0 * L * kf, -12.0 * kf, 6.0 * L * kf],
+        [
+            6.0 * L * kf,
+            (4.0 + p) * L * L * kf,
+            -6.0 * L * kf,
+            (2.0 - p) * L * L * kf,
+        ],
+        [-12.0 * kf, -6.0 * L * kf, 12.0 * kf, -6.0 * L * kf],
+        [
+            6.0 * L * kf,
+            (2.0 - p) * L * L * kf,
+            -6.0 * L * kf,
+            (4.0 + p) * L * L * kf,
+        ],
+    ];
+    let mt = s.mass() / (1.0 + p).powi(2);
+    let m1 = 13.0 / 35.0 + 7.0 * p / 10.0 + p * p / 3.0;
+    let m2 = 11.0 / 210.0 + 11.0 * p / 120.0 + p * p / 24.0;
+    let m3 = 9.0 / 70.0 + 3.0 * p / 10.0 + p * p / 6.0;
+    let m4 = 13.0 / 420.0 + 3.0 * p / 40.0 + p * p / 24.0;
+    let m5 = 1.0 / 105.0 + p / 60.0 + p * p / 120.0;
+    let m6 = 1.0 / 140.0 + p / 60.0 + p * p / 120.0;
+    let Mt = [
+        [m1 * mt, m2 * L * mt, m3 * mt, -m4 * L * mt],
+        [m2 * L * mt, m5 * L * L * mt, m4 * L * mt, -m6 * L * L * mt],
+        [m3 * mt, m4 * L * mt, m1 * mt, -m2 * L * mt],
+        [
+            -m4 * L * mt,
+            -m6 * L * L * mt,
+            -m2 * L * mt,
+            m5 * L * L * mt,
+        ],
+    ];
+    let mut Mr = [[0.0; 4]; 4];
+    if s.rotary_inertia {
+        let mr = s.density * s.inertia() / (L * (1.0 + p).powi(2));
+        let r1 = 6.0 / 5.0;
+        let r2 = 1.0 / 10.0 - p / 2.0;
+        let r3 = 2.0 / 15.0 + p / 6.0 + p * p / 3.0;
+        let r4 = -1.0 / 30.0 - p / 6.0 + p * p / 6.0;
+        Mr = [
+            [r1 * mr, r2 * L * mr, -r1 * mr, r2 * L * mr],
+            [r2 * L * mr, r3 * L * L * mr, -r2 * L * mr, r4 * L * L * mr],
+            [-r1 * mr, -r2 * L * mr, r1 * mr, -r2 * L * mr],
+            [r2 * L * mr, r4 * L * L * mr, -r2 * L * mr, r3 * L * L * mr],
+        ];
+    }
+    (K, Mt, Mr)
+}
+
+/// Element matrices of a shaft element.
+pub fn shaft_element(s: &ShaftSection) -> ShaftMatrices {
+    let (kp, mt, mr) = planar(s);
+    let mut m = [[0.0; 8]; 8];
+    let mut k = [[0.0; 8]; 8];
+    let mut g = [[0.0; 8]; 8];
+    for a in 0..4 {
+        for b in 0..4 {
+            let mp = mt[a][b] + mr[a][b];
+            m[XZ[a]][XZ[b]] += mp;
+            k[XZ[a]][XZ[b]] += kp[a][b];
+            m[YZ[a]][YZ[b]] += SYZ[a] * SYZ[b] * mp;
+            k[YZ[a]][YZ[b]] += SYZ[a] * SYZ[b] * kp[a][b];
+            // R = 2 M_r (I_p = 2 I); x–z rows, y–z columns: +R; y–z rows, x–z columns: −R.
+            let r = 2.0 * mr[a][b];
+            g[XZ[a]][YZ[b]] += r * SYZ[b];
+            g[YZ[a]][XZ[b]] -= SYZ[a] * r;
+        }
+    }
+    ShaftMatrices { m, k, g }
+}
+
+/// Rigid disk at a node: mass `m` on u_x, u_y, diametral inertia `id` on θ_x, θ_y and the
+/// gyroscopic block `[[0, I_p], [−I_p, 0]]` on (θ_x, θ_y). Returns (M, G) 4×4 in node DOFs.
+pub fn disk(m: f64, id: f64, ip: f64) -> ([[f64; 4]; 4], [[f64; 4]; 4]) {
+    let mut mm = [[0.0; 4]; 4];
+    mm[0][0] = m;
+    mm[1][1] = m;
+    mm[2][2] = id;
+    mm[3][3] = id;
+    let mut g = [[0.0; 4]; 4];
+    g[2][3] = ip;
+    g[3][2] = -ip;
+    (mm, g)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sec(shear: bool) -> ShaftSection {
+        ShaftSection {
+            length: 0.1,
+            outer_diameter: 0.05,
+            inner_diameter: 0.02,
+            youngs_modulus: 2.1e11,
+            poisson: 0.3,
+            density: 7800.0,
+            shear,
+            rotary_inertia: true,
+        }
+    }
+
+    #[test]
+    fn symmetric_m_k_and_skew_g() {
+        let e = shaft_element(&sec(true));
+        for i in 0..8 {
+            for j in 0..8 {
+                assert!((e.m[i][j] - e.m[j][i]).abs() < 1e-12 * e.m[0][0]);
+                assert!((e.k[i][j] - e.k[j][i]).abs() < 1e-9 * e.k[0][0]);
+                assert!((e.g[i][j] + e.g[j][i]).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn translational_mass_sums_to_rho_a_l() {
+        // Rigid translation in x: qᵀ M q = ρ A L (rotary terms vanish for a translation).
+        let s = sec(true);
+        let e = shaft_element(&s);
+        let q = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
+        let mut mq = 0.0;
+        for i in 0..8 {
+            for j in 0..8 {
+                mq += q[i] * e.m[i][j] * q[j];
+            }
+        }
+        assert!((mq / s.mass() - 1.0).abs() < 1e-12, "{mq} vs {}", s.mass());
+    }
+
+    #[test]
+    fn rigid_body_modes_have_no_strain_energy() {
+        let s = sec(true);
+        let e = shaft_element(&s);
+        let l = s.length;
+        // translations, and rigid rotations: about y (u_x = β z, θ_y = β), about x (u_y = −α z, θ_x = α)
+        let modes = [
+            [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0, l, 0.0, 0.0, 1.0],
+            [0.0, 0.0, 1.0, 0.0, 0.0, -l, 1.0, 0.0],
+        ];
+        for q in modes {
+            for i in 0..8 {
+                let f: f64 = (0..8).map(|j| e.k[i][j] * q[j]).sum();
+                assert!(f.abs() < 1e-6 * e.k[0][0] * 1e-3, "K q ≠ 0: {f} for {q:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn cowper_factor_of_solid_section() {
+        let mut s = sec(true);
+        s.inner_diameter = 0.0;
+        // 6(1+ν)/(7+6ν) for a solid circle.
+        assert!((s.shear_factor() - 6.0 * 1.3 / 8.8).abs() < 1e-12);
+    }
+
+    #[test]
+    fn disk_gyroscopic_matches_shaft_convention() {
+        // The shaft's G on a node's rotations has the disk's sign pattern.
+        let e = shaft_element(&sec(true));
+        assert!(e.g[2][3] > 0.0 && e.g[3][2] < 0.0);
+        let (_, g) = disk(1.0, 0.1, 0.2);
+        assert!(g[2][3] > 0.0 && g[3][2] < 0.0);
+    }
+}

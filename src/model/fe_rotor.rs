@@ -1,0 +1,546 @@
+//! Finite-element rotor: Timoshenko shaft elements, rigid disks, point masses, bearings (to
+//! ground or through a pedestal mass), unbalances, Rayleigh damping and gyroscopics.
+//!
+//! Global DOFs: node `i` owns `[u_x, u_y, θ_x, θ_y]` at `4i..4i+4` (see
+//! [`crate::element::timoshenko`] for the signs); pedestal masses add `[u_x, u_y]` after the
+//! shaft DOFs. Node positions `z` (m) run along the shaft from its left end.
+//! The equations are `M q̈ + (C + Ω G) q̇ + K q = f(t)`, `C = C_bearings + α M + β K`.
+
+use crate::element::timoshenko::{disk, shaft_element, ShaftSection};
+use crate::error::ModelError;
+use crate::linalg::Csc;
+use crate::model::rotor::{RotorBody, UnbalanceLoad};
+use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
+
+/// A bearing's 2×2 stiffness and damping on `[u_x, u_y]`, possibly tabulated against speed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bearing {
+    /// Rotor node.
+    pub node: usize,
+    /// Speeds (rad/s) of the table; empty for constant coefficients.
+    pub speeds: Vec<f64>,
+    /// `[kxx, kxy, kyx, kyy]` per table row (N/m).
+    pub k: Vec<[f64; 4]>,
+    /// `[cxx, cxy, cyx, cyy]` per table row (N·s/m).
+    pub c: Vec<[f64; 4]>,
+    /// Pedestal `(mass kg, stiffness N/m, damping N·s/m)` between bearing and ground.
+    pub pedestal: Option<(f64, f64, f64)>,
+}
+
+impl Bearing {
+    /// Coefficients at speed ω (linear interpolation in the table, constant outside).
+    pub fn coefficients(&self, omega: f64) -> ([f64; 4], [f64; 4]) {
+        if self.speeds.len() < 2 {
+            return (self.k[0], self.c[0]);
+        }
+        let s = &self.speeds;
+        let i = match s.iter().position(|v| *v >= omega) {
+            None => return (self.k[s.len() - 1], self.c[s.len() - 1]),
+            Some(0) => return (self.k[0], self.c[0]),
+            Some(i) => i,
+        };
+        let t = (omega - s[i - 1]) / (s[i] - s[i - 1]);
+        let lerp = |a: [f64; 4], b: [f64; 4]| {
+            [
+                a[0] + t * (b[0] - a[0]),
+                a[1] + t * (b[1] - a[1]),
+                a[2] + t * (b[2] - a[2]),
+                a[3] + t * (b[3] - a[3]),
+            ]
+        };
+        (
+            lerp(self.k[i - 1], self.k[i]),
+            lerp(self.c[i - 1], self.c[i]),
+        )
+    }
+}
+
+/// A rigid disk.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Disk {
+    /// Node.
+    pub node: usize,
+    /// Mass (kg).
+    pub mass: f64,
+    /// Polar moment of inertia I_p (kg·m²).
+    pub ip: f64,
+    /// Diametral moment of inertia I_d (kg·m²).
+    pub id: f64,
+}
+
+impl Disk {
+    /// Disk from geometry: annulus of outer diameter `od`, bore `bore`, width `w`, density ρ:
+    /// m = ρπ(D²−d²)w/4, I_p = m(R²+r²)/2, I_d = m(3(R²+r²) + w²)/12.
+    pub fn from_geometry(node: usize, od: f64, bore: f64, width: f64, density: f64) -> Self {
+        let r2 = (od / 2.0).powi(2) + (bore / 2.0).powi(2);
+        let mass = density * std::f64::consts::PI * (od * od - bore * bore) / 4.0 * width;
+        Disk {
+            node,
+            mass,
+            ip: mass * r2 / 2.0,
+            id: mass * (3.0 * r2 + width * width) / 12.0,
+        }
+    }
+}
+
+/// The FE rotor model (speed independent parts assembled once).
+#[derive(Debug, Clone)]
+pub struct FeRotor {
+    /// Node positions along the axis (m).
+    pub z: Vec<f64>,
+    /// Outer diameter of the shaft at each node (m), for plots.
+    pub node_diameter: Vec<f64>,
+    /// Number of DOFs (shaft + pedestals).
+    pub ndof: usize,
+    /// Mass (shaft, disks, point masses, pedestals).
+    pub m: Csc,
+    /// Stiffness of shaft and constant-speed parts (bearings added per speed).
+    pub k_shaft: Csc,
+    /// Gyroscopic matrix per unit spin.
+    pub g: Csc,
+    /// Bearings.
+    pub bearings: Vec<Bearing>,
+    /// Rayleigh `[α, β]`.
+    pub rayleigh: [f64; 2],
+    /// Unbalances.
+    pub unbalance: Vec<UnbalanceLoad>,
+    /// Disks.
+    pub disks: Vec<Disk>,
+    /// Pedestal DOF base of each bearing that has one.
+    pub pedestal_dofs: Vec<Option<usize>>,
+    /// Total mass (kg) and total polar inertia about the axis (kg·m²), for checks.
+    pub total_mass: f64,
+    /// Total polar inertia (kg·m²).
+    pub total_polar_inertia: f64,
+}
+
+/// Everything needed to build an [`FeRotor`].
+#[derive(Debug, Clone)]
+pub struct FeRotorData {
+    /// Elements in order along the shaft.
+    pub elements: Vec<ShaftSection>,
+    /// Disks.
+    pub disks: Vec<Disk>,
+    /// Point masses `(node, kg)`.
+    pub point_masses: Vec<(usize, f64)>,
+    /// Bearings.
+    pub bearings: Vec<Bearing>,
+    /// Unbalances `(node, m_u e kg·m, phase rad)`.
+    pub unbalances: Vec<(usize, f64, f64)>,
+    /// Rayleigh `[α, β]`.
+    pub rayleigh: [f64; 2],
+}
+
+fn scatter(t: &mut Vec<(usize, usize, f64)>, dofs: &[usize], m: &[&[f64]]) {
+    for (i, row) in m.iter().enumerate() {
+        for (j, v) in row.iter().enumerate() {
+            if *v != 0.0 {
+                t.push((dofs[i], dofs[j], *v));
+            }
+        }
+    }
+}
+
+impl FeRotor {
+    /// Assembles the model. Errors name the offending item.
+    pub fn build(d: &FeRotorData) -> Result<Self, ModelError> {
+        let err = |what: String, message: String| ModelError::Inconsistent { what, message };
+        if d.elements.is_empty() {
+            return Err(err("rotor".into(), "no shaft elements".into()));
+        }
+        let nn = d.elements.len() + 1;
+        let mut z = vec![0.0; nn];
+        let mut node_diameter = vec![0.0_f64; nn];
+        for (i, e) in d.elements.iter().enumerate() {
+            if e.length.is_nan()
+                || e.length <= 0.0
+                || e.outer_diameter.is_nan()
+                || e.outer_diameter <= e.inner_diameter
+                || e.inner_diameter < 0.0
+            {
+                return Err(err(
+                    format!("rotor shaft element {i}"),
+                    format!(
+                        "needs length > 0 and outer diameter > inner diameter ≥ 0 (L = {}, D = {}, d = {})",
+                        e.length, e.outer_diameter, e.inner_diameter
+                    ),
+                ));
+            }
+            z[i + 1] = z[i] + e.length;
+            node_diameter[i] = node_diameter[i].max(e.outer_diameter);
+            node_diameter[i + 1] = e.outer_diameter;
+        }
+        let check_node = |what: String, n: usize| -> Result<(), ModelError> {
+            if n >= nn {
+                Err(err(
+                    what,
+                    format!(
+                        "node {n} does not exist (the shaft has nodes 0..={})",
+                        nn - 1
+                    ),
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        for (i, dk) in d.disks.iter().enumerate() {
+            check_node(format!("rotor disk {i}"), dk.node)?;
+        }
+        for (i, b) in d.bearings.iter().enumerate() {
+            check_node(format!("rotor bearing {i}"), b.node)?;
+        }
+        for (i, (n, _)) in d.point_masses.iter().enumerate() {
+            check_node(format!("rotor point mass {i}"), *n)?;
+        }
+        for (i, (n, _, _)) in d.unbalances.iter().enumerate() {
+            check_node(format!("rotor unbalance {i}"), *n)?;
+        }
+        if d.bearings.is_empty() {
+            return Err(err(
+                "rotor".into(),
+                "no bearing: a free rotor has rigid-body modes and no static equilibrium".into(),
+            ));
+        }
+        let mut ndof = 4 * nn;
+        let mut pedestal_dofs = Vec::new();
+        for b in &d.bearings {
+            if b.pedestal.is_some() {
+                pedestal_dofs.push(Some(ndof));
+                ndof += 2;
+            } else {
+                pedestal_dofs.push(None);
+            }
+        }
+        let (mut mt, mut kt, mut gt) = (Vec::new(), Vec::new(), Vec::new());
+        let mut total_mass = 0.0;
+        let mut total_ip = 0.0;
+        for (i, e) in d.elements.iter().enumerate() {
+            let el = shaft_element(e);
+            let dofs: Vec<usize> = (4 * i..4 * i + 8).collect();
+            let rows =
+                |a: &[[f64; 8]; 8]| -> Vec<Vec<f64>> { a.iter().map(|r| r.to_vec()).collect() };
+            let (m, k, g) = (rows(&el.m), rows(&el.k), rows(&el.g));
+            scatter(
+                &mut mt,
+                &dofs,
+                &m.iter().map(|r| r.as_slice()).collect::<Vec<_>>(),
+            );
+            scatter(
+                &mut kt,
+                &dofs,
+                &k.iter().map(|r| r.as_slice()).collect::<Vec<_>>(),
+            );
+            if e.rotary_inertia {
+                scatter(
+                    &mut gt,
+                    &dofs,
+                    &g.iter().map(|r| r.as_slice()).collect::<Vec<_>>(),
+                );
+            }
+            total_mass += e.mass();
+            total_ip += e.density * 2.0 * e.inertia() * e.length;
+        }
+        for dk in &d.disks {
+            let (m, g) = disk(dk.mass, dk.id, dk.ip);
+            let dofs: Vec<usize> = (4 * dk.node..4 * dk.node + 4).collect();
+            scatter(
+                &mut mt,
+                &dofs,
+                &m.iter().map(|r| r.as_slice()).collect::<Vec<_>>(),
+            );
+            scatter(
+                &mut gt,
+                &dofs,
+                &g.iter().map(|r| r.as_slice()).collect::<Vec<_>>(),
+            );
+            total_mass += dk.mass;
+            total_ip += dk.ip;
+        }
+        for (n, m) in &d.point_masses {
+            mt.push((4 * n, 4 * n, *m));
+            mt.push((4 * n + 1, 4 * n + 1, *m));
+            total_mass += m;
+        }
+        for (b, pd) in d.bearings.iter().zip(&pedestal_dofs) {
+            if let (Some((pm, _, _)), Some(p)) = (b.pedestal, pd) {
+                mt.push((*p, *p, pm));
+                mt.push((p + 1, p + 1, pm));
+            }
+        }
+        let unbalance = d
+            .unbalances
+            .iter()
+            .map(|(n, me, ph)| UnbalanceLoad {
+                dofs: [4 * n, 4 * n + 1],
+                me: *me,
+                phase: *ph,
+            })
+            .collect();
+        Ok(FeRotor {
+            z,
+            node_diameter,
+            ndof,
+            m: Csc::from_triplets(ndof, ndof, &mt),
+            k_shaft: Csc::from_triplets(ndof, ndof, &kt),
+            g: Csc::from_triplets(ndof, ndof, &gt),
+            bearings: d.bearings.clone(),
+            rayleigh: d.rayleigh,
+            unbalance,
+            disks: d.disks.clone(),
+            pedestal_dofs,
+            total_mass,
+            total_polar_inertia: total_ip,
+        })
+    }
+
+    /// Number of shaft nodes.
+    pub fn nodes(&self) -> usize {
+        self.z.len()
+    }
+
+    /// Bearing stiffness and damping at speed ω, as sparse matrices.
+    pub fn bearing_matrices(&self, omega: f64) -> (Csc, Csc) {
+        let (mut kt, mut ct) = (Vec::new(), Vec::new());
+        for (b, pd) in self.bearings.iter().zip(&self.pedestal_dofs) {
+            let (k, c) = b.coefficients(omega);
+            let n = [4 * b.node, 4 * b.node + 1];
+            // Between the journal and the pedestal (or ground).
+            let add = |t: &mut Vec<(usize, usize, f64)>, v: [f64; 4]| {
+                let vals = [[v[0], v[1]], [v[2], v[3]]];
+                for i in 0..2 {
+                    for j in 0..2 {
+                        t.push((n[i], n[j], vals[i][j]));
+                        if let Some(p) = pd {
+                            t.push((p + i, p + j, vals[i][j]));
+                            t.push((n[i], p + j, -vals[i][j]));
+                            t.push((p + i, n[j], -vals[i][j]));
+                        }
+                    }
+                }
+            };
+            add(&mut kt, k);
+            add(&mut ct, c);
+            if let (Some((_, ks, cs)), Some(p)) = (b.pedestal, pd) {
+                for i in 0..2 {
+                    kt.push((p + i, p + i, ks));
+                    ct.push((p + i, p + i, cs));
+                }
+            }
+        }
+        (
+            Csc::from_triplets(self.ndof, self.ndof, &kt),
+            Csc::from_triplets(self.ndof, self.ndof, &ct),
+        )
+    }
+
+    /// Stiffness at speed ω (shaft + bearings).
+    pub fn k(&self, omega: f64) -> Csc {
+        let (kb, _) = self.bearing_matrices(omega);
+        Csc::lin_comb(1.0, &self.k_shaft, 1.0, &kb)
+    }
+
+    /// Damping without gyroscopics at speed ω: bearings + α M + β K.
+    pub fn c(&self, omega: f64) -> Csc {
+        let (kb, cb) = self.bearing_matrices(omega);
+        let k = Csc::lin_comb(1.0, &self.k_shaft, 1.0, &kb);
+        let ray = Csc::lin_comb(self.rayleigh[0], &self.m, self.rayleigh[1], &k);
+        Csc::lin_comb(1.0, &cb, 1.0, &ray)
+    }
+
+    /// The integrator's body at speed ω: damping includes Ω G.
+    pub fn body(&self, omega: f64) -> RotorBody {
+        let c = Csc::lin_comb(1.0, &self.c(omega), omega, &self.g);
+        RotorBody {
+            ndof: self.ndof,
+            m: self.m.clone(),
+            c,
+            k: self.k(omega),
+            node_dofs: (0..self.nodes()).map(|i| [4 * i, 4 * i + 1]).collect(),
+            unbalance: self.unbalance.clone(),
+        }
+    }
+
+    /// Undamped natural frequencies at rest without gyroscopics (rad/s), ascending, from the
+    /// symmetric generalized problem K φ = ω² M φ (dense; M must be positive definite).
+    pub fn undamped_frequencies(&self, omega_for_bearings: f64) -> Result<Vec<f64>, ModelError> {
+        let m = dense(&self.m);
+        let k = dense(&self.k(omega_for_bearings));
+        let l = m.clone().cholesky().ok_or_else(|| ModelError::Singular {
+            what: "rotor mass matrix".into(),
+            detail: "not positive definite: every DOF needs mass or rotary inertia".into(),
+        })?;
+        let linv = l.l().try_inverse().ok_or_else(|| ModelError::Singular {
+            what: "rotor mass matrix".into(),
+            detail: "Cholesky factor not invertible".into(),
+        })?;
+        let a = &linv * k * linv.transpose();
+        let a = (&a + a.transpose()) * 0.5;
+        let mut ev: Vec<f64> = a
+            .symmetric_eigenvalues()
+            .iter()
+            .map(|v| v.max(0.0).sqrt())
+            .collect();
+        ev.sort_by(|a, b| a.total_cmp(b));
+        Ok(ev)
+    }
+
+    /// Complex unbalance response `q` at speed ω: `(K − ω²M + iω(C + ωG)) q = F`, with
+    /// `F_x = m_u e ω² e^{iφ}`, `F_y = −i m_u e ω² e^{iφ}` (forward rotating force).
+    pub fn unbalance_response(&self, omega: f64) -> Result<Vec<Complex64>, ModelError> {
+        let n = self.ndof;
+        let k = dense(&self.k(omega));
+        let c = dense(&Csc::lin_comb(1.0, &self.c(omega), omega, &self.g));
+        let m = dense(&self.m);
+        let a = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
+            Complex64::new(k[(i, j)] - omega * omega * m[(i, j)], omega * c[(i, j)])
+        });
+        let mut f = DVector::<Complex64>::zeros(n);
+        for u in &self.unbalance {
+            let e = Complex64::from_polar(u.me * omega * omega, u.phase);
+            f[u.dofs[0]] += e;
+            f[u.dofs[1]] += e * Complex64::new(0.0, -1.0);
+        }
+        let q = a.lu().solve(&f).ok_or_else(|| ModelError::Singular {
+            what: format!("rotor dynamic stiffness at ω = {omega} rad/s"),
+            detail: "singular (undamped resonance or unsupported rotor)".into(),
+        })?;
+        Ok(q.iter().copied().collect())
+    }
+
+    /// Static stiffness at a node in y (N/m): 1 / (K⁻¹)_yy — the `k_r` that ε refers to.
+    pub fn node_stiffness(&self, node: usize) -> Result<f64, ModelError> {
+        let k = dense(&self.k(0.0));
+        let lu = k.lu();
+        let mut e = DVector::zeros(self.ndof);
+        e[4 * node + 1] = 1.0;
+        let x = lu.solve(&e).ok_or_else(|| ModelError::Singular {
+            what: "rotor stiffness".into(),
+            detail: "singular: the bearings do not hold the rotor in every direction".into(),
+        })?;
+        Ok(1.0 / x[4 * node + 1])
+    }
+}
+
+/// Largest radius of the forced ellipse `x = Re(X e^{iωt}), y = Re(Y e^{iωt})`:
+/// `r_max² = (|X|² + |Y|²)/2 + |X² + Y²|/2`.
+pub fn ellipse_major(x: Complex64, y: Complex64) -> f64 {
+    (0.5 * (x.norm_sqr() + y.norm_sqr()) + 0.5 * (x * x + y * y).norm()).sqrt()
+}
+
+/// Dense copy of a sparse matrix.
+pub fn dense(a: &Csc) -> DMatrix<f64> {
+    let mut d = DMatrix::zeros(a.nrows(), a.ncols());
+    for (r, c, v) in a.triplets() {
+        d[(r, c)] += v;
+    }
+    d
+}
+
+/// Converts a validated scene spec into model data.
+pub fn data_from_spec(s: &crate::scene::FeRotorSpec) -> FeRotorData {
+    use crate::scene::{material, ScalarOrTable};
+    let mut elements = Vec::new();
+    for seg in &s.shaft {
+        let named = seg.material.as_deref().and_then(material);
+        let (e0, nu0, rho0) = named.unwrap_or((f64::NAN, 0.3, f64::NAN));
+        let section = ShaftSection {
+            length: seg.length / seg.elements as f64,
+            outer_diameter: seg.outer_diameter,
+            inner_diameter: seg.inner_diameter,
+            youngs_modulus: seg.youngs_modulus.unwrap_or(e0),
+            poisson: seg.poisson.unwrap_or(nu0),
+            density: seg.density.unwrap_or(rho0),
+            shear: s.shear,
+            rotary_inertia: s.rotary_inertia,
+        };
+        elements.extend(std::iter::repeat_n(section, seg.elements));
+    }
+    let disks = s
+        .disk
+        .iter()
+        .map(|d| match d.mass {
+            Some(m) => Disk {
+                node: d.node,
+                mass: m,
+                ip: d.polar_inertia.unwrap_or(0.0),
+                id: d.diametral_inertia.unwrap_or(0.0),
+            },
+            None => {
+                let rho = d
+                    .density
+                    .or_else(|| d.material.as_deref().and_then(material).map(|m| m.2))
+                    .unwrap_or(0.0);
+                Disk::from_geometry(
+                    d.node,
+                    d.outer_diameter.unwrap_or(0.0),
+                    d.bore,
+                    d.width.unwrap_or(0.0),
+                    rho,
+                )
+            }
+        })
+        .collect();
+    let rows = |b: &crate::scene::BearingSpec| b.speeds.len().max(1);
+    let at = |v: &Option<ScalarOrTable>, i: usize| -> f64 {
+        match v {
+            None => 0.0,
+            Some(ScalarOrTable::Scalar(x)) => *x,
+            Some(ScalarOrTable::Table(t)) => t[i],
+        }
+    };
+    let bearings = s
+        .bearing
+        .iter()
+        .map(|b| {
+            let n = rows(b);
+            let pick = |iso: &Option<ScalarOrTable>, own: &Option<ScalarOrTable>, i: usize| {
+                if own.is_some() {
+                    at(own, i)
+                } else {
+                    at(iso, i)
+                }
+            };
+            Bearing {
+                node: b.node,
+                speeds: b.speeds.clone(),
+                k: (0..n)
+                    .map(|i| {
+                        [
+                            pick(&b.stiffness, &b.kxx, i),
+                            at(&b.kxy, i),
+                            at(&b.kyx, i),
+                            pick(&b.stiffness, &b.kyy, i),
+                        ]
+                    })
+                    .collect(),
+                c: (0..n)
+                    .map(|i| {
+                        [
+                            pick(&b.damping, &b.cxx, i),
+                            at(&b.cxy, i),
+                            at(&b.cyx, i),
+                            pick(&b.damping, &b.cyy, i),
+                        ]
+                    })
+                    .collect(),
+                pedestal: b
+                    .pedestal
+                    .as_ref()
+                    .map(|p| (p.mass, p.stiffness, p.damping)),
+            }
+        })
+        .collect();
+    FeRotorData {
+        elements,
+        disks,
+        point_masses: s.point_mass.iter().map(|p| (p.node, p.mass)).collect(),
+        bearings,
+        unbalances: s
+            .unbalance
+            .iter()
+            .map(|u| (u.node, u.mass * u.radius, u.phase_deg.to_radians()))
+            .collect(),
+        rayleigh: s.rayleigh,
+    }
+}

@@ -1,0 +1,567 @@
+//! HDF5 time series (`results.vtkhdf`, one file per run, cargo feature `hdf5`).
+//!
+//! The file holds plain datasets for scripts (`/time`, `/rotor`, `/contact`, `/stators`, with a
+//! `unit` attribute each; the resolved scene and the units as JSON attributes of `/`) and a
+//! transient VTKHDF 2 `UnstructuredGrid` group `/VTKHDF` that VTK's `vtkHDFReader` (ParaView,
+//! `pyvista.read`) opens as a time series: the grid is written once and every step's point and
+//! cell data are appended, addressed through `/VTKHDF/Steps` offsets. The layout is documented
+//! in `docs/OUTPUTS.md`.
+//!
+//! Streaming: every time-dependent dataset is chunked with an unlimited first axis; frames are
+//! buffered in blocks of about 256 KiB per dataset and appended block by block, so memory does
+//! not grow with the run.
+
+use super::{Fields, FramePlan, FrameState, Layout, RunInfo};
+use crate::error::{Error, Result};
+use crate::model::Case;
+use h5::types::{FixedAscii, VarLenUnicode};
+use h5::H5Type;
+use hdf5_metno as h5;
+use ndarray::{ArrayView, IxDyn};
+use std::path::{Path, PathBuf};
+
+/// Name of the file, relative to the run's folder.
+pub const FILE: &str = "results.vtkhdf";
+/// VTKHDF format version written.
+pub const VTKHDF_VERSION: [i64; 2] = [2, 2];
+/// Bytes buffered per dataset before a block is appended.
+const BLOCK_BYTES: usize = 256 * 1024;
+
+/// A dataset growing along its first axis by `frame_rows` rows per frame.
+struct Column<T: H5Type + Copy> {
+    ds: h5::Dataset,
+    frame_rows: usize,
+    inner: Vec<usize>,
+    frame_len: usize,
+    block_frames: usize,
+    buf: Vec<T>,
+    buffered: usize,
+    rows: usize,
+}
+
+impl<T: H5Type + Copy> Column<T> {
+    fn new(
+        g: &h5::Group,
+        name: &str,
+        frame_rows: usize,
+        inner: &[usize],
+        unit: &str,
+    ) -> h5::Result<Self> {
+        let frame_len = frame_rows * inner.iter().product::<usize>();
+        let block_frames =
+            (BLOCK_BYTES / (frame_len.max(1) * std::mem::size_of::<T>())).clamp(1, 4096);
+        let mut shape: Vec<h5::Extent> = vec![h5::Extent::resizable(0)];
+        shape.extend(inner.iter().map(|n| h5::Extent::fixed(*n)));
+        let mut chunk = vec![(block_frames * frame_rows).max(1)];
+        chunk.extend(inner.iter().map(|n| (*n).max(1)));
+        let ds = g
+            .new_dataset::<T>()
+            .chunk(chunk)
+            .shape(shape)
+            .create(name)?;
+        if !unit.is_empty() {
+            attr_str(&ds, "unit", unit)?;
+        }
+        Ok(Self {
+            ds,
+            frame_rows,
+            inner: inner.to_vec(),
+            frame_len,
+            block_frames,
+            buf: Vec::with_capacity(block_frames * frame_len),
+            buffered: 0,
+            rows: 0,
+        })
+    }
+
+    /// Appends one frame (`frame_len` values, row-major).
+    fn push(&mut self, v: impl IntoIterator<Item = T>) -> h5::Result<()> {
+        let n0 = self.buf.len();
+        self.buf.extend(v);
+        debug_assert_eq!(self.buf.len() - n0, self.frame_len, "frame size");
+        self.buffered += 1;
+        if self.buffered >= self.block_frames {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> h5::Result<()> {
+        if self.buffered == 0 {
+            return Ok(());
+        }
+        let n = self.buffered * self.frame_rows;
+        let mut shape = vec![self.rows + n];
+        shape.extend(&self.inner);
+        self.ds.resize(shape)?;
+        let mut vshape = vec![n];
+        vshape.extend(&self.inner);
+        let view = ArrayView::from_shape(IxDyn(&vshape), &self.buf)
+            .map_err(|e| h5::Error::from(e.to_string().as_str()))?;
+        let sel: Vec<h5::SliceOrIndex> =
+            std::iter::once(h5::SliceOrIndex::from(self.rows..self.rows + n))
+                .chain(self.inner.iter().map(|_| h5::SliceOrIndex::from(..)))
+                .collect();
+        self.ds.write_slice(view, h5::Hyperslab::from(sel))?;
+        self.rows += n;
+        self.buf.clear();
+        self.buffered = 0;
+        Ok(())
+    }
+}
+
+fn attr_str(loc: &h5::Location, name: &str, v: &str) -> h5::Result<()> {
+    let s: VarLenUnicode = v
+        .parse()
+        .map_err(|e: h5::types::StringError| h5::Error::from(e.to_string().as_str()))?;
+    loc.new_attr::<VarLenUnicode>()
+        .create(name)?
+        .write_scalar(&s)
+}
+
+fn attr<T: H5Type>(loc: &h5::Location, name: &str, v: T) -> h5::Result<()> {
+    loc.new_attr::<T>().create(name)?.write_scalar(&v)
+}
+
+fn static_ds<T: H5Type>(
+    g: &h5::Group,
+    name: &str,
+    shape: &[usize],
+    data: &[T],
+    unit: &str,
+) -> h5::Result<h5::Dataset> {
+    let view = ArrayView::from_shape(IxDyn(shape), data)
+        .map_err(|e| h5::Error::from(e.to_string().as_str()))?;
+    let ds = g.new_dataset_builder().with_data(view).create(name)?;
+    if !unit.is_empty() {
+        attr_str(&ds, "unit", unit)?;
+    }
+    Ok(ds)
+}
+
+/// The columns of the VTKHDF group and the plain groups.
+struct Columns {
+    time: Column<f64>,
+    step: Column<i64>,
+    rotor_u: Option<Column<f64>>,
+    rotor_v: Option<Column<f64>>,
+    pair_p: Option<Column<f64>>,
+    pair_force: Option<Column<f64>>,
+    pair_normal: Option<Column<f64>>,
+    station_force: Option<Column<f64>>,
+    // VTKHDF
+    values: Column<f64>,
+    zero_offsets: Vec<Column<i64>>,
+    parts: Column<i64>,
+    point_data: Vec<(Column<f64>, Column<i64>, PointField)>,
+    cell_data: Vec<(Column<f64>, Column<i64>, CellField)>,
+    static_cell_offsets: Vec<Column<i64>>,
+}
+
+#[derive(Clone, Copy)]
+enum PointField {
+    Displacement,
+    Velocity,
+    ContactForce,
+}
+
+#[derive(Clone, Copy)]
+enum CellField {
+    NormalForce,
+    AxialForce,
+    Stress,
+    Strain,
+}
+
+/// An HDF5 time series being written.
+pub struct Hdf5Series {
+    path: PathBuf,
+    name: String,
+    file: h5::File,
+    cols: Columns,
+    fields: Fields,
+    frames: usize,
+    steps_group: h5::Group,
+}
+
+impl std::fmt::Debug for Hdf5Series {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Hdf5Series")
+            .field("path", &self.path)
+            .field("frames", &self.frames)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Units and conventions stored as the `units` attribute (JSON).
+pub const UNITS_JSON: &str = r#"{"length":"m","time":"s","force":"N","stress":"Pa","strain":"1","velocity":"m/s","angle":"rad","frequency":"rad/s","axes":"x horizontal, y vertical, rotor axis z; rotor spins counter-clockwise seen from +z","contact":"normal n from the section centre to the stator node; normal force p >= 0 in compression; force on the stator node (n + mu a) p, on the rotor its opposite"}"#;
+
+impl Hdf5Series {
+    /// Creates `staging/prefix/results.vtkhdf` and writes everything that does not change
+    /// with time (attributes, the grid, the pair and stator tables).
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file.
+    pub fn create(
+        staging: &Path,
+        prefix: &str,
+        layout: &Layout,
+        case: &Case,
+        plan: &FramePlan,
+        info: &RunInfo,
+    ) -> Result<Self> {
+        let dir = staging.join(prefix);
+        std::fs::create_dir_all(&dir).map_err(|e| Error::output(&dir, e))?;
+        let path = dir.join(FILE);
+        let r = Self::create_h5(&path, layout, case, plan, info);
+        r.map(|(file, cols, steps_group)| Self {
+            name: format!("{prefix}{FILE}"),
+            path: path.clone(),
+            file,
+            cols,
+            fields: plan.fields,
+            frames: 0,
+            steps_group,
+        })
+        .map_err(|e| Error::output(&path, format!("writing HDF5: {e}")))
+    }
+
+    fn create_h5(
+        path: &Path,
+        layout: &Layout,
+        case: &Case,
+        plan: &FramePlan,
+        info: &RunInfo,
+    ) -> h5::Result<(h5::File, Columns, h5::Group)> {
+        let f = h5::File::create(path)?;
+        let fl = plan.fields;
+        attr_str(&f, "format", "rubsim results 1 (docs/OUTPUTS.md)")?;
+        attr_str(&f, "rubsim_version", env!("CARGO_PKG_VERSION"))?;
+        attr_str(&f, "scene", &info.scene_json)?;
+        attr_str(&f, "units", UNITS_JSON)?;
+        attr_str(&f, "integrator", info.integrator)?;
+        attr(&f, "speed_ratio", info.speed_ratio)?;
+        attr(&f, "omega_rad_s", info.omega)?;
+        attr(&f, "dt_s", info.plan.dt)?;
+        attr(&f, "steps_per_rev", info.plan.steps_per_rev as i64)?;
+        attr(&f, "steps", info.plan.steps as i64)?;
+        attr(&f, "every", plan.every as i64)?;
+        attr(&f, "first_step", plan.first as i64)?;
+        attr(&f, "last_step", plan.last as i64)?;
+
+        let time = Column::new(&f, "time", 1, &[], "s")?;
+        let step = Column::new(&f, "step", 1, &[], "")?;
+        let rg = f.create_group("rotor")?;
+        let nn = case.rotor.node_dofs.len();
+        let nd: Vec<i64> = case
+            .rotor
+            .node_dofs
+            .iter()
+            .flatten()
+            .map(|d| *d as i64)
+            .collect();
+        static_ds(&rg, "node_dofs", &[nn, 2], &nd, "")?;
+        let z: Vec<f64> = layout.grid.points[layout.rotor_first_point..]
+            .iter()
+            .map(|p| p[2])
+            .collect();
+        static_ds(&rg, "node_z", &[nn], &z, "m")?;
+        attr(&rg, "first_point", layout.rotor_first_point as i64)?;
+        let ndof = case.rotor.ndof;
+        let rotor_u = fl
+            .displacement
+            .then(|| Column::new(&rg, "u", 1, &[ndof], "m"))
+            .transpose()?;
+        let rotor_v = fl
+            .velocity
+            .then(|| Column::new(&rg, "v", 1, &[ndof], "m/s"))
+            .transpose()?;
+
+        let cg = f.create_group("contact")?;
+        let np = layout.pairs.len();
+        let pairs: Vec<i64> = layout
+            .pairs
+            .iter()
+            .flat_map(|p| [p.station as i64, p.stator as i64, p.node as i64])
+            .collect();
+        static_ds(&cg, "pairs", &[np, 3], &pairs, "")?;
+        let names = |v: &[String]| v.join("\n");
+        attr_str(&cg, "station_names", &names(&layout.station_names))?;
+        let nst = case.stations.len();
+        let (pair_p, pair_force, pair_normal, station_force) = if fl.contact_force {
+            (
+                Some(Column::new(&cg, "p", 1, &[np], "N")?),
+                Some(Column::new(&cg, "force", 1, &[np, 2], "N")?),
+                Some(Column::new(&cg, "normal", 1, &[np, 2], "1")?),
+                Some(Column::new(&cg, "station_force", 1, &[nst, 2], "N")?),
+            )
+        } else {
+            (None, None, None, None)
+        };
+
+        let sg = f.create_group("stators")?;
+        for (k, s) in case.stators.iter().enumerate() {
+            let g = sg.create_group(&k.to_string())?;
+            attr_str(&g, "name", &s.name)?;
+            attr(&g, "station", s.station as i64)?;
+            attr(&g, "first_point", layout.stator_first_point[k] as i64)?;
+            attr(&g, "num_points", s.nodes.len() as i64)?;
+            let cells: Vec<i64> = layout.element_cells[k]
+                .iter()
+                .map(|c| c.map_or(-1, |c| c as i64))
+                .collect();
+            static_ds(&g, "element_cells", &[cells.len()], &cells, "")?;
+            let dofs: Vec<i64> = s
+                .node_dofs
+                .iter()
+                .flat_map(|d| d.map(|x| x.map_or(-1, |x| x as i64)))
+                .collect();
+            static_ds(&g, "node_dofs", &[s.nodes.len(), 2], &dofs, "")?;
+        }
+
+        // VTKHDF: the grid once, data per step.
+        let v = f.create_group("VTKHDF")?;
+        v.new_attr_builder()
+            .with_data(&VTKHDF_VERSION[..])
+            .create("Version")?;
+        let ty = FixedAscii::<16>::from_ascii("UnstructuredGrid")
+            .map_err(|e| h5::Error::from(e.to_string().as_str()))?;
+        attr(&v, "Type", ty)?;
+        let g = &layout.grid;
+        let npts = g.points.len();
+        let nc = g.num_cells();
+        static_ds(&v, "NumberOfPoints", &[1], &[npts as i64], "")?;
+        static_ds(&v, "NumberOfCells", &[1], &[nc as i64], "")?;
+        static_ds(
+            &v,
+            "NumberOfConnectivityIds",
+            &[1],
+            &[g.connectivity.len() as i64],
+            "",
+        )?;
+        let pts: Vec<f64> = g.points.iter().flatten().copied().collect();
+        static_ds(&v, "Points", &[npts, 3], &pts, "m")?;
+        static_ds(
+            &v,
+            "Connectivity",
+            &[g.connectivity.len()],
+            &g.connectivity,
+            "",
+        )?;
+        static_ds(&v, "Offsets", &[g.offsets.len()], &g.offsets, "")?;
+        let types: Vec<u8> = g.types.iter().map(|t| *t as u8).collect();
+        static_ds(&v, "Types", &[nc], &types, "")?;
+        let pd = v.create_group("PointData")?;
+        let cd = v.create_group("CellData")?;
+        v.create_group("FieldData")?;
+        let steps = v.create_group("Steps")?;
+        attr(&steps, "NSteps", 0_i64)?;
+        let values = Column::new(&steps, "Values", 1, &[], "s")?;
+        let parts = Column::new(&steps, "NumberOfParts", 1, &[], "")?;
+        let zero_offsets = [
+            "PartOffsets",
+            "PointOffsets",
+            "CellOffsets",
+            "ConnectivityIdOffsets",
+        ]
+        .iter()
+        .map(|n| Column::new(&steps, n, 1, &[], ""))
+        .collect::<h5::Result<Vec<_>>>()?;
+        let pdo = steps.create_group("PointDataOffsets")?;
+        let cdo = steps.create_group("CellDataOffsets")?;
+        steps.create_group("FieldDataOffsets")?;
+        let mut point_data = Vec::new();
+        for (on, name, field, unit) in [
+            (
+                fl.displacement,
+                "displacement",
+                PointField::Displacement,
+                "m",
+            ),
+            (fl.velocity, "velocity", PointField::Velocity, "m/s"),
+            (
+                fl.contact_force,
+                "contact_force",
+                PointField::ContactForce,
+                "N",
+            ),
+        ] {
+            if on {
+                point_data.push((
+                    Column::new(&pd, name, npts, &[3], unit)?,
+                    Column::new(&pdo, name, 1, &[], "")?,
+                    field,
+                ));
+            }
+        }
+        let mut cell_data = Vec::new();
+        let mut cf = Vec::new();
+        if fl.contact_force {
+            cf.push(("normal_force", CellField::NormalForce, "N"));
+        }
+        if fl.stress {
+            cf.push(("axial_force", CellField::AxialForce, "N"));
+            cf.push(("stress", CellField::Stress, "Pa"));
+            cf.push(("strain", CellField::Strain, "1"));
+        }
+        for (name, field, unit) in cf {
+            cell_data.push((
+                Column::new(&cd, name, nc, &[], unit)?,
+                Column::new(&cdo, name, 1, &[], "")?,
+                field,
+            ));
+        }
+        // Cell arrays that do not change: written once, every step points at offset 0.
+        static_ds(&cd, "part", &[nc], &g.part, "")?;
+        static_ds(&cd, "stator", &[nc], &g.stator, "")?;
+        static_ds(&cd, "index", &[nc], &g.index, "")?;
+        let static_cell_offsets = ["part", "stator", "index"]
+            .iter()
+            .map(|n| Column::new(&cdo, n, 1, &[], ""))
+            .collect::<h5::Result<Vec<_>>>()?;
+        Ok((
+            f,
+            Columns {
+                time,
+                step,
+                rotor_u,
+                rotor_v,
+                pair_p,
+                pair_force,
+                pair_normal,
+                station_force,
+                values,
+                zero_offsets,
+                parts,
+                point_data,
+                cell_data,
+                static_cell_offsets,
+            },
+            steps,
+        ))
+    }
+
+    fn write_h5(&mut self, layout: &Layout, st: &FrameState) -> h5::Result<()> {
+        let c = &mut self.cols;
+        let k = self.frames as i64;
+        c.time.push([st.t])?;
+        c.step.push([st.step as i64])?;
+        if let Some(col) = &mut c.rotor_u {
+            col.push(st.rotor_u.iter().copied())?;
+        }
+        if let Some(col) = &mut c.rotor_v {
+            col.push(st.rotor_v.iter().copied())?;
+        }
+        if let Some(col) = &mut c.pair_p {
+            col.push(st.pair_p.iter().copied())?;
+        }
+        if let Some(col) = &mut c.pair_force {
+            col.push(st.pair_force.iter().flatten().copied())?;
+        }
+        if let Some(col) = &mut c.pair_normal {
+            col.push(st.pair_normal.iter().flatten().copied())?;
+        }
+        if let Some(col) = &mut c.station_force {
+            col.push(st.station_force.iter().flatten().copied())?;
+        }
+        c.values.push([st.t])?;
+        c.parts.push([1])?;
+        for z in &mut c.zero_offsets {
+            z.push([0])?;
+        }
+        let npts = layout.num_points() as i64;
+        for (data, off, field) in &mut c.point_data {
+            let v = match field {
+                PointField::Displacement => &st.displacement,
+                PointField::Velocity => &st.velocity,
+                PointField::ContactForce => &st.contact_force,
+            };
+            data.push(v.iter().flatten().copied())?;
+            off.push([k * npts])?;
+        }
+        let nc = layout.grid.num_cells() as i64;
+        let body = layout.body_cells;
+        for (data, off, field) in &mut c.cell_data {
+            match field {
+                CellField::NormalForce => {
+                    data.push(std::iter::repeat_n(0.0, body).chain(st.pair_p.iter().copied()))?
+                }
+                CellField::AxialForce => data.push(st.axial_force.iter().copied())?,
+                CellField::Stress => data.push(st.stress.iter().copied())?,
+                CellField::Strain => data.push(st.strain.iter().copied())?,
+            }
+            off.push([k * nc])?;
+        }
+        for o in &mut c.static_cell_offsets {
+            o.push([0])?;
+        }
+        Ok(())
+    }
+
+    /// Appends one frame.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file (e.g. the disk is full).
+    pub fn write(&mut self, layout: &Layout, st: &FrameState, fields: &Fields) -> Result<()> {
+        debug_assert_eq!(*fields, self.fields);
+        self.write_h5(layout, st)
+            .map_err(|e| Error::output(&self.path, format!("writing HDF5: {e}")))?;
+        self.frames += 1;
+        Ok(())
+    }
+
+    fn finish_h5(&mut self) -> h5::Result<()> {
+        let c = &mut self.cols;
+        c.time.flush()?;
+        c.step.flush()?;
+        for col in [
+            &mut c.rotor_u,
+            &mut c.rotor_v,
+            &mut c.pair_p,
+            &mut c.pair_force,
+            &mut c.pair_normal,
+            &mut c.station_force,
+        ]
+        .into_iter()
+        .flatten()
+        {
+            col.flush()?;
+        }
+        c.values.flush()?;
+        c.parts.flush()?;
+        for z in c
+            .zero_offsets
+            .iter_mut()
+            .chain(c.static_cell_offsets.iter_mut())
+        {
+            z.flush()?;
+        }
+        for (d, o, _) in &mut c.point_data {
+            d.flush()?;
+            o.flush()?;
+        }
+        for (d, o, _) in &mut c.cell_data {
+            d.flush()?;
+            o.flush()?;
+        }
+        self.steps_group
+            .attr("NSteps")?
+            .write_scalar(&(self.frames as i64))?;
+        attr(&self.file, "frames", self.frames as i64)?;
+        self.file.flush()?;
+        Ok(())
+    }
+
+    /// Appends the buffered frames, records the number of steps and closes the file; returns
+    /// its name relative to the staging folder.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file.
+    pub fn finish(mut self) -> Result<Vec<String>> {
+        self.finish_h5()
+            .map_err(|e| Error::output(&self.path, format!("writing HDF5: {e}")))?;
+        let name = self.name.clone();
+        drop(self);
+        Ok(vec![name])
+    }
+}

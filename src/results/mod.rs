@@ -1,0 +1,905 @@
+//! Time series for ParaView and pyvista: VTK XML frames (`.vtu` files and a `.pvd` collection,
+//! [`vtk`]) and one HDF5 file per run with a transient VTKHDF group ([`hdf5`], cargo feature
+//! `hdf5`). The layout of both is documented in `docs/OUTPUTS.md`.
+//!
+//! [`ResultsSink`] is a [`FrameSink`]: the integrator hands it the full state every few steps
+//! and it streams frames to disk while the run goes, so memory does not grow with the run.
+//! Files are written below the output directory's staging folder
+//! ([`crate::output::OutDir::staging_dir`]) and moved into place when the command succeeds.
+//!
+//! # The output grid
+//!
+//! Both formats write the same unstructured grid ([`Layout`]):
+//!
+//! * points: the nodes of every stator, stator after stator, in the plane `z` of the rotor node
+//!   carrying their station, then the rotor nodes on the axis `(0, 0, z)`. Points are at their
+//!   **undeformed** positions (m); the point array `displacement` moves them (ParaView's
+//!   *Warp By Vector*).
+//! * cells: one per stator element ([`element_cell`]), the rotor (a vertex for a one-node rotor,
+//!   else a polyline through its nodes), then the contact pairs as lines from the rotor node of
+//!   the station to the stator node (a ring's target is its centre). The `.vtu` frames hold only
+//!   the pairs in contact at that instant; the VTKHDF grid, written once, holds every candidate
+//!   pair with `normal_force = 0` while it is open.
+//! * cell data `part` (0 stator element, 1 rotor, 2 contact pair), `stator` (stator index, −1
+//!   for the rotor) and `index` (element index in its stator, pair index, 0 for the rotor).
+//!
+//! Conventions are the crate's: SI units, x horizontal, y vertical, rotor axis z; contact force
+//! positive on the body it acts on (`contact_force` at a stator node is `Σ (n + μa) p` of its
+//! pairs, at a rotor node the opposite sum); `normal_force` is the multiplier `p ≥ 0`
+//! (compression).
+
+pub mod vtk;
+
+#[cfg(feature = "hdf5")]
+pub mod hdf5;
+
+use crate::analysis::{self, Keep, RunSettings, SpeedResults, SweepResults};
+#[cfg(not(feature = "hdf5"))]
+use crate::error::Error;
+use crate::error::Result;
+use crate::model::stator::StatorElement;
+use crate::model::{Case, Model, Target};
+use crate::scene::{OutputSpec, PerSpeed, SeriesField, SeriesSpec};
+use crate::time::{plan_steps, Frame, FrameSink, StepPlan};
+use std::path::Path;
+pub use vtkio::model::CellType;
+
+/// Values of the `part` cell array.
+pub mod part {
+    /// A stator element.
+    pub const STATOR: u8 = 0;
+    /// The rotor.
+    pub const ROTOR: u8 = 1;
+    /// A contact pair (station–stator node).
+    pub const CONTACT: u8 = 2;
+}
+
+/// The VTK cell of a stator element: its type and its nodes (indices into the stator's nodes);
+/// `None` for element kinds that have no cell yet (they are left out of the output).
+///
+/// **New [`StatorElement`] kinds (triangles, quadrilaterals, tetrahedra of meshed stators) add
+/// their arm here**, with VTK's node order; cell data then follow [`crate::model::StatorModel::element_forces`].
+pub fn element_cell(el: &StatorElement) -> Option<(CellType, Vec<usize>)> {
+    #[allow(unreachable_patterns)]
+    match el {
+        StatorElement::Bar { nodes, .. } => Some((CellType::Line, nodes.to_vec())),
+        StatorElement::Spring { node, .. } => Some((CellType::Vertex, vec![*node])),
+        StatorElement::Frame { nodes, .. } => Some((CellType::Line, nodes.to_vec())),
+        // gmsh and VTK number the nodes of these cells alike.
+        StatorElement::Solid2 { kind, nodes, .. } => {
+            vtk_cell_type(kind.vtk_type()).map(|t| (t, nodes.clone()))
+        }
+        _ => None,
+    }
+}
+
+/// The `vtkio` cell type of a VTK cell type number (the linear and quadratic cells of lines,
+/// triangles, quadrilaterals and tetrahedra).
+pub fn vtk_cell_type(n: u8) -> Option<CellType> {
+    Some(match n {
+        1 => CellType::Vertex,
+        3 => CellType::Line,
+        4 => CellType::PolyLine,
+        5 => CellType::Triangle,
+        9 => CellType::Quad,
+        10 => CellType::Tetra,
+        21 => CellType::QuadraticEdge,
+        22 => CellType::QuadraticTriangle,
+        23 => CellType::QuadraticQuad,
+        24 => CellType::QuadraticTetra,
+        28 => CellType::BiquadraticQuad,
+        _ => return None,
+    })
+}
+
+/// Strain of an element from its stress (Pa): σ/E for bars and frames (axial), NaN where it is
+/// not defined (springs; continuum cells, whose stress is the centroid von Mises stress).
+fn element_strain(el: &StatorElement, stress: f64) -> f64 {
+    #[allow(unreachable_patterns)]
+    match el {
+        StatorElement::Bar { youngs_modulus, .. } => stress / youngs_modulus,
+        StatorElement::Frame { section, .. } => stress / section.youngs_modulus,
+        _ => f64::NAN,
+    }
+}
+
+/// Axial position z (m) of each rotor node, in node order.
+///
+/// Seam for the FE rotor: the Jeffcott rotor has one node at z = 0, and until the rotor model
+/// gives node positions every node is placed at z = 0. Replace the body with the model's node
+/// coordinates when they exist; everything else (stator planes, the rotor polyline) follows.
+pub fn rotor_node_z(case: &Case) -> Vec<f64> {
+    vec![0.0; case.rotor.node_dofs.len()]
+}
+
+/// The unstructured grid written by both formats (see the module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputGrid {
+    /// Undeformed point coordinates `[x, y, z]` (m).
+    pub points: Vec<[f64; 3]>,
+    /// Point indices of every cell, cell after cell.
+    pub connectivity: Vec<i64>,
+    /// Start of each cell in `connectivity`, with the end as last entry (cells + 1 values).
+    pub offsets: Vec<i64>,
+    /// VTK cell types.
+    pub types: Vec<CellType>,
+    /// Cell data `part` ([`part`]).
+    pub part: Vec<u8>,
+    /// Cell data `stator`: stator index, −1 for the rotor.
+    pub stator: Vec<i32>,
+    /// Cell data `index`: element index in its stator, pair index, 0 for the rotor.
+    pub index: Vec<i64>,
+}
+
+impl OutputGrid {
+    fn new() -> Self {
+        Self {
+            points: Vec::new(),
+            connectivity: Vec::new(),
+            offsets: vec![0],
+            types: Vec::new(),
+            part: Vec::new(),
+            stator: Vec::new(),
+            index: Vec::new(),
+        }
+    }
+
+    fn push_cell(&mut self, kind: CellType, pts: &[usize], part: u8, stator: i32, index: i64) {
+        self.connectivity.extend(pts.iter().map(|p| *p as i64));
+        self.offsets.push(self.connectivity.len() as i64);
+        self.types.push(kind);
+        self.part.push(part);
+        self.stator.push(stator);
+        self.index.push(index);
+    }
+
+    /// Number of cells.
+    pub fn num_cells(&self) -> usize {
+        self.types.len()
+    }
+
+    /// Point indices of cell `c`.
+    pub fn cell(&self, c: usize) -> &[i64] {
+        &self.connectivity[self.offsets[c] as usize..self.offsets[c + 1] as usize]
+    }
+}
+
+/// A contact candidate as the integrator enumerates them (stator by stator, target by target).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PairSlot {
+    /// Station index.
+    pub station: usize,
+    /// Stator index.
+    pub stator: usize,
+    /// Stator node of the target (ring: 0, its centre).
+    pub node: usize,
+    /// Grid point of the rotor node carrying the station.
+    pub rotor_point: usize,
+    /// Grid point of the stator node.
+    pub stator_point: usize,
+}
+
+/// Where everything of a case sits in the [`OutputGrid`].
+#[derive(Debug, Clone)]
+pub struct Layout {
+    /// The grid with every candidate pair (the VTKHDF grid).
+    pub grid: OutputGrid,
+    /// First grid point of each stator.
+    pub stator_first_point: Vec<usize>,
+    /// First grid point of the rotor.
+    pub rotor_first_point: usize,
+    /// Grid cell of each stator element (`None`: no cell, see [`element_cell`]).
+    pub element_cells: Vec<Vec<Option<usize>>>,
+    /// Cells before the contact pairs (stator elements and the rotor).
+    pub body_cells: usize,
+    /// Contact candidates; pair `i` is grid cell `body_cells + i`.
+    pub pairs: Vec<PairSlot>,
+    /// Pair index of `(stator, node)`.
+    pair_of: Vec<Vec<Option<usize>>>,
+    /// Stator names.
+    pub stator_names: Vec<String>,
+    /// Station names.
+    pub station_names: Vec<String>,
+}
+
+impl Layout {
+    /// Lays out a case.
+    pub fn new(case: &Case) -> Self {
+        let z = rotor_node_z(case);
+        let mut g = OutputGrid::new();
+        let mut stator_first_point = Vec::new();
+        for s in &case.stators {
+            stator_first_point.push(g.points.len());
+            let zs = z[case.stations[s.station].node];
+            g.points.extend(s.nodes.iter().map(|p| [p[0], p[1], zs]));
+        }
+        let rotor_first_point = g.points.len();
+        g.points.extend(z.iter().map(|z| [0.0, 0.0, *z]));
+        let mut element_cells = Vec::new();
+        for (k, s) in case.stators.iter().enumerate() {
+            let first = stator_first_point[k];
+            let cells = s
+                .elements
+                .iter()
+                .enumerate()
+                .map(|(e, el)| {
+                    element_cell(el).map(|(kind, nodes)| {
+                        let pts: Vec<usize> = nodes.iter().map(|n| first + n).collect();
+                        g.push_cell(kind, &pts, part::STATOR, k as i32, e as i64);
+                        g.num_cells() - 1
+                    })
+                })
+                .collect();
+            element_cells.push(cells);
+        }
+        let nr = z.len();
+        if nr == 1 {
+            g.push_cell(CellType::Vertex, &[rotor_first_point], part::ROTOR, -1, 0);
+        } else if nr > 1 {
+            let pts: Vec<usize> = (rotor_first_point..rotor_first_point + nr).collect();
+            g.push_cell(CellType::PolyLine, &pts, part::ROTOR, -1, 0);
+        }
+        let body_cells = g.num_cells();
+        let mut pairs = Vec::new();
+        let mut pair_of = Vec::new();
+        for (k, s) in case.stators.iter().enumerate() {
+            let mut of = vec![None; s.nodes.len()];
+            let station = s.station;
+            for t in &s.targets {
+                let node = match t {
+                    Target::Node { node, .. } => *node,
+                    Target::Ring { .. } => 0,
+                };
+                let slot = PairSlot {
+                    station,
+                    stator: k,
+                    node,
+                    rotor_point: rotor_first_point + case.stations[station].node,
+                    stator_point: stator_first_point[k] + node,
+                };
+                if let Some(o) = of.get_mut(node) {
+                    *o = Some(pairs.len());
+                }
+                g.push_cell(
+                    CellType::Line,
+                    &[slot.rotor_point, slot.stator_point],
+                    part::CONTACT,
+                    k as i32,
+                    pairs.len() as i64,
+                );
+                pairs.push(slot);
+            }
+            pair_of.push(of);
+        }
+        Self {
+            grid: g,
+            stator_first_point,
+            rotor_first_point,
+            element_cells,
+            body_cells,
+            pairs,
+            pair_of,
+            stator_names: case.stators.iter().map(|s| s.name.clone()).collect(),
+            station_names: case.stations.iter().map(|s| s.name.clone()).collect(),
+        }
+    }
+
+    /// Number of grid points.
+    pub fn num_points(&self) -> usize {
+        self.grid.points.len()
+    }
+
+    /// Pair index of a stator node, if it is a contact target.
+    pub fn pair_index(&self, stator: usize, node: usize) -> Option<usize> {
+        self.pair_of.get(stator)?.get(node).copied().flatten()
+    }
+}
+
+/// Which fields a writer writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Fields {
+    /// Point `displacement` (and the rotor DOFs in HDF5).
+    pub displacement: bool,
+    /// Point `velocity` (and the rotor DOF velocities in HDF5).
+    pub velocity: bool,
+    /// Point `contact_force`, cell `normal_force`, HDF5 `/contact`.
+    pub contact_force: bool,
+    /// Cell `axial_force`, `stress`, `strain`.
+    pub stress: bool,
+}
+
+impl Fields {
+    /// From a scene's list.
+    pub fn from_list(list: &[SeriesField]) -> Self {
+        let has = |f| list.contains(&f);
+        Self {
+            displacement: has(SeriesField::Displacement),
+            velocity: has(SeriesField::Velocity),
+            contact_force: has(SeriesField::ContactForce),
+            stress: has(SeriesField::Stress),
+        }
+    }
+}
+
+/// The frames of one writer: steps `first, first + every, … ≤ last`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FramePlan {
+    /// Steps between frames.
+    pub every: usize,
+    /// First frame step (a multiple of `every`).
+    pub first: usize,
+    /// Last step that may hold a frame.
+    pub last: usize,
+    /// Fields written.
+    pub fields: Fields,
+}
+
+impl FramePlan {
+    /// Resolves a scene's writer against a run's step plan.
+    pub fn new(spec: &SeriesSpec, plan: &StepPlan) -> Self {
+        let every = spec.every.unwrap_or(plan.record_every).max(1);
+        let spr = plan.steps_per_rev as f64;
+        let first =
+            ((spec.from_revolution * spr - 1e-6).ceil().max(0.0) as usize).div_ceil(every) * every;
+        let last = spec.to_revolution.map_or(plan.steps, |r| {
+            ((r * spr + 1e-6).floor().max(0.0) as usize).min(plan.steps)
+        });
+        Self {
+            every,
+            first,
+            last,
+            fields: Fields::from_list(&spec.fields),
+        }
+    }
+
+    /// True when `step` holds a frame.
+    pub fn contains(&self, step: usize) -> bool {
+        step >= self.first && step <= self.last && step % self.every == 0
+    }
+
+    /// Number of frames.
+    pub fn count(&self) -> usize {
+        if self.first > self.last {
+            0
+        } else {
+            (self.last - self.first) / self.every + 1
+        }
+    }
+}
+
+/// The state of one frame on the [`OutputGrid`], in buffers reused from frame to frame.
+#[derive(Debug, Clone)]
+pub struct FrameState {
+    /// Step index.
+    pub step: usize,
+    /// Time (s).
+    pub t: f64,
+    /// Rotor DOF vector (m, rad).
+    pub rotor_u: Vec<f64>,
+    /// Rotor DOF velocities (m/s, rad/s), backward difference over one step.
+    pub rotor_v: Vec<f64>,
+    /// Point displacements (m).
+    pub displacement: Vec<[f64; 3]>,
+    /// Point velocities (m/s), backward difference over one step.
+    pub velocity: Vec<[f64; 3]>,
+    /// Point contact forces (N) on the body the point belongs to.
+    pub contact_force: Vec<[f64; 3]>,
+    /// Normal force p ≥ 0 of every candidate pair (N); 0 when open.
+    pub pair_p: Vec<f64>,
+    /// Force `(n + μa) p` on the stator node of every pair (N).
+    pub pair_force: Vec<[f64; 2]>,
+    /// Unit normal of every pair in contact (0 when open).
+    pub pair_normal: Vec<[f64; 2]>,
+    /// Total contact force on each station of the rotor (N).
+    pub station_force: Vec<[f64; 2]>,
+    /// Axial force (N) per grid cell: stator elements; NaN for other cells.
+    pub axial_force: Vec<f64>,
+    /// Stress (Pa) per grid cell: stator elements; NaN for other cells.
+    pub stress: Vec<f64>,
+    /// Strain per grid cell: stator elements; NaN for other cells.
+    pub strain: Vec<f64>,
+}
+
+impl FrameState {
+    fn new(layout: &Layout, case: &Case) -> Self {
+        let np = layout.num_points();
+        let nc = layout.grid.num_cells();
+        let npairs = layout.pairs.len();
+        Self {
+            step: 0,
+            t: 0.0,
+            rotor_u: vec![0.0; case.rotor.ndof],
+            rotor_v: vec![0.0; case.rotor.ndof],
+            displacement: vec![[0.0; 3]; np],
+            velocity: vec![[0.0; 3]; np],
+            contact_force: vec![[0.0; 3]; np],
+            pair_p: vec![0.0; npairs],
+            pair_force: vec![[0.0; 2]; npairs],
+            pair_normal: vec![[0.0; 2]; npairs],
+            station_force: vec![[0.0; 2]; case.stations.len()],
+            axial_force: vec![f64::NAN; nc],
+            stress: vec![f64::NAN; nc],
+            strain: vec![f64::NAN; nc],
+        }
+    }
+
+    /// Fills displacements, contact forces and element fields from a frame (not velocities).
+    fn fill(&mut self, layout: &Layout, case: &Case, f: &Frame<'_>) {
+        self.step = f.step;
+        self.t = f.t;
+        self.rotor_u.copy_from_slice(f.rotor_u);
+        for (k, s) in case.stators.iter().enumerate() {
+            let u = f.stator_u(k);
+            let first = layout.stator_first_point[k];
+            for (n, d) in s.node_dofs.iter().enumerate() {
+                let c = |i: Option<usize>| i.map_or(0.0, |i| u[i]);
+                self.displacement[first + n] = [c(d[0]), c(d[1]), 0.0];
+            }
+        }
+        for (n, d) in case.rotor.node_dofs.iter().enumerate() {
+            self.displacement[layout.rotor_first_point + n] =
+                [f.rotor_u[d[0]], f.rotor_u[d[1]], 0.0];
+        }
+        self.contact_force.fill([0.0; 3]);
+        self.pair_p.fill(0.0);
+        self.pair_force.fill([0.0; 2]);
+        self.pair_normal.fill([0.0; 2]);
+        self.station_force.fill([0.0; 2]);
+        for p in f.pairs {
+            if let Some(i) = layout.pair_index(p.stator, p.node) {
+                self.pair_p[i] += p.p;
+                self.pair_force[i][0] += p.force[0];
+                self.pair_force[i][1] += p.force[1];
+                self.pair_normal[i] = p.n;
+                let slot = layout.pairs[i];
+                for c in 0..2 {
+                    self.contact_force[slot.stator_point][c] += p.force[c];
+                    self.contact_force[slot.rotor_point][c] -= p.force[c];
+                }
+            }
+            self.station_force[p.station][0] -= p.force[0];
+            self.station_force[p.station][1] -= p.force[1];
+        }
+        for (k, s) in case.stators.iter().enumerate() {
+            if s.elements.is_empty() {
+                continue;
+            }
+            let ef = s.element_forces(f.stator_u(k));
+            for (e, (force, stress)) in ef.into_iter().enumerate() {
+                if let Some(c) = layout.element_cells[k][e] {
+                    self.axial_force[c] = force;
+                    self.stress[c] = stress;
+                    self.strain[c] = element_strain(&s.elements[e], stress);
+                }
+            }
+        }
+    }
+}
+
+/// Run information stored with the results (HDF5 attributes, `.pvd` comment).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunInfo {
+    /// The resolved scene as JSON.
+    pub scene_json: String,
+    /// ω/ω_n.
+    pub speed_ratio: f64,
+    /// ω (rad/s).
+    pub omega: f64,
+    /// The step plan.
+    pub plan: StepPlan,
+    /// Integrator name.
+    pub integrator: &'static str,
+}
+
+/// Displacements of the step before a frame (for the backward-difference velocities).
+#[derive(Debug, Clone)]
+struct PrevStep {
+    step: usize,
+    t: f64,
+    displacement: Vec<[f64; 3]>,
+    rotor_u: Vec<f64>,
+}
+
+/// Streams the frames of one run to the VTK and HDF5 writers a scene asks for.
+pub struct ResultsSink {
+    case: Case,
+    layout: Layout,
+    state: FrameState,
+    every: usize,
+    /// The step before a frame, for velocities.
+    prev: Option<PrevStep>,
+    need_velocity: bool,
+    init_velocity: [f64; 2],
+    vtk: Option<(FramePlan, vtk::VtkSeries)>,
+    #[cfg(feature = "hdf5")]
+    hdf5: Option<(FramePlan, hdf5::Hdf5Series)>,
+}
+
+impl std::fmt::Debug for ResultsSink {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ResultsSink")
+            .field("every", &self.every)
+            .field("points", &self.layout.num_points())
+            .finish_non_exhaustive()
+    }
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+/// True when the scene asks for any time series.
+pub fn wanted(o: &OutputSpec) -> bool {
+    o.vtk.is_some() || o.hdf5.is_some()
+}
+
+/// Frame plans of the scene's writers at one speed, as `(format, plan)`, e.g. for reports.
+pub fn frame_plans(o: &OutputSpec, plan: &StepPlan) -> Vec<(&'static str, FramePlan)> {
+    let mut v = Vec::new();
+    if let Some(s) = &o.vtk {
+        v.push(("vtk", FramePlan::new(s, plan)));
+    }
+    if let Some(s) = &o.hdf5 {
+        v.push(("hdf5", FramePlan::new(s, plan)));
+    }
+    v
+}
+
+/// One line per time-series writer for `rubsim check`: files, frame count and interval at the
+/// speed of `plan`.
+pub fn describe(o: &OutputSpec, plan: &StepPlan, sweep: bool) -> Vec<String> {
+    let folder = if sweep {
+        match &o.per_speed {
+            PerSpeed::All(false) => {
+                return vec!["time series: none (sweep without output.per_speed)".into()]
+            }
+            PerSpeed::All(true) => "speed_<ν>/ for every speed, ",
+            PerSpeed::Speeds(_) => "speed_<ν>/ for the speeds of output.per_speed, ",
+        }
+    } else {
+        ""
+    };
+    frame_plans(o, plan)
+        .into_iter()
+        .map(|(fmt, fp)| {
+            let files = match fmt {
+                "vtk" => format!("{} + {}/frame_NNNNNN.vtu", vtk::PVD, vtk::FRAME_DIR),
+                _ => "results.vtkhdf".to_string(),
+            };
+            format!(
+                "{fmt}: {folder}{files}: {} frames, every {} steps (Δt = {:.3e} s), steps {}–{} of {}",
+                fp.count(),
+                fp.every,
+                plan.dt,
+                fp.first,
+                fp.last,
+                plan.steps
+            )
+        })
+        .collect()
+}
+
+impl ResultsSink {
+    /// Prepares the writers of `output` for a run of `model` at ω/ω_n = `speed_ratio`; files go
+    /// below `staging/prefix` (`prefix` empty or ending in `/`). Opens every file and writes
+    /// the static parts at once, so an unwritable directory fails before the run.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file when a writer cannot be created; model errors.
+    pub fn new(
+        model: &Model,
+        settings: &RunSettings,
+        speed_ratio: f64,
+        output: &OutputSpec,
+        scene_json: &str,
+        staging: &Path,
+        prefix: &str,
+    ) -> Result<Self> {
+        let omega = speed_ratio * model.rotor.natural_frequency();
+        let case = model.case(omega)?;
+        let plan = plan_steps(&case, &settings.step)?;
+        let layout = Layout::new(&case);
+        let state = FrameState::new(&layout, &case);
+        let info = RunInfo {
+            scene_json: scene_json.to_string(),
+            speed_ratio: case.speed_ratio,
+            omega,
+            plan,
+            integrator: settings.step.integrator.name(),
+        };
+        let mut every = 0;
+        let mut need_velocity = false;
+        let vtk = match &output.vtk {
+            Some(spec) => {
+                let fp = FramePlan::new(spec, &plan);
+                every = gcd(every, fp.every);
+                need_velocity |= fp.fields.velocity;
+                Some((fp, vtk::VtkSeries::create(staging, prefix, &info)?))
+            }
+            None => None,
+        };
+        #[cfg(feature = "hdf5")]
+        let hdf5 = match &output.hdf5 {
+            Some(spec) => {
+                let fp = FramePlan::new(spec, &plan);
+                every = gcd(every, fp.every);
+                need_velocity |= fp.fields.velocity;
+                Some((
+                    fp,
+                    hdf5::Hdf5Series::create(staging, prefix, &layout, &case, &fp, &info)?,
+                ))
+            }
+            None => None,
+        };
+        #[cfg(not(feature = "hdf5"))]
+        if output.hdf5.is_some() {
+            return Err(Error::output(
+                staging.join(prefix),
+                "output.hdf5 is set but rubsim was built without the `hdf5` feature (rebuild with default features, libhdf5 installed)",
+            ));
+        }
+        if need_velocity {
+            every = 1;
+        }
+        Ok(Self {
+            case,
+            layout,
+            state,
+            every,
+            prev: None,
+            need_velocity,
+            init_velocity: settings.initial.v,
+            vtk,
+            #[cfg(feature = "hdf5")]
+            hdf5,
+        })
+    }
+
+    /// The grid layout.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    fn wants(&self, step: usize) -> bool {
+        let v = self.vtk.as_ref().is_some_and(|(p, _)| p.contains(step));
+        #[cfg(feature = "hdf5")]
+        let h = self.hdf5.as_ref().is_some_and(|(p, _)| p.contains(step));
+        #[cfg(not(feature = "hdf5"))]
+        let h = false;
+        v || h
+    }
+
+    fn velocities(&mut self) {
+        let st = &mut self.state;
+        match &self.prev {
+            Some(p) if p.step + 1 == st.step && st.t > p.t => {
+                let dt = st.t - p.t;
+                for (v, (a, b)) in st
+                    .velocity
+                    .iter_mut()
+                    .zip(st.displacement.iter().zip(&p.displacement))
+                {
+                    *v = [(a[0] - b[0]) / dt, (a[1] - b[1]) / dt, (a[2] - b[2]) / dt];
+                }
+                for (v, (a, b)) in st.rotor_v.iter_mut().zip(st.rotor_u.iter().zip(&p.rotor_u)) {
+                    *v = (a - b) / dt;
+                }
+            }
+            _ => {
+                // First frame of the run: the initial velocity (rotor station node; stators at
+                // rest).
+                st.velocity.fill([0.0; 3]);
+                st.rotor_v.fill(0.0);
+                if st.step == 0 {
+                    let node = self.case.stations.first().map_or(0, |s| s.node);
+                    let d = self.case.rotor.node_dofs[node];
+                    st.rotor_v[d[0]] = self.init_velocity[0];
+                    st.rotor_v[d[1]] = self.init_velocity[1];
+                    let p = self.layout.rotor_first_point + node;
+                    st.velocity[p] = [self.init_velocity[0], self.init_velocity[1], 0.0];
+                }
+            }
+        }
+    }
+
+    fn write(&mut self) -> Result<()> {
+        let step = self.state.step;
+        if let Some((fp, w)) = &mut self.vtk {
+            if fp.contains(step) {
+                w.write(&self.layout, &self.state, &fp.fields)?;
+            }
+        }
+        #[cfg(feature = "hdf5")]
+        if let Some((fp, w)) = &mut self.hdf5 {
+            if fp.contains(step) {
+                w.write(&self.layout, &self.state, &fp.fields)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Flushes and closes every writer; returns the files written (relative to the staging
+    /// folder, prefix included), to be adopted by the output directory.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file.
+    pub fn finish(self) -> Result<Vec<String>> {
+        let mut names = Vec::new();
+        if let Some((_, w)) = self.vtk {
+            names.extend(w.finish()?);
+        }
+        #[cfg(feature = "hdf5")]
+        if let Some((_, w)) = self.hdf5 {
+            names.extend(w.finish()?);
+        }
+        Ok(names)
+    }
+}
+
+impl FrameSink for ResultsSink {
+    fn every(&self) -> usize {
+        self.every
+    }
+
+    fn frame(&mut self, frame: &Frame<'_>) -> std::result::Result<(), String> {
+        let now = self.wants(frame.step);
+        let before_next = self.need_velocity && self.wants(frame.step + 1);
+        if !now && !before_next {
+            return Ok(());
+        }
+        self.state.fill(&self.layout, &self.case, frame);
+        if now {
+            if self.need_velocity {
+                self.velocities();
+            }
+            self.write().map_err(|e| e.to_string())?;
+        }
+        if before_next {
+            // Reuses the buffers of the previous copy: no allocation after the first frame.
+            let p = match self.prev.take() {
+                Some(mut p) => {
+                    p.displacement.copy_from_slice(&self.state.displacement);
+                    p.rotor_u.copy_from_slice(&self.state.rotor_u);
+                    p
+                }
+                None => PrevStep {
+                    step: 0,
+                    t: 0.0,
+                    displacement: self.state.displacement.clone(),
+                    rotor_u: self.state.rotor_u.clone(),
+                },
+            };
+            self.prev = Some(PrevStep {
+                step: frame.step,
+                t: frame.t,
+                ..p
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Runs one speed ([`analysis::run_speed_with`]) with the time series `output` asks for,
+/// written below `staging/prefix`; returns the results and the files written (relative to
+/// `staging`). Without `output.vtk`/`output.hdf5` this is [`analysis::run_speed`].
+#[allow(clippy::too_many_arguments)]
+pub fn run_speed(
+    model: &Model,
+    settings: &RunSettings,
+    speed_ratio: f64,
+    keep: Keep,
+    output: &OutputSpec,
+    scene_json: &str,
+    staging: &Path,
+    prefix: &str,
+) -> Result<(SpeedResults, Vec<String>)> {
+    if !wanted(output) {
+        return Ok((
+            analysis::run_speed(model, settings, speed_ratio, keep)?,
+            Vec::new(),
+        ));
+    }
+    let mut sink = ResultsSink::new(
+        model,
+        settings,
+        speed_ratio,
+        output,
+        scene_json,
+        staging,
+        prefix,
+    )?;
+    let r = analysis::run_speed_with(model, settings, speed_ratio, keep, Some(&mut sink))?;
+    Ok((r, sink.finish()?))
+}
+
+/// The sub-folder of a speed's time series in a sweep: `speed_<ω/ω_n>/`.
+pub fn speed_folder(speed_ratio: f64) -> String {
+    format!("speed_{speed_ratio}/")
+}
+
+/// Which sweep speeds write time series (`output.per_speed`), as a flag per speed.
+///
+/// # Errors
+/// A listed speed that is not one of the sweep's (the message lists them).
+pub fn per_speed_selection(
+    o: &OutputSpec,
+    speeds: &[f64],
+) -> std::result::Result<Vec<bool>, String> {
+    match &o.per_speed {
+        PerSpeed::All(all) => Ok(vec![*all && wanted(o); speeds.len()]),
+        PerSpeed::Speeds(list) => {
+            let mut sel = vec![false; speeds.len()];
+            for v in list {
+                match speeds.iter().position(|s| (s - v).abs() < 1e-6) {
+                    Some(i) => sel[i] = true,
+                    None => {
+                        return Err(format!(
+                            "ω/ω_n = {v} is not a speed of the sweep ({})",
+                            speeds
+                                .iter()
+                                .map(|s| s.to_string())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ))
+                    }
+                }
+            }
+            Ok(sel)
+        }
+    }
+}
+
+/// A sweep ([`analysis::sweep_with`]) whose speeds flagged in `selected` (see
+/// [`per_speed_selection`]) write their time series into `staging/prefix/speed_<ω/ω_n>/`;
+/// returns the results and the files written (relative to `staging`).
+#[allow(clippy::too_many_arguments)]
+pub fn sweep(
+    model: &Model,
+    settings: &RunSettings,
+    speeds: &[f64],
+    keep: &(dyn Fn(f64) -> Keep + Sync),
+    progress: &(dyn Fn() + Sync),
+    selected: &[bool],
+    output: &OutputSpec,
+    scene_json: &str,
+    staging: &Path,
+    prefix: &str,
+) -> Result<(SweepResults, Vec<String>)> {
+    let sel = selected;
+    if !sel.iter().any(|s| *s) {
+        return Ok((
+            analysis::sweep(model, settings, speeds, keep, progress)?,
+            Vec::new(),
+        ));
+    }
+    let written = std::sync::Mutex::new(Vec::new());
+    let res = analysis::sweep_with(
+        speeds,
+        &|v| {
+            let i = speeds.iter().position(|s| *s == v);
+            if !i.is_some_and(|i| sel.get(i).copied().unwrap_or(false)) {
+                return analysis::run_speed(model, settings, v, keep(v));
+            }
+            let (r, names) = run_speed(
+                model,
+                settings,
+                v,
+                keep(v),
+                output,
+                scene_json,
+                staging,
+                &format!("{prefix}{}", speed_folder(v)),
+            )?;
+            written.lock().expect("no writer panicked").extend(names);
+            Ok(r)
+        },
+        progress,
+    )?;
+    let mut names = written.into_inner().expect("no writer panicked");
+    names.sort();
+    Ok((res, names))
+}

@@ -1,0 +1,223 @@
+//! VTK XML time series: one `.vtu` unstructured grid per frame (`vtk/frame_NNNNNN.vtu`,
+//! written with `vtkio`, binary inline data) and a `.pvd` collection (`results.pvd`) listing
+//! them with their times (s). The `.pvd` is streamed too: its header is written when the run
+//! starts, one `DataSet` line per frame, the footer at [`VtkSeries::finish`].
+//!
+//! Grid, arrays and units: [`super`] and `docs/OUTPUTS.md`.
+
+use super::{part, Fields, FrameState, Layout, RunInfo};
+use crate::error::{Error, Result};
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, Cells, DataSet, IOBuffer, UnstructuredGridPiece, Version,
+    VertexNumbers, Vtk,
+};
+
+/// Name of the collection, relative to the run's folder.
+pub const PVD: &str = "results.pvd";
+/// Folder of the frames, relative to the run's folder.
+pub const FRAME_DIR: &str = "vtk";
+
+/// Name of frame `i`, relative to the run's folder.
+pub fn frame_name(i: usize) -> String {
+    format!("{FRAME_DIR}/frame_{i:06}.vtu")
+}
+
+/// A `.pvd` + `.vtu` series being written.
+#[derive(Debug)]
+pub struct VtkSeries {
+    dir: PathBuf,
+    prefix: String,
+    pvd: BufWriter<File>,
+    pvd_path: PathBuf,
+    frames: usize,
+}
+
+fn io_err(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::output(path, e)
+}
+
+impl VtkSeries {
+    /// Creates `staging/prefix/results.pvd` (header written) and the frame folder.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file or folder that cannot be created.
+    pub fn create(staging: &Path, prefix: &str, info: &RunInfo) -> Result<Self> {
+        let dir = staging.join(prefix);
+        let frames = dir.join(FRAME_DIR);
+        std::fs::create_dir_all(&frames).map_err(|e| io_err(&frames, e))?;
+        let pvd_path = dir.join(PVD);
+        let f = File::create(&pvd_path).map_err(|e| io_err(&pvd_path, e))?;
+        let mut pvd = BufWriter::new(f);
+        write!(
+            pvd,
+            "<?xml version=\"1.0\"?>\n<!-- rubsim {}: ω/ω_n = {}, ω = {} rad/s, Δt = {:e} s, {} integrator; times in s -->\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
+            env!("CARGO_PKG_VERSION"),
+            info.speed_ratio,
+            info.omega,
+            info.plan.dt,
+            info.integrator
+        )
+        .map_err(|e| io_err(&pvd_path, e))?;
+        Ok(Self {
+            dir,
+            prefix: prefix.to_string(),
+            pvd,
+            pvd_path,
+            frames: 0,
+        })
+    }
+
+    /// Writes one frame: the `.vtu` file and its line in the `.pvd`.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file.
+    pub fn write(&mut self, layout: &Layout, st: &FrameState, fields: &Fields) -> Result<()> {
+        let name = frame_name(self.frames);
+        let path = self.dir.join(&name);
+        // Serialised in memory first, so that a write error (e.g. a full disk) is reported as
+        // the I/O error it is.
+        let mut xml = Vec::new();
+        frame_vtk(layout, st, fields)
+            .write_xml(&mut xml)
+            .map_err(|e| io_err(&path, e))?;
+        std::fs::write(&path, &xml).map_err(|e| io_err(&path, e))?;
+        writeln!(
+            self.pvd,
+            "    <DataSet timestep=\"{:.17e}\" group=\"\" part=\"0\" file=\"{name}\"/>",
+            st.t
+        )
+        .map_err(|e| io_err(&self.pvd_path, e))?;
+        self.frames += 1;
+        Ok(())
+    }
+
+    /// Number of frames written so far.
+    pub fn frames(&self) -> usize {
+        self.frames
+    }
+
+    /// Writes the `.pvd` footer and closes it; returns the files written, relative to the
+    /// staging folder.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the `.pvd`.
+    pub fn finish(mut self) -> Result<Vec<String>> {
+        self.pvd
+            .write_all(b"  </Collection>\n</VTKFile>\n")
+            .and_then(|_| self.pvd.flush())
+            .map_err(|e| io_err(&self.pvd_path, e))?;
+        let mut names = Vec::with_capacity(self.frames + 1);
+        names.push(format!("{}{PVD}", self.prefix));
+        names.extend((0..self.frames).map(|i| format!("{}{}", self.prefix, frame_name(i))));
+        Ok(names)
+    }
+}
+
+fn flat3(v: &[[f64; 3]]) -> Vec<f64> {
+    v.iter().flatten().copied().collect()
+}
+
+fn vectors(name: &str, v: Vec<f64>) -> Attribute {
+    Attribute::vectors(name).with_data(IOBuffer::F64(v))
+}
+
+fn scalars(name: &str, v: IOBuffer) -> Attribute {
+    Attribute::scalars(name, 1).with_data(v)
+}
+
+/// The grid of one frame: stator elements, rotor, and the pairs in contact.
+fn frame_vtk(layout: &Layout, st: &FrameState, fields: &Fields) -> Vtk {
+    let g = &layout.grid;
+    let active: Vec<usize> = (0..layout.pairs.len())
+        .filter(|&i| st.pair_p[i] > 0.0)
+        .collect();
+    let cells: Vec<usize> = (0..layout.body_cells)
+        .chain(active.iter().map(|i| layout.body_cells + i))
+        .collect();
+    let mut connectivity = Vec::new();
+    let mut offsets = Vec::with_capacity(cells.len());
+    for &c in &cells {
+        connectivity.extend(g.cell(c).iter().map(|p| *p as u64));
+        offsets.push(connectivity.len() as u64);
+    }
+    let types = cells.iter().map(|&c| g.types[c]).collect();
+    let mut point = Vec::new();
+    let mut cell = vec![
+        scalars(
+            "part",
+            IOBuffer::U8(cells.iter().map(|&c| g.part[c]).collect()),
+        ),
+        scalars(
+            "stator",
+            IOBuffer::I32(cells.iter().map(|&c| g.stator[c]).collect()),
+        ),
+        scalars(
+            "index",
+            IOBuffer::I64(cells.iter().map(|&c| g.index[c]).collect()),
+        ),
+    ];
+    if fields.displacement {
+        point.push(vectors("displacement", flat3(&st.displacement)));
+    }
+    if fields.velocity {
+        point.push(vectors("velocity", flat3(&st.velocity)));
+    }
+    if fields.contact_force {
+        point.push(vectors("contact_force", flat3(&st.contact_force)));
+        let pair = |c: usize| {
+            (g.part[c] == part::CONTACT)
+                .then(|| (c - layout.body_cells, st.pair_force[c - layout.body_cells]))
+        };
+        cell.push(scalars(
+            "normal_force",
+            IOBuffer::F64(
+                cells
+                    .iter()
+                    .map(|&c| pair(c).map_or(0.0, |(i, _)| st.pair_p[i]))
+                    .collect(),
+            ),
+        ));
+        cell.push(vectors(
+            "pair_force",
+            cells
+                .iter()
+                .flat_map(|&c| {
+                    let f = pair(c).map_or([0.0; 2], |(_, f)| f);
+                    [f[0], f[1], 0.0]
+                })
+                .collect(),
+        ));
+    }
+    if fields.stress {
+        for (name, v) in [
+            ("axial_force", &st.axial_force),
+            ("stress", &st.stress),
+            ("strain", &st.strain),
+        ] {
+            cell.push(scalars(
+                name,
+                IOBuffer::F64(cells.iter().map(|&c| v[c]).collect()),
+            ));
+        }
+    }
+    Vtk {
+        version: Version::new_xml(1, 0),
+        title: format!("rubsim frame at t = {} s (step {})", st.t, st.step),
+        byte_order: ByteOrder::LittleEndian,
+        file_path: None,
+        data: DataSet::inline(UnstructuredGridPiece {
+            points: IOBuffer::F64(flat3(&g.points)),
+            cells: Cells {
+                cell_verts: VertexNumbers::XML {
+                    connectivity,
+                    offsets,
+                },
+                types,
+            },
+            data: Attributes { point, cell },
+        }),
+    }
+}

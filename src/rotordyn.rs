@@ -1,0 +1,473 @@
+//! Linear rotordynamics of the rotor alone: static deflection, damped modes, Campbell diagram
+//! with mode tracking and critical speeds, unbalance response.
+//!
+//! The rotor obeys `M q̈ + (C + Ω G) q̇ + K q = f` with the matrices of
+//! [`crate::model::Rotor::matrices`]. Modes come from the first-order form
+//! `ż = A z`, `A = [[0, I], [−M⁻¹K, −M⁻¹(C + ΩG)]]`, eigenvalues `λ = σ ± i ω_d` (dense,
+//! `faer`): damping ratio `ζ = −σ/|λ|`, logarithmic decrement `δ = −2πσ/ω_d`. A mode with
+//! eigenvector `φ` whirls **forward** (with the spin, counter-clockwise seen from +z for
+//! Ω > 0) at a node when `Im(φ_x φ̄_y) > 0` for `ω_d > 0`.
+
+use crate::error::ModelError;
+use crate::linalg::Csc;
+use crate::model::fe_rotor::{dense, ellipse_major};
+use crate::model::Rotor;
+use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64;
+use serde::Serialize;
+
+/// Whirl direction of a mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Whirl {
+    /// With the spin.
+    Forward,
+    /// Against the spin.
+    Backward,
+    /// Nodes disagree (or planar motion).
+    Mixed,
+}
+
+impl Whirl {
+    /// Short label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Whirl::Forward => "FW",
+            Whirl::Backward => "BW",
+            Whirl::Mixed => "mixed",
+        }
+    }
+}
+
+/// One damped mode.
+#[derive(Debug, Clone, Serialize)]
+pub struct Mode {
+    /// Damped natural frequency ω_d (rad/s).
+    pub omega_d: f64,
+    /// ω_d/(2π) (Hz).
+    pub freq_hz: f64,
+    /// Real part σ of the eigenvalue (1/s); negative is stable.
+    pub sigma: f64,
+    /// Damping ratio ζ = −σ/|λ|.
+    pub damping_ratio: f64,
+    /// Logarithmic decrement −2πσ/ω_d.
+    pub log_dec: f64,
+    /// Whirl direction.
+    pub whirl: Whirl,
+    /// Normalised displacement shape `[φ_x, φ_y]` per node (largest component 1).
+    #[serde(skip)]
+    pub shape: Vec<[Complex64; 2]>,
+}
+
+/// Results of a modal analysis at one speed.
+#[derive(Debug, Clone, Serialize)]
+pub struct ModalResults {
+    /// Spin speed Ω (rad/s).
+    pub speed: f64,
+    /// Modes sorted by ω_d (positive-frequency members of the conjugate pairs).
+    pub modes: Vec<Mode>,
+}
+
+fn whirl_of(shape: &[[Complex64; 2]]) -> Whirl {
+    let (mut fwd, mut bwd) = (0.0, 0.0);
+    for [x, y] in shape {
+        let w = (x * y.conj()).im;
+        if w > 0.0 {
+            fwd += w;
+        } else {
+            bwd -= w;
+        }
+    }
+    let tot = fwd + bwd;
+    if tot <= 1e-12 {
+        Whirl::Mixed
+    } else if bwd < 0.05 * tot {
+        Whirl::Forward
+    } else if fwd < 0.05 * tot {
+        Whirl::Backward
+    } else {
+        Whirl::Mixed
+    }
+}
+
+/// Mass-normalised undamped modes `(ω², Φ)` of `K φ = ω² M φ`, ascending (`Φᵀ M Φ = I`).
+pub fn undamped_modes(m: &Csc, k: &Csc) -> Result<(Vec<f64>, DMatrix<f64>), ModelError> {
+    let l = dense(m).cholesky().ok_or_else(|| ModelError::Singular {
+        what: "rotor mass matrix".into(),
+        detail: "not positive definite: every DOF needs mass or rotary inertia".into(),
+    })?;
+    let linv = l.l().try_inverse().ok_or_else(|| ModelError::Singular {
+        what: "rotor mass matrix".into(),
+        detail: "Cholesky factor not invertible".into(),
+    })?;
+    let a = &linv * dense(k) * linv.transpose();
+    let a = (&a + a.transpose()) * 0.5;
+    let na = a.nrows();
+    let eig = a.symmetric_eigen();
+    let mut order: Vec<usize> = (0..eig.eigenvalues.len()).collect();
+    order.sort_by(|x, y| eig.eigenvalues[*x].total_cmp(&eig.eigenvalues[*y]));
+    let lam: Vec<f64> = order.iter().map(|i| eig.eigenvalues[*i]).collect();
+    let v = DMatrix::from_fn(na, order.len(), |r, c| eig.eigenvectors[(r, order[c])]);
+    Ok((lam, linv.transpose() * v))
+}
+
+/// Damped modes at spin speed `omega` (rad/s): at most `nmodes`, lowest ω_d first.
+///
+/// Solved in the basis of the lowest undamped modes (pseudo-modal reduction to
+/// `max(2·nmodes + 10, 20)` modes, or all): the first-order matrix then spans only the
+/// frequencies of interest and stays well conditioned even with very stiff supports.
+pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, ModelError> {
+    let (m, k, c, g) = rotor.matrices(omega);
+    let (lam, phi_all) = undamped_modes(&m, &k)?;
+    let nr = lam.len().min((2 * nmodes + 10).max(20));
+    let phi = phi_all.columns(0, nr).into_owned();
+    let ctot = dense(&Csc::lin_comb(1.0, &c, omega, &g));
+    let cr = phi.transpose() * ctot * &phi;
+    let n = nr;
+    let a = faer::Mat::<f64>::from_fn(2 * n, 2 * n, |i, j| {
+        if i < n {
+            if j == i + n {
+                1.0
+            } else {
+                0.0
+            }
+        } else if j < n {
+            if i - n == j {
+                -lam[j]
+            } else {
+                0.0
+            }
+        } else {
+            -cr[(i - n, j - n)]
+        }
+    });
+    let evd = faer::linalg::solvers::Eigen::new_from_real(a.as_ref()).map_err(|e| {
+        ModelError::Singular {
+            what: "rotor eigenproblem".into(),
+            detail: format!("{e:?}"),
+        }
+    })?;
+    let s = evd.S();
+    let u = evd.U();
+    let nodes = rotor.node_count();
+    let mut modes = Vec::new();
+    for j in 0..2 * n {
+        let lam: Complex64 = s.column_vector()[j];
+        if lam.im <= 1e-8 * (1.0 + lam.norm()) {
+            continue;
+        }
+        let full = |dof: usize| -> Complex64 { (0..n).map(|r| u[(r, j)] * phi[(dof, r)]).sum() };
+        let mut shape: Vec<[Complex64; 2]> = (0..nodes)
+            .map(|i| {
+                let d = rotor.node_dofs(i);
+                [full(d[0]), full(d[1])]
+            })
+            .collect();
+        let big = shape
+            .iter()
+            .flat_map(|p| p.iter())
+            .fold(Complex64::new(0.0, 0.0), |b, v| {
+                if v.norm() > b.norm() {
+                    *v
+                } else {
+                    b
+                }
+            });
+        if big.norm() > 0.0 {
+            for p in shape.iter_mut() {
+                p[0] /= big;
+                p[1] /= big;
+            }
+        }
+        modes.push(Mode {
+            omega_d: lam.im,
+            freq_hz: lam.im / (2.0 * std::f64::consts::PI),
+            sigma: lam.re,
+            damping_ratio: -lam.re / lam.norm(),
+            log_dec: -2.0 * std::f64::consts::PI * lam.re / lam.im,
+            whirl: whirl_of(&shape),
+            shape,
+        });
+    }
+    modes.sort_by(|a, b| a.omega_d.total_cmp(&b.omega_d));
+    split_degenerate_pairs(&mut modes);
+    modes.truncate(nmodes);
+    Ok(ModalResults {
+        speed: omega,
+        modes,
+    })
+}
+
+/// An isotropic rotor without gyroscopic split (at rest, or a mode without disk tilt) has
+/// double eigenvalues; the solver returns an arbitrary basis of each pair. Rotate every such
+/// pair into the two circular (forward and backward) combinations that extremise the whirl
+/// form `W(ψ) = Σ_nodes Im(ψ_x ψ̄_y)`, a 2×2 Hermitian eigenproblem.
+fn split_degenerate_pairs(modes: &mut [Mode]) {
+    let mut i = 0;
+    while i + 1 < modes.len() {
+        let (a, b) = (&modes[i], &modes[i + 1]);
+        let close = (a.omega_d - b.omega_d).abs() <= 1e-4 * a.omega_d.max(1e-12)
+            && (a.sigma - b.sigma).abs() <= 1e-4 * a.omega_d.max(1e-12);
+        if !close {
+            i += 1;
+            continue;
+        }
+        let (p, q) = (&a.shape, &b.shape);
+        let two_i = Complex64::new(0.0, 2.0);
+        let g = |u: &[[Complex64; 2]], v: &[[Complex64; 2]]| -> Complex64 {
+            u.iter()
+                .zip(v)
+                .map(|(s, t)| (s[0] * t[1].conj() - t[0].conj() * s[1]) / two_i)
+                .sum()
+        };
+        // H = Gᵀ with G_ij = Σ (φ_ix φ̄_jy − φ̄_jx φ_iy)/(2i).
+        let h11 = g(p, p).re;
+        let h22 = g(q, q).re;
+        let h12 = g(q, p); // H_12 = G_21
+        let mid = 0.5 * (h11 + h22);
+        let rad = (0.25 * (h11 - h22).powi(2) + h12.norm_sqr()).sqrt();
+        let vec_for = |lam: f64| -> [Complex64; 2] {
+            let v = if h12.norm() > 1e-300 {
+                [h12, Complex64::new(lam - h11, 0.0)]
+            } else if (lam - h11).abs() <= (lam - h22).abs() {
+                [Complex64::new(1.0, 0.0), Complex64::new(0.0, 0.0)]
+            } else {
+                [Complex64::new(0.0, 0.0), Complex64::new(1.0, 0.0)]
+            };
+            let n = (v[0].norm_sqr() + v[1].norm_sqr()).sqrt();
+            [v[0] / n, v[1] / n]
+        };
+        let combine = |c: [Complex64; 2]| -> Vec<[Complex64; 2]> {
+            p.iter()
+                .zip(q)
+                .map(|(s, t)| [c[0] * s[0] + c[1] * t[0], c[0] * s[1] + c[1] * t[1]])
+                .collect()
+        };
+        let fw = combine(vec_for(mid + rad));
+        let bw = combine(vec_for(mid - rad));
+        modes[i].shape = bw;
+        modes[i].whirl = whirl_of(&modes[i].shape);
+        modes[i + 1].shape = fw;
+        modes[i + 1].whirl = whirl_of(&modes[i + 1].shape);
+        i += 2;
+    }
+}
+
+/// Modal assurance criterion of two complex shapes (1 = same shape).
+pub fn mac(a: &[[Complex64; 2]], b: &[[Complex64; 2]]) -> f64 {
+    let mut ab = Complex64::new(0.0, 0.0);
+    let (mut aa, mut bb) = (0.0, 0.0);
+    for (p, q) in a.iter().zip(b) {
+        for c in 0..2 {
+            ab += p[c].conj() * q[c];
+            aa += p[c].norm_sqr();
+            bb += q[c].norm_sqr();
+        }
+    }
+    if aa == 0.0 || bb == 0.0 {
+        0.0
+    } else {
+        ab.norm_sqr() / (aa * bb)
+    }
+}
+
+/// A mode followed over speed.
+#[derive(Debug, Clone, Serialize)]
+pub struct Track {
+    /// Label, e.g. "1 FW".
+    pub label: String,
+    /// Whirl at the highest speed.
+    pub whirl: Whirl,
+    /// ω_d (rad/s) per speed of the diagram.
+    pub omega_d: Vec<f64>,
+    /// Log decrement per speed.
+    pub log_dec: Vec<f64>,
+}
+
+/// A critical speed: a forward or backward track crossing the 1× line ω_d = Ω.
+#[derive(Debug, Clone, Serialize)]
+pub struct CriticalSpeed {
+    /// Track label.
+    pub mode: String,
+    /// Whirl.
+    pub whirl: Whirl,
+    /// Spin speed (rad/s).
+    pub speed: f64,
+    /// The same in rpm.
+    pub rpm: f64,
+}
+
+/// Campbell diagram results.
+#[derive(Debug, Clone, Serialize)]
+pub struct CampbellResults {
+    /// Spin speeds (rad/s).
+    pub speeds: Vec<f64>,
+    /// Tracked modes.
+    pub tracks: Vec<Track>,
+    /// Crossings with the 1× line.
+    pub critical_speeds: Vec<CriticalSpeed>,
+}
+
+/// Campbell diagram over `speeds` (rad/s, ascending) for `nmodes` modes, tracked from speed
+/// to speed by the MAC of their shapes (greedy best match).
+pub fn campbell(
+    rotor: &Rotor,
+    speeds: &[f64],
+    nmodes: usize,
+) -> Result<CampbellResults, ModelError> {
+    let extra = nmodes + 4;
+    // At Ω = 0 forward and backward modes coincide; evaluate the first point at a tiny spin so
+    // the pairs start split in the direction they will follow.
+    let top = speeds.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
+    let results: Vec<ModalResults> = speeds
+        .iter()
+        .map(|w| {
+            let w = if *w == 0.0 { 1e-6 * top.max(1.0) } else { *w };
+            modal(rotor, w, extra)
+        })
+        .collect::<Result<_, _>>()?;
+    let first = &results[0].modes;
+    let nt = nmodes.min(first.len());
+    let mut tracks: Vec<Track> = Vec::with_capacity(nt);
+    let mut last_shape: Vec<Vec<[Complex64; 2]>> = Vec::with_capacity(nt);
+    let mut whirls = vec![Whirl::Mixed; nt];
+    for m in first.iter().take(nt) {
+        tracks.push(Track {
+            label: String::new(),
+            whirl: m.whirl,
+            omega_d: vec![m.omega_d],
+            log_dec: vec![m.log_dec],
+        });
+        last_shape.push(m.shape.clone());
+    }
+    for r in results.iter().skip(1) {
+        let mut taken = vec![false; r.modes.len()];
+        for (t, track) in tracks.iter_mut().enumerate() {
+            let mut best = None;
+            let mut best_mac = -1.0;
+            for (j, m) in r.modes.iter().enumerate() {
+                if taken[j] {
+                    continue;
+                }
+                let v = mac(&last_shape[t], &m.shape);
+                if v > best_mac {
+                    best_mac = v;
+                    best = Some(j);
+                }
+            }
+            match best {
+                Some(j) => {
+                    taken[j] = true;
+                    track.omega_d.push(r.modes[j].omega_d);
+                    track.log_dec.push(r.modes[j].log_dec);
+                    last_shape[t] = r.modes[j].shape.clone();
+                    whirls[t] = r.modes[j].whirl;
+                }
+                None => {
+                    track.omega_d.push(f64::NAN);
+                    track.log_dec.push(f64::NAN);
+                }
+            }
+        }
+    }
+    for (t, track) in tracks.iter_mut().enumerate() {
+        if speeds.len() > 1 {
+            track.whirl = whirls[t];
+        }
+        track.label = format!("{} {}", t + 1, track.whirl.label());
+    }
+    let mut critical_speeds = Vec::new();
+    for track in &tracks {
+        for i in 1..speeds.len() {
+            let (a, b) = (
+                track.omega_d[i - 1] - speeds[i - 1],
+                track.omega_d[i] - speeds[i],
+            );
+            if a.is_finite() && b.is_finite() && a > 0.0 && b <= 0.0 {
+                let s = speeds[i - 1] + (speeds[i] - speeds[i - 1]) * a / (a - b);
+                critical_speeds.push(CriticalSpeed {
+                    mode: track.label.clone(),
+                    whirl: track.whirl,
+                    speed: s,
+                    rpm: s * 60.0 / (2.0 * std::f64::consts::PI),
+                });
+            }
+        }
+    }
+    critical_speeds.sort_by(|a, b| a.speed.total_cmp(&b.speed));
+    Ok(CampbellResults {
+        speeds: speeds.to_vec(),
+        tracks,
+        critical_speeds,
+    })
+}
+
+/// Unbalance response at one speed and node.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ResponsePoint {
+    /// Spin speed (rad/s).
+    pub speed: f64,
+    /// Node.
+    pub node: usize,
+    /// x amplitude (m) and phase (deg) of `x = |X| cos(Ωt + φ_x)`.
+    pub x_amp: f64,
+    /// Phase of x (deg).
+    pub x_phase_deg: f64,
+    /// y amplitude (m).
+    pub y_amp: f64,
+    /// Phase of y (deg).
+    pub y_phase_deg: f64,
+    /// Major semi-axis of the orbit (m).
+    pub major: f64,
+    /// Complex x response (m), for polar plots.
+    pub x_re: f64,
+    /// Imaginary part of x (m).
+    pub x_im: f64,
+}
+
+/// Steady unbalance response over `speeds` (rad/s) at `nodes`.
+pub fn unbalance_response(
+    rotor: &Rotor,
+    speeds: &[f64],
+    nodes: &[usize],
+) -> Result<Vec<ResponsePoint>, ModelError> {
+    let mut out = Vec::new();
+    for &w in speeds {
+        let q = rotor.unbalance_response(w)?;
+        for &n in nodes {
+            let d = rotor.node_dofs(n);
+            let (x, y) = (q[d[0]], q[d[1]]);
+            out.push(ResponsePoint {
+                speed: w,
+                node: n,
+                x_amp: x.norm(),
+                x_phase_deg: x.arg().to_degrees(),
+                y_amp: y.norm(),
+                y_phase_deg: y.arg().to_degrees(),
+                major: ellipse_major(x, y),
+                x_re: x.re,
+                x_im: x.im,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Static deflection under gravity g (m/s², along −y): `K q = −g M e_y` (m, rad per DOF).
+pub fn static_deflection(rotor: &Rotor, g: f64) -> Result<Vec<f64>, ModelError> {
+    let (m, k, _, _) = rotor.matrices(0.0);
+    let n = m.nrows();
+    let mut ey = DVector::zeros(n);
+    for i in 0..rotor.node_count() {
+        ey[rotor.node_dofs(i)[1]] = 1.0;
+    }
+    let f = -g * (dense(&m) * ey);
+    let kd: DMatrix<f64> = dense(&k);
+    kd.lu()
+        .solve(&f)
+        .map(|v| v.iter().copied().collect())
+        .ok_or_else(|| ModelError::Singular {
+            what: "rotor stiffness".into(),
+            detail: "singular: the rotor is not held by its bearings".into(),
+        })
+}

@@ -1,0 +1,188 @@
+"""rubsim's VTK and HDF5 time series read back with the real clients (pyvista/VTK, meshio, h5py)
+and compared with the run's own numbers (summary.json); the post/ scripts rendered off screen.
+
+Run with the project's venv after a release build (scripts/test.sh does both):
+
+    .venv/bin/python -m pytest tests/post
+
+The rubsim binary is $RUBSIM_BIN, else target/release/rubsim.
+"""
+import json
+import os
+import subprocess
+import sys
+
+import h5py
+import meshio
+import numpy as np
+import pytest
+import pyvista as pv
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "post"))
+import animate  # noqa: E402
+import orbit_cascade  # noqa: E402
+import rubsim_results as rr  # noqa: E402
+
+SCENES = os.path.join(ROOT, "tests", "data", "scenes")
+BIN = os.environ.get("RUBSIM_BIN", os.path.join(ROOT, "target", "release", "rubsim"))
+
+
+def rubsim(*args):
+    assert os.path.exists(BIN), f"{BIN} missing: build with `cargo build --release` (or set RUBSIM_BIN)"
+    r = subprocess.run([BIN, *args], capture_output=True, text=True)
+    assert r.returncode == 0, f"rubsim {args} failed:\n{r.stderr}"
+    return r.stdout
+
+
+@pytest.fixture(scope="module")
+def arc(tmp_path_factory):
+    """The meshed truss arc (300 nodes, 448 bars): 14 revolutions, the last as VTK frames every
+    2 steps, the whole run in HDF5 at the recording interval."""
+    out = tmp_path_factory.mktemp("arc") / "out"
+    rubsim(
+        "run", os.path.join(SCENES, "fe_arc.toml"), "--out", str(out),
+        "--set", "run.revolutions=14", "--set", "run.transient_revolutions=10",
+        "--set", "output.vtk={ every = 2, from_revolution = 13 }",
+        "--set", "output.hdf5={}",
+    )
+    with open(out / "summary.json") as f:
+        summary = json.load(f)
+    return out, summary
+
+
+def test_hdf5_reproduces_the_summary(arc):
+    out, summary = arc
+    res = summary["result"]
+    s = rr.Series(str(out / "results.vtkhdf"))
+    assert s.frames_per_rev() == 64
+    assert len(s.t) == 14 * 64 + 1
+    a, b = s.steady()
+    assert (a, b) == (10 * 64, 14 * 64)
+    xy = s.station_disp(0)[a:b] / res["z0"]
+    ext = [xy[:, 0].min(), xy[:, 0].max(), xy[:, 1].min(), xy[:, 1].max()]
+    np.testing.assert_allclose(ext, res["extents_nd"], rtol=1e-12, atol=1e-12)
+    fmax = np.linalg.norm(s.station_force[a:b, 0], axis=1).max() / res["unbalance_force"]
+    assert fmax == pytest.approx(res["contact_force_max_nd"], rel=1e-12)
+    amp = orbit_cascade.lines(s)
+    assert amp[1.0] / res["z0"] == pytest.approx(res["amp_1x_nd"], rel=1e-9)
+    assert amp[0.5] / res["z0"] == pytest.approx(res["amp_half_nd"], rel=1e-9, abs=1e-12)
+    # The resolved scene and the units travel with the file.
+    assert s.scene["run"]["revolutions"] == 14
+    assert s.units["force"] == "N"
+    # The station force on the rotor is minus the sum of the pair forces.
+    np.testing.assert_allclose(s.station_force[:, 0], -s.pair_force.sum(axis=1), atol=1e-9)
+    # Multipliers are non-negative, and several nodes of the arc carry load at once.
+    assert (s.p >= 0).all() and (s.p > 0).sum(axis=1).max() >= 2
+
+
+def test_pvd_and_vtkhdf_step_through_the_same_states(arc):
+    out, _ = arc
+    s = rr.Series(str(out / "results.vtkhdf"))
+    pvd = pv.get_reader(str(out / "results.pvd"))
+    times = np.asarray(pvd.time_values)
+    # One revolution (13 → 14) every 2 steps: steps_per_rev / 2 + 1 frames.
+    spr = int(s.attrs["steps_per_rev"])
+    assert len(times) == spr // 2 + 1
+    assert np.all(np.diff(times) > 0)
+    h = pv.get_reader(str(out / "results.vtkhdf"))
+    assert h.reader.GetNumberOfSteps() == len(s.t)
+    dt = float(s.attrs["dt_s"])
+    checked = 0
+    for i, t in enumerate(times):
+        pvd.set_active_time_point(i)
+        g = pvd.read()[0]
+        step = int(round(t / dt))
+        assert step % 2 == 0
+        # Frames on the recording interval are also in the HDF5 series: compare everything.
+        k = np.nonzero(s.step == step)[0]
+        if len(k) == 0:
+            continue
+        k = int(k[0])
+        assert s.t[k] == pytest.approx(t, rel=1e-15)
+        h.reader.SetStep(k)
+        hg = h.read()
+        np.testing.assert_array_equal(g.points, hg.points)
+        np.testing.assert_array_equal(g.point_data["displacement"], hg.point_data["displacement"])
+        np.testing.assert_array_equal(g.point_data["contact_force"], hg.point_data["contact_force"])
+        rotor = g.point_data["displacement"][-1]
+        np.testing.assert_array_equal(rotor[:2], s.u[k])
+        # .vtu: only pairs in contact; VTKHDF: every pair, open ones with zero force.
+        part = g.cell_data["part"]
+        ncontact = int((part == rr.PART_CONTACT).sum())
+        assert ncontact == int((s.p[k] > 0).sum())
+        np.testing.assert_array_equal(np.sort(g.cell_data["normal_force"][part == rr.PART_CONTACT]),
+                                      np.sort(s.p[k][s.p[k] > 0]))
+        body = part != rr.PART_CONTACT
+        np.testing.assert_array_equal(g.cell_data["stress"][body], hg.cell_data["stress"][: body.sum()])
+        checked += 1
+    every = int(s.attrs["every"])
+    assert checked == sum(1 for t in times if int(round(t / dt)) % every == 0) == 65
+
+
+def test_stress_strain_and_forces_are_consistent(arc):
+    out, _ = arc
+    s = rr.Series(str(out / "results.vtkhdf"))
+    bars = s.scene["stator"][0]["elements"]
+    frames = rr.pvd_frames(str(out / "results.pvd"))
+    g = pv.read(frames[len(frames) // 2][1])
+    part = g.cell_data["part"]
+    idx = g.cell_data["index"][part == rr.PART_STATOR]
+    e = np.array([bars[i]["youngs_modulus"] for i in idx])
+    a = np.array([bars[i]["area"] for i in idx])
+    stress = g.cell_data["stress"][part == rr.PART_STATOR]
+    np.testing.assert_allclose(g.cell_data["strain"][part == rr.PART_STATOR] * e, stress, rtol=1e-12)
+    np.testing.assert_allclose(g.cell_data["axial_force"][part == rr.PART_STATOR], stress * a, rtol=1e-12)
+    # Fixed outer nodes (150 … 299) do not move.
+    assert not np.any(g.point_data["displacement"][150:300])
+
+
+def test_meshio_reads_a_frame(arc):
+    out, _ = arc
+    frames = rr.pvd_frames(str(out / "results.pvd"))
+    m = meshio.read(frames[0][1])
+    assert len(m.points) == 301
+    lines = sum(len(c.data) for c in m.cells if c.type == "line")
+    verts = sum(len(c.data) for c in m.cells if c.type == "vertex")
+    assert verts == 1  # the Jeffcott rotor
+    assert lines >= 448  # the bars, plus the pairs in contact
+    assert m.point_data["displacement"].shape == (301, 3)
+
+
+def test_animate_renders_a_png_and_a_movie(arc, tmp_path):
+    out, _ = arc
+    png = tmp_path / "frame.png"
+    animate.main([str(out / "results.pvd"), "--png", str(png), "--frame", "10"])
+    img = pv.read(str(png))
+    rgb = np.asarray(img.point_data[img.point_data.keys()[0]])
+    assert img.dimensions[:2] == (1024, 768)
+    # Not blank: white background with drawn stator, section and text.
+    assert (rgb[:, :3] < 200).any() and len(np.unique(rgb[:, :3], axis=0)) > 10
+    gif = tmp_path / "rub.gif"
+    animate.main([str(out / "results.vtkhdf"), "--movie", str(gif), "--every", "200", "--size", "320", "240"])
+    import imageio.v3 as iio
+
+    assert iio.improps(str(gif)).shape[0] == len(range(0, 14 * 64 + 1, 200))
+
+
+def test_sweep_per_speed_and_cascade(tmp_path):
+    out = tmp_path / "sweep"
+    rubsim("sweep", os.path.join(SCENES, "sweep.toml"), "--out", str(out),
+           "--set", "output.hdf5={}", "--set", "output.per_speed=[1.5, 2.5]")
+    assert sorted(p.name for p in out.iterdir() if p.name.startswith("speed_")) == ["speed_1.5", "speed_2.5"]
+    with open(out / "summary.json") as f:
+        speeds = {round(r["speed_ratio"], 6): r for r in json.load(f)["sweeps"][0]["speeds"]}
+    png = tmp_path / "cascade.png"
+    rows = orbit_cascade.main([str(out / "speed_2.5" / "results.vtkhdf"), str(out / "speed_1.5" / "results.vtkhdf"),
+                               "--png", str(png)])
+    assert [r[0] for r in rows] == [1.5, 2.5]
+    for v, a1, a2, a3 in rows:
+        r = speeds[v]
+        assert a1 / r["z0"] == pytest.approx(r["amp_1x_nd"], rel=1e-9)
+        assert a2 / r["z0"] == pytest.approx(r["amp_half_nd"], rel=1e-9, abs=1e-12)
+        assert a3 / r["z0"] == pytest.approx(r["amp_third_nd"], rel=1e-9, abs=1e-12)
+    assert png.stat().st_size > 10_000
+    # The existing sweep script still reads sweep.csv.
+    r = subprocess.run([sys.executable, os.path.join(ROOT, "post", "plot_sweep.py"), str(out / "sweep.csv")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0 and "1.50" in r.stdout
