@@ -2,7 +2,8 @@
 //! factored once, the rubsim way) against the same linear step with a dense solve of M̃ every
 //! step (what a dense-matrix Python/MATLAB loop does), and with a dense pre-factored solve.
 //!
-//! Run: `cargo bench --bench fe_step` (figures in docs/PERFORMANCE.md).
+//! Run: `cargo bench --bench fe_step` (figures in docs/PERFORMANCE.md);
+//! `cargo bench --bench fe_step -- --sparse-only` skips the dense comparison.
 
 use nalgebra::{DMatrix, DVector};
 use rubsim::model::fe_rotor::dense;
@@ -112,6 +113,9 @@ fn main() {
             steps as f64 / best,
             best / steps as f64 * 1e6
         );
+        if std::env::args().any(|a| a == "--sparse-only") {
+            continue;
+        }
         // Dense: M̃ assembled dense, LU factorisation + solve every step (linear part only).
         let dt = plan.dt;
         let m = dense(&case.rotor.m);
