@@ -357,6 +357,7 @@ impl FeRotor {
             c,
             k: self.k(omega),
             node_dofs: (0..self.nodes()).map(|i| [4 * i, 4 * i + 1]).collect(),
+            node_z: self.z.clone(),
             unbalance: self.unbalance.clone(),
         }
     }

@@ -33,6 +33,8 @@ pub struct RotorBody {
     pub k: Csc,
     /// `[u_x, u_y]` DOFs of each node (index = rotor node).
     pub node_dofs: Vec<[usize; 2]>,
+    /// Axial position z of each node (m); the Jeffcott rotor's single node is at 0.
+    pub node_z: Vec<f64>,
     /// Unbalance loads.
     pub unbalance: Vec<UnbalanceLoad>,
 }
@@ -133,6 +135,7 @@ impl Jeffcott {
             c: diag(self.damping),
             k: diag(self.stiffness),
             node_dofs: vec![[0, 1]],
+            node_z: vec![0.0],
             unbalance: self.unbalance.clone(),
         }
     }

@@ -105,11 +105,10 @@ fn element_strain(el: &StatorElement, stress: f64) -> f64 {
 
 /// Axial position z (m) of each rotor node, in node order.
 ///
-/// Seam for the FE rotor: the Jeffcott rotor has one node at z = 0, and until the rotor model
-/// gives node positions every node is placed at z = 0. Replace the body with the model's node
-/// coordinates when they exist; everything else (stator planes, the rotor polyline) follows.
+/// Axial node positions of the rotor (m): the Jeffcott rotor's one node at z = 0, the FE
+/// rotor's nodes along its shaft; stator planes sit at their station's node.
 pub fn rotor_node_z(case: &Case) -> Vec<f64> {
-    vec![0.0; case.rotor.node_dofs.len()]
+    case.rotor.node_z.clone()
 }
 
 /// The unstructured grid written by both formats (see the module documentation).
