@@ -482,3 +482,13 @@ mod hdf5_file {
         assert!(f5.group("contact").unwrap().dataset("p").is_err());
     }
 }
+
+#[test]
+fn series_that_cannot_fit_is_refused_before_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let e = rubsim::results::check_free_space(dir.path(), 1e18)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("MB are free") && e.contains("needs about"), "{e}");
+    rubsim::results::check_free_space(dir.path(), 1.0).unwrap();
+}

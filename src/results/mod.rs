@@ -34,9 +34,7 @@ pub mod vtk;
 pub mod hdf5;
 
 use crate::analysis::{self, Keep, RunSettings, SpeedResults, SweepResults};
-#[cfg(not(feature = "hdf5"))]
-use crate::error::Error;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::stator::StatorElement;
 use crate::model::{Case, Model, Target};
 use crate::scene::{OutputSpec, PerSpeed, SeriesField, SeriesSpec};
@@ -531,6 +529,37 @@ fn gcd(a: usize, b: usize) -> usize {
     }
 }
 
+/// Errors when the file system holding `dir` has less free space than `bytes` (estimated size
+/// of the series) plus a 5 % margin. Unix only (`statvfs`); elsewhere no check.
+pub fn check_free_space(dir: &Path, bytes: f64) -> Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt;
+        let Ok(c) = std::ffi::CString::new(dir.as_os_str().as_bytes()) else {
+            return Ok(());
+        };
+        // SAFETY: `c` is a valid NUL-terminated path and `st` a zeroed out-parameter.
+        let mut st: libc::statvfs = unsafe { std::mem::zeroed() };
+        if unsafe { libc::statvfs(c.as_ptr(), &mut st) } != 0 {
+            return Ok(());
+        }
+        let free = st.f_bavail as f64 * st.f_frsize as f64;
+        if bytes * 1.05 > free {
+            return Err(Error::output(
+            dir,
+            format!(
+                "the requested VTK/HDF5 series needs about {:.0} MB but only {:.0} MB are free; write fewer frames (output.*.every, from_revolution/to_revolution, fields) or choose another --out",
+                bytes / 1e6,
+                free / 1e6
+            ),
+        ));
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = (dir, bytes);
+    Ok(())
+}
+
 /// True when the scene asks for any time series.
 pub fn wanted(o: &OutputSpec) -> bool {
     o.vtk.is_some() || o.hdf5.is_some()
@@ -610,6 +639,23 @@ impl ResultsSink {
             plan,
             integrator: settings.step.integrator.name(),
         };
+        // Refuse a run whose series cannot fit on the disk before it spends its time.
+        let mut need_bytes = 0.0;
+        let pts = layout.num_points() as f64;
+        let cells = layout.grid.num_cells() as f64;
+        let conn = layout.grid.connectivity.len() as f64;
+        if let Some(spec) = &output.vtk {
+            let fp = FramePlan::new(spec, &plan);
+            // Per .vtu: geometry and fields as base64 text (4/3) of f64/i64.
+            let per = (pts * (3.0 + 9.0) + conn + 2.0 * cells + 4.0 * cells) * 8.0 * 4.0 / 3.0;
+            need_bytes += fp.count() as f64 * per;
+        }
+        if let Some(spec) = &output.hdf5 {
+            let fp = FramePlan::new(spec, &plan);
+            let per = (pts * 9.0 + 4.0 * cells + case.rotor.ndof as f64 * 2.0) * 8.0;
+            need_bytes += fp.count() as f64 * per;
+        }
+        check_free_space(staging, need_bytes)?;
         let mut every = 0;
         let mut need_velocity = false;
         let vtk = match &output.vtk {
