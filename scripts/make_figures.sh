@@ -28,3 +28,5 @@ for s in "$out"/convergence/speed_*/; do
   cp "$s/error_vs_dt.png" "$dst/error_vs_dt_$(basename "$s").png"
 done
 echo "figures in $dst"
+# Meshed stators (issue 4): docs/figures/stators.
+bash scripts/make_mesh_figures.sh

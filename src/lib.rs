@@ -14,4 +14,5 @@ pub mod results;
 pub mod rotordyn;
 pub mod scene;
 pub mod signal;
+pub mod stress;
 pub mod time;

@@ -37,6 +37,12 @@ enum Cmd {
     /// Mesh a stator geometry (.geo or STEP) with gmsh into the cache `meshes/` and report it:
     /// nodes, cells, physical groups, conformity, the contact boundary.
     Mesh(mesh_cmd::MeshArgs),
+    /// Stress and strain in the stators during a run at one or more speeds (the paper's
+    /// Fig. 10): stress.csv, stress.png, strain.png, the stress field at its peak.
+    Stress(mesh_cmd::StressArgs),
+    /// Run a scene at several mesh refinements (a scene key, e.g. a geometry parameter) and
+    /// compare orbits and contact forces: the node-to-nodes contact's mesh sensitivity.
+    Refine(mesh_cmd::RefineArgs),
     /// Run one speed (run.speed_ratio or run.speed) and write summary.json and pictures.
     Run {
         #[command(flatten)]
@@ -796,6 +802,8 @@ fn main() {
         Cmd::Sweep { c, out, .. } => sweep(c, out.clone()),
         Cmd::Check { c } => check(c),
         Cmd::Mesh(a) => mesh_cmd::mesh(a),
+        Cmd::Stress(a) => mesh_cmd::stress(a),
+        Cmd::Refine(a) => mesh_cmd::refine(a),
         Cmd::Modal {
             c,
             speed,

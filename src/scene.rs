@@ -381,7 +381,7 @@ pub struct MeshStatorSpec {
     /// Physical group of the contact boundary.
     #[serde(default = "contact_group")]
     pub contact_group: String,
-    /// Physical groups whose nodes are fixed in every direction.
+    /// Physical groups whose nodes are fixed in every direction (frame nodes: clamped, θ too).
     #[serde(default = "fixed_groups")]
     pub fixed: Vec<String>,
     /// Physical groups whose nodes have u_x = 0 (symmetry planes, guides).
@@ -412,6 +412,13 @@ pub struct MeshStatorSpec {
     /// translated to its clearance.
     #[serde(default = "ninety")]
     pub approach_deg: f64,
+    /// 3-D meshes: further stations the contact nodes may face; each contact node is assigned
+    /// to the one (of these and `station`) nearest to its axial position.
+    #[serde(default)]
+    pub stations: Vec<String>,
+    /// 3-D meshes: axial position along the rotor (m) of the mesh's z = 0.
+    #[serde(default)]
+    pub axial_origin: f64,
 }
 
 /// Material of a region (physical group) of a meshed stator; unset values are the stator's.
@@ -1632,6 +1639,17 @@ fn validate_mesh_stator(ls: &LoadedScene, i: usize, m: &MeshStatorSpec) -> Resul
     }
     for v in m.rayleigh {
         non_negative(ls, &k("rayleigh"), v)?;
+    }
+    for (j, name) in m.stations.iter().enumerate() {
+        if !ls.scene.stations.iter().any(|st| &st.name == name) {
+            return Err(ls.invalid(
+                &k(&format!("stations.{j}")),
+                format!("no station named `{name}`"),
+            ));
+        }
+    }
+    if !m.axial_origin.is_finite() {
+        return Err(ls.invalid(&k("axial_origin"), "must be finite"));
     }
     if m.fixed.is_empty() && m.fixed_x.is_empty() && m.fixed_y.is_empty() && m.springs.is_empty() {
         return Err(ls.invalid(

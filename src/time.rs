@@ -69,7 +69,11 @@ fn station_contact_stiffness(case: &Case, massless_only: bool) -> Vec<f64> {
     let mut k = vec![0.0; case.stations.len()];
     for s in &case.stators {
         if !massless_only || s.massless() {
-            k[s.station] += s.contact_stiffness_bound();
+            // A stator facing several stations (3-D meshes) bounds each of them.
+            let kb = s.contact_stiffness_bound();
+            for st in s.stations() {
+                k[st] += kb;
+            }
         }
     }
     k
@@ -609,10 +613,11 @@ pub fn integrate_with(
     }
     let mut cands: Vec<Candidate> = Vec::new();
     for (k, s) in case.stators.iter().enumerate() {
-        let st = &case.stations[s.station];
         for t in 0..s.targets.len() {
+            let station = s.target_station(t);
+            let st = &case.stations[station];
             cands.push(Candidate {
-                station: s.station,
+                station,
                 stator: k,
                 target: t,
                 mu: st.friction,

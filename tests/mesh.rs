@@ -163,7 +163,8 @@ fn ring_msh(
 
 fn model_of(msh: &str, spec: &MeshStatorSpec) -> (Mesh, StatorModel) {
     let mesh = Mesh::parse(Path::new("ring.msh"), msh.as_bytes()).expect("parse");
-    let m = mesh_stator::from_mesh(&mesh, spec, 0, PathBuf::from("ring.msh"), true).expect("model");
+    let m = mesh_stator::from_mesh(&mesh, spec, 0, &[], PathBuf::from("ring.msh"), true)
+        .expect("model");
     (mesh, m)
 }
 
@@ -271,6 +272,7 @@ fn lame_thick_ring_converges_at_the_theoretical_rate_per_element() {
                 errs.push(l2_error(&m, &u, &exact));
             }
             let slope = loglog_slope(&hs, &errs);
+            eprintln!("convergence {kind:?} {plane:?}: h {hs:?} L2 {errs:?} slope {slope:.3}");
             assert!(
                 (slope - rate).abs() < 0.1,
                 "{kind:?} {plane:?}: L2 slope {slope:.3} (expected {rate}); errors {errs:?}"
@@ -432,6 +434,7 @@ fn ring_under_diametral_loads_matches_curved_beam_theory() {
         let dx = 2.0 * u[m.node_dofs[mid][0].unwrap()];
         let i = t * h.powi(3) / 12.0;
         let theory = p * rm.powi(3) / (E * i) * (2.0 / PI - 0.5);
+        eprintln!("diametral ring {kind:?}: Δd = {dx:.6e} m, curved-beam theory {theory:.6e} m");
         assert!(
             (dx / theory - 1.0).abs() < 0.005,
             "{kind:?}: Δd = {dx:.4e}, theory {theory:.4e}"
@@ -476,7 +479,7 @@ fn clockwise_surfaces_are_renumbered_and_a_folded_cell_is_rejected() {
     lines[first] = format!("{} {} {} {} {}", w[0], w[1], w[3], w[2], w[4]);
     let bad = lines.join("\n") + "\n";
     let mesh = Mesh::parse(Path::new("folded.msh"), bad.as_bytes()).unwrap();
-    let e = mesh_stator::from_mesh(&mesh, &sp, 0, PathBuf::from("folded.msh"), true)
+    let e = mesh_stator::from_mesh(&mesh, &sp, 0, &[], PathBuf::from("folded.msh"), true)
         .unwrap_err()
         .to_string();
     assert!(
@@ -624,7 +627,7 @@ fn build_geo(geo_text: &str, name: &str, extra: &str) -> String {
     std::fs::write(&geo, geo_text).unwrap();
     let mut sp = spec(extra);
     sp.geometry = geo.display().to_string();
-    match mesh_stator::build(&sp, &dir.path().join("scene.toml"), 0) {
+    match mesh_stator::build(&sp, &dir.path().join("scene.toml"), 0, &[]) {
         Ok(_) => String::new(),
         Err(e) => e.to_string(),
     }
@@ -695,4 +698,539 @@ fn scene_with_meshed_rod_runs_and_matches_the_bar_model_stiffness() {
     assert!(kb > ks && kb < 1.03 * ks, "{kb} vs {ks}");
     // Placed at its clearance: the tip's nearest node at δ = 0.6 |Z0| above the disk.
     assert!((s.clearance / (0.6 * case.z0) - 1.0).abs() < 1e-9);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3-D: tetrahedra.
+
+/// Structured tetrahedra (each polar hexahedron cut into the six Kuhn tetrahedra) of the
+/// quarter tube r0 ≤ r ≤ r1, 0 ≤ θ ≤ π/2, 0 ≤ z ≤ lz, built as a [`Mesh`] with groups
+/// `stator` (volume), `stator_contact` (r = r0 faces), `stator_fixed` (r = r1), `sym_y`
+/// (θ = 0), `sym_x` (θ = π/2), `ends` (z = 0 and z = lz).
+fn tube_mesh(kind: CellKind, r0: f64, r1: f64, lz: f64, nr: usize, nt: usize) -> Mesh {
+    use rubsim::mesh::{CellBlock, Group};
+    let quad = kind == CellKind::Tet10;
+    let (ni, nj, nk) = (2 * nr + 1, 2 * nt + 1, 3);
+    let id = |i: usize, j: usize, k: usize| (i * nj + j) * nk + k;
+    let mut nodes = Vec::new();
+    for i in 0..ni {
+        for j in 0..nj {
+            for k in 0..nk {
+                let r = r0 + (r1 - r0) * i as f64 / (2 * nr) as f64;
+                let t = PI / 2.0 * j as f64 / (2 * nt) as f64;
+                nodes.push([r * t.cos(), r * t.sin(), lz * k as f64 / 2.0]);
+            }
+        }
+    }
+    let mut conn = Vec::new();
+    let perms = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    for i in 0..nr {
+        for j in 0..nt {
+            let base = [2 * i, 2 * j, 0];
+            for p in perms {
+                // Corners in grid units (step 2), mid nodes at half steps.
+                let mut c = [[0usize; 3]; 4];
+                c[0] = base;
+                for s in 0..3 {
+                    c[s + 1] = c[s];
+                    c[s + 1][p[s]] += 2;
+                }
+                let x: Vec<[f64; 3]> = c.iter().map(|g| nodes[id(g[0], g[1], g[2])]).collect();
+                let det = {
+                    let a = [x[1][0] - x[0][0], x[1][1] - x[0][1], x[1][2] - x[0][2]];
+                    let b = [x[2][0] - x[0][0], x[2][1] - x[0][1], x[2][2] - x[0][2]];
+                    let d = [x[3][0] - x[0][0], x[3][1] - x[0][1], x[3][2] - x[0][2]];
+                    a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0])
+                        + a[2] * (b[0] * d[1] - b[1] * d[0])
+                };
+                if det < 0.0 {
+                    c.swap(1, 2);
+                }
+                let mid = |a: usize, b: usize| {
+                    id(
+                        (c[a][0] + c[b][0]) / 2,
+                        (c[a][1] + c[b][1]) / 2,
+                        (c[a][2] + c[b][2]) / 2,
+                    )
+                };
+                conn.extend(c.iter().map(|g| id(g[0], g[1], g[2])));
+                if quad {
+                    for (a, b) in [(0, 1), (1, 2), (0, 2), (0, 3), (2, 3), (1, 3)] {
+                        conn.push(mid(a, b));
+                    }
+                }
+            }
+        }
+    }
+    let ncell = conn.len() / kind.nodes();
+    // Boundary faces: the faces of the tetrahedra lying on a boundary surface.
+    let fkind = if quad { CellKind::Tri6 } else { CellKind::Tri3 };
+    let mut faces: Vec<Vec<usize>> = vec![Vec::new(); 5];
+    let on = |n: usize| -> [bool; 5] {
+        let k = n % nk;
+        let j = (n / nk) % nj;
+        let i = n / (nk * nj);
+        [
+            i == 0,
+            i == ni - 1,
+            j == 0,
+            j == nj - 1,
+            k == 0 || k == nk - 1,
+        ]
+    };
+    for c in conn.chunks(kind.nodes()) {
+        for f in [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
+            let fc: Vec<usize> = f.iter().map(|&a| c[a]).collect();
+            for (s, face) in faces.iter_mut().enumerate() {
+                let same_end = s != 4 || {
+                    let k0 = fc[0] % nk;
+                    fc.iter().all(|&n| n % nk == k0)
+                };
+                if fc.iter().all(|&n| on(n)[s]) && same_end {
+                    face.extend(&fc);
+                    if quad {
+                        let e = |a: usize, b: usize| {
+                            let m = [
+                                (0, 1, 4),
+                                (1, 2, 5),
+                                (0, 2, 6),
+                                (0, 3, 7),
+                                (2, 3, 8),
+                                (1, 3, 9),
+                            ];
+                            let (x, y) = (f[a].min(f[b]), f[a].max(f[b]));
+                            c[m.iter().find(|t| t.0 == x && t.1 == y).unwrap().2]
+                        };
+                        face.extend([e(0, 1), e(1, 2), e(0, 2)]);
+                    }
+                }
+            }
+        }
+    }
+    let mut blocks = vec![CellBlock {
+        kind,
+        entity_dim: 3,
+        entity: 1,
+        tags: (1..=ncell as u64).collect(),
+        conn,
+    }];
+    let names = ["stator_contact", "stator_fixed", "sym_y", "sym_x", "ends"];
+    let mut groups = vec![Group {
+        name: "stator".into(),
+        dim: 3,
+        tag: 1,
+        entities: vec![1],
+    }];
+    for (s, face) in faces.into_iter().enumerate() {
+        let n = face.len() / fkind.nodes();
+        blocks.push(CellBlock {
+            kind: fkind,
+            entity_dim: 2,
+            entity: s as i32 + 1,
+            tags: (0..n as u64)
+                .map(|t| 100_000 * (s as u64 + 1) + t)
+                .collect(),
+            conn: face,
+        });
+        groups.push(Group {
+            name: names[s].into(),
+            dim: 2,
+            tag: s as i32 + 2,
+            entities: vec![s as i32 + 1],
+        });
+    }
+    Mesh {
+        file: PathBuf::from("tube.msh"),
+        node_tags: (1..=nodes.len() as u64).collect(),
+        nodes,
+        blocks,
+        groups,
+    }
+}
+
+#[test]
+fn tetrahedra_converge_to_plane_strain_lame_in_a_tube() {
+    use rubsim::element::solid3d;
+    let (r0, r1, p) = (0.06, 0.08, 1e6);
+    let sp = spec("fixed_x = [\"sym_x\"]\nfixed_y = [\"sym_y\"]\nfixed_z = [\"ends\"]");
+    let exact = lame(r0, r1, p, Plane::Strain);
+    for (kind, rate, levels) in [
+        (CellKind::Tet4, 2.0, [2usize, 4, 8]),
+        (CellKind::Tet10, 3.0, [1, 2, 4]),
+    ] {
+        let mut hs = Vec::new();
+        let mut errs = Vec::new();
+        for nr in levels {
+            let mesh = tube_mesh(kind, r0, r1, (r1 - r0) / nr as f64, nr, 8 * nr);
+            mesh.check_conforming().unwrap();
+            let m = mesh_stator::from_mesh(&mesh, &sp, 0, &[], PathBuf::from("tube.msh"), true)
+                .unwrap();
+            let md = m.mesh.as_ref().unwrap();
+            assert_eq!(md.dim, 3);
+            // Inner pressure on the r = r0 faces.
+            let mut f = vec![0.0; m.ndof];
+            let g = mesh.group("stator_contact").unwrap();
+            for b in mesh.group_blocks(g) {
+                for c in b.cells() {
+                    let x: Vec<[f64; 3]> = c.iter().map(|&n| mesh.nodes[n]).collect();
+                    let mut fe = [0.0; 18];
+                    solid3d::face_load(
+                        b.kind,
+                        &x,
+                        |q, _| {
+                            let r = q[0].hypot(q[1]);
+                            [p * q[0] / r, p * q[1] / r, 0.0]
+                        },
+                        &mut fe,
+                    );
+                    for (k, &n) in c.iter().enumerate() {
+                        let d = [m.node_dofs[n][0], m.node_dofs[n][1], md.axial_dofs[n]];
+                        for comp in 0..3 {
+                            if let Some(i) = d[comp] {
+                                f[i] += fe[3 * k + comp];
+                            }
+                        }
+                    }
+                }
+            }
+            let u = solve(&m.k, &f);
+            let (mut err, mut norm) = (0.0, 0.0);
+            for el in &m.elements {
+                let StatorElement::Solid3 { kind, nodes, .. } = el else {
+                    continue;
+                };
+                let x: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.nodes[n]).collect();
+                let ue: Vec<f64> = nodes
+                    .iter()
+                    .flat_map(|&n| [m.node_dofs[n][0], m.node_dofs[n][1], md.axial_dofs[n]])
+                    .map(|d| d.map_or(0.0, |i| u[i]))
+                    .collect();
+                for &(xi, w) in solid3d::quadrature(*kind, solid3d::Rule::Accurate) {
+                    let (q, uh, det) = solid3d::interpolate(*kind, &x, &ue, xi);
+                    let r = q[0].hypot(q[1]);
+                    let ur = exact(r);
+                    let ex = [ur * q[0] / r, ur * q[1] / r, 0.0];
+                    err += w * det * (0..3).map(|c| (uh[c] - ex[c]).powi(2)).sum::<f64>();
+                    norm += w * det * (ex[0] * ex[0] + ex[1] * ex[1]);
+                }
+            }
+            hs.push((r1 - r0) / nr as f64);
+            errs.push((err / norm).sqrt());
+        }
+        let slope = loglog_slope(&hs, &errs);
+        eprintln!(
+            "convergence {kind:?} plane strain (3-D tube): h {hs:?} L2 {errs:?} slope {slope:.3}"
+        );
+        assert!(
+            (slope - rate).abs() < 0.15,
+            "{kind:?}: L2 slope {slope:.3}, errors {errs:?}"
+        );
+    }
+}
+
+#[test]
+fn element_eigenvalue_bound_is_above_the_true_one_and_below_gershgorin() {
+    for kind in [CellKind::Quad4, CellKind::Tri6, CellKind::Quad8] {
+        let msh = ring_msh(kind, 0.06, 0.08, 0.0, 2.0 * PI, 2, 24, true);
+        let (_, m) = model_of(&msh, &spec("density = 7800.0"));
+        let n = m.ndof;
+        let k = nalgebra::DMatrix::from_fn(n, n, |i, j| m.k.get(i, j));
+        let md = m.m.diagonal();
+        let a = nalgebra::DMatrix::from_fn(n, n, |i, j| k[(i, j)] / (md[i] * md[j]).sqrt());
+        let exact = a.symmetric_eigenvalues().max();
+        let elem = m.mesh.as_ref().unwrap().omega_max_sq.unwrap();
+        let used = m.omega_max_sq_bound();
+        assert!(
+            elem >= exact * (1.0 - 1e-9),
+            "{kind:?}: element bound {elem:.4e} < exact {exact:.4e}"
+        );
+        assert!(
+            elem < 2.0 * exact,
+            "{kind:?}: element bound {elem:.4e} ≫ exact {exact:.4e}"
+        );
+        assert!(used <= elem && used >= exact * (1.0 - 1e-9));
+        eprintln!(
+            "{kind:?}: λ_max exact {exact:.4e}, element bound {elem:.4e} ({:.3}×)",
+            elem / exact
+        );
+    }
+}
+
+#[test]
+fn step_import_meshes_like_the_geometry_it_came_from() {
+    if !need_gmsh() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let geo = gm::mesh(
+        &MeshRequest::new(repo("geometry/labyrinth_seal.geo")),
+        dir.path(),
+    )
+    .unwrap();
+    let step = gm::mesh(
+        &MeshRequest::new(repo("geometry/labyrinth_seal_step.geo")),
+        dir.path(),
+    )
+    .unwrap();
+    let (a, b) = (
+        Mesh::read(&geo.msh).unwrap(),
+        Mesh::read(&step.msh).unwrap(),
+    );
+    // Same part, same groups: the contact boundary and node counts agree closely.
+    let (ca, cb) = (
+        a.group_nodes("stator_contact").unwrap().len(),
+        b.group_nodes("stator_contact").unwrap().len(),
+    );
+    assert_eq!(ca, cb);
+    assert!((a.nodes.len() as f64 / b.nodes.len() as f64 - 1.0).abs() < 0.02);
+    // The STEP file alone: bodies grouped as `stator`, boundary entities as `boundary_<tag>`.
+    let raw = gm::mesh(
+        &MeshRequest::new(repo("geometry/labyrinth_seal.step")),
+        dir.path(),
+    )
+    .unwrap();
+    let m = Mesh::read(&raw.msh).unwrap();
+    assert_eq!(m.dim(), 3);
+    assert_eq!(m.group("stator").unwrap().dim, 3);
+    assert!(
+        m.groups
+            .iter()
+            .filter(|g| g.name.starts_with("boundary_"))
+            .count()
+            >= 8
+    );
+    // Cache keys do not depend on where the repository lies (the STEP's path is not hashed).
+    assert_eq!(
+        step.key,
+        gm::cache_key(&MeshRequest::new(repo("geometry/labyrinth_seal_step.geo"))).unwrap()
+    );
+}
+
+#[test]
+fn three_d_seal_scene_builds_with_tetrahedra() {
+    if !need_gmsh() {
+        return;
+    }
+    let ls = rubsim::scene::load(&repo("scenes/stators/labyrinth_seal.toml"), &[]).unwrap();
+    let model = rubsim::model::Model::build(&ls).unwrap();
+    let case = model.case(model.rotor.natural_frequency()).unwrap();
+    let s = &case.stators[0];
+    let md = s.mesh.as_ref().unwrap();
+    assert_eq!(md.dim, 3);
+    assert!(s
+        .elements
+        .iter()
+        .all(|e| matches!(e, StatorElement::Solid3 { .. })));
+    // Geometry clearance: tooth tips at 60.2 mm around a 60 mm disk.
+    assert!((s.clearance - 2e-4).abs() < 1e-9, "{}", s.clearance);
+    // Every contact normal points toward the axis.
+    for (t, n) in s.targets.iter().zip(&md.contact_normals) {
+        let rubsim::model::Target::Node { x0, .. } = t else {
+            panic!()
+        };
+        assert!(n[0] * x0[0] + n[1] * x0[1] < 0.0);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Command line.
+
+fn rubsim(args: &[&str]) -> (bool, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rubsim"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn cli_mesh_check_stress_and_refine() {
+    if !need_gmsh() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let (ok, out, err) = rubsim(&[
+        "mesh",
+        "geometry/diaphragm.geo",
+        "--set",
+        "h=0.008",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("group `joint`")
+            && out.contains("conforming")
+            && out.contains("face the axis"),
+        "{out}"
+    );
+    let (ok, out, _) = rubsim(&[
+        "mesh",
+        "geometry/diaphragm.geo",
+        "--set",
+        "h=0.008",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert!(ok && out.contains("up to date, gmsh not run"), "{out}");
+    for scene in [
+        "rod2d",
+        "annulus",
+        "diaphragm",
+        "segmented_casing",
+        "segmented_casing_beams",
+        "labyrinth_seal",
+        "labyrinth_seal_step",
+        "bench_annulus",
+    ] {
+        let (ok, out, err) = rubsim(&["check", &format!("scenes/stators/{scene}.toml")]);
+        assert!(ok, "{scene}: {err}");
+        assert!(
+            out.contains("meshed stator (gmsh)") && !out.contains("mesher (no meshed stator)"),
+            "{scene}: {out}"
+        );
+    }
+    let o = dir.path().join("stress");
+    let (ok, out, err) = rubsim(&[
+        "stress",
+        "scenes/stators/rod2d.toml",
+        "--speed",
+        "1.7",
+        "--set",
+        "run.revolutions=30",
+        "--set",
+        "run.transient_revolutions=10",
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("largest |stress|"), "{out}");
+    for f in [
+        "stress.csv",
+        "stress.png",
+        "strain.png",
+        "summary.json",
+        "stress_field_rod_1.7.png",
+    ] {
+        assert!(o.join(f).is_file(), "{f} missing");
+    }
+    let o = dir.path().join("refine");
+    let (ok, out, err) = rubsim(&[
+        "refine",
+        "scenes/stators/rod2d.toml",
+        "--key",
+        "stator.0.parameters.nx",
+        "--values",
+        "1,4",
+        "--set",
+        "run.revolutions=30",
+        "--set",
+        "run.transient_revolutions=10",
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("2 contact nodes") && out.contains("5 contact nodes"),
+        "{out}"
+    );
+    assert!(o.join("refine.csv").is_file() && o.join("refine_force.png").is_file());
+    // A misnamed group, through the command line: file and group named.
+    let (ok, _, err) = rubsim(&[
+        "check",
+        "scenes/stators/rod2d.toml",
+        "--set",
+        "stator.0.contact_group=\"tip\"",
+    ]);
+    assert!(
+        !ok && err.contains("rod-") && err.contains(".msh") && err.contains("`tip`"),
+        "{err}"
+    );
+}
+
+#[test]
+fn three_d_contact_nodes_face_the_station_at_their_axial_position() {
+    if !need_gmsh() {
+        return;
+    }
+    // An FE rotor with stations at z = 0.5 m (node 2) and 0.75 m (node 3); a two-tooth seal
+    // whose teeth sit at those positions (pitch 0.25 m, centred at axial_origin = 0.625 m).
+    let text = r#"
+[rotor]
+kind = "fe"
+[[rotor.shaft]]
+length = 1.5
+outer_diameter = 0.05
+elements = 6
+material = "steel"
+[[rotor.bearing]]
+node = 0
+stiffness = 1.0e6
+[[rotor.bearing]]
+node = 6
+stiffness = 1.0e6
+[[rotor.unbalance]]
+node = 2
+mass = 0.001
+radius = 0.05
+[[station]]
+name = "a"
+node = 2
+radius = 0.06
+[[station]]
+name = "b"
+node = 3
+radius = 0.06
+[[stator]]
+kind = "mesh"
+name = "seal"
+station = "a"
+stations = ["b"]
+axial_origin = 0.625
+geometry = "geometry/labyrinth_seal.geo"
+parameters = { teeth = 2, pitch = 0.25, tooth = 0.005, margin = 0.005, h = 0.012, ht = 0.006 }
+youngs_modulus = 70e9
+poisson_ratio = 0.33
+[run]
+speed_ratio = 1.0
+"#;
+    let ls =
+        rubsim::scene::parse(&repo("scenes/stators/two_station_seal.toml"), text, &[]).unwrap();
+    let model = rubsim::model::Model::build(&ls).unwrap();
+    let case = model.case(model.rotor.natural_frequency()).unwrap();
+    let s = &case.stators[0];
+    let md = s.mesh.as_ref().unwrap();
+    let mut seen = [0usize; 2];
+    for (t, tg) in s.targets.iter().enumerate() {
+        let rubsim::model::Target::Node { node, .. } = tg else {
+            panic!()
+        };
+        let z = md.node_z[*node] + 0.625;
+        let expect = if z < 0.625 { 0 } else { 1 };
+        assert_eq!(s.target_station(t), expect, "node at z = {z}");
+        seen[expect] += 1;
+    }
+    assert!(seen[0] > 0 && seen[1] > 0, "{seen:?}");
+    assert_eq!(s.stations(), vec![0, 1]);
+    // It runs: both stations can rub their tooth.
+    let mut st = rubsim::analysis::RunSettings::from_run(&ls.scene.run, "y");
+    st.step.revolutions = 6;
+    st.transient_revolutions = 3;
+    st.error_estimate = false;
+    st.initial.u = [0.0, 3e-4];
+    let r = rubsim::analysis::run_speed(&model, &st, 1.0, Default::default()).unwrap();
+    assert!(r.stats.contact_steps > 0 && r.stats.min_gap > -1e-9, "{:?}", r.stats);
 }

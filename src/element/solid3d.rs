@@ -37,8 +37,8 @@ impl Elastic3 {
         let g = e / (2.0 * (1.0 + v));
         let mut d = [[0.0; 6]; 6];
         for i in 0..3 {
-            for j in 0..3 {
-                d[i][j] = if i == j { c * (1.0 - v) } else { c * v };
+            for (j, dij) in d[i][..3].iter_mut().enumerate() {
+                *dij = if i == j { c * (1.0 - v) } else { c * v };
             }
             d[3 + i][3 + i] = g;
         }
@@ -383,6 +383,53 @@ pub fn interpolate(
         }
     }
     (p, v, det)
+}
+
+/// Consistent nodal forces of a traction on a triangular face (`Tri3` or `Tri6`, gmsh order)
+/// into `f` (`[f_x0, f_y0, f_z0, …]`, N): `f_a = ∫ N_a t(x, n) dA`, with `n` the unit normal
+/// `(x₁ − x₀) × (x₂ − x₀)` direction (right-hand rule on the node order).
+///
+/// # Panics
+/// If `kind` is not a triangle or `f` is shorter than `3 × nodes`.
+pub fn face_load(
+    kind: CellKind,
+    x: &[[f64; 3]],
+    traction: impl Fn([f64; 3], [f64; 3]) -> [f64; 3],
+    f: &mut [f64],
+) {
+    use crate::element::solid2d;
+    assert!(matches!(kind, CellKind::Tri3 | CellKind::Tri6));
+    let nn = kind.nodes();
+    f[..3 * nn].fill(0.0);
+    let mut q = Vec::new();
+    solid2d::quadrature(CellKind::Tri6, solid2d::Rule::Mass, &mut q);
+    let mut n = [0.0; 6];
+    let mut dn = [[0.0; 2]; 6];
+    for &(xi, w) in &q {
+        solid2d::shape(kind, xi, &mut n, &mut dn);
+        let mut p = [0.0; 3];
+        let mut t1 = [0.0; 3];
+        let mut t2 = [0.0; 3];
+        for a in 0..nn {
+            for k in 0..3 {
+                p[k] += n[a] * x[a][k];
+                t1[k] += dn[a][0] * x[a][k];
+                t2[k] += dn[a][1] * x[a][k];
+            }
+        }
+        let c = [
+            t1[1] * t2[2] - t1[2] * t2[1],
+            t1[2] * t2[0] - t1[0] * t2[2],
+            t1[0] * t2[1] - t1[1] * t2[0],
+        ];
+        let ja = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+        let tr = traction(p, [c[0] / ja, c[1] / ja, c[2] / ja]);
+        for a in 0..nn {
+            for k in 0..3 {
+                f[3 * a + k] += w * ja * n[a] * tr[k];
+            }
+        }
+    }
 }
 
 #[cfg(test)]

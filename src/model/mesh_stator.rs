@@ -25,6 +25,7 @@
 use super::stator::{StatorElement, StatorModel, Target};
 use crate::element::frame::{self, FrameSection};
 use crate::element::solid2d::{self, Elastic2, Plane};
+use crate::element::solid3d::{self, Elastic3};
 use crate::error::{Error, MeshError, ModelError};
 use crate::linalg::{Cholesky, Csc};
 use crate::math::V2;
@@ -49,8 +50,19 @@ pub struct MeshStatorData {
     pub dim: usize,
     /// Number of continuum cells.
     pub cells: usize,
-    /// Outward unit normal of the body at each contact target (same order as `targets`).
+    /// Outward unit normal of the body at each contact target, projected on the station
+    /// plane (same order as `targets`).
     pub contact_normals: Vec<V2>,
+    /// Station each contact target faces (same order as `targets`).
+    pub target_station: Vec<usize>,
+    /// 3-D stators: axial coordinate z of every node (m, mesh frame); empty in 2-D.
+    pub node_z: Vec<f64>,
+    /// 3-D stators: free DOF of u_z of every node; empty in 2-D.
+    pub axial_dofs: Vec<Option<usize>>,
+    /// Stators with mass: upper bound of the largest eigenvalue of `M⁻¹K` (rad²/s²) from the
+    /// elements (Irons' element eigenvalue theorem: `λ_max ≤ max_e λ_max(K_e, M_e)`), tighter
+    /// than Gershgorin; `None` when it does not apply (massless, springs, bars or frames).
+    pub omega_max_sq: Option<f64>,
     /// Contact stiffness bound (N/m), computed on first use (invariant under placement).
     pub contact_stiffness: OnceLock<f64>,
     /// Sparse Cholesky factor of K, computed on first use and shared by every run.
@@ -118,20 +130,25 @@ pub fn load_mesh(
     Ok((mesh, geo, meshed.from_cache))
 }
 
-/// Builds the speed-independent model of a meshed stator facing station `station`.
+/// Builds the speed-independent model of a meshed stator facing station `station`;
+/// `stations_z` lists `(station index, axial position z (m))` of the stations a 3-D stator's
+/// contact nodes may be assigned to (see [`from_mesh`]).
 pub fn build(
     spec: &MeshStatorSpec,
     scene_file: &Path,
     station: usize,
+    stations_z: &[(usize, f64)],
 ) -> Result<StatorModel, Error> {
     let (mesh, geo, from_cache) = load_mesh(spec, scene_file)?;
-    from_mesh(&mesh, spec, station, geo, from_cache)
+    from_mesh(&mesh, spec, station, stations_z, geo, from_cache)
 }
 
-/// Material of a 2-D cell.
+/// Material of a continuum cell.
 #[derive(Debug, Clone, Copy)]
 struct Region {
-    elastic: Elastic2,
+    youngs_modulus: f64,
+    poisson_ratio: f64,
+    thickness: f64,
     density: f64,
 }
 
@@ -147,11 +164,28 @@ fn flip_order(kind: CellKind) -> &'static [usize] {
     }
 }
 
+fn bad_group(file: &Path, group: &str, message: impl Into<String>) -> Error {
+    MeshError::BadGroup {
+        file: file.to_path_buf(),
+        group: group.to_string(),
+        message: message.into(),
+    }
+    .into()
+}
+
 /// Builds a [`StatorModel`] from a mesh (see the module documentation).
+///
+/// 2-D meshes (cells in the plane z = 0) give plane stress or strain bodies of thickness
+/// `spec.thickness`; 3-D meshes (tetrahedra) give solids with an axial DOF u_z per node (kept in
+/// [`MeshStatorData::axial_dofs`]; contact acts in the station plane). Each contact node of a
+/// 3-D stator is assigned to the station of `stations_z` nearest to its axial position
+/// `z + spec.axial_origin`; 2-D stators (and 3-D ones with fewer than two candidate stations)
+/// face `station`.
 pub fn from_mesh(
     mesh: &Mesh,
     spec: &MeshStatorSpec,
     station: usize,
+    stations_z: &[(usize, f64)],
     geometry: PathBuf,
     from_cache: bool,
 ) -> Result<StatorModel, Error> {
@@ -165,84 +199,101 @@ pub fn from_mesh(
         .into());
     }
     let dim = mesh.dim();
-    if dim != 2 {
+    if dim < 2 {
         return Err(MeshError::Empty {
             file: file.clone(),
-            message: if dim == 3 {
-                "a 3-D mesh: meshed stators are 2-D (a surface mesh in the station plane) in this version".into()
-            } else {
-                format!("no 2-D cells (highest cell dimension {dim}); the geometry needs a Physical Surface for the stator body")
-            },
+            message: format!("no 2-D or 3-D cells (highest cell dimension {dim}); the geometry needs a Physical Surface (2-D) or Physical Volume (3-D) for the stator body"),
         }
         .into());
     }
-    let thickness = spec.thickness.ok_or_else(|| ModelError::Inconsistent {
-        what: what.clone(),
-        message: "a 2-D mesh needs `thickness` (m)".into(),
-    })?;
+    let solid = dim == 3;
+    let thickness = if solid {
+        1.0
+    } else {
+        spec.thickness.ok_or_else(|| ModelError::Inconsistent {
+            what: what.clone(),
+            message: "a 2-D mesh needs `thickness` (m)".into(),
+        })?
+    };
     let plane = if spec.plane == "strain" {
         Plane::Strain
     } else {
         Plane::Stress
     };
-    let scale = mesh
-        .nodes
-        .iter()
-        .map(|p| p[0].abs().max(p[1].abs()))
-        .fold(0.0, f64::max);
-    if let Some(p) = mesh
-        .nodes
-        .iter()
-        .find(|p| p[2].abs() > 1e-9 * scale.max(1e-3))
-    {
-        return Err(MeshError::BadGroup {
-            file: file.clone(),
-            group: "(all)".into(),
+    if !solid {
+        let scale = mesh
+            .nodes
+            .iter()
+            .map(|p| p[0].abs().max(p[1].abs()))
+            .fold(0.0, f64::max);
+        if let Some(p) = mesh
+            .nodes
+            .iter()
+            .find(|p| p[2].abs() > 1e-9 * scale.max(1e-3))
+        {
+            return Err(bad_group(
+                file,
+                "(all)",
+                format!(
+                    "a 2-D stator mesh must lie in the station plane z = 0; a node is at z = {:.3e} m",
+                    p[2]
+                ),
+            ));
+        }
+    } else if let Some(fr) = spec.frames.first() {
+        return Err(ModelError::Inconsistent {
+            what,
             message: format!(
-                "a 2-D stator mesh must lie in the station plane z = 0; a node is at z = {:.3e} m",
-                p[2]
+                "frames (group `{}`) are for 2-D meshes; this mesh is 3-D",
+                fr.group
+            ),
+        }
+        .into());
+    }
+    if !spec.fixed_z.is_empty() && !solid {
+        return Err(ModelError::Inconsistent {
+            what,
+            message: format!(
+                "`fixed_z` (group `{}`) applies to 3-D meshes; this mesh is 2-D",
+                spec.fixed_z[0]
             ),
         }
         .into());
     }
     mesh.check_conforming()?;
 
-    // Material regions: every 2-D group; regions named in the scene must exist as 2-D groups.
+    // Material regions: groups of the mesh's dimension.
     for r in &spec.regions {
         let g = mesh.group(&r.group)?;
-        if g.dim != 2 {
-            return Err(MeshError::BadGroup {
-                file: file.clone(),
-                group: r.group.clone(),
-                message: format!("a material region must be a surface group (dimension 2), this one has dimension {}", g.dim),
-            }
-            .into());
+        if g.dim != dim {
+            return Err(bad_group(
+                file,
+                &r.group,
+                format!("a material region of a {dim}-D mesh must be a group of dimension {dim}, this one has dimension {}", g.dim),
+            ));
         }
     }
     let default = Region {
-        elastic: Elastic2 {
-            youngs_modulus: spec.youngs_modulus,
-            poisson_ratio: spec.poisson_ratio,
-            thickness,
-            plane,
-        },
+        youngs_modulus: spec.youngs_modulus,
+        poisson_ratio: spec.poisson_ratio,
+        thickness,
         density: spec.density,
     };
     let region_of = |entity: i32| -> (Region, String) {
         let groups: Vec<&crate::mesh::Group> = mesh
             .groups
             .iter()
-            .filter(|g| g.dim == 2 && g.entities.contains(&entity))
+            .filter(|g| g.dim == dim && g.entities.contains(&entity))
             .collect();
         let mut reg = default;
         let mut name = groups
             .first()
-            .map_or_else(|| format!("(surface {entity})"), |g| g.name.clone());
+            .map_or_else(|| format!("(entity {entity})"), |g| g.name.clone());
         for r in &spec.regions {
             if groups.iter().any(|g| g.name == r.group) {
-                reg.elastic.youngs_modulus = r.youngs_modulus.unwrap_or(reg.elastic.youngs_modulus);
-                reg.elastic.poisson_ratio = r.poisson_ratio.unwrap_or(reg.elastic.poisson_ratio);
-                reg.elastic.thickness = r.thickness.unwrap_or(reg.elastic.thickness);
+                reg.youngs_modulus = r.youngs_modulus.unwrap_or(reg.youngs_modulus);
+                reg.poisson_ratio = r.poisson_ratio.unwrap_or(reg.poisson_ratio);
+                reg.thickness = r.thickness.unwrap_or(reg.thickness);
                 reg.density = r.density.unwrap_or(reg.density);
                 name = r.group.clone();
             }
@@ -250,29 +301,38 @@ pub fn from_mesh(
         (reg, name)
     };
 
-    // Continuum cells, oriented counter-clockwise.
+    // Continuum cells: 2-D oriented counter-clockwise, tetrahedra positive.
     let mut cells: Vec<(CellKind, Vec<usize>, Region)> = Vec::new();
-    let mut xbuf = [[0.0; 2]; solid2d::MAX_NODES];
-    for b in mesh.blocks.iter().filter(|b| b.kind.dim() == 2) {
+    let mut x2 = [[0.0; 2]; solid2d::MAX_NODES];
+    let mut x3 = [[0.0; 3]; solid3d::MAX_NODES];
+    for b in mesh.blocks.iter().filter(|b| b.kind.dim() == dim) {
         let (reg, gname) = region_of(b.entity);
         let nn = b.kind.nodes();
         let mut dets = Vec::with_capacity(b.len());
         for cell in b.cells() {
-            for (k, &n) in cell.iter().enumerate() {
-                xbuf[k] = [mesh.nodes[n][0], mesh.nodes[n][1]];
-            }
-            dets.push(solid2d::det_j_range(b.kind, &xbuf[..nn]));
+            dets.push(if solid {
+                for (k, &n) in cell.iter().enumerate() {
+                    x3[k] = mesh.nodes[n];
+                }
+                solid3d::det_j_range(b.kind, &x3[..nn])
+            } else {
+                for (k, &n) in cell.iter().enumerate() {
+                    x2[k] = [mesh.nodes[n][0], mesh.nodes[n][1]];
+                }
+                solid2d::det_j_range(b.kind, &x2[..nn])
+            });
         }
+        // A 2-D surface meshed with normal −z is clockwise throughout: renumber it. Solids
+        // are not renumbered (gmsh writes positive tetrahedra).
         let ccw = dets.iter().filter(|d| d.0 > 0.0).count();
         let cw = dets.iter().filter(|d| d.1 < 0.0).count();
-        let flip = cw > ccw;
+        let flip = !solid && cw > ccw;
         let bad: Vec<usize> = (0..b.len())
             .filter(|&i| {
-                let (lo, hi) = dets[i];
                 if flip {
-                    hi >= 0.0
+                    dets[i].1 >= 0.0
                 } else {
-                    lo <= 0.0
+                    dets[i].0 <= 0.0
                 }
             })
             .collect();
@@ -298,49 +358,42 @@ pub fn from_mesh(
     if cells.is_empty() {
         return Err(MeshError::Empty {
             file: file.clone(),
-            message: "no 2-D cells".into(),
+            message: format!("no {dim}-D cells"),
         }
         .into());
     }
 
-    // Line groups carrying bars and frames.
+    // Line groups carrying bars and frames (2-D).
     let mut lines: Vec<([usize; 2], &crate::scene::FrameSpec)> = Vec::new();
     for fr in &spec.frames {
         let g = mesh.group(&fr.group)?;
         if g.dim != 1 {
-            return Err(MeshError::BadGroup {
-                file: file.clone(),
-                group: fr.group.clone(),
-                message: format!(
+            return Err(bad_group(
+                file,
+                &fr.group,
+                format!(
                     "bars and frames need a curve group (dimension 1), this one has dimension {}",
                     g.dim
                 ),
-            }
-            .into());
+            ));
         }
-        let mut any = false;
         for b in mesh.group_blocks(g) {
             if b.kind != CellKind::Line2 {
                 return Err(MeshError::UnsupportedCell {
                     file: file.clone(),
                     group: fr.group.clone(),
-                    kind: b.kind.name().into(),
+                    kind: format!(
+                        "{} (frames take 2-node lines: mesh them with order 1)",
+                        b.kind.name()
+                    ),
                     count: b.len(),
                 }
                 .into());
             }
-            for c in b.cells() {
-                lines.push(([c[0], c[1]], fr));
-                any = true;
-            }
+            lines.extend(b.cells().map(|c| ([c[0], c[1]], fr)));
         }
-        if !any {
-            return Err(MeshError::BadGroup {
-                file: file.clone(),
-                group: fr.group.clone(),
-                message: "the group has no line elements".into(),
-            }
-            .into());
+        if !lines.iter().any(|l| std::ptr::eq(l.1, fr)) {
+            return Err(bad_group(file, &fr.group, "the group has no line elements"));
         }
     }
     let spring_nodes: Vec<(Vec<usize>, [f64; 2])> = spec
@@ -349,7 +402,7 @@ pub fn from_mesh(
         .map(|s| Ok((mesh.group_nodes(&s.group)?, s.stiffness)))
         .collect::<Result<_, MeshError>>()?;
 
-    // Nodes that carry DOFs.
+    // Nodes that carry DOFs, fixed components.
     let nn = mesh.nodes.len();
     let mut used = vec![false; nn];
     for (_, c, _) in &cells {
@@ -361,11 +414,12 @@ pub fn from_mesh(
         used[l[0]] = true;
         used[l[1]] = true;
     }
-    let mut fixed = vec![[false; 2]; nn];
+    let mut fixed = vec![[false; 3]; nn];
     for (names, comps) in [
-        (&spec.fixed, &[0usize, 1][..]),
+        (&spec.fixed, &[0usize, 1, 2][..]),
         (&spec.fixed_x, &[0][..]),
         (&spec.fixed_y, &[1][..]),
+        (&spec.fixed_z, &[2][..]),
     ] {
         for name in names {
             for n in mesh.group_nodes(name)? {
@@ -375,54 +429,63 @@ pub fn from_mesh(
             }
         }
     }
-    if let Some(name) = spec.fixed_z.first() {
-        return Err(ModelError::Inconsistent {
-            what,
-            message: format!("`fixed_z` (group `{name}`) applies to 3-D meshes; this mesh is 2-D"),
-        }
-        .into());
-    }
+    let ncomp = if solid { 3 } else { 2 };
     let mut ndof = 0;
-    let node_dofs: Vec<[Option<usize>; 2]> = (0..nn)
-        .map(|n| {
-            let mut d = [None, None];
-            if used[n] {
-                for (c, dc) in d.iter_mut().enumerate() {
-                    if !fixed[n][c] {
-                        *dc = Some(ndof);
-                        ndof += 1;
-                    }
+    let mut node_dofs: Vec<[Option<usize>; 2]> = vec![[None, None]; nn];
+    let mut axial_dofs: Vec<Option<usize>> = if solid { vec![None; nn] } else { vec![] };
+    for n in (0..nn).filter(|&n| used[n]) {
+        for c in 0..ncomp {
+            if !fixed[n][c] {
+                if c < 2 {
+                    node_dofs[n][c] = Some(ndof);
+                } else {
+                    axial_dofs[n] = Some(ndof);
                 }
+                ndof += 1;
             }
-            d
-        })
-        .collect();
-    // Rotation DOFs of frame nodes.
-    let mut rot: HashMap<usize, usize> = HashMap::new();
+        }
+    }
+    // The DOFs of a node in element order ([x, y] or [x, y, z]).
+    let dofs_of = |n: usize, out: &mut Vec<Option<usize>>| {
+        out.push(node_dofs[n][0]);
+        out.push(node_dofs[n][1]);
+        if solid {
+            out.push(axial_dofs[n]);
+        }
+    };
+    // Rotation DOFs of frame nodes; nodes of the `fixed` groups are clamped (θ fixed too).
+    let mut clamped = vec![false; nn];
+    for name in &spec.fixed {
+        for n in mesh.group_nodes(name)? {
+            clamped[n] = true;
+        }
+    }
+    let mut rot: HashMap<usize, Option<usize>> = HashMap::new();
     for (l, fr) in &lines {
         if fr.inertia.is_some() {
             for &n in l {
                 rot.entry(n).or_insert_with(|| {
-                    ndof += 1;
-                    ndof - 1
+                    (!clamped[n]).then(|| {
+                        ndof += 1;
+                        ndof - 1
+                    })
                 });
             }
         }
     }
 
     // Assembly.
-    let mut kt: Vec<(usize, usize, f64)> = Vec::with_capacity(
-        cells
-            .iter()
-            .map(|c| 4 * c.0.nodes() * c.0.nodes())
-            .sum::<usize>()
-            + 36 * lines.len(),
-    );
+    let per_cell: usize = cells
+        .iter()
+        .map(|c| (ncomp * c.0.nodes()).pow(2))
+        .sum::<usize>();
+    let mut kt: Vec<(usize, usize, f64)> = Vec::with_capacity(per_cell + 36 * lines.len());
     let mut mass = vec![0.0; ndof];
     let mut elements: Vec<StatorElement> = Vec::with_capacity(cells.len() + lines.len());
-    let mut ke = vec![0.0; 4 * solid2d::MAX_NODES * solid2d::MAX_NODES];
-    let mut ml = [0.0; solid2d::MAX_NODES];
-    let mut dofs: Vec<Option<usize>> = Vec::with_capacity(2 * solid2d::MAX_NODES);
+    let mut ke = vec![0.0; (3 * solid3d::MAX_NODES).pow(2)];
+    let mut ml = [0.0; solid3d::MAX_NODES];
+    let mut dofs: Vec<Option<usize>> = Vec::with_capacity(3 * solid3d::MAX_NODES);
+    let mut element_bound = 0.0_f64;
     let scatter = |dofs: &[Option<usize>], ke: &[f64], kt: &mut Vec<(usize, usize, f64)>| {
         let n = dofs.len();
         for i in 0..n {
@@ -439,44 +502,75 @@ pub fn from_mesh(
     };
     for (kind, nodes, reg) in &cells {
         let nn = kind.nodes();
-        for (k, &n) in nodes.iter().enumerate() {
-            xbuf[k] = [mesh.nodes[n][0], mesh.nodes[n][1]];
+        let ke = &mut ke[..(ncomp * nn).pow(2)];
+        if solid {
+            for (k, &n) in nodes.iter().enumerate() {
+                x3[k] = mesh.nodes[n];
+            }
+            let material = Elastic3 {
+                youngs_modulus: reg.youngs_modulus,
+                poisson_ratio: reg.poisson_ratio,
+            };
+            solid3d::stiffness(*kind, &x3[..nn], &material, ke);
+            if reg.density > 0.0 {
+                solid3d::mass_lumped(*kind, &x3[..nn], reg.density, &mut ml);
+            }
+            elements.push(StatorElement::Solid3 {
+                kind: *kind,
+                nodes: nodes.clone(),
+                material,
+            });
+        } else {
+            for (k, &n) in nodes.iter().enumerate() {
+                x2[k] = [mesh.nodes[n][0], mesh.nodes[n][1]];
+            }
+            let material = Elastic2 {
+                youngs_modulus: reg.youngs_modulus,
+                poisson_ratio: reg.poisson_ratio,
+                thickness: reg.thickness,
+                plane,
+            };
+            solid2d::stiffness(*kind, &x2[..nn], &material, ke);
+            if reg.density > 0.0 {
+                solid2d::mass_lumped(*kind, &x2[..nn], reg.density * reg.thickness, &mut ml);
+            }
+            elements.push(StatorElement::Solid2 {
+                kind: *kind,
+                nodes: nodes.clone(),
+                material,
+            });
         }
-        let ke = &mut ke[..4 * nn * nn];
-        solid2d::stiffness(*kind, &xbuf[..nn], &reg.elastic, ke);
         dofs.clear();
-        dofs.extend(nodes.iter().flat_map(|&n| node_dofs[n]));
+        for &n in nodes {
+            dofs_of(n, &mut dofs);
+        }
         scatter(&dofs, ke, &mut kt);
         if reg.density > 0.0 {
-            solid2d::mass_lumped(
-                *kind,
-                &xbuf[..nn],
-                reg.density * reg.elastic.thickness,
-                &mut ml,
-            );
-            for (k, &n) in nodes.iter().enumerate() {
-                for d in node_dofs[n].iter().flatten() {
-                    mass[*d] += ml[k];
+            // Element eigenvalue bound (Irons): λ_max(K, M) ≤ max_e λ_max(K_e, M_e) with the
+            // element's lumped mass, on its free DOFs.
+            let free: Vec<usize> = (0..dofs.len()).filter(|&i| dofs[i].is_some()).collect();
+            if !free.is_empty() {
+                let nd = dofs.len();
+                let a = nalgebra::DMatrix::from_fn(free.len(), free.len(), |i, j| {
+                    let (fi, fj) = (free[i], free[j]);
+                    ke[fi * nd + fj] / (ml[fi / ncomp] * ml[fj / ncomp]).sqrt()
+                });
+                let lmax = a.symmetric_eigenvalues().max();
+                element_bound = element_bound.max(lmax);
+            }
+            for (k, m) in ml[..nn].iter().enumerate() {
+                for d in dofs[ncomp * k..ncomp * (k + 1)].iter().flatten() {
+                    mass[*d] += m;
                 }
             }
         }
-        elements.push(StatorElement::Solid2 {
-            kind: *kind,
-            nodes: nodes.clone(),
-            material: reg.elastic,
-        });
     }
     for (l, fr) in &lines {
         let a = [mesh.nodes[l[0]][0], mesh.nodes[l[0]][1]];
         let b = [mesh.nodes[l[1]][0], mesh.nodes[l[1]][1]];
         let length = (b[0] - a[0]).hypot(b[1] - a[1]);
         if length <= 0.0 {
-            return Err(MeshError::BadGroup {
-                file: file.clone(),
-                group: fr.group.clone(),
-                message: "a zero-length line element".into(),
-            }
-            .into());
+            return Err(bad_group(file, &fr.group, "a zero-length line element"));
         }
         match fr.inertia {
             None => {
@@ -508,7 +602,7 @@ pub fn from_mesh(
                 };
                 let mut kf = [0.0; 36];
                 frame::frame_stiffness(a, b, &section, &mut kf);
-                let rot_dofs = [Some(rot[&l[0]]), Some(rot[&l[1]])];
+                let rot_dofs = [rot[&l[0]], rot[&l[1]]];
                 let d = [
                     node_dofs[l[0]][0],
                     node_dofs[l[0]][1],
@@ -584,44 +678,71 @@ pub fn from_mesh(
         Csc::zeros(ndof, ndof)
     };
 
-    // Contact targets with their outward normals.
+    // Contact targets with their outward normals and stations.
     let normals = mesh.boundary_normals(&spec.contact_group)?;
     let mut targets = Vec::with_capacity(normals.len());
     let mut contact_normals = Vec::with_capacity(normals.len());
+    let mut target_station = Vec::with_capacity(normals.len());
     for (n, nv) in &normals {
         if !used[*n] {
-            return Err(MeshError::BadGroup {
-                file: file.clone(),
-                group: spec.contact_group.clone(),
-                message: format!(
+            return Err(bad_group(
+                file,
+                &spec.contact_group,
+                format!(
                     "node {} belongs to no element of the stator",
                     mesh.node_tags[*n]
                 ),
-            }
-            .into());
+            ));
         }
         targets.push(Target::Node {
             node: *n,
             x0: [mesh.nodes[*n][0], mesh.nodes[*n][1]],
             dofs: node_dofs[*n],
         });
-        contact_normals.push([nv[0], nv[1]]);
+        let h = nv[0].hypot(nv[1]);
+        contact_normals.push(if h > 0.0 {
+            [nv[0] / h, nv[1] / h]
+        } else {
+            [0.0, 0.0]
+        });
+        let z = mesh.nodes[*n][2] + spec.axial_origin;
+        target_station.push(if solid && stations_z.len() > 1 {
+            stations_z
+                .iter()
+                .min_by(|a, b| (a.1 - z).abs().total_cmp(&(b.1 - z).abs()))
+                .map_or(station, |s| s.0)
+        } else {
+            station
+        });
     }
     if targets.iter().all(|t| t.dofs() == [None, None]) {
-        return Err(MeshError::BadGroup {
-            file: file.clone(),
-            group: spec.contact_group.clone(),
-            message: "every contact node is fixed: the rotor would hit a rigid wall".into(),
-        }
-        .into());
+        return Err(bad_group(
+            file,
+            &spec.contact_group,
+            "every contact node is fixed: the rotor would hit a rigid wall",
+        ));
     }
+    // The element bound holds when every element carrying stiffness carries its own mass.
+    let omega_max_sq = (total_mass > 0.0
+        && lines.is_empty()
+        && spring_nodes.is_empty()
+        && cells.iter().all(|c| c.2.density > 0.0))
+    .then_some(element_bound);
     let data = MeshStatorData {
+        omega_max_sq,
         mesh_file: file.clone(),
         geometry,
         from_cache,
         dim,
         cells: cells.len(),
         contact_normals,
+        target_station,
+        node_z: if solid {
+            mesh.nodes.iter().map(|p| p[2]).collect()
+        } else {
+            vec![]
+        },
+        axial_dofs,
         contact_stiffness: OnceLock::new(),
         factor: OnceLock::new(),
     };
@@ -654,37 +775,40 @@ pub fn from_mesh(
     Ok(model)
 }
 
-/// Clearance of a meshed stator as placed: the smallest distance from the station surface
-/// (radius `radius`) to a contact node (m).
-pub fn clearance_of(model: &StatorModel, radius: f64) -> f64 {
+/// Clearance of a meshed stator as placed: the smallest distance from the surface of the
+/// station each contact node faces (`radii[station]`, m) to that node (m).
+pub fn clearance_of(model: &StatorModel, radii: &[f64]) -> f64 {
     model
         .targets
         .iter()
-        .filter_map(|t| match t {
-            Target::Node { x0, .. } => Some(x0[0].hypot(x0[1]) - radius),
+        .enumerate()
+        .filter_map(|(t, tg)| match tg {
+            Target::Node { x0, .. } => Some(x0[0].hypot(x0[1]) - radii[model.target_station(t)]),
             Target::Ring { .. } => None,
         })
         .fold(f64::INFINITY, f64::min)
 }
 
 /// Translates the stator rigidly along `approach_deg` so that, coming from far along that
-/// direction, its first contact node meets the circle of radius `radius + clearance`: the
-/// translation is `s d` with `s = max_i (−x_i·d + √((x_i·d)² − |x_i|² + (r+δ)²))` over the contact
-/// nodes whose line of approach meets the circle.
+/// direction, its first contact node meets the circle of radius `r + clearance` of its station
+/// (`r = radii[station]`): the translation is `s d` with
+/// `s = max_i (−x_i·d + √((x_i·d)² − |x_i|² + (r_i+δ)²))` over the contact nodes whose line of
+/// approach meets their circle.
 pub fn place(
     model: &mut StatorModel,
-    radius: f64,
+    radii: &[f64],
     clearance: f64,
     approach_deg: f64,
 ) -> Result<(), ModelError> {
     let t = approach_deg.to_radians();
     let d = [t.cos(), t.sin()];
-    let rc = radius + clearance;
     let s = model
         .targets
         .iter()
-        .filter_map(|tg| match tg {
+        .enumerate()
+        .filter_map(|(i, tg)| match tg {
             Target::Node { x0, .. } => {
+                let rc = radii[model.target_station(i)] + clearance;
                 let b = x0[0] * d[0] + x0[1] * d[1];
                 let disc = b * b - (x0[0] * x0[0] + x0[1] * x0[1]) + rc * rc;
                 (disc >= 0.0).then(|| -b + disc.sqrt())
@@ -696,7 +820,7 @@ pub fn place(
         return Err(ModelError::Inconsistent {
             what: format!("stator `{}`", model.name),
             message: format!(
-                "moved along approach_deg = {approach_deg}°, no contact node ever meets the rotor section (radius {radius} m): check approach_deg"
+                "moved along approach_deg = {approach_deg}°, no contact node ever meets the rotor section: check approach_deg"
             ),
         });
     }
@@ -710,7 +834,7 @@ pub fn place(
             x0[1] += s * d[1];
         }
     }
-    model.clearance = clearance_of(model, radius);
+    model.clearance = clearance_of(model, radii);
     model.angle_deg = Some(approach_deg);
     Ok(())
 }
@@ -750,6 +874,31 @@ pub fn nodal_stress(model: &StatorModel, u: &[f64]) -> Vec<[f64; 4]> {
         }
     }
     acc
+}
+
+/// von Mises stress (Pa) at the centroid of a tetrahedron for a free-DOF displacement `u`.
+pub(crate) fn centroid_von_mises_3d(
+    model: &StatorModel,
+    kind: CellKind,
+    nodes: &[usize],
+    material: &Elastic3,
+    u: &[f64],
+) -> f64 {
+    let Some(md) = &model.mesh else {
+        return f64::NAN;
+    };
+    let mut x = [[0.0; 3]; solid3d::MAX_NODES];
+    let mut ue = [0.0; 3 * solid3d::MAX_NODES];
+    for (k, &n) in nodes.iter().enumerate() {
+        x[k] = [model.nodes[n][0], model.nodes[n][1], md.node_z[n]];
+        let d = model.node_dofs[n];
+        ue[3 * k] = d[0].map_or(0.0, |i| u[i]);
+        ue[3 * k + 1] = d[1].map_or(0.0, |i| u[i]);
+        ue[3 * k + 2] = md.axial_dofs[n].map_or(0.0, |i| u[i]);
+    }
+    let nn = kind.nodes();
+    let eps = solid3d::strain(kind, &x[..nn], &ue[..3 * nn], [0.25; 3]);
+    solid3d::von_mises(material.stress(eps))
 }
 
 /// Coordinates and displacements of a cell's nodes.

@@ -305,12 +305,31 @@ impl Model {
         for spec in &s.stators {
             mesh_stators.push(match spec {
                 StatorSpec::Mesh(ms) => {
-                    let si = s
-                        .stations
-                        .iter()
-                        .position(|st| st.name == ms.station)
-                        .expect("validated station name");
-                    Some(std::sync::Arc::new(mesh_stator::build(ms, &ls.file, si)?))
+                    let index = |name: &str| {
+                        s.stations
+                            .iter()
+                            .position(|st| st.name == name)
+                            .expect("validated station name")
+                    };
+                    let si = index(&ms.station);
+                    // Axial positions of the stations a 3-D stator may face.
+                    let stations_z: Vec<(usize, f64)> = std::iter::once(&ms.station)
+                        .chain(&ms.stations)
+                        .map(|name| {
+                            let i = index(name);
+                            let z = match &rotor {
+                                Rotor::Fe(f) => f.rotor.z[s.stations[i].node],
+                                _ => 0.0,
+                            };
+                            (i, z)
+                        })
+                        .collect();
+                    Some(std::sync::Arc::new(mesh_stator::build(
+                        ms,
+                        &ls.file,
+                        si,
+                        &stations_z,
+                    )?))
                 }
                 _ => None,
             });
@@ -420,11 +439,12 @@ impl Model {
                         .as_ref()
                         .expect("meshed stators are built with the model");
                     let mut m = StatorModel::clone(template);
+                    let radii: Vec<f64> = self.stations.iter().map(|s| s.radius).collect();
                     if ms.clearance.is_some() || ms.clearance_nd.is_some() {
                         let clearance = resolve_clearance(ms.clearance, ms.clearance_nd)?;
-                        mesh_stator::place(&mut m, st.radius, clearance, ms.approach_deg)?;
+                        mesh_stator::place(&mut m, &radii, clearance, ms.approach_deg)?;
                     } else {
-                        m.clearance = mesh_stator::clearance_of(&m, st.radius);
+                        m.clearance = mesh_stator::clearance_of(&m, &radii);
                     }
                     if m.clearance.is_nan() || m.clearance <= 0.0 {
                         return Err(ModelError::Inconsistent {

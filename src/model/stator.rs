@@ -74,6 +74,16 @@ pub enum StatorElement {
         /// Material and thickness.
         material: crate::element::solid2d::Elastic2,
     },
+    /// Tetrahedron of a 3-D meshed stator (node z and u_z DOFs in
+    /// [`super::mesh_stator::MeshStatorData`]).
+    Solid3 {
+        /// Cell type (4- or 10-node tetrahedron).
+        kind: crate::mesh::CellKind,
+        /// Node indices in gmsh order.
+        nodes: Vec<usize>,
+        /// Material.
+        material: crate::element::solid3d::Elastic3,
+    },
     /// Frame (beam-column) between two nodes with rotation DOFs θ_z (meshed-stator supports).
     Frame {
         /// Node indices.
@@ -377,7 +387,9 @@ impl StatorModel {
                     ];
                     scatter(&node_dofs[*node], &ke);
                 }
-                StatorElement::Solid2 { .. } | StatorElement::Frame { .. } => {
+                StatorElement::Solid2 { .. }
+                | StatorElement::Solid3 { .. }
+                | StatorElement::Frame { .. } => {
                     unreachable!("meshed-stator elements are assembled by model::mesh_stator")
                 }
             }
@@ -509,6 +521,26 @@ impl StatorModel {
         0.5 * (a + c) + (0.25 * (a - c) * (a - c) + b * b).sqrt()
     }
 
+    /// The station contact target `t` faces: `station`, except for 3-D meshed stators whose
+    /// contact nodes are assigned to stations by axial position.
+    pub fn target_station(&self, t: usize) -> usize {
+        self.mesh
+            .as_ref()
+            .and_then(|m| m.target_station.get(t).copied())
+            .unwrap_or(self.station)
+    }
+
+    /// Sorted distinct stations the stator's targets face.
+    pub fn stations(&self) -> Vec<usize> {
+        let mut v: Vec<usize> = (0..self.targets.len())
+            .map(|t| self.target_station(t))
+            .chain(std::iter::once(self.station))
+            .collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+
     /// Sorted distinct free DOFs referenced by contact targets.
     pub fn contact_dofs(&self) -> Vec<usize> {
         let mut v: Vec<usize> = self
@@ -522,7 +554,8 @@ impl StatorModel {
     }
 
     /// Gershgorin upper bound of the largest eigenvalue of `M⁻¹K` (rad²/s²) for a stator with
-    /// lumped mass; `0` for a massless stator.
+    /// lumped mass (meshed stators: the smaller of it and the element eigenvalue bound);
+    /// `0` for a massless stator.
     pub fn omega_max_sq_bound(&self) -> f64 {
         if self.massless() {
             return 0.0;
@@ -532,7 +565,12 @@ impl StatorModel {
         for (r, _, v) in self.k.triplets() {
             rows[r] += v.abs();
         }
-        rows.iter().zip(&md).map(|(s, m)| s / m).fold(0.0, f64::max)
+        let gershgorin = rows.iter().zip(&md).map(|(s, m)| s / m).fold(0.0, f64::max);
+        // Meshed stators: the element eigenvalue bound when it applies (tighter).
+        match self.mesh.as_ref().and_then(|m| m.omega_max_sq) {
+            Some(e) => gershgorin.min(e),
+            None => gershgorin,
+        }
     }
 
     /// Axial force (N) and stress (Pa) in each bar and frame for a free-DOF displacement `u`;
@@ -575,6 +613,14 @@ impl StatorModel {
                 } => (
                     f64::NAN,
                     super::mesh_stator::centroid_von_mises(self, *kind, nodes, material, u),
+                ),
+                StatorElement::Solid3 {
+                    kind,
+                    nodes,
+                    material,
+                } => (
+                    f64::NAN,
+                    super::mesh_stator::centroid_von_mises_3d(self, *kind, nodes, material, u),
                 ),
                 StatorElement::Frame {
                     nodes,

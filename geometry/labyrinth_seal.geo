@@ -1,0 +1,62 @@
+// Labyrinth seal ring (3-D): a tube carrying `teeth` annular fins whose tips face the rotor,
+// centred on the station plane z = 0 (rotor axis z). Its outer surface and end faces sit in
+// the casing.
+//
+// Parameters (SI):
+//   rt     tooth tip radius (m): station radius + clearance
+//   rc     inner radius of the carrier tube, at the teeth roots (m)
+//   ro     outer radius (m)
+//   teeth  number of teeth
+//   pitch  axial pitch of the teeth (m)
+//   tooth  axial thickness of a tooth (m)
+//   margin carrier length beyond the outer teeth, each side (m)
+//   h      element size (m)
+//   ht     element size on the tooth tips (m)
+//
+// Physical groups:
+//   stator          the seal (volume)
+//   stator_contact  the tooth tips (cylindrical surfaces)
+//   stator_fixed    the outer cylinder and the end faces (surfaces)
+SetFactory("OpenCASCADE");
+DefineConstant[ rt = 0.0602, rc = 0.064, ro = 0.068, teeth = 3, pitch = 0.004,
+                tooth = 0.001, margin = 0.002, h = 0.003, ht = 0.0015 ];
+
+L = (teeth - 1) * pitch + tooth + 2 * margin;
+z0 = -L / 2;
+Cylinder(1) = {0, 0, z0, 0, 0, L, ro};
+Cylinder(2) = {0, 0, z0, 0, 0, L, rc};
+tube() = BooleanDifference{ Volume{1}; Delete; }{ Volume{2}; Delete; };
+fins() = {};
+For i In {0:teeth-1}
+  zi = -(teeth - 1) * pitch / 2 + i * pitch;
+  a = newv; Cylinder(a) = {0, 0, zi - tooth / 2, 0, 0, tooth, (rc + ro) / 2};
+  b = newv; Cylinder(b) = {0, 0, zi - tooth / 2, 0, 0, tooth, rt};
+  f() = BooleanDifference{ Volume{a}; Delete; }{ Volume{b}; Delete; };
+  fins() += f();
+EndFor
+seal() = BooleanUnion{ Volume{tube()}; Delete; }{ Volume{fins()}; Delete; };
+
+e = 1e-6;
+tips() = {};
+For i In {0:teeth-1}
+  zi = -(teeth - 1) * pitch / 2 + i * pitch;
+  tips() += Surface In BoundingBox{-rt - e, -rt - e, zi - tooth / 2 - e, rt + e, rt + e, zi + tooth / 2 + e};
+EndFor
+// Outer cylinder and end faces: every surface reaching beyond the carrier's inner radius.
+inner() = Surface In BoundingBox{-rc - e, -rc - e, z0 - e, rc + e, rc + e, z0 + L + e};
+all() = Surface{:};
+outer() = {};
+For i In {0:#all()-1}
+  isin = 0;
+  For j In {0:#inner()-1}
+    If (inner(j) == all(i)) isin = 1; EndIf
+  EndFor
+  If (isin == 0) outer() += all(i); EndIf
+EndFor
+
+Mesh.MeshSizeMax = h;
+MeshSize{ PointsOf{ Surface{tips()}; } } = ht;
+
+Physical Volume("stator") = {seal()};
+Physical Surface("stator_contact") = {tips()};
+Physical Surface("stator_fixed") = {outer()};
