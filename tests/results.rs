@@ -489,6 +489,9 @@ fn series_that_cannot_fit_is_refused_before_the_run() {
     let e = rubsim::results::check_free_space(dir.path(), 1e18)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("MB are free") && e.contains("needs about"), "{e}");
+    assert!(
+        e.contains("MB are free") && e.contains("needs about"),
+        "{e}"
+    );
     rubsim::results::check_free_space(dir.path(), 1.0).unwrap();
 }
