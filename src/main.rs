@@ -283,6 +283,18 @@ fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
     Ok(())
 }
 
+/// Writes `summary.json` last, moves every staged file into place and says where.
+fn finish(mut outd: OutDir, sum: &serde_json::Value) -> Result<()> {
+    outd.write(
+        "summary.json",
+        serde_json::to_string_pretty(sum)?.as_bytes(),
+    )?;
+    let dir = outd.dir().to_path_buf();
+    outd.commit()?;
+    println!("results in {}", dir.display());
+    Ok(())
+}
+
 fn progress_bar(n: usize) -> ProgressBar {
     let pb = ProgressBar::new(n as u64);
     pb.set_style(
@@ -448,14 +460,7 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
     let mut sum = summary_base(&ls, &model, "sweep");
     sum["sweeps"] = serde_json::Value::Array(variant_summaries);
     sum["wall_s"] = t0.elapsed().as_secs_f64().into();
-    outd.write(
-        "summary.json",
-        serde_json::to_string_pretty(&sum)?.as_bytes(),
-    )?;
-    let dir = outd.dir().to_path_buf();
-    outd.commit()?;
-    println!("results in {}", dir.display());
-    Ok(())
+    finish(outd, &sum)
 }
 
 fn check(c: &Common) -> Result<()> {
@@ -698,14 +703,7 @@ fn convergence(
     }
     let mut sum = summary_base(&ls, &model, "convergence");
     sum["studies"] = serde_json::to_value(&all)?;
-    outd.write(
-        "summary.json",
-        serde_json::to_string_pretty(&sum)?.as_bytes(),
-    )?;
-    let dir = outd.dir().to_path_buf();
-    outd.commit()?;
-    println!("results in {}", dir.display());
-    Ok(())
+    finish(outd, &sum)
 }
 
 fn bench(c: &Common, repeat: usize, reference: bool) -> Result<()> {

@@ -1,7 +1,7 @@
 //! `rubsim modal`, `rubsim campbell`, `rubsim unbalance`: linear rotordynamics of the rotor
 //! alone (no stator), written as CSV, summary.json and PNG.
 
-use super::{default_out, load, summary_base, Common};
+use super::{default_out, finish, load, summary_base, Common};
 use anyhow::{Context, Result};
 use rubsim::output::OutDir;
 use rubsim::plot::{self, Curve};
@@ -69,14 +69,7 @@ pub fn modal(
     let mut sum = summary_base(&ls, &model, "modal");
     sum["modal"] = serde_json::to_value(&res)?;
     sum["static_deflection_max_m"] = ymax.into();
-    outd.write(
-        "summary.json",
-        serde_json::to_string_pretty(&sum)?.as_bytes(),
-    )?;
-    let dir = outd.dir().to_path_buf();
-    outd.commit()?;
-    println!("results in {}", dir.display());
-    Ok(())
+    finish(outd, &sum)
 }
 
 /// Campbell diagram from ω/ω_n `from` to `to`.
@@ -162,14 +155,7 @@ pub fn campbell(
     }
     let mut sum = summary_base(&ls, &model, "campbell");
     sum["campbell"] = serde_json::to_value(&res)?;
-    outd.write(
-        "summary.json",
-        serde_json::to_string_pretty(&sum)?.as_bytes(),
-    )?;
-    let dir = outd.dir().to_path_buf();
-    outd.commit()?;
-    println!("results in {}", dir.display());
-    Ok(())
+    finish(outd, &sum)
 }
 
 /// Unbalance response (Bode and polar) at `nodes` (default: every station's node).
@@ -259,12 +245,5 @@ pub fn unbalance(
     }
     let mut sum = summary_base(&ls, &model, "unbalance");
     sum["unbalance_response"] = serde_json::to_value(&res)?;
-    outd.write(
-        "summary.json",
-        serde_json::to_string_pretty(&sum)?.as_bytes(),
-    )?;
-    let dir = outd.dir().to_path_buf();
-    outd.commit()?;
-    println!("results in {}", dir.display());
-    Ok(())
+    finish(outd, &sum)
 }
