@@ -4,14 +4,16 @@
 //   ri  inner radius (m): the station radius plus the radial clearance
 //   ro  outer radius (m)
 //   h   target element size (m)
-//   n   elements around the circumference (0: from h)
+//   n   elements around the circumference, both circles (0: from h)
+//   ni  elements around the inner (contact) circle alone (0: as n); the benchmark keeps it
+//       fixed while h refines the interior
 //
 // Physical groups (the contract with scenes):
 //   stator          the ring (surface; material region)
 //   stator_contact  the inner circle (curve): nodes the rotor can touch
 //   stator_fixed    the outer circle (curve): clamped
 SetFactory("OpenCASCADE");
-DefineConstant[ ri = 0.0601, ro = 0.08, h = 0.004, n = 0 ];
+DefineConstant[ ri = 0.0601, ro = 0.08, h = 0.004, n = 0, ni = 0 ];
 
 Disk(1) = {0, 0, 0, ro, ro};
 Disk(2) = {0, 0, 0, ri, ri};
@@ -22,6 +24,9 @@ outer = b(0);
 inner = b(1);
 If (n > 0)
   Transfinite Curve{outer, inner} = n + 1;
+EndIf
+If (ni > 0)
+  Transfinite Curve{inner} = ni + 1;
 EndIf
 Mesh.MeshSizeMax = h;
 Mesh.MeshSizeMin = 0;

@@ -240,9 +240,14 @@ impl PairCsr {
 }
 
 /// Sparse Cholesky factor `A = L Lᵀ` of a symmetric positive definite matrix.
+///
+/// Factored with faer's global parallelism; solved sequentially: the solves run inside the
+/// time loop (massless-stator compliance columns) and inside parallel sweeps, where threads
+/// of a parallel triangular solve only wait for each other.
 pub struct Cholesky {
     n: usize,
-    llt: faer::sparse::linalg::solvers::Llt<usize, f64>,
+    symbolic: faer::sparse::linalg::cholesky::SymbolicCholesky<usize>,
+    values: Vec<f64>,
 }
 
 impl std::fmt::Debug for Cholesky {
@@ -254,17 +259,55 @@ impl std::fmt::Debug for Cholesky {
 impl Cholesky {
     /// Factors `a` (both triangles stored; only the lower one is read).
     pub fn new(a: &Csc) -> Result<Self, String> {
+        use faer::dyn_stack::{MemBuffer, MemStack};
+        use faer::sparse::linalg::cholesky::factorize_symbolic_cholesky;
         assert_eq!(a.nrows, a.ncols);
-        let llt = a
-            .faer_ref()
-            .sp_cholesky(Side::Lower)
+        let r = a.faer_ref();
+        let symbolic = factorize_symbolic_cholesky(
+            r.symbolic(),
+            Side::Lower,
+            Default::default(),
+            Default::default(),
+        )
+        .map_err(|e| format!("{e:?}"))?;
+        let mut values = vec![0.0; symbolic.len_val()];
+        let par = faer::get_global_parallelism();
+        let mut mem =
+            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
+        symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                r,
+                Side::Lower,
+                Default::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
             .map_err(|e| format!("{e:?}"))?;
-        Ok(Self { n: a.nrows, llt })
+        Ok(Self {
+            n: a.nrows,
+            symbolic,
+            values,
+        })
     }
 
-    /// Solves `A X = B` in place for a column-major `n×k` block `b` (k = b.len()/n).
+    /// Solves `A X = B` in place for a column-major `n×k` block `b` (k = b.len()/n),
+    /// sequentially.
     pub fn solve_in_place(&self, b: &mut [f64]) {
-        solve_block(self.n, b, |m| self.llt.solve_in_place(m));
+        use faer::dyn_stack::{MemBuffer, MemStack};
+        use faer::sparse::linalg::cholesky::LltRef;
+        solve_block(self.n, b, |m| {
+            let k = m.ncols();
+            let par = faer::Par::Seq;
+            let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, par));
+            LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+                faer::Conj::No,
+                m,
+                par,
+                MemStack::new(&mut mem),
+            );
+        });
     }
 }
 

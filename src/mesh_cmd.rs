@@ -233,14 +233,20 @@ pub fn stress(a: &StressArgs) -> Result<()> {
                 ));
             }
             let label = format!("ω/ωn = {v}: stator `{}`", tr.name);
+            // Time in revolutions before the end, so that the speeds' panels align.
+            let t_end = tr.t.last().copied().unwrap_or(0.0);
+            let revs: Vec<f64> =
+                tr.t.iter()
+                    .map(|t| (t - t_end) * r.omega / (2.0 * std::f64::consts::PI))
+                    .collect();
             stress_series.push(Series {
                 label: label.clone(),
-                t: tr.t.clone(),
+                t: revs.clone(),
                 y: tr.stress.iter().map(|s| s / 1e6).collect(),
             });
             strain_series.push(Series {
                 label,
-                t: tr.t.clone(),
+                t: revs,
                 y: tr.strain.iter().map(|s| s * 1e6).collect(),
             });
             let peak = tr.stress.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
@@ -266,11 +272,13 @@ pub fn stress(a: &StressArgs) -> Result<()> {
                 "samples": tr.t.len(),
                 "dt_s": r.plan.dt,
             }));
-            // log₁₀ of the stress: contact at nodes concentrates it by orders of magnitude.
+            // log₁₀ of the stress over four decades below the peak: contact at nodes
+            // concentrates it by orders of magnitude.
+            let floor = 1e-4 * tr.peak_field.iter().fold(0.0_f64, |m, s| m.max(s.abs())) / 1e6;
             let mpa: Vec<f64> = tr
                 .peak_field
                 .iter()
-                .map(|s| (s.abs() / 1e6).max(1e-9).log10())
+                .map(|s| (s.abs() / 1e6).max(floor).max(1e-12).log10())
                 .collect();
             let polys = rubsim::stress::cell_polygons(st, &mpa);
             if !polys.is_empty() && ls.scene.output.png {
@@ -301,7 +309,7 @@ pub fn stress(a: &StressArgs) -> Result<()> {
             &p,
             "Largest element stress in the stator (bars: axial, cells: von Mises)",
             &stress_series,
-            "t (s)",
+            "t − t_end (revolutions)",
             "σ (MPa)",
         )?;
         let p = outd.stage("strain.png")?;
@@ -309,7 +317,7 @@ pub fn stress(a: &StressArgs) -> Result<()> {
             &p,
             "Strain of that element (σ/E)",
             &strain_series,
-            "t (s)",
+            "t − t_end (revolutions)",
             "ε (µm/m)",
         )?;
     }

@@ -1232,5 +1232,9 @@ speed_ratio = 1.0
     st.error_estimate = false;
     st.initial.u = [0.0, 3e-4];
     let r = rubsim::analysis::run_speed(&model, &st, 1.0, Default::default()).unwrap();
-    assert!(r.stats.contact_steps > 0 && r.stats.min_gap > -1e-9, "{:?}", r.stats);
+    assert!(
+        r.stats.contact_steps > 0 && r.stats.min_gap > -1e-9,
+        "{:?}",
+        r.stats
+    );
 }

@@ -46,6 +46,7 @@ impl std::fmt::Display for LcpFailure {
 #[derive(Debug, Clone)]
 pub struct LcpWorkspace {
     cap: usize,
+    guess: Vec<bool>,
     active: Vec<bool>,
     idx: Vec<usize>,
     sub: Vec<f64>,
@@ -59,6 +60,7 @@ impl LcpWorkspace {
     pub fn new(cap: usize) -> Self {
         Self {
             cap,
+            guess: vec![false; cap],
             active: vec![false; cap],
             idx: vec![0; cap],
             sub: vec![0.0; cap * cap],
@@ -87,6 +89,41 @@ pub fn solve(
     p: &mut [f64],
     ws: &mut LcpWorkspace,
 ) -> Result<usize, LcpFailure> {
+    solve_from(q, wmat, g, p, ws, false)
+}
+
+/// [`solve`] started from a guessed active set instead of the predicted penetrations: pair `i`
+/// starts active when `guess[i]` (e.g. it carried force in the previous step); an empty guess
+/// starts from the predicted penetrations `g[i] < 0` as [`solve`] does.
+/// Murty's least-index method terminates from any starting set when `W` is a P-matrix, and the
+/// solution is the same; a good guess (a contact patch that moved little since the last step)
+/// saves most of the pivots, each of which refactors the active block.
+///
+/// # Panics
+/// If `q` exceeds the workspace capacity or `guess` is shorter than `q`.
+pub fn solve_warm(
+    q: usize,
+    wmat: &[f64],
+    g: &[f64],
+    p: &mut [f64],
+    ws: &mut LcpWorkspace,
+    guess: &[bool],
+) -> Result<usize, LcpFailure> {
+    assert!(guess.len() >= q, "guess shorter than the problem");
+    assert!(q <= ws.cap, "LCP of size {q} exceeds workspace {}", ws.cap);
+    ws.guess[..q].copy_from_slice(&guess[..q]);
+    solve_from(q, wmat, g, p, ws, true)
+}
+
+#[allow(clippy::needless_range_loop)] // dense index kernel
+fn solve_from(
+    q: usize,
+    wmat: &[f64],
+    g: &[f64],
+    p: &mut [f64],
+    ws: &mut LcpWorkspace,
+    warm: bool,
+) -> Result<usize, LcpFailure> {
     assert!(q <= ws.cap, "LCP of size {q} exceeds workspace {}", ws.cap);
     let gscale = g[..q].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     p[..q].fill(0.0);
@@ -104,9 +141,11 @@ pub fn solve(
         return Ok(1);
     }
     let tol = 1e-12 * gscale;
-    // Start from the set of predicted penetrations.
-    for (a, gi) in ws.active.iter_mut().zip(&g[..q]) {
-        *a = *gi < 0.0;
+    // Start from the guess when warm (and it is not empty), else from the set of predicted
+    // penetrations.
+    let warm = warm && ws.guess[..q].iter().any(|b| *b);
+    for (i, gi) in g[..q].iter().enumerate() {
+        ws.active[i] = if warm { ws.guess[i] } else { *gi < 0.0 };
     }
     let max_iter = 50 + 20 * q * q;
     for iter in 0..max_iter {
