@@ -211,30 +211,34 @@ pub fn unbalance(
             .collect()
     };
     let title = &ls.scene.title;
-    let p = outd.stage("bode_amplitude.png")?;
-    plot::lines(
-        &p,
-        &format!("{title} — unbalance response (major semi-axis)"),
-        &per_node(&|r| (r.speed, r.major)),
-        "Ω (rad/s)",
-        "amplitude (m)",
-    )?;
-    let p = outd.stage("bode_phase.png")?;
-    plot::lines(
-        &p,
-        &format!("{title} — phase of x"),
-        &per_node(&|r| (r.speed, r.x_phase_deg)),
-        "Ω (rad/s)",
-        "phase (deg)",
-    )?;
-    let p = outd.stage("polar.png")?;
-    plot::lines(
-        &p,
-        &format!("{title} — polar plot of x"),
-        &per_node(&|r| (r.x_re, r.x_im)),
-        "Re x (m)",
-        "Im x (m)",
-    )?;
+    type Pick = fn(&rotordyn::ResponsePoint) -> (f64, f64);
+    let figures: [(&str, &str, Pick, &str, &str); 3] = [
+        (
+            "bode_amplitude.png",
+            "unbalance response (major semi-axis)",
+            |r| (r.speed, r.major),
+            "Ω (rad/s)",
+            "amplitude (m)",
+        ),
+        (
+            "bode_phase.png",
+            "phase of x",
+            |r| (r.speed, r.x_phase_deg),
+            "Ω (rad/s)",
+            "phase (deg)",
+        ),
+        (
+            "polar.png",
+            "polar plot of x",
+            |r| (r.x_re, r.x_im),
+            "Re x (m)",
+            "Im x (m)",
+        ),
+    ];
+    for (file, what, pick, xl, yl) in figures {
+        let p = outd.stage(file)?;
+        plot::lines(&p, &format!("{title} — {what}"), &per_node(&pick), xl, yl)?;
+    }
     for n in &nodes {
         let (s, a) = res
             .iter()
