@@ -1103,6 +1103,14 @@ fn cli_mesh_check_stress_and_refine() {
             "{scene}: {out}"
         );
     }
+    // Quadratic mesh with frames on 3-node lines (straight between their ends).
+    let (ok, out, err) = rubsim(&[
+        "check",
+        "scenes/stators/segmented_casing_beams.toml",
+        "--set",
+        "stator.0.order=2",
+    ]);
+    assert!(ok && out.contains("meshed stator"), "{err}");
     let o = dir.path().join("stress");
     let (ok, out, err) = rubsim(&[
         "stress",

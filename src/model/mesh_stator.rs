@@ -378,18 +378,17 @@ pub fn from_mesh(
             ));
         }
         for b in mesh.group_blocks(g) {
-            if b.kind != CellKind::Line2 {
+            if !matches!(b.kind, CellKind::Line2 | CellKind::Line3) {
                 return Err(MeshError::UnsupportedCell {
                     file: file.clone(),
                     group: fr.group.clone(),
-                    kind: format!(
-                        "{} (frames take 2-node lines: mesh them with order 1)",
-                        b.kind.name()
-                    ),
+                    kind: format!("{} (bars and frames take lines)", b.kind.name()),
                     count: b.len(),
                 }
                 .into());
             }
+            // A 3-node line (second-order mesh) is one straight element between its ends; its
+            // middle node belongs to no element and gets no DOF.
             lines.extend(b.cells().map(|c| ([c[0], c[1]], fr)));
         }
         if !lines.iter().any(|l| std::ptr::eq(l.1, fr)) {
