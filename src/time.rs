@@ -918,6 +918,15 @@ pub fn integrate_with(
         rec.active.push(active as u32);
     };
 
+    // Frozen geometry of candidate `ci` with the rotor at `u` and the stator at `stator_u`
+    // (None: undeformed, the start of a massless stator's step).
+    let pair_at = |ci: usize, u: &[f64], stator_u: Option<&[f64]>| -> PairState {
+        let c = &cands[ci];
+        let rd = station_dofs[c.station];
+        let tg = &case.stators[c.stator].targets[c.target];
+        let us = stator_u.map_or([0.0; 2], |s| target_disp(tg.dofs(), s));
+        pair_state(tg, c.radius, [u[rd[0]], u[rd[1]]], us, omega)
+    };
     // Frames: pairs in contact at the frame's instant, preallocated.
     let mut frame_pairs: Vec<PairForce> = Vec::with_capacity(nc);
     let collect_pairs =
@@ -1009,11 +1018,7 @@ pub fn integrate_with(
                 &mut reach,
             );
             for &ci in &near {
-                let c = &cands[ci];
-                let rd = station_dofs[c.station];
-                let uc = [rotor.u[rd[0]], rotor.u[rd[1]]];
-                let tg = &case.stators[c.stator].targets[c.target];
-                states[ci] = pair_state(tg, c.radius, uc, [0.0; 2], omega);
+                states[ci] = pair_at(ci, &rotor.u, None);
                 deepest = deepest.max(-states[ci].g);
             }
             if deepest > 0.0 {
@@ -1028,11 +1033,7 @@ pub fn integrate_with(
                     &mut reach,
                 );
                 for &ci in &near {
-                    let c = &cands[ci];
-                    let rd = station_dofs[c.station];
-                    let uc = [rotor.u[rd[0]], rotor.u[rd[1]]];
-                    let tg = &case.stators[c.stator].targets[c.target];
-                    states[ci] = pair_state(tg, c.radius, uc, [0.0; 2], omega);
+                    states[ci] = pair_at(ci, &rotor.u, None);
                     if states[ci].g < deepest {
                         sel.push(ci);
                     }
@@ -1120,11 +1121,7 @@ pub fn integrate_with(
         );
         for &ci in &near {
             let c = &cands[ci];
-            let rd = station_dofs[c.station];
-            let uc = [u_pred[rd[0]], u_pred[rd[1]]];
-            let tg = &case.stators[c.stator].targets[c.target];
-            let us = target_disp(tg.dofs(), stators[c.stator].disp());
-            states[ci] = pair_state(tg, c.radius, uc, us, omega);
+            states[ci] = pair_at(ci, u_pred, Some(stators[c.stator].disp()));
             deepest = deepest.max(-states[ci].g);
         }
         if deepest > 0.0 {
@@ -1139,11 +1136,7 @@ pub fn integrate_with(
             );
             for &ci in &near {
                 let c = &cands[ci];
-                let rd = station_dofs[c.station];
-                let uc = [u_pred[rd[0]], u_pred[rd[1]]];
-                let tg = &case.stators[c.stator].targets[c.target];
-                let us = target_disp(tg.dofs(), stators[c.stator].disp());
-                states[ci] = pair_state(tg, c.radius, uc, us, omega);
+                states[ci] = pair_at(ci, u_pred, Some(stators[c.stator].disp()));
                 if states[ci].g < deepest {
                     sel.push(ci);
                 }
