@@ -10,7 +10,7 @@ use rubsim::scene::{self, LoadedScene};
 use rubsim::time::plan_steps;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use vtkio::model::{Attribute, DataSet, IOBuffer, Piece, Vtk};
+use vtkio::model::{Attribute, CellType, DataSet, IOBuffer, Piece, VertexNumbers, Vtk};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -81,6 +81,64 @@ fn array(attrs: &[Attribute], name: &str) -> Vec<f64> {
     panic!("no array `{name}`")
 }
 
+/// An integer array (`part`, `stator`, `index`) of a piece's data.
+fn ints(attrs: &[Attribute], name: &str) -> Vec<i64> {
+    for a in attrs {
+        if let Attribute::DataArray(d) = a {
+            if d.name == name {
+                return match &d.data {
+                    IOBuffer::U8(v) => v.iter().map(|x| *x as i64).collect(),
+                    IOBuffer::I32(v) => v.iter().map(|x| *x as i64).collect(),
+                    IOBuffer::I64(v) => v.clone(),
+                    other => panic!("`{name}` is not an integer array: {other:?}"),
+                };
+            }
+        }
+    }
+    panic!("no array `{name}`")
+}
+
+/// Points `[x, y, z]` of a `.vtu` piece.
+fn points(g: &vtkio::model::UnstructuredGridPiece) -> Vec<[f64; 3]> {
+    f64s(&g.points)
+        .chunks(3)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect()
+}
+
+/// Cells `(type, point indices)` of a `.vtu` piece.
+fn cells(g: &vtkio::model::UnstructuredGridPiece) -> Vec<(CellType, Vec<usize>)> {
+    let VertexNumbers::XML {
+        connectivity,
+        offsets,
+    } = &g.cells.cell_verts
+    else {
+        panic!("legacy cell numbering in an XML file")
+    };
+    let mut start = 0;
+    g.cells
+        .types
+        .iter()
+        .zip(offsets)
+        .map(|(t, end)| {
+            let ids = connectivity[start..*end as usize]
+                .iter()
+                .map(|i| *i as usize)
+                .collect();
+            start = *end as usize;
+            (*t, ids)
+        })
+        .collect()
+}
+
+/// A `[f64; 3]` vector array of a piece's point or cell data.
+fn vectors3(attrs: &[Attribute], name: &str) -> Vec<[f64; 3]> {
+    array(attrs, name)
+        .chunks(3)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect()
+}
+
 /// `(time, file)` of every `DataSet` line of a `.pvd`.
 fn pvd(path: &Path) -> Vec<(f64, String)> {
     std::fs::read_to_string(path)
@@ -127,7 +185,7 @@ fn frame_plan_counts_and_window() {
 fn layout_maps_every_element_and_pair() {
     let (_, model) = load("fe_arc.toml", &[]);
     let case = model.case(1.7 * model.rotor.natural_frequency()).unwrap();
-    let l = Layout::new(&case);
+    let l = Layout::new(&model, &case);
     let s = &case.stators[0];
     assert_eq!(l.num_points(), s.nodes.len() + 1);
     assert!(l.element_cells[0].iter().all(|c| c.is_some()));
@@ -140,6 +198,81 @@ fn layout_maps_every_element_and_pair() {
             &[p.rotor_point as i64, p.stator_point as i64]
         );
     }
+}
+
+/// A 3-D seal facing two stations of an FE rotor: its points sit at the mesh's z shifted by
+/// `axial_origin` (the rotor's frame), and each pair's line starts at the rotor node of the
+/// station its tooth-tip node faces.
+#[test]
+fn layout_places_3d_stators_at_their_axial_position() {
+    if !gmsh_wanted() {
+        return;
+    }
+    let text = r#"
+[rotor]
+kind = "fe"
+[[rotor.shaft]]
+length = 1.5
+outer_diameter = 0.05
+elements = 6
+material = "steel"
+[[rotor.bearing]]
+node = 0
+stiffness = 1.0e6
+[[rotor.bearing]]
+node = 6
+stiffness = 1.0e6
+[[rotor.unbalance]]
+node = 2
+mass = 0.001
+radius = 0.05
+[[station]]
+name = "a"
+node = 2
+radius = 0.06
+[[station]]
+name = "b"
+node = 3
+radius = 0.06
+[[stator]]
+kind = "mesh"
+name = "seal"
+station = "a"
+stations = ["b"]
+axial_origin = 0.625
+geometry = "geometry/labyrinth_seal.geo"
+parameters = { teeth = 2, pitch = 0.25, tooth = 0.005, margin = 0.005, h = 0.012, ht = 0.006 }
+youngs_modulus = 70e9
+poisson_ratio = 0.33
+[run]
+speed_ratio = 1.0
+"#;
+    let ls = scene::parse(&data("two_station_seal.toml"), text, &[]).unwrap();
+    let model = Model::build(&ls).unwrap();
+    let case = model.case(model.rotor.natural_frequency()).unwrap();
+    let l = Layout::new(&model, &case);
+    let s = &case.stators[0];
+    let md = s.mesh.as_ref().unwrap();
+    for (n, p) in s.nodes.iter().enumerate() {
+        assert_eq!(l.grid.points[n], [p[0], p[1], md.node_z[n] + 0.625]);
+    }
+    let rotor_z = &l.grid.points[l.rotor_first_point..];
+    assert_eq!(rotor_z.len(), 7);
+    assert!((rotor_z[2][2] - 0.5).abs() < 1e-12 && (rotor_z[3][2] - 0.75).abs() < 1e-12);
+    let mut seen = [0; 2];
+    for (t, p) in l.pairs.iter().enumerate() {
+        let station = s.target_station(t);
+        assert_eq!(p.station, station);
+        assert_eq!(
+            p.rotor_point,
+            l.rotor_first_point + case.stations[station].node
+        );
+        // The tooth-tip node is within a tooth's half-thickness of its station's plane.
+        let dz = l.grid.points[p.stator_point][2] - rotor_z[case.stations[station].node][2];
+        assert!(dz.abs() <= 0.0025 + 1e-9, "pair {t}: {dz}");
+        seen[station] += 1;
+    }
+    assert!(seen[0] > 0 && seen[1] > 0, "{seen:?}");
 }
 
 /// The rod: every written frame's bar axial force balances the contact force on the tip
@@ -312,6 +445,326 @@ fn faults_are_reported_before_the_run() {
     if std::fs::write(ro.join("probe"), "x").is_err() {
         let e = cli(&["run", scene, "--out", "ro", "--set", "output.vtk={}"]);
         assert!(e.contains("not writable"), "{e}");
+    }
+}
+
+/// A ring stator is drawn as its contact circle, moved by the ring's displacement, and its pair
+/// line ends on the ring where it faces the section centre.
+#[test]
+fn ring_stator_is_drawn_as_its_contact_circle() {
+    use rubsim::results::RING_POINTS;
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("out");
+    let sets: &[&str] = &["output.vtk={ every = 16 }", "output.hdf5={}"];
+    #[cfg(not(feature = "hdf5"))]
+    let sets = &sets[..1];
+    let (_, model) = load("ring.toml", sets);
+    let case = model.case(1.7 * model.rotor.natural_frequency()).unwrap();
+    let rubsim::model::Target::Ring {
+        center0,
+        inner_radius: big_r,
+        ..
+    } = case.stators[0].targets[0]
+    else {
+        panic!("a ring target")
+    };
+    let r = case.stations[0].radius;
+    assert!(big_r > r);
+    run("ring.toml", sets, &dir);
+    let frames = pvd(&dir.join("results.pvd"));
+    // The whole run every 16 steps: free at first, then rubbing.
+    assert!(frames.len() > 100, "{}", frames.len());
+    // Points: ring centre, circle, contact point P, rotor centre.
+    let (circle, p, rotor) = (1, 1 + RING_POINTS, 2 + RING_POINTS);
+    let mut moved = 0.0_f64;
+    let mut contact = 0;
+    for (_, file) in &frames {
+        let g = vtu(&dir.join(file));
+        let x = points(&g);
+        assert_eq!(x.len(), 3 + RING_POINTS);
+        let d = vectors3(&g.data.point, "displacement");
+        let us = d[0];
+        assert_eq!(x[0], [center0[0], center0[1], 0.0]);
+        moved = moved.max(us[0].hypot(us[1]));
+        // Displaced ring centre.
+        let c = [center0[0] + us[0], center0[1] + us[1]];
+        for i in 0..RING_POINTS {
+            let k = circle + i;
+            // Undeformed on the circle at θ_i, translated with the ring.
+            let th = std::f64::consts::TAU * i as f64 / RING_POINTS as f64;
+            assert!(
+                (x[k][0] - center0[0] - big_r * th.cos()).abs() <= 1e-15 * big_r
+                    && (x[k][1] - center0[1] - big_r * th.sin()).abs() <= 1e-15 * big_r
+            );
+            assert_eq!(d[k], us);
+            let q = [x[k][0] + d[k][0] - c[0], x[k][1] + d[k][1] - c[1]];
+            assert!(
+                (q[0].hypot(q[1]) - big_r).abs() <= 1e-12 * big_r,
+                "point {k}: {} vs R = {big_r}",
+                q[0].hypot(q[1])
+            );
+        }
+        let cl = cells(&g);
+        let closed: Vec<usize> = (circle..circle + RING_POINTS)
+            .chain(std::iter::once(circle))
+            .collect();
+        assert_eq!(cl[0], (CellType::PolyLine, closed));
+        assert_eq!(cl[1], (CellType::Vertex, vec![rotor]));
+        let part = ints(&g.data.cell, "part");
+        let index = ints(&g.data.cell, "index");
+        // The circle is a stator cell that is no element; then the rotor.
+        assert_eq!((part[0], index[0]), (0, -1));
+        assert_eq!((part[1], index[1]), (1, 0));
+        // The contact point: the ring's surface point facing the section centre,
+        // x_C + (r + g) n with n from the ring centre to the section centre.
+        assert_eq!(d[p], us);
+        let xc = [d[rotor][0], d[rotor][1]];
+        let v = [xc[0] - c[0], xc[1] - c[1]];
+        let l = v[0].hypot(v[1]);
+        // (1, 0) when the centres coincide (at rest, step 0), as the contact kernel.
+        let n = if l > 0.0 {
+            [v[0] / l, v[1] / l]
+        } else {
+            [1.0, 0.0]
+        };
+        let gap = big_r - r - l;
+        let pp = [x[p][0] + d[p][0], x[p][1] + d[p][1]];
+        for k in 0..2 {
+            assert!(
+                (pp[k] - (c[k] + big_r * n[k])).abs() <= 1e-12 * big_r
+                    && (pp[k] - (xc[k] + (r + gap) * n[k])).abs() <= 1e-12 * big_r,
+                "{pp:?} vs {:?}",
+                [c[0] + big_r * n[0], c[1] + big_r * n[1]]
+            );
+        }
+        let nf = array(&g.data.cell, "normal_force");
+        let cf = vectors3(&g.data.point, "contact_force");
+        if cl.len() == 3 {
+            contact += 1;
+            assert_eq!(cl[2], (CellType::Line, vec![rotor, p]));
+            assert!(nf[2] > 0.0);
+            // The force acts on the ring at its centre (its DOFs) and pushes it outward along
+            // n; the rotor gets the opposite; P carries none.
+            assert!(cf[0][0] * n[0] + cf[0][1] * n[1] > 0.0);
+            assert_eq!([cf[rotor][0], cf[rotor][1]], [-cf[0][0], -cf[0][1]]);
+            assert_eq!(cf[p], [0.0; 3]);
+        } else {
+            assert_eq!(cl.len(), 2);
+            assert!(cf[0] == [0.0; 3]);
+        }
+    }
+    // The ring moves (by more than a hundredth of the clearance) and is rubbed.
+    assert!(moved > 0.01 * (big_r - r), "ring moved by {moved}");
+    assert!(contact > 0 && contact < frames.len(), "{contact}");
+    #[cfg(feature = "hdf5")]
+    {
+        // The static VTKHDF grid: the same circle, P at the ring centre, the pair line.
+        use hdf5_metno as h5;
+        let f = h5::File::open(dir.join("results.vtkhdf")).unwrap();
+        let pts: Vec<f64> = f.dataset("VTKHDF/Points").unwrap().read_raw().unwrap();
+        let g = vtu(&dir.join(&frames[0].1));
+        let x = points(&g);
+        for k in (0..3 + RING_POINTS).filter(|k| *k != p) {
+            assert_eq!(&pts[3 * k..3 * k + 3], &x[k][..]);
+        }
+        assert_eq!(&pts[3 * p..3 * p + 3], &[center0[0], center0[1], 0.0]);
+        let conn: Vec<i64> = f
+            .dataset("VTKHDF/Connectivity")
+            .unwrap()
+            .read_raw()
+            .unwrap();
+        assert_eq!(conn[conn.len() - 2..], [rotor as i64, p as i64]);
+        let types: Vec<u8> = f.dataset("VTKHDF/Types").unwrap().read_raw().unwrap();
+        assert_eq!(types, vec![4, 1, 3]);
+        let st = f.group("stators/0").unwrap();
+        let num = |a: &str| -> i64 { st.attr(a).unwrap().read_scalar().unwrap() };
+        assert_eq!(
+            (num("num_nodes"), num("num_points")),
+            (1, 2 + RING_POINTS as i64)
+        );
+    }
+}
+
+/// Skips a test that may need gmsh when `RUBSIM_SKIP_GMSH` is set (as tests/mesh.rs does);
+/// otherwise the mesh comes from the cache in `meshes/` or gmsh.
+fn gmsh_wanted() -> bool {
+    if std::env::var("RUBSIM_SKIP_GMSH").is_ok() {
+        eprintln!("RUBSIM_SKIP_GMSH set: skipping a test with a meshed stator");
+        return false;
+    }
+    true
+}
+
+/// VTK's edges of the 10-node tetrahedron, mid-edge nodes 4…9 (`VTK_QUADRATIC_TETRA`).
+const VTK_TET10_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
+
+/// 3-D labyrinth seal (one tooth, coarse Tet4 and Tet10 meshes): every tetrahedron is a VTK
+/// cell in VTK's node order with positive volume, points sit at the mesh's z, displacements
+/// carry u_z (the written centroid stress is the von Mises stress of the written displacement
+/// field), and the VTKHDF grid holds the same cells, points and data.
+#[test]
+fn tetrahedral_stator_cells_in_vtk_and_hdf5() {
+    use rubsim::element::solid3d;
+    use rubsim::mesh::CellKind;
+    use rubsim::model::stator::StatorElement;
+    if !gmsh_wanted() {
+        return;
+    }
+    for (kind, vtk_type, extra) in [
+        (CellKind::Tet4, CellType::Tetra, vec![]),
+        (
+            CellKind::Tet10,
+            CellType::QuadraticTetra,
+            vec![
+                "stator.0.order=2",
+                "run.revolutions=1",
+                "run.transient_revolutions=0",
+            ],
+        ),
+    ] {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        let mut sets = vec!["output.vtk={ every = 960 }", "output.hdf5={ every = 960 }"];
+        #[cfg(not(feature = "hdf5"))]
+        sets.pop();
+        sets.extend(extra);
+        let (_, model) = load("seal3d.toml", &sets);
+        let case = model.case(model.rotor.natural_frequency()).unwrap();
+        let s = &case.stators[0];
+        let md = s.mesh.as_ref().unwrap();
+        assert_eq!(md.dim, 3);
+        let nn = s.nodes.len();
+        let ne = s.elements.len();
+        run("seal3d.toml", &sets, &dir);
+        let frames = pvd(&dir.join("results.pvd"));
+        // The frame with the most pairs in contact.
+        let (k, g) = frames
+            .iter()
+            .enumerate()
+            .map(|(k, (_, f))| (k, vtu(&dir.join(f))))
+            .max_by_key(|(_, g)| cells(g).len())
+            .unwrap();
+        #[cfg(not(feature = "hdf5"))]
+        let _ = k; // the frame index serves the comparison with the HDF5 file
+        let cl = cells(&g);
+        assert!(cl.len() > ne + 1, "{kind:?}: no pair in contact");
+        let x = points(&g);
+        assert_eq!(x.len(), nn + 1);
+        for (n, (p, z)) in s.nodes.iter().zip(&md.node_z).enumerate() {
+            assert_eq!(x[n], [p[0], p[1], *z], "node {n}");
+        }
+        // The seal spans the station plane (one tooth of 2 mm in a 6 mm carrier).
+        let (zmin, zmax) = x[..nn]
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p[2]), b.max(p[2]))
+            });
+        assert!(zmin < -2e-3 && zmax > 2e-3, "{zmin} {zmax}");
+        let d = vectors3(&g.data.point, "displacement");
+        let stress = array(&g.data.cell, "stress");
+        let smax = stress[..ne].iter().fold(0.0_f64, |a, b| a.max(*b));
+        assert!(smax > 0.0);
+        // u_z is written: not all zero, zero where it is fixed.
+        assert!(d[..nn].iter().any(|v| v[2] != 0.0));
+        for (v, a) in d.iter().zip(&md.axial_dofs) {
+            if a.is_none() {
+                assert_eq!(v[2], 0.0);
+            }
+        }
+        for (e, el) in s.elements.iter().enumerate() {
+            let StatorElement::Solid3 {
+                kind: ek,
+                nodes,
+                material,
+            } = el
+            else {
+                panic!("element {e} is not a tetrahedron")
+            };
+            assert_eq!(*ek, kind);
+            let mut vtk_nodes = nodes.clone();
+            if kind == CellKind::Tet10 {
+                vtk_nodes.swap(8, 9);
+            }
+            assert_eq!(cl[e], (vtk_type, vtk_nodes.clone()), "cell {e}");
+            // In VTK's order: positive volume of the corners, mid-edge nodes on VTK's edges.
+            let p = |i: usize| x[vtk_nodes[i]];
+            let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+            let (a, b, c) = (sub(p(1), p(0)), sub(p(2), p(0)), sub(p(3), p(0)));
+            let vol = (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                / 6.0;
+            assert!(vol > 0.0, "cell {e}: volume {vol}");
+            if kind == CellKind::Tet10 {
+                for (m, (i, j)) in VTK_TET10_EDGES.into_iter().enumerate() {
+                    let mid = [
+                        0.5 * (p(i)[0] + p(j)[0]),
+                        0.5 * (p(i)[1] + p(j)[1]),
+                        0.5 * (p(i)[2] + p(j)[2]),
+                    ];
+                    let off = sub(p(4 + m), mid);
+                    let len = sub(p(i), p(j));
+                    let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                    // Curved boundary edges bow a little; a misplaced node is half an edge off.
+                    assert!(norm(off) <= 0.05 * norm(len), "cell {e} edge {m}");
+                }
+            }
+            // Centroid von Mises stress of the written field (gmsh order for the kernel).
+            let xe: Vec<[f64; 3]> = nodes.iter().map(|n| x[*n]).collect();
+            let ue: Vec<f64> = nodes.iter().flat_map(|n| d[*n]).collect();
+            let sv =
+                solid3d::von_mises(material.stress(solid3d::strain(kind, &xe, &ue, [0.25; 3])));
+            assert!(
+                (sv - stress[e]).abs() <= 1e-9 * smax,
+                "cell {e}: {sv} vs {}",
+                stress[e]
+            );
+        }
+        // Pairs: lines from the rotor node to tooth-tip nodes.
+        for (t, cell) in cl[ne + 1..].iter() {
+            assert_eq!(*t, CellType::Line);
+            assert_eq!(cell[0], nn);
+            assert!(s.targets.iter().any(|tg| matches!(
+                tg,
+                rubsim::model::Target::Node { node, .. } if *node == cell[1]
+            )));
+        }
+        #[cfg(feature = "hdf5")]
+        {
+            use hdf5_metno as h5;
+            let f = h5::File::open(dir.join("results.vtkhdf")).unwrap();
+            let read_f = |n: &str| -> Vec<f64> { f.dataset(n).unwrap().read_raw().unwrap() };
+            let read_i = |n: &str| -> Vec<i64> { f.dataset(n).unwrap().read_raw().unwrap() };
+            let types: Vec<u8> = f.dataset("VTKHDF/Types").unwrap().read_raw().unwrap();
+            assert!(types[..ne].iter().all(|t| *t == vtk_type as u8));
+            let conn = read_i("VTKHDF/Connectivity");
+            let off = read_i("VTKHDF/Offsets");
+            for (e, (_, ids)) in cl[..ne].iter().enumerate() {
+                let c: Vec<usize> = conn[off[e] as usize..off[e + 1] as usize]
+                    .iter()
+                    .map(|i| *i as usize)
+                    .collect();
+                assert_eq!(&c, ids);
+            }
+            let pts = read_f("VTKHDF/Points");
+            assert_eq!(pts, x.iter().flatten().copied().collect::<Vec<_>>());
+            let ax = read_i("stators/0/axial_dofs");
+            let expect: Vec<i64> = md
+                .axial_dofs
+                .iter()
+                .map(|a| a.map_or(-1, |a| a as i64))
+                .collect();
+            assert_eq!(ax, expect);
+            // Same frames in both writers: frame k of the VTKHDF series is the .vtu's.
+            let np = nn + 1;
+            let disp = read_f("VTKHDF/PointData/displacement");
+            assert_eq!(
+                &disp[3 * k * np..3 * (k + 1) * np],
+                &d.iter().flatten().copied().collect::<Vec<_>>()[..]
+            );
+            let nc = types.len();
+            let hs = read_f("VTKHDF/CellData/stress");
+            assert_eq!(&hs[k * nc..k * nc + ne], &stress[..ne]);
+        }
     }
 }
 

@@ -234,6 +234,7 @@ impl Hdf5Series {
         info: &RunInfo,
     ) -> h5::Result<(h5::File, Columns, h5::Group)> {
         let f = h5::File::create(path)?;
+        close_on_exec(&f);
         let fl = plan.fields;
         attr_str(&f, "format", "rubsim results 1 (docs/OUTPUTS.md)")?;
         attr_str(&f, "rubsim_version", env!("CARGO_PKG_VERSION"))?;
@@ -305,7 +306,8 @@ impl Hdf5Series {
             attr_str(&g, "name", &s.name)?;
             attr(&g, "station", s.station as i64)?;
             attr(&g, "first_point", layout.stator_first_point[k] as i64)?;
-            attr(&g, "num_points", s.nodes.len() as i64)?;
+            attr(&g, "num_points", layout.stator_num_points[k] as i64)?;
+            attr(&g, "num_nodes", s.nodes.len() as i64)?;
             let cells: Vec<i64> = layout.element_cells[k]
                 .iter()
                 .map(|c| c.map_or(-1, |c| c as i64))
@@ -317,6 +319,21 @@ impl Hdf5Series {
                 .flat_map(|d| d.map(|x| x.map_or(-1, |x| x as i64)))
                 .collect();
             static_ds(&g, "node_dofs", &[s.nodes.len(), 2], &dofs, "")?;
+            if let Some(md) = &s.mesh {
+                // Absolute when it can be resolved, so that the file can be found from anywhere.
+                let mf = std::fs::canonicalize(&md.mesh_file).unwrap_or(md.mesh_file.clone());
+                attr_str(&g, "mesh_file", &mf.to_string_lossy())?;
+                attr(&g, "dim", md.dim as i64)?;
+            }
+            // 3-D meshed stators: the free DOF of u_z of every node.
+            if let Some(md) = s.mesh.as_ref().filter(|m| !m.axial_dofs.is_empty()) {
+                let ax: Vec<i64> = md
+                    .axial_dofs
+                    .iter()
+                    .map(|d| d.map_or(-1, |x| x as i64))
+                    .collect();
+                static_ds(&g, "axial_dofs", &[ax.len()], &ax, "")?;
+            }
         }
 
         // VTKHDF: the grid once, data per step.
@@ -563,5 +580,37 @@ impl Hdf5Series {
         let name = self.name.clone();
         drop(self);
         Ok(vec![name])
+    }
+}
+
+/// Marks the HDF5 file's descriptor close-on-exec. libhdf5 opens files without `O_CLOEXEC`
+/// and holds an `flock` on them, so a process spawned while the file is being written (a
+/// mesher, another rubsim) would inherit the descriptor and keep the lock after this run
+/// closes the file: readers then fail with "unable to lock file". Best effort: a driver
+/// without a POSIX descriptor is left alone.
+fn close_on_exec(f: &h5::File) {
+    let mut handle: *mut std::ffi::c_void = std::ptr::null_mut();
+    // SAFETY: `f.id()` is a valid open file id; H5P_DEFAULT selects the default (sec2) driver,
+    // whose handle is a pointer to the `int` descriptor, valid while the file is open.
+    let fd = h5::sync::sync(|| unsafe {
+        let rc = hdf5_metno_sys::h5f::H5Fget_vfd_handle(
+            f.id(),
+            hdf5_metno_sys::h5p::H5P_DEFAULT,
+            &mut handle,
+        );
+        if rc < 0 || handle.is_null() {
+            None
+        } else {
+            Some(*(handle as *const std::ffi::c_int))
+        }
+    });
+    if let Some(fd) = fd {
+        // SAFETY: fcntl on a descriptor this process owns; only the FD_CLOEXEC flag changes.
+        unsafe {
+            let flags = libc::fcntl(fd, libc::F_GETFD);
+            if flags >= 0 {
+                libc::fcntl(fd, libc::F_SETFD, flags | libc::FD_CLOEXEC);
+            }
+        }
     }
 }

@@ -11,17 +11,22 @@
 //!
 //! Both formats write the same unstructured grid ([`Layout`]):
 //!
-//! * points: the nodes of every stator, stator after stator, in the plane `z` of the rotor node
-//!   carrying their station, then the rotor nodes on the axis `(0, 0, z)`. Points are at their
+//! * points: the points of every stator, stator after stator, then the rotor nodes on the axis
+//!   `(0, 0, z)`. A stator's points are its nodes — 2-D stators in the plane `z` of the rotor
+//!   node carrying their station, 3-D (tetrahedral) meshed stators at their own axial position
+//!   `z = node z + axial_origin` — followed, for a ring target, by the [`RING_POINTS`] points
+//!   of its contact circle and the ring's contact point ([`RingSlot`]). Points are at their
 //!   **undeformed** positions (m); the point array `displacement` moves them (ParaView's
 //!   *Warp By Vector*).
-//! * cells: one per stator element ([`element_cell`]), the rotor (a vertex for a one-node rotor,
-//!   else a polyline through its nodes), then the contact pairs as lines from the rotor node of
-//!   the station to the stator node (a ring's target is its centre). The `.vtu` frames hold only
-//!   the pairs in contact at that instant; the VTKHDF grid, written once, holds every candidate
-//!   pair with `normal_force = 0` while it is open.
-//! * cell data `part` (0 stator element, 1 rotor, 2 contact pair), `stator` (stator index, −1
-//!   for the rotor) and `index` (element index in its stator, pair index, 0 for the rotor).
+//! * cells: one per stator element ([`element_cell`]), a closed polyline per ring (its
+//!   contact circle), the rotor (a vertex for a one-node rotor, else a polyline through its
+//!   nodes), then the contact pairs as lines from the rotor node of the station the target
+//!   faces to the stator node (a ring: to its contact point). The `.vtu` frames hold only the
+//!   pairs in contact at that instant; the VTKHDF grid, written once, holds every candidate pair
+//!   with `normal_force = 0` while it is open.
+//! * cell data `part` (0 stator element or ring circle, 1 rotor, 2 contact pair), `stator`
+//!   (stator index, −1 for the rotor) and `index` (element index in its stator, −1 for a ring
+//!   circle, pair index, 0 for the rotor).
 //!
 //! Conventions are the crate's: SI units, x horizontal, y vertical, rotor axis z; contact force
 //! positive on the body it acts on (`contact_force` at a stator node is `Σ (n + μa) p` of its
@@ -35,8 +40,11 @@ pub mod hdf5;
 
 use crate::analysis::{self, Keep, RunSettings, SpeedResults, SweepResults};
 use crate::error::{Error, Result};
+use crate::math::V2;
+use crate::mesh::CellKind;
 use crate::model::stator::StatorElement;
 use crate::model::{Case, Model, Target};
+use crate::scene::StatorSpec;
 use crate::scene::{OutputSpec, PerSpeed, SeriesField, SeriesSpec};
 use crate::time::{plan_steps, Frame, FrameSink, StepPlan};
 use std::path::Path;
@@ -52,23 +60,37 @@ pub mod part {
     pub const CONTACT: u8 = 2;
 }
 
-/// The VTK cell of a stator element: its type and its nodes (indices into the stator's nodes);
-/// `None` for element kinds that have no cell yet (they are left out of the output).
+/// The VTK cell of a stator element: its type and its nodes (indices into the stator's nodes)
+/// in VTK's node order; `None` only for a cell kind VTK has no type for (left out of the
+/// output).
 ///
-/// **New [`StatorElement`] kinds (triangles, quadrilaterals, tetrahedra of meshed stators) add
-/// their arm here**, with VTK's node order; cell data then follow [`crate::model::StatorModel::element_forces`].
+/// Bars and frames are `VTK_LINE`, springs to ground `VTK_VERTEX` on their node, the
+/// continuum cells of meshed stators their VTK cell ([`CellKind::vtk_type`]). gmsh and VTK
+/// number the nodes of lines, triangles, quadrilaterals and the 4-node tetrahedron alike;
+/// for the 10-node tetrahedron gmsh's mid-edge nodes 8 and 9 lie on edges (2,3) and (1,3),
+/// VTK's on (1,3) and (2,3), so the two are swapped ([`gmsh_to_vtk_order`]). New
+/// [`StatorElement`] kinds add their arm here; cell data follow
+/// [`crate::model::StatorModel::element_forces`].
 pub fn element_cell(el: &StatorElement) -> Option<(CellType, Vec<usize>)> {
-    #[allow(unreachable_patterns)]
     match el {
         StatorElement::Bar { nodes, .. } => Some((CellType::Line, nodes.to_vec())),
         StatorElement::Spring { node, .. } => Some((CellType::Vertex, vec![*node])),
         StatorElement::Frame { nodes, .. } => Some((CellType::Line, nodes.to_vec())),
-        // gmsh and VTK number the nodes of these cells alike.
-        StatorElement::Solid2 { kind, nodes, .. } => {
-            vtk_cell_type(kind.vtk_type()).map(|t| (t, nodes.clone()))
+        StatorElement::Solid2 { kind, nodes, .. } | StatorElement::Solid3 { kind, nodes, .. } => {
+            vtk_cell_type(kind.vtk_type()).map(|t| (t, gmsh_to_vtk_order(*kind, nodes)))
         }
-        _ => None,
     }
+}
+
+/// A cell's nodes reordered from gmsh's to VTK's node order: the identity except for the
+/// 10-node tetrahedron, whose last two mid-edge nodes swap (gmsh: 4 (0,1), 5 (1,2), 6 (2,0),
+/// 7 (0,3), 8 (2,3), 9 (1,3); VTK `VTK_QUADRATIC_TETRA`: … 8 (1,3), 9 (2,3)).
+pub fn gmsh_to_vtk_order(kind: CellKind, nodes: &[usize]) -> Vec<usize> {
+    let mut v = nodes.to_vec();
+    if kind == CellKind::Tet10 && v.len() == 10 {
+        v.swap(8, 9);
+    }
+    v
 }
 
 /// The `vtkio` cell type of a VTK cell type number (the linear and quadratic cells of lines,
@@ -93,7 +115,6 @@ pub fn vtk_cell_type(n: u8) -> Option<CellType> {
 /// Strain of an element from its stress (Pa): σ/E for bars and frames (axial), NaN where it is
 /// not defined (springs; continuum cells, whose stress is the centroid von Mises stress).
 fn element_strain(el: &StatorElement, stress: f64) -> f64 {
-    #[allow(unreachable_patterns)]
     match el {
         StatorElement::Bar { youngs_modulus, .. } => stress / youngs_modulus,
         StatorElement::Frame { section, .. } => stress / section.youngs_modulus,
@@ -164,7 +185,8 @@ impl OutputGrid {
 /// A contact candidate as the integrator enumerates them (stator by stator, target by target).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PairSlot {
-    /// Station index.
+    /// Station index: the station the target faces
+    /// ([`crate::model::StatorModel::target_station`]).
     pub station: usize,
     /// Stator index.
     pub stator: usize,
@@ -172,8 +194,52 @@ pub struct PairSlot {
     pub node: usize,
     /// Grid point of the rotor node carrying the station.
     pub rotor_point: usize,
-    /// Grid point of the stator node.
+    /// Grid point the pair's line ends at: the stator node, for a ring its contact point
+    /// ([`RingSlot::contact_point`]).
     pub stator_point: usize,
+    /// Grid point of the stator node (a ring: its centre), where the point array
+    /// `contact_force` adds the pair's force.
+    pub node_point: usize,
+}
+
+/// Points drawn on the contact circle of a ring target (a closed polyline).
+pub const RING_POINTS: usize = 64;
+
+/// How a ring target (rigid ring on springs, circle-in-circle contact) is drawn.
+///
+/// * Its **contact circle** (inner radius `R = r + δ`): [`RING_POINTS`] grid points at
+///   `center0 + R (cos θ_i, sin θ_i)`, `θ_i = 2π i / RING_POINTS`, joined by a closed
+///   `VTK_POLY_LINE` (first point repeated at the end). Their `displacement` is the ring's
+///   (its centre's DOFs), so *Warp By Vector* translates the circle rigidly with the ring at any
+///   scale factor.
+/// * Its **contact point** `P`, where the pair's line ends: the material point of the ring on
+///   the line of centres, `center0 + R n` with `n = (x_C − x_S)/|x_C − x_S|` from the displaced
+///   ring centre `x_S = center0 + u_S` to the displaced section centre `x_C` (the contact
+///   kernel's normal; `(1, 0)` when the centres coincide), so that the displaced point
+///   `P + u_S = x_C + (r + g) n` is the ring's surface point facing the section. In a `.vtu`
+///   frame `P` is written at that undeformed position with displacement `u_S` (exact at any
+///   warp factor); the VTKHDF grid is written once and keeps `P` at the ring centre, so its
+///   pair line is the line of centres (parallel to `n`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RingSlot {
+    /// Stator index.
+    pub stator: usize,
+    /// Pair index of the ring's target.
+    pub pair: usize,
+    /// Undeformed centre (m, relative to the station centre).
+    pub center0: V2,
+    /// Inner radius R = r + δ (m).
+    pub inner_radius: f64,
+    /// Free DOFs of the ring centre `[x, y]` in the stator's vector.
+    pub dofs: [Option<usize>; 2],
+    /// Rotor DOFs `[x, y]` of the section centre the ring faces.
+    pub rotor_dofs: [usize; 2],
+    /// First grid point of the contact circle ([`RING_POINTS`] points).
+    pub first_circle_point: usize,
+    /// Grid point of the contact point `P`.
+    pub contact_point: usize,
+    /// Axial position z of the drawing (m): the plane of the station.
+    pub z: f64,
 }
 
 /// Where everything of a case sits in the [`OutputGrid`].
@@ -183,14 +249,19 @@ pub struct Layout {
     pub grid: OutputGrid,
     /// First grid point of each stator.
     pub stator_first_point: Vec<usize>,
+    /// Number of grid points of each stator: its nodes (first), then the points drawing its
+    /// ring targets ([`RingSlot`]).
+    pub stator_num_points: Vec<usize>,
     /// First grid point of the rotor.
     pub rotor_first_point: usize,
     /// Grid cell of each stator element (`None`: no cell, see [`element_cell`]).
     pub element_cells: Vec<Vec<Option<usize>>>,
-    /// Cells before the contact pairs (stator elements and the rotor).
+    /// Cells before the contact pairs (stator elements, ring circles and the rotor).
     pub body_cells: usize,
     /// Contact candidates; pair `i` is grid cell `body_cells + i`.
     pub pairs: Vec<PairSlot>,
+    /// Ring targets and their drawing.
+    pub rings: Vec<RingSlot>,
     /// Pair index of `(stator, node)`.
     pair_of: Vec<Vec<Option<usize>>>,
     /// Stator names.
@@ -199,16 +270,66 @@ pub struct Layout {
     pub station_names: Vec<String>,
 }
 
+/// Axial position (m, rotor frame) of the mesh's z = 0 of stator `k` of the model: the scene's
+/// `axial_origin` of a meshed stator, 0 otherwise.
+fn axial_origin(model: &Model, k: usize) -> f64 {
+    match model.stator_specs.get(k) {
+        Some(StatorSpec::Mesh(m)) => m.axial_origin,
+        _ => 0.0,
+    }
+}
+
 impl Layout {
-    /// Lays out a case.
-    pub fn new(case: &Case) -> Self {
+    /// Lays out a case of `model` (which gives the axial origin of 3-D meshed stators).
+    pub fn new(model: &Model, case: &Case) -> Self {
         let z = rotor_node_z(case);
         let mut g = OutputGrid::new();
         let mut stator_first_point = Vec::new();
-        for s in &case.stators {
-            stator_first_point.push(g.points.len());
+        let mut stator_num_points = Vec::new();
+        // Per stator, per ring target: (target, first circle point, contact point).
+        let mut ring_points: Vec<Vec<(usize, usize, usize)>> = Vec::new();
+        for (k, s) in case.stators.iter().enumerate() {
+            let first = g.points.len();
+            stator_first_point.push(first);
             let zs = z[case.stations[s.station].node];
-            g.points.extend(s.nodes.iter().map(|p| [p[0], p[1], zs]));
+            match s.mesh.as_ref().filter(|m| !m.node_z.is_empty()) {
+                // 3-D meshed stator: every node at its own axial position.
+                Some(md) => {
+                    let z0 = axial_origin(model, k);
+                    g.points.extend(
+                        s.nodes
+                            .iter()
+                            .zip(&md.node_z)
+                            .map(|(p, nz)| [p[0], p[1], nz + z0]),
+                    );
+                }
+                None => g.points.extend(s.nodes.iter().map(|p| [p[0], p[1], zs])),
+            }
+            let mut rp = Vec::new();
+            for (t, tg) in s.targets.iter().enumerate() {
+                if let Target::Ring {
+                    center0,
+                    inner_radius,
+                    ..
+                } = tg
+                {
+                    let zr = z[case.stations[s.target_station(t)].node];
+                    let c = g.points.len();
+                    g.points.extend((0..RING_POINTS).map(|i| {
+                        let th = std::f64::consts::TAU * i as f64 / RING_POINTS as f64;
+                        [
+                            center0[0] + inner_radius * th.cos(),
+                            center0[1] + inner_radius * th.sin(),
+                            zr,
+                        ]
+                    }));
+                    // The contact point: at the ring centre in the static grid.
+                    g.points.push([center0[0], center0[1], zr]);
+                    rp.push((t, c, c + RING_POINTS));
+                }
+            }
+            ring_points.push(rp);
+            stator_num_points.push(g.points.len() - first);
         }
         let rotor_first_point = g.points.len();
         g.points.extend(z.iter().map(|z| [0.0, 0.0, *z]));
@@ -228,6 +349,10 @@ impl Layout {
                 })
                 .collect();
             element_cells.push(cells);
+            for &(_, c, _) in &ring_points[k] {
+                let pts: Vec<usize> = (c..c + RING_POINTS).chain(std::iter::once(c)).collect();
+                g.push_cell(CellType::PolyLine, &pts, part::STATOR, k as i32, -1);
+            }
         }
         let nr = z.len();
         if nr == 1 {
@@ -238,21 +363,45 @@ impl Layout {
         }
         let body_cells = g.num_cells();
         let mut pairs = Vec::new();
+        let mut rings = Vec::new();
         let mut pair_of = Vec::new();
         for (k, s) in case.stators.iter().enumerate() {
             let mut of = vec![None; s.nodes.len()];
-            let station = s.station;
-            for t in &s.targets {
-                let node = match t {
-                    Target::Node { node, .. } => *node,
-                    Target::Ring { .. } => 0,
+            for (t, tg) in s.targets.iter().enumerate() {
+                let station = s.target_station(t);
+                let rotor_node = case.stations[station].node;
+                let (node, stator_point) = match tg {
+                    Target::Node { node, .. } => (*node, stator_first_point[k] + node),
+                    Target::Ring {
+                        center0,
+                        inner_radius,
+                        dofs,
+                    } => {
+                        let &(_, c, p) = ring_points[k]
+                            .iter()
+                            .find(|r| r.0 == t)
+                            .expect("every ring target has its drawing");
+                        rings.push(RingSlot {
+                            stator: k,
+                            pair: pairs.len(),
+                            center0: *center0,
+                            inner_radius: *inner_radius,
+                            dofs: *dofs,
+                            rotor_dofs: case.rotor.node_dofs[rotor_node],
+                            first_circle_point: c,
+                            contact_point: p,
+                            z: g.points[p][2],
+                        });
+                        (0, p)
+                    }
                 };
                 let slot = PairSlot {
                     station,
                     stator: k,
                     node,
-                    rotor_point: rotor_first_point + case.stations[station].node,
-                    stator_point: stator_first_point[k] + node,
+                    rotor_point: rotor_first_point + rotor_node,
+                    stator_point,
+                    node_point: stator_first_point[k] + node,
                 };
                 if let Some(o) = of.get_mut(node) {
                     *o = Some(pairs.len());
@@ -271,10 +420,12 @@ impl Layout {
         Self {
             grid: g,
             stator_first_point,
+            stator_num_points,
             rotor_first_point,
             element_cells,
             body_cells,
             pairs,
+            rings,
             pair_of,
             stator_names: case.stators.iter().map(|s| s.name.clone()).collect(),
             station_names: case.stations.iter().map(|s| s.name.clone()).collect(),
@@ -395,6 +546,9 @@ pub struct FrameState {
     pub stress: Vec<f64>,
     /// Strain per grid cell: stator elements; NaN for other cells.
     pub strain: Vec<f64>,
+    /// Undeformed position (m) of the contact point of each ring ([`Layout::rings`]) in this
+    /// frame's contact direction: `center0 + R n` (see [`RingSlot`]); the `.vtu` writes it.
+    pub ring_contact: Vec<[f64; 3]>,
 }
 
 impl FrameState {
@@ -417,6 +571,11 @@ impl FrameState {
             axial_force: vec![f64::NAN; nc],
             stress: vec![f64::NAN; nc],
             strain: vec![f64::NAN; nc],
+            ring_contact: layout
+                .rings
+                .iter()
+                .map(|r| layout.grid.points[r.contact_point])
+                .collect(),
         }
     }
 
@@ -427,15 +586,41 @@ impl FrameState {
         self.rotor_u.copy_from_slice(f.rotor_u);
         for (k, s) in case.stators.iter().enumerate() {
             let u = f.stator_u(k);
+            let c = |i: Option<usize>| i.map_or(0.0, |i| u[i]);
             let first = layout.stator_first_point[k];
+            // 3-D meshed stators carry u_z; 2-D ones move in their plane.
+            let axial = s.mesh.as_ref().map_or(&[][..], |m| &m.axial_dofs[..]);
             for (n, d) in s.node_dofs.iter().enumerate() {
-                let c = |i: Option<usize>| i.map_or(0.0, |i| u[i]);
-                self.displacement[first + n] = [c(d[0]), c(d[1]), 0.0];
+                let uz = axial.get(n).map_or(0.0, |a| c(*a));
+                self.displacement[first + n] = [c(d[0]), c(d[1]), uz];
             }
         }
         for (n, d) in case.rotor.node_dofs.iter().enumerate() {
             self.displacement[layout.rotor_first_point + n] =
                 [f.rotor_u[d[0]], f.rotor_u[d[1]], 0.0];
+        }
+        // Rings: the circle and the contact point move with the ring centre; the contact point
+        // sits on the line of centres (the contact kernel's normal).
+        for (ring, pos) in layout.rings.iter().zip(self.ring_contact.iter_mut()) {
+            let u = f.stator_u(ring.stator);
+            let us = ring.dofs.map(|i| i.map_or(0.0, |i| u[i]));
+            let d = [
+                f.rotor_u[ring.rotor_dofs[0]] - ring.center0[0] - us[0],
+                f.rotor_u[ring.rotor_dofs[1]] - ring.center0[1] - us[1],
+            ];
+            let l = d[0].hypot(d[1]);
+            let n = if l > 0.0 {
+                [d[0] / l, d[1] / l]
+            } else {
+                [1.0, 0.0]
+            };
+            *pos = [
+                ring.center0[0] + ring.inner_radius * n[0],
+                ring.center0[1] + ring.inner_radius * n[1],
+                ring.z,
+            ];
+            let c = ring.first_circle_point;
+            self.displacement[c..=c + RING_POINTS].fill([us[0], us[1], 0.0]);
         }
         self.contact_force.fill([0.0; 3]);
         self.pair_p.fill(0.0);
@@ -450,7 +635,7 @@ impl FrameState {
                 self.pair_normal[i] = p.n;
                 let slot = layout.pairs[i];
                 for c in 0..2 {
-                    self.contact_force[slot.stator_point][c] += p.force[c];
+                    self.contact_force[slot.node_point][c] += p.force[c];
                     self.contact_force[slot.rotor_point][c] -= p.force[c];
                 }
             }
@@ -630,7 +815,7 @@ impl ResultsSink {
         let omega = speed_ratio * model.rotor.natural_frequency();
         let case = model.case(omega)?;
         let plan = plan_steps(&case, &settings.step)?;
-        let layout = Layout::new(&case);
+        let layout = Layout::new(model, &case);
         let state = FrameState::new(&layout, &case);
         let info = RunInfo {
             scene_json: scene_json.to_string(),

@@ -1,6 +1,8 @@
 //! VTK XML time series: one `.vtu` unstructured grid per frame (`vtk/frame_NNNNNN.vtu`,
 //! written with `vtkio`, binary inline data) and a `.pvd` collection (`results.pvd`) listing
-//! them with their times (s). The `.pvd` is streamed too: its header is written when the run
+//! them with their times (s). Each frame is the [`Layout`]'s grid with only the pairs in
+//! contact, and with the contact point of each ring at its position of that instant
+//! ([`super::RingSlot`]). The `.pvd` is streamed too: its header is written when the run
 //! starts, one `DataSet` line per frame, the footer at [`VtkSeries::finish`].
 //!
 //! Grid, arrays and units: [`super`] and `docs/OUTPUTS.md`.
@@ -144,6 +146,11 @@ fn frame_vtk(layout: &Layout, st: &FrameState, fields: &Fields) -> Vtk {
         offsets.push(connectivity.len() as u64);
     }
     let types = cells.iter().map(|&c| g.types[c]).collect();
+    // Undeformed positions; a ring's contact point follows this frame's contact direction.
+    let mut points = flat3(&g.points);
+    for (ring, p) in layout.rings.iter().zip(&st.ring_contact) {
+        points[3 * ring.contact_point..3 * ring.contact_point + 3].copy_from_slice(p);
+    }
     let mut point = Vec::new();
     let mut cell = vec![
         scalars(
@@ -209,7 +216,7 @@ fn frame_vtk(layout: &Layout, st: &FrameState, fields: &Fields) -> Vtk {
         byte_order: ByteOrder::LittleEndian,
         file_path: None,
         data: DataSet::inline(UnstructuredGridPiece {
-            points: IOBuffer::F64(flat3(&g.points)),
+            points: IOBuffer::F64(points),
             cells: Cells {
                 cell_verts: VertexNumbers::XML {
                     connectivity,

@@ -186,3 +186,118 @@ def test_sweep_per_speed_and_cascade(tmp_path):
     r = subprocess.run([sys.executable, os.path.join(ROOT, "post", "plot_sweep.py"), str(out / "sweep.csv")],
                        capture_output=True, text=True)
     assert r.returncode == 0 and "1.50" in r.stdout
+
+
+@pytest.fixture(scope="module", params=[1, 2], ids=["tet4", "tet10"])
+def seal(request, tmp_path_factory):
+    """The coarse one-tooth 3-D labyrinth seal (tests/data/scenes/seal3d.toml) in linear (Tet4)
+    or quadratic (Tet10) tetrahedra: one revolution, frames every 960 steps in both formats."""
+    order = request.param
+    if os.environ.get("RUBSIM_SKIP_GMSH"):
+        pytest.skip("RUBSIM_SKIP_GMSH set: no meshed stator")
+    out = tmp_path_factory.mktemp(f"seal_order{order}") / "out"
+    rubsim(
+        "run", os.path.join(SCENES, "seal3d.toml"), "--out", str(out),
+        "--set", f"stator.0.order={order}",
+        "--set", "run.revolutions=1", "--set", "run.transient_revolutions=0",
+        "--set", "output.vtk={ every = 960 }", "--set", "output.hdf5={ every = 960 }",
+    )
+    return out, order
+
+
+def _seal_volume(scene):
+    """Exact volume (m³) of the one-tooth seal of geometry/labyrinth_seal.geo: the carrier tube
+    (rc…ro over L = tooth + 2 margin) and the fin (rt…rc over the tooth's thickness)."""
+    p = {"rc": 0.064, "ro": 0.068, "margin": 0.002, **scene["stator"][0]["parameters"]}
+    assert p["teeth"] == 1
+    length = p["tooth"] + 2 * p["margin"]
+    return np.pi * ((p["ro"] ** 2 - p["rc"] ** 2) * length + (p["rc"] ** 2 - p["rt"] ** 2) * p["tooth"])
+
+
+def test_tetrahedral_stator_reads_back_with_positive_volumes(seal):
+    out, order = seal
+    vtk_type, meshio_type = {1: (pv.CellType.TETRA, "tetra"), 2: (pv.CellType.QUADRATIC_TETRA, "tetra10")}[order]
+    with h5py.File(out / "results.vtkhdf", "r") as f:
+        st = f["stators/0"]
+        mesh_file = st.attrs["mesh_file"]
+        mesh_file = mesh_file.decode() if isinstance(mesh_file, bytes) else str(mesh_file)
+        assert int(st.attrs["dim"]) == 3
+        nodes = int(st.attrs["num_nodes"])
+        axial = st["axial_dofs"][:]
+        scene = json.loads(f.attrs["scene"])
+    # gmsh's mesh as meshio reads it (meshio converts gmsh's Tet10 order to VTK's).
+    msh = meshio.read(mesh_file)
+    ref = msh.cells_dict[meshio_type]
+    frames = rr.pvd_frames(str(out / "results.pvd"))
+    g = pv.read(frames[-1][1])
+    stator = g.cell_data["part"] == rr.PART_STATOR
+    assert stator.sum() == len(ref)
+    assert (g.celltypes[stator] == vtk_type).all()
+    # Points: the mesh's nodes with their own z (the mesh sits at axial_origin = 0).
+    assert nodes == len(msh.points)
+    np.testing.assert_array_equal(g.points[:nodes], msh.points)
+    assert g.points[:nodes, 2].min() < -2e-3 and g.points[:nodes, 2].max() > 2e-3
+    # Same cells, node for node, as meshio's reading of the .msh.
+    np.testing.assert_array_equal(g.cells_dict[vtk_type], ref)
+    # Positive volumes (VTK's cell size filter) summing to the seal's volume: Tet4 facets the
+    # curved surfaces, Tet10 follows them closely.
+    vol = g.compute_cell_sizes(length=False, area=False, vertex_count=False).cell_data["Volume"][stator]
+    assert (vol > 0).all()
+    exact = _seal_volume(scene)
+    assert vol.sum() == pytest.approx(exact, rel=5e-3 if order == 1 else 1e-3)
+    # meshio reads the .vtu frame with the same cells.
+    m = meshio.read(frames[-1][1])
+    np.testing.assert_array_equal(m.cells_dict[meshio_type], ref)
+    # u_z is written: zero where fixed, not zero everywhere.
+    uz = g.point_data["displacement"][:nodes, 2]
+    assert (uz[axial < 0] == 0).all() and np.abs(uz).max() > 0
+    # The VTKHDF grid holds the same cells, points, volumes and fields.
+    h = pv.get_reader(str(out / "results.vtkhdf"))
+    assert h.reader.GetNumberOfSteps() == len(frames)
+    h.reader.SetStep(len(frames) - 1)
+    hg = h.read()
+    hs = hg.cell_data["part"] == rr.PART_STATOR
+    assert (hg.celltypes[hs] == vtk_type).all()
+    np.testing.assert_array_equal(hg.points, g.points)
+    np.testing.assert_array_equal(hg.cells_dict[vtk_type], ref)
+    hvol = hg.compute_cell_sizes(length=False, area=False, vertex_count=False).cell_data["Volume"][hs]
+    np.testing.assert_allclose(hvol, vol, rtol=1e-12)
+    np.testing.assert_array_equal(hg.point_data["displacement"], g.point_data["displacement"])
+    np.testing.assert_array_equal(hg.cell_data["stress"][hs], g.cell_data["stress"][stator])
+    assert np.isfinite(g.cell_data["stress"][stator]).all() and g.cell_data["stress"][stator].max() > 0
+
+
+def test_ring_stator_is_a_circle_around_its_displaced_centre(tmp_path):
+    """A ring stator with mass (tests/data/scenes/ring.toml): its contact circle, warped by the
+    displacement, lies at its inner radius around the displaced ring centre in every frame."""
+    out = tmp_path / "ring"
+    rubsim("run", os.path.join(SCENES, "ring.toml"), "--out", str(out), "--set", "output.vtk={ every = 16 }")
+    with open(out / "summary.json") as f:
+        summary = json.load(f)
+    frames = rr.pvd_frames(str(out / "results.pvd"))
+    radius = summary["scene"]["station"][0]["radius"]
+    moved = 0.0
+    rubbing = 0
+    for _, path in frames:
+        g = pv.read(path)
+        part = g.cell_data["part"]
+        circle = np.nonzero((part == rr.PART_STATOR) & (g.cell_data["index"] == -1))[0]
+        assert len(circle) == 1
+        ids = g.get_cell(int(circle[0])).point_ids
+        assert g.celltypes[circle[0]] == pv.CellType.POLY_LINE and ids[0] == ids[-1] and len(ids) == 65
+        warped = g.warp_by_vector("displacement", factor=1.0)
+        centre = warped.points[0]
+        r = np.linalg.norm(warped.points[ids[:-1], :2] - centre[:2], axis=1)
+        big_r = float(np.linalg.norm(g.points[ids[0], :2] - g.points[0, :2]))
+        np.testing.assert_allclose(r, big_r, rtol=1e-12)
+        assert big_r > radius
+        moved = max(moved, float(np.linalg.norm(g.point_data["displacement"][0, :2])))
+        contact = np.nonzero(part == rr.PART_CONTACT)[0]
+        if len(contact):
+            rubbing += 1
+            a, b = g.get_cell(int(contact[0])).point_ids
+            # From the section centre to the ring's surface point facing it.
+            n = warped.points[a, :2] - centre[:2]
+            n /= np.linalg.norm(n)
+            np.testing.assert_allclose(warped.points[b, :2], centre[:2] + big_r * n, rtol=0, atol=1e-12 * big_r)
+    assert moved > 0 and 0 < rubbing < len(frames)
