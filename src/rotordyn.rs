@@ -7,6 +7,13 @@
 //! `faer`): damping ratio `ζ = −σ/|λ|`, logarithmic decrement `δ = −2πσ/ω_d`. A mode with
 //! eigenvector `φ` whirls **forward** (with the spin, counter-clockwise seen from +z for
 //! Ω > 0) at a node when `Im(φ_x φ̄_y) > 0` for `ω_d > 0`.
+//!
+//! FE rotors with axial (`u_z`) or torsional (`θ_z`) DOFs have modes of those kinds too. M has
+//! no entries between lateral, axial and torsional DOFs, so the kinetic energy `φᴴ M φ` of a
+//! mode splits exactly into the three groups; a mode is labelled ([`ModeKind`]) by the group
+//! holding the largest share, and only lateral modes get a whirl direction. Axial and torsional
+//! frequencies do not depend on the spin (G acts on the bending rotations only): their
+//! Campbell lines are flat.
 
 use crate::error::ModelError;
 use crate::linalg::Csc;
@@ -26,6 +33,8 @@ pub enum Whirl {
     Backward,
     /// Nodes disagree (or planar motion).
     Mixed,
+    /// No lateral motion to whirl: axial and torsional modes.
+    NoWhirl,
 }
 
 impl Whirl {
@@ -35,7 +44,40 @@ impl Whirl {
             Whirl::Forward => "FW",
             Whirl::Backward => "BW",
             Whirl::Mixed => "mixed",
+            Whirl::NoWhirl => "-",
         }
+    }
+}
+
+/// Which DOFs a mode moves: the group with the largest share of its kinetic energy `φᴴ M φ`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModeKind {
+    /// Bending (`u_x, u_y, θ_x, θ_y`, pedestals).
+    Lateral,
+    /// Axial `u_z`.
+    Axial,
+    /// Torsional `θ_z`.
+    Torsional,
+}
+
+impl ModeKind {
+    /// Label: "lateral", "axial", "torsional".
+    pub fn label(self) -> &'static str {
+        match self {
+            ModeKind::Lateral => "lateral",
+            ModeKind::Axial => "axial",
+            ModeKind::Torsional => "torsional",
+        }
+    }
+}
+
+/// Short label of a mode: the whirl ("FW", "BW", "mixed") of a lateral mode, else the kind
+/// ("axial", "torsional").
+pub fn mode_label(kind: ModeKind, whirl: Whirl) -> &'static str {
+    match kind {
+        ModeKind::Lateral => whirl.label(),
+        _ => kind.label(),
     }
 }
 
@@ -52,11 +94,40 @@ pub struct Mode {
     pub damping_ratio: f64,
     /// Logarithmic decrement −2πσ/ω_d.
     pub log_dec: f64,
-    /// Whirl direction.
+    /// Whirl direction ([`Whirl::NoWhirl`] for axial and torsional modes).
     pub whirl: Whirl,
-    /// Normalised displacement shape `[φ_x, φ_y]` per node (largest component 1).
+    /// Lateral, axial or torsional.
+    pub kind: ModeKind,
+    /// Shares of the kinetic energy `φᴴ M φ` in the lateral, axial and torsional DOFs (sum 1).
+    pub energy: [f64; 3],
+    /// Normalised displacement shape `[φ_x, φ_y]` per node (largest component of the mode,
+    /// lateral, axial or torsional, is 1).
     #[serde(skip)]
     pub shape: Vec<[Complex64; 2]>,
+    /// Axial shape `φ_z` per node, same scale (empty without axial DOFs).
+    #[serde(skip)]
+    pub shape_axial: Vec<Complex64>,
+    /// Torsional shape `φ_θz` per node, same scale (empty without torsional DOFs).
+    #[serde(skip)]
+    pub shape_torsion: Vec<Complex64>,
+}
+
+impl Mode {
+    /// Short label (see [`mode_label`]).
+    pub fn label(&self) -> &'static str {
+        mode_label(self.kind, self.whirl)
+    }
+}
+
+/// `u_z` and `θ_z` DOF per node (empty for a Jeffcott rotor or when off).
+fn scalar_dofs(rotor: &Rotor) -> (Vec<usize>, Vec<usize>) {
+    match rotor {
+        Rotor::Fe(f) => (
+            f.rotor.node_axial.iter().flatten().copied().collect(),
+            f.rotor.node_torsion.iter().flatten().copied().collect(),
+        ),
+        Rotor::Jeffcott(_) => (Vec::new(), Vec::new()),
+    }
 }
 
 /// Results of a modal analysis at one speed.
@@ -150,6 +221,15 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
     let s = evd.S();
     let u = evd.U();
     let nodes = rotor.node_count();
+    let (axial, torsion) = scalar_dofs(rotor);
+    // DOF group: 0 lateral, 1 axial, 2 torsional.
+    let mut group = vec![0usize; m.nrows()];
+    for &d in &axial {
+        group[d] = 1;
+    }
+    for &d in &torsion {
+        group[d] = 2;
+    }
     let mut modes = Vec::new();
     for j in 0..2 * n {
         let lam: Complex64 = s.column_vector()[j];
@@ -163,9 +243,38 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
                 [full(d[0]), full(d[1])]
             })
             .collect();
+        let mut shape_axial: Vec<Complex64> = axial.iter().map(|&d| full(d)).collect();
+        let mut shape_torsion: Vec<Complex64> = torsion.iter().map(|&d| full(d)).collect();
+        let energy = if axial.is_empty() && torsion.is_empty() {
+            [1.0, 0.0, 0.0]
+        } else {
+            // φᴴ M φ per group (M has no entries between groups).
+            let q: Vec<Complex64> = (0..m.nrows()).map(full).collect();
+            let mut e = [0.0; 3];
+            for (r, c, v) in m.triplets() {
+                if group[r] == group[c] {
+                    e[group[r]] += (q[r].conj() * v * q[c]).re;
+                }
+            }
+            let tot: f64 = e.iter().sum();
+            if tot > 0.0 {
+                [e[0] / tot, e[1] / tot, e[2] / tot]
+            } else {
+                [1.0, 0.0, 0.0]
+            }
+        };
+        let kind = if energy[1] > energy[0] && energy[1] >= energy[2] {
+            ModeKind::Axial
+        } else if energy[2] > energy[0] && energy[2] > energy[1] {
+            ModeKind::Torsional
+        } else {
+            ModeKind::Lateral
+        };
         let big = shape
             .iter()
             .flat_map(|p| p.iter())
+            .chain(&shape_axial)
+            .chain(&shape_torsion)
             .fold(Complex64::new(0.0, 0.0), |b, v| {
                 if v.norm() > b.norm() {
                     *v
@@ -178,15 +287,27 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
                 p[0] /= big;
                 p[1] /= big;
             }
+            for v in shape_axial.iter_mut().chain(shape_torsion.iter_mut()) {
+                *v /= big;
+            }
         }
+        let whirl = if kind == ModeKind::Lateral {
+            whirl_of(&shape)
+        } else {
+            Whirl::NoWhirl
+        };
         modes.push(Mode {
             omega_d: lam.im,
             freq_hz: lam.im / (2.0 * std::f64::consts::PI),
             sigma: lam.re,
             damping_ratio: -lam.re / lam.norm(),
             log_dec: -2.0 * std::f64::consts::PI * lam.re / lam.im,
-            whirl: whirl_of(&shape),
+            whirl,
+            kind,
+            energy,
             shape,
+            shape_axial,
+            shape_torsion,
         });
     }
     modes.sort_by(|a, b| a.omega_d.total_cmp(&b.omega_d));
@@ -201,15 +322,21 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
 /// An isotropic rotor without gyroscopic split (at rest, or a mode without disk tilt) has
 /// double eigenvalues; the solver returns an arbitrary basis of each pair. Rotate every such
 /// pair into the two circular (forward and backward) combinations that extremise the whirl
-/// form `W(ψ) = Σ_nodes Im(ψ_x ψ̄_y)`, a 2×2 Hermitian eigenproblem.
+/// form `W(ψ) = Σ_nodes Im(ψ_x ψ̄_y)`, a 2×2 Hermitian eigenproblem. Only lateral modes pair
+/// (consecutive lateral modes in frequency order; axial and torsional ones in between are
+/// skipped).
 fn split_degenerate_pairs(modes: &mut [Mode]) {
-    let mut i = 0;
-    while i + 1 < modes.len() {
-        let (a, b) = (&modes[i], &modes[i + 1]);
+    let lateral: Vec<usize> = (0..modes.len())
+        .filter(|&i| modes[i].kind == ModeKind::Lateral)
+        .collect();
+    let mut k = 0;
+    while k + 1 < lateral.len() {
+        let (i, i2) = (lateral[k], lateral[k + 1]);
+        let (a, b) = (&modes[i], &modes[i2]);
         let close = (a.omega_d - b.omega_d).abs() <= 1e-4 * a.omega_d.max(1e-12)
             && (a.sigma - b.sigma).abs() <= 1e-4 * a.omega_d.max(1e-12);
         if !close {
-            i += 1;
+            k += 1;
             continue;
         }
         let (p, q) = (&a.shape, &b.shape);
@@ -243,13 +370,36 @@ fn split_degenerate_pairs(modes: &mut [Mode]) {
                 .map(|(s, t)| [c[0] * s[0] + c[1] * t[0], c[0] * s[1] + c[1] * t[1]])
                 .collect()
         };
-        let fw = combine(vec_for(mid + rad));
-        let bw = combine(vec_for(mid - rad));
+        let combine1 = |c: [Complex64; 2], s: &[Complex64], t: &[Complex64]| -> Vec<Complex64> {
+            s.iter().zip(t).map(|(s, t)| c[0] * s + c[1] * t).collect()
+        };
+        let (cf, cb) = (vec_for(mid + rad), vec_for(mid - rad));
+        let fw = combine(cf);
+        let bw = combine(cb);
+        let (ax_fw, ax_bw) = (
+            combine1(cf, &a.shape_axial, &b.shape_axial),
+            combine1(cb, &a.shape_axial, &b.shape_axial),
+        );
+        let (to_fw, to_bw) = (
+            combine1(cf, &a.shape_torsion, &b.shape_torsion),
+            combine1(cb, &a.shape_torsion, &b.shape_torsion),
+        );
+        // Both members are lateral; the pair's energy shares apply to each combination.
+        let energy = [0, 1, 2].map(|g| 0.5 * (a.energy[g] + b.energy[g]));
+        let reshare = a.energy != b.energy;
         modes[i].shape = bw;
+        modes[i].shape_axial = ax_bw;
+        modes[i].shape_torsion = to_bw;
         modes[i].whirl = whirl_of(&modes[i].shape);
-        modes[i + 1].shape = fw;
-        modes[i + 1].whirl = whirl_of(&modes[i + 1].shape);
-        i += 2;
+        modes[i2].shape = fw;
+        modes[i2].shape_axial = ax_fw;
+        modes[i2].shape_torsion = to_fw;
+        modes[i2].whirl = whirl_of(&modes[i2].shape);
+        if reshare {
+            modes[i].energy = energy;
+            modes[i2].energy = energy;
+        }
+        k += 2;
     }
 }
 
@@ -271,26 +421,57 @@ pub fn mac(a: &[[Complex64; 2]], b: &[[Complex64; 2]]) -> f64 {
     }
 }
 
+/// MAC of two modes over all their DOF groups (lateral, axial, torsional); modes of different
+/// groups have a MAC of 0 (the groups are uncoupled).
+pub fn mode_mac(a: &Mode, b: &Mode) -> f64 {
+    let mut ab = Complex64::new(0.0, 0.0);
+    let (mut aa, mut bb) = (0.0, 0.0);
+    let pairs = a
+        .shape
+        .iter()
+        .flatten()
+        .zip(b.shape.iter().flatten())
+        .chain(a.shape_axial.iter().zip(&b.shape_axial))
+        .chain(a.shape_torsion.iter().zip(&b.shape_torsion));
+    for (p, q) in pairs {
+        ab += p.conj() * q;
+        aa += p.norm_sqr();
+        bb += q.norm_sqr();
+    }
+    if aa == 0.0 || bb == 0.0 {
+        0.0
+    } else {
+        ab.norm_sqr() / (aa * bb)
+    }
+}
+
 /// A mode followed over speed.
 #[derive(Debug, Clone, Serialize)]
 pub struct Track {
-    /// Label, e.g. "1 FW".
+    /// Label, e.g. "1 FW", "3 torsional".
     pub label: String,
     /// Whirl at the highest speed.
     pub whirl: Whirl,
+    /// Kind at the highest speed.
+    pub kind: ModeKind,
     /// ω_d (rad/s) per speed of the diagram.
     pub omega_d: Vec<f64>,
     /// Log decrement per speed.
     pub log_dec: Vec<f64>,
 }
 
-/// A critical speed: a forward or backward track crossing the 1× line ω_d = Ω.
+/// A critical speed: a track crossing the 1× line ω_d = Ω. Lateral (forward or backward)
+/// crossings are the unbalance critical speeds; axial and torsional crossings are listed too
+/// (the unbalance does not excite them in the linear model, but a once-per-revolution rub
+/// force or friction torque does).
 #[derive(Debug, Clone, Serialize)]
 pub struct CriticalSpeed {
     /// Track label.
     pub mode: String,
     /// Whirl.
     pub whirl: Whirl,
+    /// Kind.
+    pub kind: ModeKind,
     /// Spin speed (rad/s).
     pub speed: f64,
     /// The same in rpm.
@@ -329,16 +510,18 @@ pub fn campbell(
     let first = &results[0].modes;
     let nt = nmodes.min(first.len());
     let mut tracks: Vec<Track> = Vec::with_capacity(nt);
-    let mut last_shape: Vec<Vec<[Complex64; 2]>> = Vec::with_capacity(nt);
+    let mut last_mode: Vec<Mode> = Vec::with_capacity(nt);
     let mut whirls = vec![Whirl::Mixed; nt];
+    let mut kinds = vec![ModeKind::Lateral; nt];
     for m in first.iter().take(nt) {
         tracks.push(Track {
             label: String::new(),
             whirl: m.whirl,
+            kind: m.kind,
             omega_d: vec![m.omega_d],
             log_dec: vec![m.log_dec],
         });
-        last_shape.push(m.shape.clone());
+        last_mode.push(m.clone());
     }
     for r in results.iter().skip(1) {
         let mut taken = vec![false; r.modes.len()];
@@ -349,7 +532,7 @@ pub fn campbell(
                 if taken[j] {
                     continue;
                 }
-                let v = mac(&last_shape[t], &m.shape);
+                let v = mode_mac(&last_mode[t], m);
                 if v > best_mac {
                     best_mac = v;
                     best = Some(j);
@@ -360,8 +543,9 @@ pub fn campbell(
                     taken[j] = true;
                     track.omega_d.push(r.modes[j].omega_d);
                     track.log_dec.push(r.modes[j].log_dec);
-                    last_shape[t] = r.modes[j].shape.clone();
+                    last_mode[t] = r.modes[j].clone();
                     whirls[t] = r.modes[j].whirl;
+                    kinds[t] = r.modes[j].kind;
                 }
                 None => {
                     track.omega_d.push(f64::NAN);
@@ -373,8 +557,9 @@ pub fn campbell(
     for (t, track) in tracks.iter_mut().enumerate() {
         if speeds.len() > 1 {
             track.whirl = whirls[t];
+            track.kind = kinds[t];
         }
-        track.label = format!("{} {}", t + 1, track.whirl.label());
+        track.label = format!("{} {}", t + 1, mode_label(track.kind, track.whirl));
     }
     let mut critical_speeds = Vec::new();
     for track in &tracks {
@@ -388,6 +573,7 @@ pub fn campbell(
                 critical_speeds.push(CriticalSpeed {
                     mode: track.label.clone(),
                     whirl: track.whirl,
+                    kind: track.kind,
                     speed: s,
                     rpm: s * 60.0 / (2.0 * std::f64::consts::PI),
                 });
@@ -454,6 +640,7 @@ pub fn unbalance_response(
 }
 
 /// Static deflection under gravity g (m/s², along −y): `K q = −g M e_y` (m, rad per DOF).
+/// Gravity is lateral, so axial and torsional entries are zero (uncoupled DOFs).
 pub fn static_deflection(rotor: &Rotor, g: f64) -> Result<Vec<f64>, ModelError> {
     let (m, k, _, _) = rotor.matrices(0.0);
     let n = m.nrows();

@@ -32,28 +32,36 @@ pub fn modal(
     println!("rotor: {}", model.rotor.describe());
     println!("modes at Ω = {omega:.4} rad/s (ω/ωn = {speed}):");
     println!(
-        "  {:>4} {:>12} {:>10} {:>9} {:>9} {:>6}",
-        "mode", "ω_d rad/s", "f Hz", "ζ", "log dec", "whirl"
+        "  {:>4} {:>12} {:>10} {:>9} {:>9} {:>9}",
+        "mode", "ω_d rad/s", "f Hz", "ζ", "log dec", "type"
     );
-    let mut csv = String::from("mode,omega_d_rad_s,freq_hz,damping_ratio,log_dec,whirl\n");
+    // `whirl`: FW/BW/mixed, "-" for axial and torsional modes; `kind` and the kinetic-energy
+    // shares say where the mode sits.
+    let mut csv = String::from(
+        "mode,omega_d_rad_s,freq_hz,damping_ratio,log_dec,whirl,kind,energy_lateral,energy_axial,energy_torsional\n",
+    );
     for (i, m) in res.modes.iter().enumerate() {
         println!(
-            "  {:>4} {:>12.4} {:>10.4} {:>9.4} {:>9.4} {:>6}",
+            "  {:>4} {:>12.4} {:>10.4} {:>9.4} {:>9.4} {:>9}",
             i + 1,
             m.omega_d,
             m.freq_hz,
             m.damping_ratio,
             m.log_dec,
-            m.whirl.label()
+            m.label()
         );
         csv.push_str(&format!(
-            "{},{:.8e},{:.8e},{:.6e},{:.6e},{}\n",
+            "{},{:.8e},{:.8e},{:.6e},{:.6e},{},{},{:.6},{:.6},{:.6}\n",
             i + 1,
             m.omega_d,
             m.freq_hz,
             m.damping_ratio,
             m.log_dec,
-            m.whirl.label()
+            m.whirl.label(),
+            m.kind.label(),
+            m.energy[0],
+            m.energy[1],
+            m.energy[2]
         ));
     }
     outd.write("modes.csv", csv.as_bytes())?;

@@ -50,7 +50,10 @@ pub enum RotorSpec {
 }
 
 /// Finite-element rotor. Nodes are numbered from the left end of the first shaft segment;
-/// each segment adds `elements` equal elements. DOFs per node `[u_x, u_y, θ_x, θ_y]`.
+/// each segment adds `elements` equal elements. DOFs per node `[u_x, u_y, θ_x, θ_y]`, plus
+/// `u_z` (m, along +z) with `axial = true` and `θ_z` (rad, counter-clockwise seen from +z, the
+/// sense of the spin) with `torsion = true`; both off by default. Axial DOFs need at least one
+/// `[[rotor.axial_support]]`, torsional DOFs at least one `[[rotor.torsional_support]]`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FeRotorSpec {
@@ -80,6 +83,41 @@ pub struct FeRotorSpec {
     /// Gyroscopic coupling (shaft and disks).
     #[serde(default = "yes")]
     pub gyroscopic: bool,
+    /// Axial DOF `u_z` per node: bar elements E A/L, consistent mass; disks and point masses
+    /// add their mass. Uncoupled from bending (linear theory).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub axial: bool,
+    /// Torsional DOF `θ_z` per node: G J/L, G = E/(2(1+ν)), J = π(D⁴ − d⁴)/32; disks add I_p.
+    /// Contact friction at a station of radius R loads it with the torque −R μ p (for Ω > 0).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub torsion: bool,
+    /// Thrust bearings: spring and dashpot from a node's `u_z` to ground
+    /// (`[[rotor.axial_support]]`, N/m and N·s/m).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub axial_support: Vec<GroundSpringSpec>,
+    /// Torsional restraints (coupling or drive stiffness): spring and dashpot from a node's
+    /// `θ_z` to ground (`[[rotor.torsional_support]]`, N·m/rad and N·m·s/rad).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub torsional_support: Vec<GroundSpringSpec>,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+/// A spring and dashpot from one scalar DOF of a rotor node to ground: `u_z` for
+/// `[[rotor.axial_support]]` (N/m, N·s/m), `θ_z` for `[[rotor.torsional_support]]`
+/// (N·m/rad, N·m·s/rad).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroundSpringSpec {
+    /// Node.
+    pub node: usize,
+    /// Stiffness (> 0).
+    pub stiffness: f64,
+    /// Damping (≥ 0).
+    #[serde(default)]
+    pub damping: f64,
 }
 
 /// A uniform shaft segment. Material by `material` name (`steel`: E 211 GPa, ν 0.3,
@@ -714,6 +752,9 @@ pub struct OutputSpec {
     pub component: String,
     /// Upper frequency of cascades, in units of ω_n (default: the top speed).
     pub cascade_max_freq: Option<f64>,
+    /// Rotor node whose orbit, Poincaré section, spectrum, cascade and |Z0| normalisation the
+    /// analysis uses (default: the first station's node). Contact forces stay per station.
+    pub node: Option<usize>,
     /// VTK XML time series: `.vtu` frames and a `.pvd` collection (absent: not written).
     pub vtk: Option<SeriesSpec>,
     /// HDF5 time series with a transient VTKHDF group (absent: not written).
@@ -792,6 +833,7 @@ impl Default for OutputSpec {
             force_histories: Vec::new(),
             component: default_component(),
             cascade_max_freq: None,
+            node: None,
             vtk: None,
             hdf5: None,
             per_speed: PerSpeed::default(),
@@ -1093,6 +1135,12 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
             )?;
             if let Some(m) = j.mass {
                 positive(ls, "rotor.mass", m)?;
+            }
+            if let Some(n) = s.output.node.filter(|n| *n != 0) {
+                return Err(ls.invalid(
+                    "output.node",
+                    format!("node {n} does not exist (a Jeffcott rotor has node 0 only)"),
+                ));
             }
             if let Some(k) = j.stiffness {
                 positive(ls, "rotor.stiffness", k)?;
@@ -1498,6 +1546,34 @@ fn validate_fe_rotor(ls: &LoadedScene, f: &FeRotorSpec) -> Result<(), SceneError
             )?;
         }
     }
+    for (name, on, flag, mode, list) in [
+        ("axial_support", f.axial, "axial", "axial", &f.axial_support),
+        (
+            "torsional_support",
+            f.torsion,
+            "torsion",
+            "torsional",
+            &f.torsional_support,
+        ),
+    ] {
+        for (i, g) in list.iter().enumerate() {
+            node_ok(format!("rotor.{name}.{i}.node"), g.node)?;
+            positive(ls, &format!("rotor.{name}.{i}.stiffness"), g.stiffness)?;
+            non_negative(ls, &format!("rotor.{name}.{i}.damping"), g.damping)?;
+            if !on {
+                return Err(ls.invalid(
+                    &format!("rotor.{name}.{i}"),
+                    format!("needs `{flag} = true` in [rotor] (the rotor has no such DOFs)"),
+                ));
+            }
+        }
+        if on && list.is_empty() {
+            return Err(ls.invalid(
+                &format!("rotor.{flag}"),
+                format!("`{flag} = true` needs at least one [[rotor.{name}]] (without one the rotor has a free rigid-body {mode} mode and no equilibrium)"),
+            ));
+        }
+    }
     for (i, p) in f.point_mass.iter().enumerate() {
         node_ok(format!("rotor.point_mass.{i}.node"), p.node)?;
         non_negative(ls, &format!("rotor.point_mass.{i}.mass"), p.mass)?;
@@ -1512,6 +1588,9 @@ fn validate_fe_rotor(ls: &LoadedScene, f: &FeRotorSpec) -> Result<(), SceneError
     }
     for (i, st) in ls.scene.stations.iter().enumerate() {
         node_ok(format!("station.{i}.node"), st.node)?;
+    }
+    if let Some(n) = ls.scene.output.node {
+        node_ok("output.node".into(), n)?;
     }
     Ok(())
 }

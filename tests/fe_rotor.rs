@@ -344,3 +344,869 @@ fn bad_fe_rotor_input_names_the_item() {
         assert!(e.contains(key) && e.contains("bad.toml"), "{key}: {e}");
     }
 }
+
+/// A rotor with every lateral feature (cross-coupled bearing, pedestal, point mass, Rayleigh
+/// damping, gyroscopics) for the golden comparison of the assembled matrices.
+const GOLDEN_ROTOR: &str = r#"
+[rotor]
+kind = "fe"
+rayleigh = [1.5, 2.0e-5]
+[[rotor.shaft]]
+length = 1.5
+outer_diameter = 0.05
+inner_diameter = 0.01
+elements = 6
+material = "steel"
+[[rotor.disk]]
+node = 2
+outer_diameter = 0.28
+bore = 0.05
+width = 0.07
+density = 7810.0
+[[rotor.point_mass]]
+node = 5
+mass = 1.25
+[[rotor.bearing]]
+node = 0
+kxx = 1.0e6
+kxy = 2.0e5
+kyx = -2.0e5
+kyy = 1.5e6
+cxx = 300.0
+cyy = 400.0
+[[rotor.bearing]]
+node = 6
+stiffness = 1.0e6
+damping = 250.0
+pedestal = { mass = 12.0, stiffness = 3.0e7, damping = 900.0 }
+[run]
+speed_ratio = 1.0
+"#;
+
+/// The assembled M, K(Ω), C(Ω), G as `name row col bits` lines (exact f64 bit patterns).
+fn matrix_fingerprint(text: &str, omega: f64, ndof: Option<usize>) -> String {
+    let m = model(text);
+    let f = &fe(&m.rotor).rotor;
+    let n = ndof.unwrap_or(f.ndof);
+    let mut out = String::new();
+    for (name, a) in [
+        ("M", f.m.clone()),
+        ("K", f.k(omega)),
+        ("C", f.c(omega)),
+        ("G", f.g.clone()),
+    ] {
+        let mut t: Vec<(usize, usize, f64)> =
+            a.triplets().filter(|(r, c, _)| *r < n && *c < n).collect();
+        t.sort_by_key(|(r, c, _)| (*r, *c));
+        for (r, c, v) in t {
+            out.push_str(&format!("{name} {r} {c} {:016x}\n", v.to_bits()));
+        }
+    }
+    out
+}
+
+/// (d) With axial and torsional DOFs off, M, K, C and G equal, bit for bit, those assembled
+/// before the axial/torsion option existed (`tests/data/fe_rotor_lateral_golden.txt`,
+/// regenerate with `UPDATE_GOLDEN=1`).
+#[test]
+fn lateral_matrices_match_golden_bit_for_bit() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fe_rotor_lateral_golden.txt");
+    let now = matrix_fingerprint(GOLDEN_ROTOR, 120.0, None);
+    if std::env::var_os("UPDATE_GOLDEN").is_some() {
+        std::fs::write(&path, &now).unwrap();
+    }
+    let golden = std::fs::read_to_string(&path).expect("golden file");
+    assert_eq!(now.lines().count(), golden.lines().count());
+    for (a, b) in now.lines().zip(golden.lines()) {
+        assert_eq!(a, b, "assembled matrices differ from the golden file");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Axial and torsional DOFs (`[rotor] axial = true`, `torsion = true`).
+// ---------------------------------------------------------------------------------------------
+
+/// Rows/columns `dofs` of a sparse matrix as a new sparse matrix (renumbered 0..dofs.len()).
+fn sub(a: &rubsim::linalg::Csc, dofs: &[usize]) -> rubsim::linalg::Csc {
+    let mut at = vec![usize::MAX; a.nrows()];
+    for (i, d) in dofs.iter().enumerate() {
+        at[*d] = i;
+    }
+    let t: Vec<(usize, usize, f64)> = a
+        .triplets()
+        .filter(|(r, c, _)| at[*r] != usize::MAX && at[*c] != usize::MAX)
+        .map(|(r, c, v)| (at[r], at[c], v))
+        .collect();
+    rubsim::linalg::Csc::from_triplets(dofs.len(), dofs.len(), &t)
+}
+
+/// Natural frequencies (rad/s) of the block of `dofs` of the rotor at rest.
+fn block_frequencies(f: &rubsim::model::fe_rotor::FeRotor, dofs: &[usize]) -> Vec<f64> {
+    let (lam, _) = rotordyn::undamped_modes(&sub(&f.m, dofs), &sub(&f.k(0.0), dofs)).unwrap();
+    lam.iter().map(|l| l.max(0.0).sqrt()).collect()
+}
+
+/// Uniform steel shaft of 2 m × 0.2 m in `n` elements, lateral bearings at the ends, axial
+/// DOFs held by a very stiff thrust bearing at node 0 (fixed–free bar).
+fn axial_bar(n: usize) -> String {
+    format!(
+        r#"
+[rotor]
+kind = "fe"
+axial = true
+[[rotor.shaft]]
+length = 2.0
+outer_diameter = 0.2
+elements = {n}
+youngs_modulus = 2.1e11
+poisson = 0.3
+density = 7800.0
+[[rotor.bearing]]
+node = 0
+stiffness = 1.0e9
+[[rotor.bearing]]
+node = {n}
+stiffness = 1.0e9
+[[rotor.axial_support]]
+node = 0
+stiffness = 1.0e16
+{RUN}"#
+    )
+}
+
+/// (a) Fixed–free bar: ω_k = (2k−1)π/(2L) √(E/ρ). Linear elements with consistent mass
+/// overestimate ω_k by ≈ (ω_k h/c)²/24: second order, measured as a log–log slope. On a uniform
+/// mesh the discrete modes are exact sines at the nodes, so the FE frequency is the discrete
+/// dispersion relation ω_h² = (c/h)² 6(1 − cos kh)/(2 + cos kh) at the exact wavenumber k.
+/// Node 0 is clamped by dropping its DOF; the thrust bearing's own flexibility is checked last.
+#[test]
+fn axial_fixed_free_frequencies_converge_at_second_order() {
+    let c = (2.1e11_f64 / 7800.0).sqrt();
+    let exact = |k: usize| (2 * k - 1) as f64 * PI / (2.0 * 2.0) * c;
+    let mut hs = Vec::new();
+    let mut errs = [Vec::new(), Vec::new(), Vec::new()];
+    for n in [4usize, 8, 16, 32, 64] {
+        let m = model(&axial_bar(n));
+        let f = &fe(&m.rotor).rotor;
+        let dofs: Vec<usize> = f.node_axial.iter().map(|d| d.unwrap()).collect();
+        assert_eq!(dofs.len(), n + 1);
+        let w = block_frequencies(f, &dofs[1..]);
+        let h = 2.0 / n as f64;
+        hs.push(h);
+        for (k, e) in errs.iter_mut().enumerate() {
+            let rel = w[k] / exact(k + 1) - 1.0;
+            assert!(
+                rel > 0.0,
+                "consistent mass overestimates: mode {} {rel}",
+                k + 1
+            );
+            e.push(rel);
+            let x = exact(k + 1) / c * h;
+            let disc = c / h * (6.0 * (1.0 - x.cos()) / (2.0 + x.cos())).sqrt();
+            assert!(
+                (w[k] / disc - 1.0).abs() < 1e-9,
+                "{n} elements, mode {}: {} vs dispersion {disc}",
+                k + 1,
+                w[k]
+            );
+        }
+    }
+    for (k, e) in errs.iter().enumerate() {
+        let p = loglog_slope(&hs, e);
+        eprintln!(
+            "axial fixed–free mode {}: errors {:?}, order {p:.4}",
+            k + 1,
+            e.iter().map(|v| format!("{v:.3e}")).collect::<Vec<_>>()
+        );
+        assert!((p - 2.0).abs() < 0.1, "mode {}: order {p}", k + 1);
+    }
+    // Finest level: the leading term (ω h/c)²/24 predicts the error of mode 1.
+    let lead = (exact(1) * hs[4] / c).powi(2) / 24.0;
+    assert!(
+        (errs[0][4] / lead - 1.0).abs() < 1e-3,
+        "{} vs {lead}",
+        errs[0][4]
+    );
+    assert!(errs[0][4] < 2.6e-5);
+    // On the 1e16 N/m thrust bearing instead of the clamp, mode 1 drops by ≈ EA/(k_s L) (half
+    // the spring's share of the strain energy, 2EA/(k_s L)).
+    let m = model(&axial_bar(64));
+    let f = &fe(&m.rotor).rotor;
+    let dofs: Vec<usize> = f.node_axial.iter().map(|d| d.unwrap()).collect();
+    let w = block_frequencies(f, &dofs)[0];
+    let ea = 2.1e11 * PI * 0.01;
+    let want = (1.0 + errs[0][4]) * (1.0 - ea / (1.0e16 * 2.0));
+    eprintln!(
+        "axial mode 1 on the thrust bearing, 64 elements: ω/ω_exact − 1 = {:.5e} (predicted {:.5e})",
+        w / exact(1) - 1.0,
+        want - 1.0
+    );
+    assert!((w / exact(1) / want - 1.0).abs() < 2e-8);
+}
+
+/// Disk of polar inertia `ip` at the free end (node `n`) of a steel shaft 0.5 m × 20 mm in `n`
+/// elements whose left end (node 0) is held in torsion by `k0` N·m/rad.
+fn torsion_disk(n: usize, ip: f64, k0: f64) -> String {
+    format!(
+        r#"
+[rotor]
+kind = "fe"
+torsion = true
+[[rotor.shaft]]
+length = 0.5
+outer_diameter = 0.02
+elements = {n}
+youngs_modulus = 2.1e11
+poisson = 0.3
+density = 7800.0
+[[rotor.disk]]
+node = {n}
+mass = 5.0
+polar_inertia = {ip}
+diametral_inertia = 0.003
+[[rotor.bearing]]
+node = 0
+stiffness = 1.0e7
+[[rotor.bearing]]
+node = {n}
+stiffness = 1.0e7
+[[rotor.torsional_support]]
+node = 0
+stiffness = {k0}
+{RUN}"#
+    )
+}
+
+/// (b) Torsion: a disk I_p at the free end of a shaft fixed at the other. Exact (fixed–free
+/// shaft with tip inertia): βL tan βL = ρJL/I_p, ω = β √(G/ρ); for a light shaft
+/// ω → √(k_t/I_p), k_t = GJ/L, and Rayleigh's √(k_t/(I_p + ρJL/3)) is within O((ρJL/I_p)²).
+/// Node 0 is clamped by dropping its DOF.
+#[test]
+fn torsion_disk_on_shaft_matches_closed_forms() {
+    let (l, d, e, nu, rho) = (0.5_f64, 0.02_f64, 2.1e11_f64, 0.3_f64, 7800.0_f64);
+    let gm = e / (2.0 * (1.0 + nu));
+    let j = PI * d.powi(4) / 32.0;
+    let kt = gm * j / l;
+    let shaft_ip = rho * j * l;
+    let ip = 100.0 * shaft_ip;
+    // βL tan βL = r by bisection on (0, π/2).
+    let r = shaft_ip / ip;
+    let (mut a, mut b) = (0.0_f64, PI / 2.0 - 1e-12);
+    for _ in 0..200 {
+        let x = 0.5 * (a + b);
+        if x * x.tan() < r {
+            a = x;
+        } else {
+            b = x;
+        }
+    }
+    let exact = 0.5 * (a + b) / l * (gm / rho).sqrt();
+    let simple = (kt / ip).sqrt();
+    let rayleigh = (kt / (ip + shaft_ip / 3.0)).sqrt();
+    for n in [1usize, 4, 16] {
+        let m = model(&torsion_disk(n, ip, 1.0e6));
+        let f = &fe(&m.rotor).rotor;
+        let dofs: Vec<usize> = f.node_torsion.iter().map(|d| d.unwrap()).collect();
+        let w = block_frequencies(f, &dofs[1..])[0];
+        eprintln!(
+            "torsion, {n} elements: ω = {w:.6} rad/s (rel. to exact {:.2e}); exact {exact:.6}, √(k_t/I_p) {simple:.6}, Rayleigh {rayleigh:.6}",
+            w / exact - 1.0
+        );
+        // One element is the Rayleigh–Ritz estimate with a linear twist, exactly
+        // √(k_t/(I_p + ρJL/3)); finer meshes converge to the exact root.
+        if n == 1 {
+            assert!((w / rayleigh - 1.0).abs() < 1e-12, "{w} vs {rayleigh}");
+        }
+        let tol = if n == 1 { 2e-6 } else { 1e-7 };
+        assert!((w / exact - 1.0).abs() < tol, "{n}: {w} vs {exact}");
+        assert!((w / simple - 1.0).abs() < r / 6.0 * 1.05, "{w} vs {simple}");
+        assert!(w < simple);
+    }
+}
+
+/// A rotor with every feature, `axial` and `torsion` set as given.
+fn full_rotor(axial: bool, torsion: bool) -> String {
+    let mut t = GOLDEN_ROTOR.replace(
+        "rayleigh = [1.5, 2.0e-5]",
+        &format!("rayleigh = [1.5, 2.0e-5]\naxial = {axial}\ntorsion = {torsion}"),
+    );
+    let mut extra = String::new();
+    if axial {
+        extra.push_str("[[rotor.axial_support]]\nnode = 0\nstiffness = 5.0e8\ndamping = 2.0e3\n");
+    }
+    if torsion {
+        extra.push_str("[[rotor.torsional_support]]\nnode = 6\nstiffness = 2.0e4\ndamping = 3.0\n");
+    }
+    t = t.replace("[run]", &format!("{extra}[run]"));
+    t
+}
+
+/// (c) Total mass and polar inertia through the new DOFs: a rigid axial translation carries
+/// the whole mass (shaft, disk, point mass; pedestals have no axial DOF), a rigid rotation
+/// about z the whole polar inertia (shaft ρJL + disk I_p); neither strains the shaft.
+#[test]
+fn rigid_axial_and_torsional_motion_carry_total_mass_and_polar_inertia() {
+    let m = model(&full_rotor(true, true));
+    let f = &fe(&m.rotor).rotor;
+    // Shaft: steel tube 50/10 mm, 1.5 m; disk from geometry; point mass 1.25 kg.
+    let (od, id, l, rho) = (0.05_f64, 0.01_f64, 1.5_f64, 7810.0_f64);
+    let shaft_m = rho * PI * (od * od - id * id) / 4.0 * l;
+    let shaft_ip = rho * PI * (od.powi(4) - id.powi(4)) / 32.0 * l;
+    let dm = 7810.0 * PI * (0.28_f64.powi(2) - 0.05_f64.powi(2)) / 4.0 * 0.07;
+    let dip = dm * (0.14_f64.powi(2) + 0.025_f64.powi(2)) / 2.0;
+    let mass = shaft_m + dm + 1.25;
+    let ipol = shaft_ip + dip;
+    assert!((f.total_mass / mass - 1.0).abs() < 1e-13);
+    assert!((f.total_polar_inertia / ipol - 1.0).abs() < 1e-13);
+    let quad = |a: &rubsim::linalg::Csc, q: &[f64]| -> f64 {
+        a.triplets().map(|(r, c, v)| q[r] * v * q[c]).sum()
+    };
+    for (dofs, expected, what) in [
+        (&f.node_axial, mass, "axial translation"),
+        (&f.node_torsion, ipol, "rotation about z"),
+    ] {
+        let mut q = vec![0.0; f.ndof];
+        for d in dofs.iter() {
+            q[d.unwrap()] = 1.0;
+        }
+        let t = quad(&f.m, &q);
+        eprintln!("{what}: qᵀMq = {t:.10} (expected {expected:.10})");
+        assert!(
+            (t / expected - 1.0).abs() < 1e-13,
+            "{what}: {t} vs {expected}"
+        );
+        let mut kq = vec![0.0; f.ndof];
+        f.k_shaft.mul_add(1.0, &q, &mut kq);
+        let big = f
+            .k_shaft
+            .triplets()
+            .fold(0.0_f64, |a, (_, _, v)| a.max(v.abs()));
+        assert!(
+            kq.iter().all(|v| v.abs() < 1e-12 * big),
+            "{what} strains the shaft"
+        );
+    }
+    // The free shaft now has six rigid-body modes (x, y, tilt about x and y, axial, spin), plus
+    // the pedestal's two DOFs, which k_shaft does not hold.
+    let ev = rubsim::model::fe_rotor::dense(&f.k_shaft).symmetric_eigenvalues();
+    let big = ev.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    assert_eq!(ev.iter().filter(|v| v.abs() < 1e-10 * big).count(), 6 + 2);
+}
+
+/// (d) M and K symmetric, G skew with no axial or torsional entries, no coupling between the
+/// lateral, axial and torsional groups in M, K, C, G; the lateral block equal bit for bit to the
+/// golden file (the model without the option), and the option off gives exactly that model.
+#[test]
+fn axial_torsion_matrices_symmetric_uncoupled_and_lateral_block_unchanged() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fe_rotor_lateral_golden.txt");
+    let golden = std::fs::read_to_string(path).unwrap();
+    let off = model(&full_rotor(false, false));
+    let foff = &fe(&off.rotor).rotor;
+    assert_eq!(foff.ndof, foff.ndof_lateral);
+    assert!(foff
+        .node_axial
+        .iter()
+        .chain(&foff.node_torsion)
+        .all(|d| d.is_none()));
+    assert_eq!(
+        matrix_fingerprint(&full_rotor(false, false), 120.0, None),
+        golden
+    );
+    for (ax, to) in [(true, false), (false, true), (true, true)] {
+        let text = full_rotor(ax, to);
+        let m = model(&text);
+        let f = &fe(&m.rotor).rotor;
+        let nn = f.nodes();
+        assert_eq!(f.ndof_lateral, foff.ndof);
+        assert_eq!(f.ndof, foff.ndof + nn * (ax as usize + to as usize));
+        assert_eq!(
+            matrix_fingerprint(&text, 120.0, Some(f.ndof_lateral)),
+            golden,
+            "axial {ax}, torsion {to}: lateral block changed"
+        );
+        let group = |d: usize| {
+            if f.node_axial.contains(&Some(d)) {
+                1
+            } else if f.node_torsion.contains(&Some(d)) {
+                2
+            } else {
+                0
+            }
+        };
+        let (k, c) = (f.k(120.0), f.c(120.0));
+        // K and C are unsymmetric only through the cross-coupled bearing (lateral, golden).
+        assert!(f.m.asymmetry() < 1e-14 && f.k_shaft.asymmetry() < 1e-14);
+        let new: Vec<usize> = (f.ndof_lateral..f.ndof).collect();
+        assert!(sub(&k, &new).asymmetry() < 1e-14 && sub(&c, &new).asymmetry() < 1e-14);
+        assert!(sub(&k, &new).nnz() > 0);
+        for (name, a) in [("M", &f.m), ("K", &k), ("C", &c), ("G", &f.g)] {
+            for (r, cc, v) in a.triplets() {
+                assert!(
+                    v == 0.0 || group(r) == group(cc),
+                    "{name} couples DOF {r} and {cc} ({v})"
+                );
+            }
+        }
+        for (r, cc, v) in f.g.triplets() {
+            assert_eq!(group(r), 0, "G has an axial/torsional entry");
+            assert_eq!(v, -f.g.get(cc, r));
+        }
+        // Supports: stiffness and damping (plus β K) on their DOF.
+        if ax {
+            let d = f.node_axial[0].unwrap();
+            let ea_h = 211e9 * PI * (0.05_f64.powi(2) - 0.01_f64.powi(2)) / 4.0 / 0.25;
+            assert!((k.get(d, d) - (ea_h + 5.0e8)).abs() < 1e-6 * ea_h);
+            let cd = 2.0e3 + 1.5 * f.m.get(d, d) + 2.0e-5 * k.get(d, d);
+            assert!((c.get(d, d) / cd - 1.0).abs() < 1e-12);
+        }
+        if to {
+            let d = f.node_torsion[6].unwrap();
+            assert!(
+                (c.get(d, d) - (3.0 + 1.5 * f.m.get(d, d) + 2.0e-5 * k.get(d, d))).abs() < 1e-12
+            );
+        }
+        // Unbalance response and static stiffness: lateral only, identical to the model without.
+        let (q, qoff) = (
+            f.unbalance_response(150.0).unwrap(),
+            foff.unbalance_response(150.0).unwrap(),
+        );
+        assert_eq!(&q[..foff.ndof], &qoff[..]);
+        assert!(q[foff.ndof..].iter().all(|v| v.norm() == 0.0));
+        assert_eq!(
+            f.node_stiffness(3).unwrap(),
+            foff.node_stiffness(3).unwrap()
+        );
+        // Static deflection under gravity: lateral as without, no axial or torsional motion.
+        let (s, soff) = (
+            rotordyn::static_deflection(&m.rotor, 9.81).unwrap(),
+            rotordyn::static_deflection(&off.rotor, 9.81).unwrap(),
+        );
+        for (a, b) in s.iter().zip(&soff) {
+            assert!((a - b).abs() <= 1e-12 * b.abs().max(1e-9), "{a} vs {b}");
+        }
+        assert!(s[foff.ndof..].iter().all(|v| v.abs() < 1e-20));
+        // The body handed to the integrator carries the new DOFs.
+        let body = m.rotor.body(150.0);
+        assert_eq!(body.node_axial, f.node_axial);
+        assert_eq!(body.node_torsion, f.node_torsion);
+    }
+}
+
+/// Modal analysis labels modes by where their kinetic energy sits: lateral (FW/BW), axial,
+/// torsional. The axial and torsional frequencies equal their blocks' and do not move with the
+/// spin (G has no entries there); the lateral ones are those of the model without the option.
+#[test]
+fn modal_and_campbell_label_axial_and_torsional_modes() {
+    let text = full_rotor(true, true)
+        .replace("rayleigh = [1.5, 2.0e-5]", "rayleigh = [0.0, 0.0]")
+        .replace("damping = 2.0e3", "damping = 0.0")
+        .replace("damping = 3.0", "damping = 0.0");
+    let m = model(&text);
+    let f = &fe(&m.rotor).rotor;
+    let ax: Vec<usize> = f.node_axial.iter().map(|d| d.unwrap()).collect();
+    let to: Vec<usize> = f.node_torsion.iter().map(|d| d.unwrap()).collect();
+    let wa = block_frequencies(f, &ax);
+    let wt = block_frequencies(f, &to);
+    let off = model(
+        &full_rotor(false, false).replace("rayleigh = [1.5, 2.0e-5]", "rayleigh = [0.0, 0.0]"),
+    );
+    let top = 1.2 * wa[0].max(wt[1]);
+    let nmodes = 40;
+    for spin in [0.0, 300.0] {
+        let r = rotordyn::modal(&m.rotor, spin, nmodes).unwrap();
+        let roff = rotordyn::modal(&off.rotor, spin, nmodes).unwrap();
+        let (mut na, mut nt) = (0, 0);
+        for md in r.modes.iter().filter(|x| x.omega_d < top) {
+            let e = md.energy;
+            assert!((e.iter().sum::<f64>() - 1.0).abs() < 1e-9);
+            match md.kind {
+                rotordyn::ModeKind::Axial => {
+                    assert!(
+                        e[1] > 1.0 - 1e-9 && md.whirl == Whirl::NoWhirl && md.label() == "axial"
+                    );
+                    assert!(
+                        (md.omega_d / wa[na] - 1.0).abs() < 1e-7,
+                        "{} vs {}",
+                        md.omega_d,
+                        wa[na]
+                    );
+                    na += 1;
+                }
+                rotordyn::ModeKind::Torsional => {
+                    assert!(e[2] > 1.0 - 1e-9 && md.label() == "torsional");
+                    assert!(
+                        (md.omega_d / wt[nt] - 1.0).abs() < 1e-7,
+                        "{} vs {}",
+                        md.omega_d,
+                        wt[nt]
+                    );
+                    nt += 1;
+                }
+                rotordyn::ModeKind::Lateral => {
+                    assert!(e[0] > 1.0 - 1e-9);
+                    assert!(
+                        matches!(md.whirl, Whirl::Forward | Whirl::Backward),
+                        "{:?}",
+                        md.whirl
+                    );
+                    // Same frequency among the model without axial/torsional DOFs.
+                    let near = roff
+                        .modes
+                        .iter()
+                        .map(|x| (x.omega_d / md.omega_d - 1.0).abs())
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(
+                        near < 1e-7,
+                        "lateral mode {} not in the lateral model",
+                        md.omega_d
+                    );
+                }
+            }
+        }
+        eprintln!(
+            "Ω = {spin}: {na} axial (first {:.2} rad/s), {nt} torsional (first two {:.2}, {:.2} rad/s) below {top:.0} rad/s",
+            wa[0], wt[0], wt[1]
+        );
+        assert!(na >= 1 && nt >= 2);
+    }
+    // Campbell: the torsional and axial tracks are flat and labelled so.
+    let speeds: Vec<f64> = (0..6).map(|i| i as f64 * 200.0).collect();
+    let c = rotordyn::campbell(&m.rotor, &speeds, 12).unwrap();
+    let tors: Vec<_> = c
+        .tracks
+        .iter()
+        .filter(|t| t.kind == rotordyn::ModeKind::Torsional)
+        .collect();
+    assert!(!tors.is_empty());
+    for t in tors {
+        assert!(t.label.ends_with("torsional"), "{}", t.label);
+        let w0 = t.omega_d[0];
+        assert!(
+            t.omega_d.iter().all(|w| (w / w0 - 1.0).abs() < 1e-7),
+            "{:?}",
+            t.omega_d
+        );
+    }
+}
+
+/// The scene with torsion as the CLI sees it: `rubsim modal` lists the torsional mode in its
+/// table and CSV.
+#[test]
+fn cli_modal_reports_the_torsional_mode() {
+    let dir = std::env::temp_dir().join(format!("rubsim-torsion-modal-{}", std::process::id()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rubsim"))
+        .args(["modal", "scenes/fe/paper_rotor_rub_torsion.toml", "--out"])
+        .arg(&dir)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("modes.csv")).unwrap();
+    let tors: Vec<&str> = csv.lines().filter(|l| l.contains(",torsional,")).collect();
+    assert!(!tors.is_empty(), "{csv}");
+    // First torsional mode: disk I_p on the shaft half (G J/0.2 m) in series with the
+    // 1000 N·m/rad coupling, ≈ √(274/0.00476) ≈ 240 rad/s minus the shaft's inertia share.
+    let w: f64 = tors[0].split(',').nth(1).unwrap().parse().unwrap();
+    assert!(w > 225.0 && w < 245.0, "{w}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("torsional"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+const PAPER_TORSION: &str = include_str!("../scenes/fe/paper_rotor_rub_torsion.toml");
+
+/// Frames every step: time, θ_z at the drive (node 0) and station (node 4), Σ p.
+struct TwistProbe {
+    dofs: [usize; 2],
+    rows: Vec<[f64; 4]>,
+}
+
+impl rubsim::time::FrameSink for TwistProbe {
+    fn every(&self) -> usize {
+        1
+    }
+    fn frame(&mut self, fr: &rubsim::time::Frame<'_>) -> Result<(), String> {
+        let p: f64 = fr.pairs.iter().map(|x| x.p).sum();
+        self.rows
+            .push([fr.t, fr.rotor_u[self.dofs[0]], fr.rotor_u[self.dofs[1]], p]);
+        Ok(())
+    }
+}
+
+/// (e) Friction torque: the rub's friction μ p acts at the disk rim R and twists the shaft
+/// against the spin. Over whole revolutions of the steady response the mean twist is static:
+/// θ̄_z(drive) = τ̄/k_t, θ̄_z(disk) − θ̄_z(drive) = τ̄ L/(GJ), τ̄ = −R μ p̄ (p̄ the mean normal
+/// force). Checked for a partial rub on the rod (ν = 1.7, period 1) with both integrators (the
+/// collocated one adds the torque to the step's load, forward increment applies it through
+/// M̃⁻¹ like the contact force), and for a full annular rub on a ring (constant torque).
+#[test]
+fn friction_torque_twists_the_shaft_by_r_mu_p_over_k() {
+    use rubsim::scene::IntegratorKind;
+    let ring = PAPER_TORSION.replace(
+        "[[stator]]\nkind = \"rod\"\nname = \"rod\"\nstation = \"disk\"\nclearance_nd = 0.6\nlength = 0.04\narea = 25e-6\nstiffness_ratio = 25.0\nangle_deg = 90.0\n",
+        "[[stator]]\nkind = \"ring\"\nname = \"ring\"\nstation = \"disk\"\nclearance_nd = 0.48\nstiffness_ratio = 25.0\n",
+    );
+    assert_ne!(ring, PAPER_TORSION);
+    let (r, mu, kt) = (0.06, 0.1, 1000.0);
+    let gj = 200e9 / 2.6 * PI * 0.01_f64.powi(4) / 32.0;
+    let l04 = 0.2;
+    for (text, nu, kind, what) in [
+        (
+            PAPER_TORSION,
+            1.7,
+            IntegratorKind::Collocated,
+            "rod, collocated",
+        ),
+        (
+            PAPER_TORSION,
+            1.7,
+            IntegratorKind::ForwardIncrement,
+            "rod, forward increment",
+        ),
+        (
+            ring.as_str(),
+            1.0,
+            IntegratorKind::Collocated,
+            "ring, collocated",
+        ),
+    ] {
+        let ov: Vec<String> = vec![
+            "run.revolutions=80".into(),
+            "run.transient_revolutions=40".into(),
+            "run.error_estimate=false".into(),
+        ];
+        let ls = scene::parse(Path::new("t.toml"), text, &ov).unwrap();
+        let m = Model::build(&ls).unwrap();
+        let f = &fe(&m.rotor).rotor;
+        let case = m.case(nu * m.rotor.natural_frequency()).unwrap();
+        let mut st = rubsim::analysis::RunSettings::from_run(&ls.scene.run, "y").step;
+        st.integrator = kind;
+        let plan = rubsim::time::plan_steps(&case, &st).unwrap();
+        let mut probe = TwistProbe {
+            dofs: [f.node_torsion[0].unwrap(), f.node_torsion[4].unwrap()],
+            rows: Vec::new(),
+        };
+        let (rec, _) = rubsim::time::integrate_with(
+            &case,
+            kind,
+            &plan,
+            rubsim::time::Initial::default(),
+            Some(&mut probe),
+        )
+        .unwrap();
+        // Mean over the last 20 whole revolutions.
+        let t_rev = 2.0 * PI / case.omega;
+        let t_end = probe.rows.last().unwrap()[0];
+        let win: Vec<&[f64; 4]> = probe
+            .rows
+            .iter()
+            .filter(|x| x[0] > t_end - 20.0 * t_rev + 0.5 * plan.dt)
+            .collect();
+        let mean = |i: usize| win.iter().map(|x| x[i]).sum::<f64>() / win.len() as f64;
+        let (th0, th4, p) = (mean(1), mean(2), mean(3));
+        let tau = -r * mu * p;
+        let (want0, want_twist) = (tau / kt, tau * l04 / gj);
+        let e0 = th0 / want0 - 1.0;
+        let e_twist = (th4 - th0) / want_twist - 1.0;
+        let e_tot = th4 / (tau * (1.0 / kt + l04 / gj)) - 1.0;
+        // The record's normal force (every recorded sample) gives the same mean.
+        let spr = plan.steps_per_rev / plan.record_every;
+        let n = rec.len();
+        let p_rec = (n - 1 - 20 * spr..n - 1)
+            .map(|i| {
+                let v = rec.force_normal[i];
+                v[0].hypot(v[1])
+            })
+            .sum::<f64>()
+            / (20 * spr) as f64;
+        eprintln!(
+            "{what}: p̄ = {p:.5} N (record {p_rec:.5}), τ̄ = {tau:.4e} N·m; θ̄_z drive {th0:.5e} rad (rel. err {e0:.2e}), shaft twist {:.5e} rad (rel. err {e_twist:.2e}), disk vs R μ p̄/k_eff rel. err {e_tot:.2e}",
+            th4 - th0
+        );
+        assert!(
+            p > 0.0 && th4 < th0 && th0 < 0.0,
+            "the rub winds the disk against the spin"
+        );
+        // Exact but for the window's ends (one step's pair forces at most): measured ~1e-11.
+        for e in [e0, e_twist, e_tot] {
+            assert!(e.abs() < 1e-3, "{what}: {e}");
+        }
+        // The recorded samples (every `record_every` steps) see the same mean within ~1 %.
+        assert!(
+            (p_rec / p - 1.0).abs() < 0.02,
+            "{what}: record p̄ {p_rec} vs {p}"
+        );
+        // The torsional vibration barely changes the sliding speed ΩR + R θ̇_z, so the friction
+        // keeps the direction of the spin tangent (permanent slip), as the contact model assumes.
+        let slip = win
+            .windows(2)
+            .map(|w| ((w[1][2] - w[0][2]) / (w[1][0] - w[0][0])).abs())
+            .fold(0.0_f64, f64::max)
+            / case.omega;
+        eprintln!("{what}: max |θ̇_z|/Ω at the disk = {slip:.2e}");
+        assert!(slip < 1e-2, "{what}: {slip}");
+    }
+}
+
+#[test]
+fn bad_axial_torsion_input_names_the_item() {
+    let base = full_rotor(true, true);
+    let cases = [
+        (
+            base.replace("node = 6\nstiffness = 2.0e4", "node = 7\nstiffness = 2.0e4"),
+            "rotor.torsional_support.0.node",
+        ),
+        (
+            base.replace(
+                "node = 0\nstiffness = 5.0e8",
+                "node = 40\nstiffness = 5.0e8",
+            ),
+            "rotor.axial_support.0.node",
+        ),
+        (
+            base.replace("stiffness = 5.0e8", "stiffness = -5.0e8"),
+            "rotor.axial_support.0.stiffness",
+        ),
+        (
+            base.replace("stiffness = 2.0e4", "stiffness = 0.0"),
+            "rotor.torsional_support.0.stiffness",
+        ),
+        (
+            base.replace("damping = 3.0", "damping = -3.0"),
+            "rotor.torsional_support.0.damping",
+        ),
+        (
+            full_rotor(true, true).replace("torsion = true", "torsion = false"),
+            "rotor.torsional_support.0",
+        ),
+        (
+            full_rotor(true, false).replace(
+                "[[rotor.axial_support]]\nnode = 0\nstiffness = 5.0e8\ndamping = 2.0e3\n",
+                "",
+            ),
+            "rotor.axial",
+        ),
+        (
+            full_rotor(false, false).replace("torsion = false", "torsion = true"),
+            "rotor.torsion",
+        ),
+    ];
+    for (text, key) in cases {
+        let e = scene::parse(Path::new("bad.toml"), &text, &[])
+            .unwrap_err()
+            .to_string();
+        eprintln!("{key}: {e}");
+        assert!(e.contains(key) && e.contains("bad.toml"), "{key}: {e}");
+    }
+    // The model layer refuses the same on its own (library users who skip the scene).
+    use rubsim::model::fe_rotor::{data_from_spec, FeRotor, GroundSpring};
+    let ls = scene::parse(Path::new("t.toml"), &full_rotor(true, true), &[]).unwrap();
+    let spec = match &ls.scene.rotor {
+        rubsim::scene::RotorSpec::Fe(f) => f.clone(),
+        _ => unreachable!(),
+    };
+    let good = data_from_spec(&spec);
+    assert!(FeRotor::build(&good).is_ok());
+    let mut d = good.clone();
+    d.torsional_supports.clear();
+    let e = FeRotor::build(&d).unwrap_err().to_string();
+    assert!(e.contains("torsional restraint"), "{e}");
+    let mut d = good.clone();
+    d.axial_supports.clear();
+    let e = FeRotor::build(&d).unwrap_err().to_string();
+    assert!(e.contains("axial support"), "{e}");
+    let mut d = good.clone();
+    d.axial_supports.push(GroundSpring {
+        node: 9,
+        stiffness: 1.0,
+        damping: 0.0,
+    });
+    let e = FeRotor::build(&d).unwrap_err().to_string();
+    assert!(
+        e.contains("rotor axial support 1") && e.contains("node 9"),
+        "{e}"
+    );
+    let mut d = good.clone();
+    d.torsional_supports[0].stiffness = -1.0;
+    let e = FeRotor::build(&d).unwrap_err().to_string();
+    assert!(
+        e.contains("rotor torsional support 0") && e.contains("stiffness"),
+        "{e}"
+    );
+    let mut d = good;
+    d.axial = false;
+    let e = FeRotor::build(&d).unwrap_err().to_string();
+    assert!(
+        e.contains("rotor axial support 0") && e.contains("no axial DOFs"),
+        "{e}"
+    );
+}
+
+/// The torsion scene is the paper rotor plus θ_z: ω_n (first lateral mode), k_r and |Z0| are
+/// those of scenes/fe/paper_rotor_rub.toml, and so is the rub's lateral response (torsion is
+/// uncoupled from bending; the friction torque only twists the shaft).
+#[test]
+fn torsion_scene_keeps_the_lateral_model_and_response() {
+    let (t, l) = (model(PAPER_TORSION), model(PAPER_FE));
+    let (ft, fl) = (fe(&t.rotor), fe(&l.rotor));
+    assert_eq!(ft.rotor.ndof, fl.rotor.ndof + 9);
+    assert_eq!(
+        ft.rotor.lateral_frequencies(0.0).unwrap(),
+        fl.rotor.undamped_frequencies(0.0).unwrap()
+    );
+    // The model's ω_n is the lowest positive frequency of all DOFs: lateral here (the first
+    // torsional mode is at ≈ 238 rad/s).
+    assert!((ft.omega_n / fl.omega_n - 1.0).abs() < 1e-9);
+    assert_eq!(ft.k_ref, fl.k_ref);
+    assert!(ft.omega_max >= fl.omega_max);
+    let w = 1.7 * fl.omega_n;
+    assert_eq!(t.rotor.z0(4, w), l.rotor.z0(4, w));
+    // Same Δt and response up to the rounding of ω_n (~1e-11).
+    let (rt, rl) = (run_at(PAPER_TORSION, 1.7), run_at(PAPER_FE, 1.7));
+    assert_eq!(rt.period, rl.period);
+    assert!((rt.plan.dt / rl.plan.dt - 1.0).abs() < 1e-9);
+    let diff = (0..4)
+        .map(|i| (rt.extents_nd[i] - rl.extents_nd[i]).abs())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "torsion scene vs lateral-only at ν = 1.7: ω_n {} vs {}, extents differ by {diff:.2e}",
+        ft.omega_n, fl.omega_n
+    );
+    for i in 0..4 {
+        assert!(
+            (rt.extents_nd[i] - rl.extents_nd[i]).abs() < 1e-7,
+            "{:?} vs {:?}",
+            rt.extents_nd,
+            rl.extents_nd
+        );
+    }
+}
+
+/// ω/ω_n refers to the first lateral mode even when a soft drive puts a torsional mode below
+/// it: the torsion scene with a 50 N·m/rad coupling (torsional mode ≈ 96 rad/s) keeps the
+/// lateral ω_n of the scene without torsion, while ω_max (stability) covers every DOF.
+#[test]
+fn speed_ratio_refers_to_the_first_lateral_mode() {
+    let plain = model(include_str!("../scenes/fe/paper_rotor_rub.toml"));
+    let soft = PAPER_TORSION.replace("stiffness = 1000.0", "stiffness = 50.0");
+    assert_ne!(soft, PAPER_TORSION);
+    let tors = model(&soft);
+    let (Rotor::Fe(a), Rotor::Fe(b)) = (&plain.rotor, &tors.rotor) else {
+        panic!("FE rotors expected")
+    };
+    let all = b.rotor.undamped_frequencies(0.0).unwrap();
+    assert!(
+        all[0] < 0.7 * a.omega_n,
+        "a torsional mode below ω_n: {all:?}"
+    );
+    assert!(
+        (b.omega_n - a.omega_n).abs() < 1e-9 * a.omega_n,
+        "{} vs {}",
+        b.omega_n,
+        a.omega_n
+    );
+    assert!(b.omega_max >= *all.last().unwrap() * (1.0 - 1e-12));
+}

@@ -17,6 +17,22 @@
 //!   as `G[x–z rows, y–z cols] = R`, `G[y–z rows, x–z cols] = −R` in planar coordinates. At a
 //!   node's rotations this is the rigid-disk form `I_d θ̈_x + Ω I_p θ̇_y = M_x`,
 //!   `I_d θ̈_y − Ω I_p θ̇_x = M_y`; `G` is skew-symmetric.
+//!
+//! # Axial and torsional DOFs (optional)
+//!
+//! A rotor may add an axial displacement `u_z` (m, positive along +z) and a torsional rotation
+//! `θ_z` (rad, positive counter-clockwise seen from +z, the sense of the spin Ω) per node. They
+//! are two-node linear elements on one scalar DOF per node, `[q₁, q₂]`:
+//! * axial bar ([`axial_element`]): `K = E A/L [1, −1; −1, 1]`, consistent mass
+//!   `M = ρ A L/6 [2, 1; 1, 2]`;
+//! * torsion ([`torsion_element`]): `K = G J/L [1, −1; −1, 1]`, `M = ρ J L/6 [2, 1; 1, 2]`,
+//!   with `G = E/(2(1+ν))` and the polar second moment `J = π(D⁴ − d⁴)/32` (the torsion
+//!   constant of a circular tube).
+//!
+//! Linear theory: they are uncoupled from bending (no entries between `u_z`, `θ_z` and the
+//! lateral DOFs in M, K or G) and from each other; the spin enters only the bending planes'
+//! gyroscopic matrix. Linear elements with consistent mass converge at second order in the
+//! element length (frequencies are overestimated by `(ω h/c)²/24` per mode, c the wave speed).
 
 /// Section and material data of one element.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,6 +85,46 @@ impl ShaftSection {
     pub fn mass(&self) -> f64 {
         self.density * self.area() * self.length
     }
+    /// Polar second moment J = π(D⁴ − d⁴)/32 = 2I (m⁴), the torsion constant of the tube.
+    pub fn polar_moment(&self) -> f64 {
+        2.0 * self.inertia()
+    }
+    /// Shear modulus G = E/(2(1+ν)) (Pa).
+    pub fn shear_modulus(&self) -> f64 {
+        self.youngs_modulus / (2.0 * (1.0 + self.poisson))
+    }
+}
+
+/// Matrices of a two-node element with one scalar DOF per node, `[q₁, q₂]` (2×2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScalarElement {
+    /// Consistent mass: kg (axial) or kg·m² (torsion).
+    pub m: [[f64; 2]; 2],
+    /// Stiffness: N/m (axial) or N·m/rad (torsion).
+    pub k: [[f64; 2]; 2],
+}
+
+/// `k [1, −1; −1, 1]` and `m/6 [2, 1; 1, 2]`.
+fn scalar_element(k: f64, m: f64) -> ScalarElement {
+    ScalarElement {
+        m: [[m / 3.0, m / 6.0], [m / 6.0, m / 3.0]],
+        k: [[k, -k], [-k, k]],
+    }
+}
+
+/// Axial bar on `[u_z1, u_z2]` (m): `K = E A/L [1, −1; −1, 1]` (N/m),
+/// `M = ρ A L/6 [2, 1; 1, 2]` (kg). Uncoupled from bending.
+pub fn axial_element(s: &ShaftSection) -> ScalarElement {
+    scalar_element(s.youngs_modulus * s.area() / s.length, s.mass())
+}
+
+/// Torsion element on `[θ_z1, θ_z2]` (rad, counter-clockwise seen from +z):
+/// `K = G J/L [1, −1; −1, 1]` (N·m/rad), `M = ρ J L/6 [2, 1; 1, 2]` (kg·m²),
+/// `G = E/(2(1+ν))`, `J = π(D⁴ − d⁴)/32`. Uncoupled from bending; always has its polar
+/// inertia (the `rotary_inertia` switch concerns the bending planes only).
+pub fn torsion_element(s: &ShaftSection) -> ScalarElement {
+    let j = s.polar_moment();
+    scalar_element(s.shear_modulus() * j / s.length, s.density * j * s.length)
 }
 
 /// Element matrices (8×8, row-major), DOF order as in the module docs.
@@ -173,6 +229,8 @@ pub fn shaft_element(s: &ShaftSection) -> ShaftMatrices {
 
 /// Rigid disk at a node: mass `m` on u_x, u_y, diametral inertia `id` on θ_x, θ_y and the
 /// gyroscopic block `[[0, I_p], [−I_p, 0]]` on (θ_x, θ_y). Returns (M, G) 4×4 in node DOFs.
+/// With axial and torsional DOFs the disk also adds `m` to u_z and `I_p` to θ_z (done by the
+/// assembly: they are diagonal).
 pub fn disk(m: f64, id: f64, ip: f64) -> ([[f64; 4]; 4], [[f64; 4]; 4]) {
     let mut mm = [[0.0; 4]; 4];
     mm[0][0] = m;
@@ -247,6 +305,33 @@ mod tests {
                 assert!(f.abs() < 1e-6 * e.k[0][0] * 1e-3, "K q ≠ 0: {f} for {q:?}");
             }
         }
+    }
+
+    #[test]
+    fn axial_and_torsion_elements() {
+        let s = sec(true);
+        let a = axial_element(&s);
+        let t = torsion_element(&s);
+        let ea_l = s.youngs_modulus * s.area() / s.length;
+        let gj_l = s.youngs_modulus / 2.6 * s.polar_moment() / s.length;
+        for (e, k, m) in [
+            (a, ea_l, s.mass()),
+            (t, gj_l, s.density * s.polar_moment() * s.length),
+        ] {
+            // Rigid motion: no strain energy, kinetic energy of the whole element.
+            let sum_m: f64 = e.m.iter().flatten().sum();
+            assert!((sum_m / m - 1.0).abs() < 1e-14, "{sum_m} vs {m}");
+            for r in e.k {
+                assert!((r[0] + r[1]).abs() < 1e-12 * k);
+            }
+            assert!((e.k[0][0] / k - 1.0).abs() < 1e-14);
+            assert_eq!(e.m[0][1], e.m[1][0]);
+            assert_eq!(e.k[0][1], e.k[1][0]);
+            assert!((e.m[0][0] / e.m[0][1] - 2.0).abs() < 1e-14);
+        }
+        // J of a tube: π(D⁴ − d⁴)/32.
+        let j = std::f64::consts::PI * (0.05_f64.powi(4) - 0.02_f64.powi(4)) / 32.0;
+        assert!((s.polar_moment() / j - 1.0).abs() < 1e-14);
     }
 
     #[test]

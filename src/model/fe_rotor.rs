@@ -3,10 +3,24 @@
 //!
 //! Global DOFs: node `i` owns `[u_x, u_y, θ_x, θ_y]` at `4i..4i+4` (see
 //! [`crate::element::timoshenko`] for the signs); pedestal masses add `[u_x, u_y]` after the
-//! shaft DOFs. Node positions `z` (m) run along the shaft from its left end.
-//! The equations are `M q̈ + (C + Ω G) q̇ + K q = f(t)`, `C = C_bearings + α M + β K`.
+//! shaft DOFs. These are the lateral DOFs `0..ndof_lateral`. Optional axial and torsional DOFs
+//! follow them, so switching them on leaves the lateral numbering and matrices unchanged:
+//! with `axial` node `i`'s `u_z` (m, along +z) is DOF `ndof_lateral + i`; with `torsion` its
+//! `θ_z` (rad, counter-clockwise seen from +z, the sense of Ω) comes after the axial DOFs
+//! ([`FeRotor::node_axial`], [`FeRotor::node_torsion`]). Node positions `z` (m) run along the
+//! shaft from its left end.
+//!
+//! The equations are `M q̈ + (C + Ω G) q̇ + K q = f(t)`, `C = C_bearings + C_supports + α M + β K`.
+//! Axial and torsional DOFs are uncoupled from the lateral ones (linear theory: no entries
+//! between them in M, K, G, bearings or supports), so a rotor needs an axial support (thrust
+//! bearing, [`FeRotorData::axial_supports`]) when it has axial DOFs and a torsional restraint
+//! (coupling or drive stiffness to ground, [`FeRotorData::torsional_supports`]) when it has
+//! torsional ones; [`FeRotor::build`] refuses a rotor without them, as it refuses one without a
+//! bearing (a free rigid-body mode would make K singular for the static and unbalance solves).
 
-use crate::element::timoshenko::{disk, shaft_element, ShaftSection};
+use crate::element::timoshenko::{
+    axial_element, disk, shaft_element, torsion_element, ShaftSection,
+};
 use crate::error::ModelError;
 use crate::linalg::Csc;
 use crate::model::rotor::{RotorBody, UnbalanceLoad};
@@ -56,7 +70,21 @@ impl Bearing {
     }
 }
 
-/// A rigid disk.
+/// A spring and dashpot from one scalar DOF of a rotor node to ground: a thrust bearing on
+/// `u_z` (stiffness N/m, damping N·s/m) or a torsional restraint on `θ_z` — coupling or drive
+/// stiffness (N·m/rad, N·m·s/rad). Adds `stiffness` to `K` and `damping` to `C` on that DOF.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroundSpring {
+    /// Rotor node.
+    pub node: usize,
+    /// Stiffness (> 0): N/m axial, N·m/rad torsional.
+    pub stiffness: f64,
+    /// Damping (≥ 0): N·s/m axial, N·m·s/rad torsional.
+    pub damping: f64,
+}
+
+/// A rigid disk. With axial DOFs it adds its mass to `u_z`, with torsional DOFs its polar
+/// inertia `I_p` to `θ_z`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Disk {
     /// Node.
@@ -91,11 +119,21 @@ pub struct FeRotor {
     pub z: Vec<f64>,
     /// Outer diameter of the shaft at each node (m), for plots.
     pub node_diameter: Vec<f64>,
-    /// Number of DOFs (shaft + pedestals).
+    /// Number of DOFs (shaft lateral + pedestals + axial + torsional).
     pub ndof: usize,
+    /// Number of lateral DOFs (shaft bending + pedestals): DOFs `0..ndof_lateral`.
+    pub ndof_lateral: usize,
+    /// `u_z` DOF of each node (m, along +z); `None` without axial DOFs.
+    pub node_axial: Vec<Option<usize>>,
+    /// `θ_z` DOF of each node (rad, counter-clockwise seen from +z); `None` without torsion.
+    pub node_torsion: Vec<Option<usize>>,
+    /// Axial supports (thrust bearings) on `u_z`.
+    pub axial_supports: Vec<GroundSpring>,
+    /// Torsional restraints (couplings, drives) on `θ_z`.
+    pub torsional_supports: Vec<GroundSpring>,
     /// Mass (shaft, disks, point masses, pedestals).
     pub m: Csc,
-    /// Stiffness of shaft and constant-speed parts (bearings added per speed).
+    /// Stiffness of the shaft alone (bearings and supports added per speed by [`FeRotor::k`]).
     pub k_shaft: Csc,
     /// Gyroscopic matrix per unit spin.
     pub g: Csc,
@@ -130,6 +168,16 @@ pub struct FeRotorData {
     pub unbalances: Vec<(usize, f64, f64)>,
     /// Rayleigh `[α, β]`.
     pub rayleigh: [f64; 2],
+    /// Axial DOF `u_z` per node (axial bar elements, see
+    /// [`crate::element::timoshenko::axial_element`]); needs `axial_supports`.
+    pub axial: bool,
+    /// Torsional DOF `θ_z` per node (see [`crate::element::timoshenko::torsion_element`]);
+    /// needs `torsional_supports`.
+    pub torsion: bool,
+    /// Thrust bearings on `u_z`.
+    pub axial_supports: Vec<GroundSpring>,
+    /// Torsional restraints on `θ_z`.
+    pub torsional_supports: Vec<GroundSpring>,
 }
 
 fn scatter(t: &mut Vec<(usize, usize, f64)>, dofs: &[usize], m: &[&[f64]]) {
@@ -143,7 +191,10 @@ fn scatter(t: &mut Vec<(usize, usize, f64)>, dofs: &[usize], m: &[&[f64]]) {
 }
 
 impl FeRotor {
-    /// Assembles the model. Errors name the offending item.
+    /// Assembles the model. Errors name the offending item: a node that does not exist, a
+    /// rotor without bearing, axial DOFs without an axial support, torsional DOFs without a
+    /// torsional restraint, supports of DOFs that are off, non-positive support stiffness or
+    /// negative damping.
     pub fn build(d: &FeRotorData) -> Result<Self, ModelError> {
         let err = |what: String, message: String| ModelError::Inconsistent { what, message };
         if d.elements.is_empty() {
@@ -202,6 +253,45 @@ impl FeRotor {
                 "no bearing: a free rotor has rigid-body modes and no static equilibrium".into(),
             ));
         }
+        for (kind, on, supports) in [
+            ("axial", d.axial, &d.axial_supports),
+            ("torsional", d.torsion, &d.torsional_supports),
+        ] {
+            for (i, s) in supports.iter().enumerate() {
+                let what = format!("rotor {kind} support {i}");
+                check_node(what.clone(), s.node)?;
+                if !on {
+                    return Err(err(
+                        what,
+                        format!("the rotor has no {kind} DOFs: switch them on to use it"),
+                    ));
+                }
+                if !(s.stiffness.is_finite() && s.stiffness > 0.0) {
+                    return Err(err(
+                        what,
+                        format!("stiffness must be positive and finite, got {}", s.stiffness),
+                    ));
+                }
+                if !(s.damping.is_finite() && s.damping >= 0.0) {
+                    return Err(err(
+                        what,
+                        format!("damping must be zero or positive, got {}", s.damping),
+                    ));
+                }
+            }
+        }
+        if d.axial && d.axial_supports.is_empty() {
+            return Err(err(
+                "rotor".into(),
+                "axial DOFs but no axial support: the rotor would slide freely along its axis (a rigid-body axial mode, no static equilibrium); add a thrust bearing".into(),
+            ));
+        }
+        if d.torsion && d.torsional_supports.is_empty() {
+            return Err(err(
+                "rotor".into(),
+                "torsional DOFs but no torsional restraint: the rotor would turn freely about its axis (a rigid-body torsional mode, no static equilibrium); add a coupling or drive stiffness".into(),
+            ));
+        }
         let mut ndof = 4 * nn;
         let mut pedestal_dofs = Vec::new();
         for b in &d.bearings {
@@ -212,6 +302,16 @@ impl FeRotor {
                 pedestal_dofs.push(None);
             }
         }
+        let ndof_lateral = ndof;
+        let mut scalar_dofs = |on: bool| -> Vec<Option<usize>> {
+            let base = ndof;
+            if on {
+                ndof += nn;
+            }
+            (0..nn).map(|i| on.then_some(base + i)).collect()
+        };
+        let node_axial = scalar_dofs(d.axial);
+        let node_torsion = scalar_dofs(d.torsion);
         let (mut mt, mut kt, mut gt) = (Vec::new(), Vec::new(), Vec::new());
         let mut total_mass = 0.0;
         let mut total_ip = 0.0;
@@ -268,6 +368,33 @@ impl FeRotor {
                 mt.push((p + 1, p + 1, pm));
             }
         }
+        // Axial and torsional DOFs (after every lateral triplet, so the lateral entries sum in
+        // the same order as without them): bar and torsion elements, disks, point masses.
+        for (i, e) in d.elements.iter().enumerate() {
+            for (dofs, el) in [
+                (&node_axial, axial_element(e)),
+                (&node_torsion, torsion_element(e)),
+            ] {
+                if let (Some(a), Some(b)) = (dofs[i], dofs[i + 1]) {
+                    let ab = [a, b];
+                    scatter(&mut mt, &ab, &[el.m[0].as_slice(), el.m[1].as_slice()]);
+                    scatter(&mut kt, &ab, &[el.k[0].as_slice(), el.k[1].as_slice()]);
+                }
+            }
+        }
+        for dk in &d.disks {
+            if let Some(a) = node_axial[dk.node] {
+                mt.push((a, a, dk.mass));
+            }
+            if let Some(t) = node_torsion[dk.node] {
+                mt.push((t, t, dk.ip));
+            }
+        }
+        for (n, m) in &d.point_masses {
+            if let Some(a) = node_axial[*n] {
+                mt.push((a, a, *m));
+            }
+        }
         let unbalance = d
             .unbalances
             .iter()
@@ -281,6 +408,11 @@ impl FeRotor {
             z,
             node_diameter,
             ndof,
+            ndof_lateral,
+            node_axial,
+            node_torsion,
+            axial_supports: d.axial_supports.clone(),
+            torsional_supports: d.torsional_supports.clone(),
             m: Csc::from_triplets(ndof, ndof, &mt),
             k_shaft: Csc::from_triplets(ndof, ndof, &kt),
             g: Csc::from_triplets(ndof, ndof, &gt),
@@ -299,7 +431,8 @@ impl FeRotor {
         self.z.len()
     }
 
-    /// Bearing stiffness and damping at speed ω, as sparse matrices.
+    /// Bearing stiffness and damping at speed ω, plus the axial and torsional supports (to
+    /// ground, speed independent), as sparse matrices.
     pub fn bearing_matrices(&self, omega: f64) -> (Csc, Csc) {
         let (mut kt, mut ct) = (Vec::new(), Vec::new());
         for (b, pd) in self.bearings.iter().zip(&self.pedestal_dofs) {
@@ -325,6 +458,17 @@ impl FeRotor {
                 for i in 0..2 {
                     kt.push((p + i, p + i, ks));
                     ct.push((p + i, p + i, cs));
+                }
+            }
+        }
+        for (supports, dofs) in [
+            (&self.axial_supports, &self.node_axial),
+            (&self.torsional_supports, &self.node_torsion),
+        ] {
+            for s in supports {
+                if let Some(d) = dofs[s.node] {
+                    kt.push((d, d, s.stiffness));
+                    ct.push((d, d, s.damping));
                 }
             }
         }
@@ -357,16 +501,34 @@ impl FeRotor {
             c,
             k: self.k(omega),
             node_dofs: (0..self.nodes()).map(|i| [4 * i, 4 * i + 1]).collect(),
+            node_axial: self.node_axial.clone(),
+            node_torsion: self.node_torsion.clone(),
             node_z: self.z.clone(),
             unbalance: self.unbalance.clone(),
         }
     }
 
     /// Undamped natural frequencies at rest without gyroscopics (rad/s), ascending, from the
-    /// symmetric generalized problem K φ = ω² M φ (dense; M must be positive definite).
+    /// symmetric generalized problem K φ = ω² M φ (dense; M must be positive definite). All
+    /// DOFs: with axial or torsional DOFs their modes are in the list (the explicit stability
+    /// limit needs the highest of all).
     pub fn undamped_frequencies(&self, omega_for_bearings: f64) -> Result<Vec<f64>, ModelError> {
-        let m = dense(&self.m);
-        let k = dense(&self.k(omega_for_bearings));
+        self.block_frequencies(omega_for_bearings, self.ndof)
+    }
+
+    /// [`FeRotor::undamped_frequencies`] of the lateral DOFs alone (`0..ndof_lateral`): the
+    /// bending modes, without the axial and torsional ones (uncoupled from them). Equal to
+    /// `undamped_frequencies` when the rotor has neither.
+    pub fn lateral_frequencies(&self, omega_for_bearings: f64) -> Result<Vec<f64>, ModelError> {
+        self.block_frequencies(omega_for_bearings, self.ndof_lateral)
+    }
+
+    /// Frequencies of the leading `n × n` block of (K, M).
+    fn block_frequencies(&self, omega_for_bearings: f64, n: usize) -> Result<Vec<f64>, ModelError> {
+        let m = dense(&self.m).view((0, 0), (n, n)).into_owned();
+        let k = dense(&self.k(omega_for_bearings))
+            .view((0, 0), (n, n))
+            .into_owned();
         let l = m.clone().cholesky().ok_or_else(|| ModelError::Singular {
             what: "rotor mass matrix".into(),
             detail: "not positive definite: every DOF needs mass or rotary inertia".into(),
@@ -388,8 +550,10 @@ impl FeRotor {
 
     /// Complex unbalance response `q` at speed ω: `(K − ω²M + iω(C + ωG)) q = F`, with
     /// `F_x = m_u e ω² e^{iφ}`, `F_y = −i m_u e ω² e^{iφ}` (forward rotating force).
+    /// The load is lateral and the axial and torsional DOFs are uncoupled from the lateral
+    /// ones, so only the lateral block is solved; the axial and torsional entries are zero.
     pub fn unbalance_response(&self, omega: f64) -> Result<Vec<Complex64>, ModelError> {
-        let n = self.ndof;
+        let n = self.ndof_lateral;
         let k = dense(&self.k(omega));
         let c = dense(&Csc::lin_comb(1.0, &self.c(omega), omega, &self.g));
         let m = dense(&self.m);
@@ -406,14 +570,18 @@ impl FeRotor {
             what: format!("rotor dynamic stiffness at ω = {omega} rad/s"),
             detail: "singular (undamped resonance or unsupported rotor)".into(),
         })?;
-        Ok(q.iter().copied().collect())
+        let mut q: Vec<Complex64> = q.iter().copied().collect();
+        q.resize(self.ndof, Complex64::new(0.0, 0.0));
+        Ok(q)
     }
 
-    /// Static stiffness at a node in y (N/m): 1 / (K⁻¹)_yy — the `k_r` that ε refers to.
+    /// Static stiffness at a node in y (N/m): 1 / (K⁻¹)_yy — the `k_r` that ε refers to
+    /// (from the lateral block of K, uncoupled from the axial and torsional DOFs).
     pub fn node_stiffness(&self, node: usize) -> Result<f64, ModelError> {
-        let k = dense(&self.k(0.0));
+        let nl = self.ndof_lateral;
+        let k = dense(&self.k(0.0)).view((0, 0), (nl, nl)).into_owned();
         let lu = k.lu();
-        let mut e = DVector::zeros(self.ndof);
+        let mut e = DVector::zeros(nl);
         e[4 * node + 1] = 1.0;
         let x = lu.solve(&e).ok_or_else(|| ModelError::Singular {
             what: "rotor stiffness".into(),
@@ -532,7 +700,20 @@ pub fn data_from_spec(s: &crate::scene::FeRotorSpec) -> FeRotorData {
             }
         })
         .collect();
+    let springs = |v: &[crate::scene::GroundSpringSpec]| -> Vec<GroundSpring> {
+        v.iter()
+            .map(|g| GroundSpring {
+                node: g.node,
+                stiffness: g.stiffness,
+                damping: g.damping,
+            })
+            .collect()
+    };
     FeRotorData {
+        axial: s.axial,
+        torsion: s.torsion,
+        axial_supports: springs(&s.axial_support),
+        torsional_supports: springs(&s.torsional_support),
         elements,
         disks,
         point_masses: s.point_mass.iter().map(|p| (p.node, p.mass)).collect(),

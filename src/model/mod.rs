@@ -216,6 +216,8 @@ pub struct Model {
     /// Meshed stators, built once (speed independent) and placed per speed; `None` for the
     /// other kinds. Same order as `stator_specs`.
     pub mesh_stators: Vec<Option<std::sync::Arc<StatorModel>>>,
+    /// Rotor node the analysis observes (`output.node`); `None`: the first station's node.
+    pub observed_node: Option<usize>,
 }
 
 /// Everything the integrator needs at one speed.
@@ -241,7 +243,10 @@ pub struct Case {
     pub stations: Vec<Station>,
     /// Stators placed at this speed's clearance.
     pub stators: Vec<StatorModel>,
-    /// |Z0(ω)| at station 0 (or node 0 without stations) (m).
+    /// Rotor node whose response the analysis reads (`output.node`; default: station 0's node,
+    /// or node 0 without stations).
+    pub observed_node: usize,
+    /// |Z0(ω)| at the observed node (m): the unit of the non-dimensional orbits.
     pub z0: f64,
     /// Unbalance force magnitude |Σ m_u e e^{iφ}| ω² (N).
     pub unbalance_force: f64,
@@ -258,8 +263,12 @@ impl Model {
                 if !f.gyroscopic {
                     rotor.g = crate::linalg::Csc::zeros(rotor.ndof, rotor.ndof);
                 }
+                // ω_n of ω/ω_n: the first lateral mode (axial and torsional modes, when the
+                // rotor has those DOFs, are not what the speed ratio refers to); ω_max over all
+                // DOFs, for the stability limit.
                 let freqs = rotor.undamped_frequencies(0.0)?;
-                let omega_n = freqs.iter().copied().find(|w| *w > 1e-6).ok_or_else(|| {
+                let lateral = rotor.lateral_frequencies(0.0)?;
+                let omega_n = lateral.iter().copied().find(|w| *w > 1e-6).ok_or_else(|| {
                     ModelError::Singular {
                         what: "rotor".into(),
                         detail: "no positive natural frequency".into(),
@@ -338,6 +347,7 @@ impl Model {
             rotor,
             stations,
             stator_specs: s.stators.clone(),
+            observed_node: s.output.node,
             mesh_stators,
         };
         // Build once at ω_n to surface model errors (singular stators) before any run.
@@ -353,8 +363,10 @@ impl Model {
     /// Resolves the model at speed ω (rad/s).
     pub fn case(&self, omega: f64) -> Result<Case, ModelError> {
         let wn = self.rotor.natural_frequency();
-        let node0 = self.stations.first().map_or(0, |s| s.node);
-        let z0 = self.rotor.z0(node0, omega);
+        let observed_node = self
+            .observed_node
+            .unwrap_or_else(|| self.stations.first().map_or(0, |s| s.node));
+        let z0 = self.rotor.z0(observed_node, omega);
         let body = self.rotor.body(omega);
         let u = body.unbalance_resultant();
         let kr = self.rotor.reference_stiffness();
@@ -475,6 +487,7 @@ impl Model {
             rotor_omega_max: self.rotor.omega_max(),
             stations: self.stations.clone(),
             stators,
+            observed_node,
             z0,
             unbalance_force: u[0].hypot(u[1]) * omega * omega,
         })

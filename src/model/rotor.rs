@@ -2,8 +2,9 @@
 //!
 //! Every rotor is handed to the integrator as a [`RotorBody`]: sparse M, C (damping, plus Ω G
 //! for gyroscopic rotors) and K over its DOFs, the DOF pair `[u_x, u_y]` of each node that can
-//! carry a contact station, and its unbalance loads. The Jeffcott rotor (paper Eq. 50) has one
-//! node with DOFs `[u_x, u_y]`.
+//! carry a contact station, the optional axial `u_z` and torsional `θ_z` DOF of each node, and
+//! its unbalance loads. The Jeffcott rotor (paper Eq. 50) has one node with DOFs `[u_x, u_y]`
+//! and neither axial nor torsional DOFs.
 
 use crate::linalg::Csc;
 use crate::scene::JeffcottSpec;
@@ -33,6 +34,16 @@ pub struct RotorBody {
     pub k: Csc,
     /// `[u_x, u_y]` DOFs of each node (index = rotor node).
     pub node_dofs: Vec<[usize; 2]>,
+    /// Axial DOF `u_z` of each node (m, along +z), `None` when the rotor has none (Jeffcott,
+    /// FE rotors without `axial`). Uncoupled from the lateral DOFs in M, C and K.
+    pub node_axial: Vec<Option<usize>>,
+    /// Torsional DOF `θ_z` of each node (rad, counter-clockwise seen from +z, the sense of Ω),
+    /// `None` when the rotor has none. The friction force of a contact at a station of radius
+    /// R loads it with the torque `τ_z = R (n × F)_z = −R μ p (n × a)_z` (`−R μ p` for Ω > 0).
+    /// Uncoupled from the lateral DOFs in M, C (including Ω G) and K. The twist does not turn
+    /// the friction force: the contact keeps slipping along `a` because the sliding speed
+    /// `Ω R + R θ̇_z` stays ≈ `Ω R` (|θ̇_z| ≪ Ω; 2e-3 Ω measured in `tests/fe_rotor.rs`).
+    pub node_torsion: Vec<Option<usize>>,
     /// Axial position z of each node (m); the Jeffcott rotor's single node is at 0.
     pub node_z: Vec<f64>,
     /// Unbalance loads.
@@ -135,6 +146,8 @@ impl Jeffcott {
             c: diag(self.damping),
             k: diag(self.stiffness),
             node_dofs: vec![[0, 1]],
+            node_axial: vec![None],
+            node_torsion: vec![None],
             node_z: vec![0.0],
             unbalance: self.unbalance.clone(),
         }
