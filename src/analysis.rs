@@ -91,7 +91,9 @@ pub struct SpeedResults {
     pub speed_ratio: f64,
     /// ω (rad/s).
     pub omega: f64,
-    /// |Z0(ω)| at station 0 (m).
+    /// Rotor node whose response is analysed (orbit, Poincaré section, spectrum, extents).
+    pub node: usize,
+    /// |Z0(ω)| at the analysed node (m).
     pub z0: f64,
     /// Clearance of each stator at this speed (m).
     pub clearances: Vec<f64>,
@@ -228,14 +230,14 @@ pub fn analyse(
     let last = (s.step.revolutions * spr).min(rec.len().saturating_sub(1));
     let window: Vec<V2> = (first..last)
         .map(|i| {
-            let d = rec.disp_at(i, 0);
+            let d = rec.observed[i];
             [d[0] / z0, d[1] / z0]
         })
         .collect();
     let poincare: Vec<V2> = (first..=last)
         .step_by(spr)
         .map(|i| {
-            let d = rec.disp_at(i, 0);
+            let d = rec.observed[i];
             [d[0] / z0, d[1] / z0]
         })
         .collect();
@@ -269,6 +271,7 @@ pub fn analyse(
     SpeedResults {
         speed_ratio: case.speed_ratio,
         omega: case.omega,
+        node: case.observed_node,
         z0: case.z0,
         clearances: case.stators.iter().map(|s| s.clearance).collect(),
         unbalance_force: case.unbalance_force,
@@ -438,7 +441,7 @@ pub fn convergence(
     let (rref, recref) = run(IntegratorKind::Collocated, ref_level)?;
     let nrec = recref.len();
     let cmp_from = nrec.saturating_sub(compare_revs * spr + 1);
-    let ref_orbit: Vec<V2> = (cmp_from..nrec).map(|i| recref.disp_at(i, 0)).collect();
+    let ref_orbit: Vec<V2> = (cmp_from..nrec).map(|i| recref.observed[i]).collect();
     let ref_size = ref_orbit
         .iter()
         .fold(0.0_f64, |m, p| m.max(p[0].hypot(p[1])))
@@ -461,7 +464,7 @@ pub fn convergence(
             let from = n.saturating_sub(compare_revs * spr + 1);
             let mut oerr = 0.0_f64;
             for (k, i) in (from..n).enumerate() {
-                let a = rec.disp_at(i, 0);
+                let a = rec.observed[i];
                 let b = ref_orbit[k.min(ref_orbit.len() - 1)];
                 oerr = oerr.max((a[0] - b[0]).hypot(a[1] - b[1]));
             }

@@ -171,6 +171,17 @@ impl Drop for OutDir {
 /// Stator boundary drawn in orbit plots, in units of |Z0|.
 pub fn boundary(case: &Case) -> Boundary {
     let z0 = if case.z0 > 0.0 { case.z0 } else { 1.0 };
+    // The boundary is the first stator's, seen from its station: drawn only when the analysed
+    // node is that station's node.
+    let station_node = case
+        .stators
+        .first()
+        .filter(|s| !s.targets.is_empty())
+        .and_then(|s| case.stations.get(s.target_station(0)))
+        .map(|st| st.node);
+    if station_node.is_some_and(|n| n != case.observed_node) {
+        return Boundary::None;
+    }
     match case.stators.first() {
         Some(s) if s.is_ring => Boundary::Circle {
             radius: s.clearance / z0,

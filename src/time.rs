@@ -172,6 +172,8 @@ pub struct Record {
     pub t: Vec<f64>,
     /// Station displacements `[x, y]` per sample and station (m), sample-major.
     pub disp: Vec<V2>,
+    /// Displacement `[x, y]` of the observed node ([`Case::observed_node`]) per sample (m).
+    pub observed: Vec<V2>,
     /// Total contact force on each station `[Fx, Fy]` (N), sample-major.
     pub force: Vec<V2>,
     /// Normal part of the contact force on each station (N), sample-major.
@@ -188,6 +190,7 @@ impl Record {
             nstations,
             t: Vec::with_capacity(samples),
             disp: Vec::with_capacity(samples * nstations),
+            observed: Vec::with_capacity(samples),
             force: Vec::with_capacity(samples * nstations),
             force_normal: Vec::with_capacity(samples * nstations),
             stator_energy: Vec::with_capacity(samples),
@@ -622,6 +625,12 @@ pub fn integrate_with(
         .iter()
         .flat_map(|s| case.rotor.node_dofs[s.node])
         .collect();
+    // With torsional DOFs, each station node's θ_z too: the friction torque acts there.
+    rotor_cd.extend(
+        case.stations
+            .iter()
+            .filter_map(|s| case.rotor.node_torsion.get(s.node).copied().flatten()),
+    );
     rotor_cd.sort_unstable();
     rotor_cd.dedup();
     let mut rotor = DynBody::new(&case.rotor.m, &case.rotor.c, &case.rotor.k, dt, &rotor_cd)
@@ -706,6 +715,7 @@ pub fn integrate_with(
     // Initial conditions on node 0's DOFs (station 0's node when there is one).
     let node0 = case.stations.first().map_or(0, |s| s.node);
     let d0 = case.rotor.node_dofs[node0];
+    let dobs = case.rotor.node_dofs[case.observed_node];
     let mdiag = case.rotor.m.diagonal();
     {
         let mut f0 = vec![0.0; rotor.n];
@@ -774,6 +784,15 @@ pub fn integrate_with(
     let mut rec = Record::with_capacity(nst, nsamples);
     let mut fst = vec![[0.0; 2]; nst];
     let mut fst_n = vec![[0.0; 2]; nst];
+    // Collocated runs: forces of stators with mass, solved by forward increment in the step
+    // that ends at the next recorded instant, kept apart from the massless stators' static
+    // forces (which alone enter the next prediction) and added to what is recorded there.
+    let mut dyn_f = vec![[0.0; 2]; nst];
+    let mut dyn_fn = vec![[0.0; 2]; nst];
+    let mut rec_f = vec![[0.0; 2]; nst];
+    let mut rec_fn = vec![[0.0; 2]; nst];
+    let mut dyn_pairs: Vec<PairForce> = Vec::with_capacity(nc);
+    let mut dyn_active = 0usize;
     let mut stats = RunStats {
         min_gap: f64::INFINITY,
         ..Default::default()
@@ -867,6 +886,20 @@ pub fn integrate_with(
                 rotor.apply(rd[0], -b[0] * p);
                 rotor.apply(rd[1], -b[1] * p);
             }
+            // Friction torque on the station's θ_z (rotors with torsional DOFs): the force
+            // −(n + μa)p acts at R·n from the section centre, τ_z = R (n × F)_z = −R μ p (n × a)_z.
+            // θ_z is uncoupled from the lateral DOFs in M̃ (M, C + ΩG, bearings have no entries
+            // between them), so the torque moves no gap and W above is unchanged. Collocated
+            // static solve (rotor held): the torque joins the step's load like `fst`.
+            let tz = case.rotor.node_torsion.get(case.stations[c.station].node);
+            if let Some(&Some(tz)) = tz {
+                let tau = -c.radius * (n[0] * b[1] - n[1] * b[0]) * p;
+                if rotor_in {
+                    rotor.apply(tz, tau);
+                } else {
+                    rotor.rhs[tz] += tau;
+                }
+            }
             fst[c.station][0] -= b[0] * p;
             fst[c.station][1] -= b[1] * p;
             fst_n[c.station][0] -= n[0] * p;
@@ -904,6 +937,7 @@ pub fn integrate_with(
                   energy: f64,
                   active: usize| {
         rec.t.push(t);
+        rec.observed.push([rotor_u[dobs[0]], rotor_u[dobs[1]]]);
         for (s, d) in station_dofs.iter().enumerate() {
             rec.disp.push([rotor_u[d[0]], rotor_u[d[1]]]);
             rec.force.push(fst[s]);
@@ -1075,13 +1109,39 @@ pub fn integrate_with(
             } else {
                 energy_now = 0.0;
             }
+            // Add the stators with mass, whose forces of the step ending now act at tₙ.
+            for s in 0..nst {
+                for a in 0..2 {
+                    rec_f[s][a] = fst[s][a] + dyn_f[s][a];
+                    rec_fn[s][a] = fst_n[s][a] + dyn_fn[s][a];
+                }
+            }
+            for pf in &dyn_pairs {
+                if frame_pairs.len() < frame_pairs.capacity() {
+                    frame_pairs.push(*pf);
+                }
+            }
+            let recorded_active = active_now + dyn_active;
             if step % plan.record_every == 0 {
-                record(&mut rec, t, &rotor.u, &fst, &fst_n, energy_now, active_now);
+                record(
+                    &mut rec,
+                    t,
+                    &rotor.u,
+                    &rec_f,
+                    &rec_fn,
+                    energy_now,
+                    recorded_active,
+                );
             }
             emit(&mut sink, step, t, &rotor.u, &frame_pairs, &mut stators)?;
             if step == plan.steps {
                 break;
             }
+            for f in dyn_f.iter_mut().chain(dyn_fn.iter_mut()) {
+                *f = [0.0; 2];
+            }
+            dyn_pairs.clear();
+            dyn_active = 0;
             for (s, d) in station_dofs.iter().enumerate() {
                 rotor.rhs[d[0]] += fst[s][0];
                 rotor.rhs[d[1]] += fst[s][1];
@@ -1147,6 +1207,12 @@ pub fn integrate_with(
                 }
             }
             grow(sel.len(), &mut ws, &mut wmat, &mut gvec, &mut pvec);
+            // Collocated: these are the stators with mass; their forces go to `dyn_*`.
+            let (acc_f, acc_fn) = if collocated {
+                (&mut dyn_f, &mut dyn_fn)
+            } else {
+                (&mut fst, &mut fst_n)
+            };
             stats.pivots += solve_pairs(
                 &sel,
                 &cands,
@@ -1160,16 +1226,20 @@ pub fn integrate_with(
                 &mut gvec,
                 &mut pvec,
                 &mut ws,
-                &mut fst,
-                &mut fst_n,
+                acc_f,
+                acc_fn,
                 &mut carried,
                 &mut guess,
                 step,
                 t,
             )?;
             let act = pvec[..sel.len()].iter().filter(|p| **p > 0.0).count();
-            collect_pairs(&mut frame_pairs, &sel, &states, &pvec);
-            if !collocated {
+            if collocated {
+                collect_pairs(&mut dyn_pairs, &sel, &states, &pvec);
+                dyn_active = act;
+                active_now += act;
+            } else {
+                collect_pairs(&mut frame_pairs, &sel, &states, &pvec);
                 active_now = act;
                 energy_now = stator_energy(&stators, &states, &sel, &pvec);
             }

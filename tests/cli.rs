@@ -658,3 +658,85 @@ fn override_changes_the_result() {
     assert_eq!(b["overrides"][0], "stator.0.clearance_nd=5");
     assert_eq!(b["scene"]["stator"][0]["clearance_nd"].as_f64(), Some(5.0));
 }
+
+#[test]
+fn orbits_and_spectra_at_a_chosen_rotor_node() {
+    // `output.node` moves the analysis (orbit, period, spectrum, |Z0|) to any rotor node.
+    // Oracle: on isotropic bearings and without contact, the steady orbit of every node is the
+    // circle of radius |Z0(node)| from the frequency-domain unbalance response, so the
+    // non-dimensional extents are ±1 at each node, while |Z0| differs from node to node.
+    let tmp = TempDir::new().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/fe/two_disk_two_stations.toml");
+    let scene = scene.to_str().unwrap();
+    let free = [
+        "run.revolutions=60",
+        "run.transient_revolutions=50",
+        "run.error_estimate=false",
+        "rotor.rayleigh=[20.0, 0.0]",
+        "rotor.bearing.1.kyy=1e6",
+        "stator.0.clearance_nd=50",
+        "stator.1.clearance_nd=50",
+        "output.png=false",
+    ];
+    let run_at = |node: Option<&str>, name: &str| -> serde_json::Value {
+        let out = tmp.path().join(name);
+        let mut args = vec![
+            "run",
+            scene,
+            "--speed",
+            "1.2",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        for f in &free {
+            args.extend_from_slice(&["--set", f]);
+        }
+        if let Some(n) = node {
+            args.extend_from_slice(&["--set", n]);
+        }
+        ok(tmp.path(), &args);
+        json(&out.join("summary.json"))["result"].clone()
+    };
+    let default = run_at(None, "default");
+    assert_eq!(default["node"], 2, "default: the first station's node");
+    let mut z0s = Vec::new();
+    for node in [0, 2, 3] {
+        let r = run_at(Some(&format!("output.node={node}")), &format!("n{node}"));
+        assert_eq!(r["node"], node);
+        assert_eq!(r["contact_fraction"].as_f64(), Some(0.0));
+        for (k, e) in r["extents_nd"].as_array().unwrap().iter().enumerate() {
+            let want = if k % 2 == 0 { -1.0 } else { 1.0 };
+            let e = e.as_f64().unwrap();
+            assert!(
+                (e - want).abs() < 2e-3,
+                "node {node}: extents {}",
+                r["extents_nd"]
+            );
+        }
+        z0s.push(r["z0"].as_f64().unwrap());
+        if node == 2 {
+            assert_eq!(r["extents_nd"], default["extents_nd"]);
+        }
+    }
+    // The journal at the bearing moves less than the shaft between the disks.
+    assert!(z0s[0] < 0.5 * z0s[2] && z0s[2] < z0s[1] * 1.5, "{z0s:?}");
+    // A node that does not exist is refused, naming the key.
+    let err = fails(tmp.path(), &["check", scene, "--set", "output.node=99"]);
+    assert!(
+        err.contains("output.node") && err.contains("node 99"),
+        "{err}"
+    );
+    let err = fails(
+        tmp.path(),
+        &[
+            "check",
+            data("single.toml").to_str().unwrap(),
+            "--set",
+            "output.node=1",
+        ],
+    );
+    assert!(
+        err.contains("output.node") && err.contains("Jeffcott"),
+        "{err}"
+    );
+}
