@@ -161,26 +161,7 @@ fn whirl_of(shape: &[[Complex64; 2]]) -> Whirl {
     }
 }
 
-/// Mass-normalised undamped modes `(ω², Φ)` of `K φ = ω² M φ`, ascending (`Φᵀ M Φ = I`).
-pub fn undamped_modes(m: &Csc, k: &Csc) -> Result<(Vec<f64>, DMatrix<f64>), ModelError> {
-    let l = dense(m).cholesky().ok_or_else(|| ModelError::Singular {
-        what: "rotor mass matrix".into(),
-        detail: "not positive definite: every DOF needs mass or rotary inertia".into(),
-    })?;
-    let linv = l.l().try_inverse().ok_or_else(|| ModelError::Singular {
-        what: "rotor mass matrix".into(),
-        detail: "Cholesky factor not invertible".into(),
-    })?;
-    let a = &linv * dense(k) * linv.transpose();
-    let a = (&a + a.transpose()) * 0.5;
-    let na = a.nrows();
-    let eig = a.symmetric_eigen();
-    let mut order: Vec<usize> = (0..eig.eigenvalues.len()).collect();
-    order.sort_by(|x, y| eig.eigenvalues[*x].total_cmp(&eig.eigenvalues[*y]));
-    let lam: Vec<f64> = order.iter().map(|i| eig.eigenvalues[*i]).collect();
-    let v = DMatrix::from_fn(na, order.len(), |r, c| eig.eigenvectors[(r, order[c])]);
-    Ok((lam, linv.transpose() * v))
-}
+pub use crate::model::fe_rotor::undamped_modes;
 
 /// Damped modes at spin speed `omega` (rad/s): at most `nmodes`, lowest ω_d first.
 ///
@@ -188,7 +169,7 @@ pub fn undamped_modes(m: &Csc, k: &Csc) -> Result<(Vec<f64>, DMatrix<f64>), Mode
 /// `max(2·nmodes + 10, 20)` modes, or all): the first-order matrix then spans only the
 /// frequencies of interest and stays well conditioned even with very stiff supports.
 pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, ModelError> {
-    let (m, k, c, g) = rotor.matrices(omega);
+    let (m, k, c, g) = rotor.matrices(omega)?;
     let (lam, phi_all) = undamped_modes(&m, &k)?;
     let nr = lam.len().min((2 * nmodes + 10).max(20));
     let phi = phi_all.columns(0, nr).into_owned();
@@ -642,7 +623,7 @@ pub fn unbalance_response(
 /// Static deflection under gravity g (m/s², along −y): `K q = −g M e_y` (m, rad per DOF).
 /// Gravity is lateral, so axial and torsional entries are zero (uncoupled DOFs).
 pub fn static_deflection(rotor: &Rotor, g: f64) -> Result<Vec<f64>, ModelError> {
-    let (m, k, _, _) = rotor.matrices(0.0);
+    let (m, k, _, _) = rotor.matrices(0.0)?;
     let n = m.nrows();
     let mut ey = DVector::zeros(n);
     for i in 0..rotor.node_count() {

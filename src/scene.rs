@@ -99,6 +99,25 @@ pub struct FeRotorSpec {
     /// `θ_z` to ground (`[[rotor.torsional_support]]`, N·m/rad and N·m·s/rad).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub torsional_support: Vec<GroundSpringSpec>,
+    /// Modal damping (`[rotor.modal_damping]`): ζ on the lowest undamped modes, added to the
+    /// Rayleigh and bearing damping.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modal_damping: Option<ModalDampingSpec>,
+}
+
+/// `[rotor.modal_damping]`: `C += Σᵢ 2ζωᵢ (Mφᵢ)(Mφᵢ)ᵀ` over the mass-normalised undamped
+/// modes φᵢ (at rest, bearings at the run's speed, no gyroscopics) with ωᵢ ≤ `max_frequency`,
+/// at most `modes` of them (both optional: without either, every mode — a dense term of full
+/// rank, slow for large rotors). A repeated frequency is never split. Higher modes get none.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModalDampingSpec {
+    /// ζ (dimensionless, ≥ 0).
+    pub ratio: f64,
+    /// Highest undamped natural frequency damped (rad/s).
+    pub max_frequency: Option<f64>,
+    /// Largest number of modes damped.
+    pub modes: Option<usize>,
 }
 
 fn is_false(b: &bool) -> bool {
@@ -1585,6 +1604,15 @@ fn validate_fe_rotor(ls: &LoadedScene, f: &FeRotorSpec) -> Result<(), SceneError
     }
     for v in f.rayleigh {
         non_negative(ls, "rotor.rayleigh", v)?;
+    }
+    if let Some(md) = &f.modal_damping {
+        non_negative(ls, "rotor.modal_damping.ratio", md.ratio)?;
+        if let Some(w) = md.max_frequency {
+            positive(ls, "rotor.modal_damping.max_frequency", w)?;
+        }
+        if md.modes == Some(0) {
+            return Err(ls.invalid("rotor.modal_damping.modes", "must be at least 1"));
+        }
     }
     for (i, st) in ls.scene.stations.iter().enumerate() {
         node_ok(format!("station.{i}.node"), st.node)?;

@@ -237,11 +237,28 @@ pub struct RunStats {
 enum MInv {
     Diag(Vec<f64>),
     Lu {
-        lu: Box<StepLu>,
+        lu: Box<StepSolver>,
         /// Columns M̃⁻¹ e_d for contact DOFs, column-major n × ncd.
         cols: Vec<f64>,
         col_of: Vec<usize>,
     },
+}
+
+/// The factored M̃: sparse LU, or sparse LU plus the Woodbury correction of a low-rank
+/// damping term (modal damping).
+#[derive(Debug)]
+enum StepSolver {
+    Sparse(StepLu),
+    LowRank(crate::linalg::WoodburyLu),
+}
+
+impl StepSolver {
+    fn solve_in_place(&mut self, b: &mut [f64]) {
+        match self {
+            StepSolver::Sparse(lu) => lu.solve_in_place(b),
+            StepSolver::LowRank(w) => w.solve_in_place(b),
+        }
+    }
 }
 
 /// A body with mass, integrated explicitly.
@@ -250,27 +267,51 @@ struct DynBody {
     n: usize,
     /// `A = 2M/Δt² − K` and `B = C/(2Δt) − M/Δt²` on one pattern.
     ab: PairCsr,
+    /// Low-rank damping `C_l = U diag(d) Uᵀ` (its `B` part `C_l/(2Δt)` is applied to uⁿ⁻¹
+    /// separately) with an m-vector of scratch.
+    low: Option<(crate::linalg::LowRank, Vec<f64>)>,
     minv: MInv,
     u_prev: Vec<f64>,
     u: Vec<f64>,
     u_next: Vec<f64>,
     rhs: Vec<f64>,
+    /// 1/(2Δt), the factor of the low-rank damping in B.
+    dt_half_inv: f64,
 }
 
 impl DynBody {
-    fn new(m: &Csc, c: &Csc, k: &Csc, dt: f64, contact_dofs: &[usize]) -> Result<Self, String> {
+    /// `low`: an optional low-rank damping term added to `c` (M̃ then gets a Woodbury solve).
+    fn new(
+        m: &Csc,
+        c: &Csc,
+        k: &Csc,
+        low: Option<&crate::linalg::LowRank>,
+        dt: f64,
+        contact_dofs: &[usize],
+    ) -> Result<Self, String> {
         let n = m.nrows();
         let aop = Csc::lin_comb(2.0 / (dt * dt), m, -1.0, k);
         let bop = Csc::lin_comb(1.0 / (2.0 * dt), c, -1.0 / (dt * dt), m);
         let mt = Csc::lin_comb(1.0 / (dt * dt), m, 1.0 / (2.0 * dt), c);
-        let minv = if mt.is_diagonal() {
+        let minv = if mt.is_diagonal() && low.is_none() {
             let d = mt.diagonal();
             if let Some(i) = d.iter().position(|v| *v <= 0.0) {
                 return Err(format!("M̃ has a non-positive diagonal entry at DOF {i}"));
             }
             MInv::Diag(d.iter().map(|v| 1.0 / v).collect())
         } else {
-            let mut lu = StepLu::new(&mt)?;
+            let mut lu = match low {
+                // M̃ = S + U diag(d/(2Δt)) Uᵀ.
+                Some(lr) => {
+                    let scaled = crate::linalg::LowRank {
+                        n: lr.n,
+                        u: lr.u.clone(),
+                        d: lr.d.iter().map(|d| d / (2.0 * dt)).collect(),
+                    };
+                    StepSolver::LowRank(crate::linalg::WoodburyLu::new(&mt, scaled)?)
+                }
+                None => StepSolver::Sparse(StepLu::new(&mt)?),
+            };
             let mut col_of = vec![usize::MAX; n];
             let mut cols = vec![0.0; n * contact_dofs.len()];
             for (j, &d) in contact_dofs.iter().enumerate() {
@@ -289,17 +330,22 @@ impl DynBody {
         Ok(Self {
             n,
             ab: PairCsr::new(&aop, &bop),
+            low: low.map(|lr| (lr.clone(), vec![0.0; lr.rank()])),
             minv,
             u_prev: vec![0.0; n],
             u: vec![0.0; n],
             u_next: vec![0.0; n],
             rhs: vec![0.0; n],
+            dt_half_inv: 1.0 / (2.0 * dt),
         })
     }
 
     /// `u_next = M̃⁻¹ (rhs + A u + B u_prev)`; `rhs` holds the external force on entry.
     fn predict(&mut self) {
         self.ab.mul_add(&self.u, &self.u_prev, &mut self.rhs);
+        if let Some((lr, scratch)) = &mut self.low {
+            lr.mul_add(self.dt_half_inv, &self.u_prev, &mut self.rhs, scratch);
+        }
         match &mut self.minv {
             MInv::Diag(inv) => {
                 for ((u, r), d) in self.u_next.iter_mut().zip(&self.rhs).zip(inv.iter()) {
@@ -633,7 +679,14 @@ pub fn integrate_with(
     );
     rotor_cd.sort_unstable();
     rotor_cd.dedup();
-    let mut rotor = DynBody::new(&case.rotor.m, &case.rotor.c, &case.rotor.k, dt, &rotor_cd)
+    let mut rotor = DynBody::new(
+        &case.rotor.m,
+        &case.rotor.c,
+        &case.rotor.k,
+        case.rotor.c_low.as_ref(),
+        dt,
+        &rotor_cd,
+    )
         .map_err(|e| model_err(format!("rotor: {e}")))?;
     let mut stators: Vec<StatorDyn> = Vec::with_capacity(case.stators.len());
     for s in &case.stators {
@@ -643,7 +696,7 @@ pub fn integrate_with(
             )
         } else {
             StatorDyn::Massive(Box::new(
-                DynBody::new(&s.m, &s.c, &s.k, dt, &s.contact_dofs())
+                DynBody::new(&s.m, &s.c, &s.k, None, dt, &s.contact_dofs())
                     .map_err(|e| model_err(format!("stator `{}`: {e}", s.name)))?,
             ))
         });
@@ -728,6 +781,9 @@ pub fn integrate_with(
         }
         case.rotor.k.mul_add(-1.0, &u0, &mut f0);
         case.rotor.c.mul_add(-1.0, &v0, &mut f0);
+        if let Some(lr) = &case.rotor.c_low {
+            lr.mul_add(-1.0, &v0, &mut f0, &mut vec![0.0; lr.rank()]);
+        }
         for i in 0..rotor.n {
             let a0 = if case.rotor.m.is_diagonal() && mdiag[i] > 0.0 {
                 f0[i] / mdiag[i]

@@ -22,7 +22,7 @@ use crate::element::timoshenko::{
     axial_element, disk, shaft_element, torsion_element, ShaftSection,
 };
 use crate::error::ModelError;
-use crate::linalg::Csc;
+use crate::linalg::{Csc, LowRank};
 use crate::model::rotor::{RotorBody, UnbalanceLoad};
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
@@ -141,6 +141,8 @@ pub struct FeRotor {
     pub bearings: Vec<Bearing>,
     /// Rayleigh `[α, β]`.
     pub rayleigh: [f64; 2],
+    /// Modal damping (none when `None`).
+    pub modal_damping: Option<ModalDamping>,
     /// Unbalances.
     pub unbalance: Vec<UnbalanceLoad>,
     /// Disks.
@@ -151,6 +153,42 @@ pub struct FeRotor {
     pub total_mass: f64,
     /// Total polar inertia (kg·m²).
     pub total_polar_inertia: f64,
+}
+
+/// Modal damping: the ratio ζ on every undamped mode (at rest, bearings at the run's speed,
+/// without gyroscopics) up to `max_frequency` and at most `modes` modes, lowest first; a
+/// repeated frequency (the x and y bending modes of an axisymmetric rotor) is never split.
+/// The other modes get none from it (add Rayleigh damping for them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModalDamping {
+    /// ζ (dimensionless).
+    pub ratio: f64,
+    /// Highest undamped frequency that gets ζ (rad/s); infinite: no limit.
+    pub max_frequency: f64,
+    /// Largest number of modes that get ζ; `usize::MAX`: no limit.
+    pub modes: usize,
+}
+
+/// Mass-normalised undamped modes `(ω², Φ)` of `K φ = ω² M φ`, ascending (`Φᵀ M Φ = I`),
+/// dense (by a Cholesky factor of M: every DOF needs mass or rotary inertia).
+pub fn undamped_modes(m: &Csc, k: &Csc) -> Result<(Vec<f64>, DMatrix<f64>), ModelError> {
+    let l = dense(m).cholesky().ok_or_else(|| ModelError::Singular {
+        what: "rotor mass matrix".into(),
+        detail: "not positive definite: every DOF needs mass or rotary inertia".into(),
+    })?;
+    let linv = l.l().try_inverse().ok_or_else(|| ModelError::Singular {
+        what: "rotor mass matrix".into(),
+        detail: "Cholesky factor not invertible".into(),
+    })?;
+    let a = &linv * dense(k) * linv.transpose();
+    let a = (&a + a.transpose()) * 0.5;
+    let na = a.nrows();
+    let eig = a.symmetric_eigen();
+    let mut order: Vec<usize> = (0..eig.eigenvalues.len()).collect();
+    order.sort_by(|x, y| eig.eigenvalues[*x].total_cmp(&eig.eigenvalues[*y]));
+    let lam: Vec<f64> = order.iter().map(|i| eig.eigenvalues[*i]).collect();
+    let v = DMatrix::from_fn(na, order.len(), |r, c| eig.eigenvectors[(r, order[c])]);
+    Ok((lam, linv.transpose() * v))
 }
 
 /// Everything needed to build an [`FeRotor`].
@@ -168,6 +206,8 @@ pub struct FeRotorData {
     pub unbalances: Vec<(usize, f64, f64)>,
     /// Rayleigh `[α, β]`.
     pub rayleigh: [f64; 2],
+    /// Modal damping.
+    pub modal_damping: Option<ModalDamping>,
     /// Axial DOF `u_z` per node (axial bar elements, see
     /// [`crate::element::timoshenko::axial_element`]); needs `axial_supports`.
     pub axial: bool,
@@ -418,6 +458,7 @@ impl FeRotor {
             g: Csc::from_triplets(ndof, ndof, &gt),
             bearings: d.bearings.clone(),
             rayleigh: d.rayleigh,
+            modal_damping: d.modal_damping,
             unbalance,
             disks: d.disks.clone(),
             pedestal_dofs,
@@ -484,18 +525,79 @@ impl FeRotor {
         Csc::lin_comb(1.0, &self.k_shaft, 1.0, &kb)
     }
 
-    /// Damping without gyroscopics at speed ω: bearings + α M + β K.
-    pub fn c(&self, omega: f64) -> Csc {
+    /// Sparse damping without gyroscopics at speed ω: bearings + α M + β K (no modal part).
+    pub fn c_sparse(&self, omega: f64) -> Csc {
         let (kb, cb) = self.bearing_matrices(omega);
         let k = Csc::lin_comb(1.0, &self.k_shaft, 1.0, &kb);
         let ray = Csc::lin_comb(self.rayleigh[0], &self.m, self.rayleigh[1], &k);
         Csc::lin_comb(1.0, &cb, 1.0, &ray)
     }
 
-    /// The integrator's body at speed ω: damping includes Ω G.
-    pub fn body(&self, omega: f64) -> RotorBody {
-        let c = Csc::lin_comb(1.0, &self.c(omega), omega, &self.g);
-        RotorBody {
+    /// Damping without gyroscopics at speed ω: [`FeRotor::c_sparse`] plus the modal damping
+    /// [`FeRotor::modal_damping_term`] assembled densely (for the frequency-domain analyses;
+    /// the time loop keeps the modal part factored).
+    pub fn c(&self, omega: f64) -> Result<Csc, ModelError> {
+        let c = self.c_sparse(omega);
+        Ok(match self.modal_damping_term(omega)? {
+            Some(lr) => {
+                let mut t: Vec<(usize, usize, f64)> = c.triplets().collect();
+                t.extend(lr.triplets(1.0));
+                Csc::from_triplets(self.ndof, self.ndof, &t)
+            }
+            None => c,
+        })
+    }
+
+    /// Modal damping at speed ω as the rank-m term `C_m = U diag(d) Uᵀ`, `U = M Φ`,
+    /// `dᵢ = 2 ζ ωᵢ`, over the mass-normalised undamped modes φᵢ (`Φᵀ M Φ = I`) of
+    /// `K(ω) φ = ω² M φ` (bearings at ω, no gyroscopics) that the [`ModalDamping`] selects;
+    /// then `Φᵀ C_m Φ = diag(2ζωᵢ)` on them and zero on every other mode. `None` without
+    /// modal damping or when no mode is selected.
+    pub fn modal_damping_term(&self, omega: f64) -> Result<Option<LowRank>, ModelError> {
+        let Some(md) = self.modal_damping else {
+            return Ok(None);
+        };
+        if md.ratio == 0.0 {
+            return Ok(None);
+        }
+        let (lam, phi) = undamped_modes(&self.m, &self.k(omega))?;
+        let w: Vec<f64> = lam.iter().map(|l| l.max(0.0).sqrt()).collect();
+        let mut m_sel = w
+            .iter()
+            .take_while(|wi| **wi <= md.max_frequency)
+            .count()
+            .min(md.modes);
+        // Keep repeated frequencies (the x and y bending modes of an axisymmetric rotor)
+        // together: a count that ends inside a pair takes the pair's other half too.
+        while m_sel > 0 && m_sel < w.len() && (w[m_sel] - w[m_sel - 1]).abs() <= 1e-6 * w[m_sel] {
+            m_sel += 1;
+        }
+        let sel: Vec<usize> = (0..m_sel).filter(|&i| w[i] > 0.0).collect();
+        if sel.is_empty() {
+            return Ok(None);
+        }
+        let n = self.ndof;
+        let mut u = vec![0.0; n * sel.len()];
+        let mut x = vec![0.0; n];
+        for (j, &i) in sel.iter().enumerate() {
+            for (r, xr) in x.iter_mut().enumerate() {
+                *xr = phi[(r, i)];
+            }
+            self.m.mul_add(1.0, &x, &mut u[j * n..(j + 1) * n]);
+        }
+        Ok(Some(LowRank {
+            n,
+            u,
+            d: sel.iter().map(|&i| 2.0 * md.ratio * w[i]).collect(),
+        }))
+    }
+
+    /// The integrator's body at speed ω: damping includes Ω G; modal damping is kept as the
+    /// low-rank term [`RotorBody::c_low`].
+    pub fn body(&self, omega: f64) -> Result<RotorBody, ModelError> {
+        let c = Csc::lin_comb(1.0, &self.c_sparse(omega), omega, &self.g);
+        Ok(RotorBody {
+            c_low: self.modal_damping_term(omega)?,
             ndof: self.ndof,
             m: self.m.clone(),
             c,
@@ -505,7 +607,7 @@ impl FeRotor {
             node_torsion: self.node_torsion.clone(),
             node_z: self.z.clone(),
             unbalance: self.unbalance.clone(),
-        }
+        })
     }
 
     /// Undamped natural frequencies at rest without gyroscopics (rad/s), ascending, from the
@@ -555,7 +657,7 @@ impl FeRotor {
     pub fn unbalance_response(&self, omega: f64) -> Result<Vec<Complex64>, ModelError> {
         let n = self.ndof_lateral;
         let k = dense(&self.k(omega));
-        let c = dense(&Csc::lin_comb(1.0, &self.c(omega), omega, &self.g));
+        let c = dense(&Csc::lin_comb(1.0, &self.c(omega)?, omega, &self.g));
         let m = dense(&self.m);
         let a = DMatrix::<Complex64>::from_fn(n, n, |i, j| {
             Complex64::new(k[(i, j)] - omega * omega * m[(i, j)], omega * c[(i, j)])
@@ -724,5 +826,10 @@ pub fn data_from_spec(s: &crate::scene::FeRotorSpec) -> FeRotorData {
             .map(|u| (u.node, u.mass * u.radius, u.phase_deg.to_radians()))
             .collect(),
         rayleigh: s.rayleigh,
+        modal_damping: s.modal_damping.as_ref().map(|m| ModalDamping {
+            ratio: m.ratio,
+            max_frequency: m.max_frequency.unwrap_or(f64::INFINITY),
+            modes: m.modes.unwrap_or(usize::MAX),
+        }),
     }
 }

@@ -75,9 +75,9 @@ impl Rotor {
         }
     }
     /// The linear body at speed ω.
-    pub fn body(&self, omega: f64) -> RotorBody {
+    pub fn body(&self, omega: f64) -> Result<RotorBody, ModelError> {
         match self {
-            Rotor::Jeffcott(j) => j.body(),
+            Rotor::Jeffcott(j) => Ok(j.body()),
             Rotor::Fe(f) => f.rotor.body(omega),
         }
     }
@@ -102,17 +102,22 @@ impl Rotor {
             Rotor::Fe(f) => f.omega_max,
         }
     }
-    /// `(M, K, C, G)` at speed ω: C without the gyroscopic part, G per unit spin.
+    /// `(M, K, C, G)` at speed ω: C without the gyroscopic part (modal damping included,
+    /// dense), G per unit spin.
+    #[allow(clippy::type_complexity)]
     pub fn matrices(
         &self,
         omega: f64,
-    ) -> (
-        crate::linalg::Csc,
-        crate::linalg::Csc,
-        crate::linalg::Csc,
-        crate::linalg::Csc,
-    ) {
-        match self {
+    ) -> Result<
+        (
+            crate::linalg::Csc,
+            crate::linalg::Csc,
+            crate::linalg::Csc,
+            crate::linalg::Csc,
+        ),
+        ModelError,
+    > {
+        Ok(match self {
             Rotor::Jeffcott(j) => {
                 let b = j.body();
                 (b.m, b.k, b.c, crate::linalg::Csc::zeros(2, 2))
@@ -120,10 +125,10 @@ impl Rotor {
             Rotor::Fe(f) => (
                 f.rotor.m.clone(),
                 f.rotor.k(omega),
-                f.rotor.c(omega),
+                f.rotor.c(omega)?,
                 f.rotor.g.clone(),
             ),
-        }
+        })
     }
     /// Number of rotor nodes.
     pub fn node_count(&self) -> usize {
@@ -367,7 +372,7 @@ impl Model {
             .observed_node
             .unwrap_or_else(|| self.stations.first().map_or(0, |s| s.node));
         let z0 = self.rotor.z0(observed_node, omega);
-        let body = self.rotor.body(omega);
+        let body = self.rotor.body(omega)?;
         let u = body.unbalance_resultant();
         let kr = self.rotor.reference_stiffness();
         let mut stators = Vec::new();

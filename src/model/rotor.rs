@@ -28,8 +28,11 @@ pub struct RotorBody {
     pub ndof: usize,
     /// Mass matrix (kg).
     pub m: Csc,
-    /// Damping matrix incl. speed-dependent parts at the speed of the case (N·s/m).
+    /// Damping matrix incl. speed-dependent parts at the speed of the case (N·s/m), sparse.
     pub c: Csc,
+    /// Low-rank damping added to `c` (modal damping, `U diag(d) Uᵀ`), kept factored so the
+    /// time loop's sparse solve never sees a dense block; `None` without.
+    pub c_low: Option<crate::linalg::LowRank>,
     /// Stiffness matrix (N/m).
     pub k: Csc,
     /// `[u_x, u_y]` DOFs of each node (index = rotor node).
@@ -144,6 +147,7 @@ impl Jeffcott {
             ndof: 2,
             m: diag(self.mass),
             c: diag(self.damping),
+            c_low: None,
             k: diag(self.stiffness),
             node_dofs: vec![[0, 1]],
             node_axial: vec![None],
