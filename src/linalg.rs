@@ -21,7 +21,8 @@ pub struct Csc {
 }
 
 impl Csc {
-    /// Builds from `(row, col, value)` triplets; duplicates are summed, explicit zeros kept out.
+    /// Builds from `(row, col, value)` triplets; duplicates are summed, explicit zeros stored
+    /// (they reserve a slot of the pattern).
     ///
     /// # Panics
     /// If an index is out of range (a bug in the assembling code).
@@ -83,6 +84,23 @@ impl Csc {
         (0..self.ncols).flat_map(move |c| {
             (self.col_ptr[c]..self.col_ptr[c + 1]).map(move |k| (self.row_idx[k], c, self.val[k]))
         })
+    }
+
+    /// Index of entry `(r, c)` in the value array, if it is stored (binary search in its
+    /// column; rows are sorted within a column).
+    pub fn slot(&self, r: usize, c: usize) -> Option<usize> {
+        let (a, b) = (self.col_ptr[c], self.col_ptr[c + 1]);
+        self.row_idx[a..b].binary_search(&r).ok().map(|k| a + k)
+    }
+
+    /// Stored values, column by column (the order of [`Csc::triplets`]).
+    pub fn values(&self) -> &[f64] {
+        &self.val
+    }
+
+    /// Stored values, mutable: refills a matrix whose pattern is fixed.
+    pub fn values_mut(&mut self) -> &mut [f64] {
+        &mut self.val
     }
 
     /// Entry `(r, c)` (zero when not stored).

@@ -153,6 +153,56 @@ pub struct FeRotor {
     pub total_mass: f64,
     /// Total polar inertia (kg·m²).
     pub total_polar_inertia: f64,
+    /// Patterns of K(Ω) and C(Ω), built once, refilled per speed.
+    refill: Refill,
+}
+
+/// The speed-dependent matrices' patterns and where each contribution lands in them: K(Ω) =
+/// K_shaft + K_b(Ω) and C(Ω) = C_b(Ω) + α M + β K(Ω) are refilled value by value (the sums
+/// are those of the triplet assembly, bit for bit).
+#[derive(Debug, Clone)]
+struct Refill {
+    /// Pattern of K(Ω) (values unused).
+    k: Csc,
+    /// Pattern of C(Ω) without gyroscopics (values unused).
+    c: Csc,
+    /// Slot in `k` of each stored entry of `k_shaft`.
+    k_shaft_in_k: Vec<usize>,
+    /// Slot in `k` of each stored entry of the bearing stiffness matrix.
+    kb_in_k: Vec<usize>,
+    /// Slot in `c` of each stored entry of M, of K(Ω) and of the bearing damping matrix.
+    m_in_c: Vec<usize>,
+    k_in_c: Vec<usize>,
+    cb_in_c: Vec<usize>,
+}
+
+impl Refill {
+    fn new(m: &Csc, k_shaft: &Csc, kb: &Csc, cb: &Csc) -> Self {
+        let n = m.nrows();
+        let pat = |parts: &[&Csc]| {
+            let t: Vec<(usize, usize, f64)> = parts
+                .iter()
+                .flat_map(|a| a.triplets().map(|(r, c, _)| (r, c, 0.0)))
+                .collect();
+            Csc::from_triplets(n, n, &t)
+        };
+        let slots = |a: &Csc, into: &Csc| -> Vec<usize> {
+            a.triplets()
+                .map(|(r, c, _)| into.slot(r, c).expect("pattern holds every part"))
+                .collect()
+        };
+        let k = pat(&[k_shaft, kb]);
+        let c = pat(&[m, &k, cb]);
+        Self {
+            k_shaft_in_k: slots(k_shaft, &k),
+            kb_in_k: slots(kb, &k),
+            m_in_c: slots(m, &c),
+            k_in_c: slots(&k, &c),
+            cb_in_c: slots(cb, &c),
+            k,
+            c,
+        }
+    }
 }
 
 /// Modal damping: the ratio ζ on every undamped mode (at rest, bearings at the run's speed,
@@ -444,7 +494,7 @@ impl FeRotor {
                 phase: *ph,
             })
             .collect();
-        Ok(FeRotor {
+        let mut rotor = FeRotor {
             z,
             node_diameter,
             ndof,
@@ -464,7 +514,21 @@ impl FeRotor {
             pedestal_dofs,
             total_mass,
             total_polar_inertia: total_ip,
-        })
+            refill: Refill {
+                k: Csc::zeros(0, 0),
+                c: Csc::zeros(0, 0),
+                k_shaft_in_k: Vec::new(),
+                kb_in_k: Vec::new(),
+                m_in_c: Vec::new(),
+                k_in_c: Vec::new(),
+                cb_in_c: Vec::new(),
+            },
+        };
+        // Every bearing coefficient is stored even where it is zero at some speed (the
+        // pattern of `bearing_matrices` does not depend on Ω).
+        let (kb, cb) = rotor.bearing_matrices(0.0);
+        rotor.refill = Refill::new(&rotor.m, &rotor.k_shaft, &kb, &cb);
+        Ok(rotor)
     }
 
     /// Number of shaft nodes.
@@ -519,18 +583,46 @@ impl FeRotor {
         )
     }
 
-    /// Stiffness at speed ω (shaft + bearings).
+    /// Stiffness at speed ω (shaft + bearings), refilled on the pattern built once.
     pub fn k(&self, omega: f64) -> Csc {
         let (kb, _) = self.bearing_matrices(omega);
-        Csc::lin_comb(1.0, &self.k_shaft, 1.0, &kb)
+        self.k_with(&kb)
     }
 
-    /// Sparse damping without gyroscopics at speed ω: bearings + α M + β K (no modal part).
+    fn k_with(&self, kb: &Csc) -> Csc {
+        let r = &self.refill;
+        let mut k = r.k.clone();
+        let v = k.values_mut();
+        v.fill(0.0);
+        for (s, x) in r.k_shaft_in_k.iter().zip(self.k_shaft.values()) {
+            v[*s] = *x;
+        }
+        for (s, x) in r.kb_in_k.iter().zip(kb.values()) {
+            v[*s] += *x;
+        }
+        k
+    }
+
+    /// Sparse damping without gyroscopics at speed ω: bearings + α M + β K (no modal part),
+    /// refilled on the pattern built once.
     pub fn c_sparse(&self, omega: f64) -> Csc {
         let (kb, cb) = self.bearing_matrices(omega);
-        let k = Csc::lin_comb(1.0, &self.k_shaft, 1.0, &kb);
-        let ray = Csc::lin_comb(self.rayleigh[0], &self.m, self.rayleigh[1], &k);
-        Csc::lin_comb(1.0, &cb, 1.0, &ray)
+        let k = self.k_with(&kb);
+        let r = &self.refill;
+        let [alpha, beta] = self.rayleigh;
+        let mut c = r.c.clone();
+        let v = c.values_mut();
+        v.fill(0.0);
+        for (s, x) in r.m_in_c.iter().zip(self.m.values()) {
+            v[*s] = alpha * x;
+        }
+        for (s, x) in r.k_in_c.iter().zip(k.values()) {
+            v[*s] += beta * x;
+        }
+        for (s, x) in r.cb_in_c.iter().zip(cb.values()) {
+            v[*s] += *x;
+        }
+        c
     }
 
     /// Damping without gyroscopics at speed ω: [`FeRotor::c_sparse`] plus the modal damping
