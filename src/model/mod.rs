@@ -191,14 +191,38 @@ impl Rotor {
                 j.natural_frequency() / (2.0 * std::f64::consts::PI)
             ),
             Rotor::Fe(f) => format!(
-                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF, {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; ω_n = {:.4} rad/s ({:.4} Hz), ω_max = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
+                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF ({}), {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; damping: {}; ω_n = {:.4} rad/s ({:.4} Hz, first lateral mode), ω_max = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
                 f.rotor.nodes(),
                 f.rotor.nodes() - 1,
                 f.rotor.ndof,
+                {
+                    let mut d = vec!["u_x u_y θ_x θ_y"];
+                    if f.rotor.node_axial.iter().any(|a| a.is_some()) {
+                        d.push("u_z");
+                    }
+                    if f.rotor.node_torsion.iter().any(|a| a.is_some()) {
+                        d.push("θ_z");
+                    }
+                    d.join(" ") + " per node"
+                },
                 f.rotor.disks.len(),
                 f.rotor.bearings.len(),
                 f.rotor.total_mass,
                 f.rotor.total_polar_inertia,
+                {
+                    let [a, b] = f.rotor.rayleigh;
+                    let mut d = vec![format!("Rayleigh α = {a}, β = {b}")];
+                    if let Some(md) = f.rotor.modal_damping {
+                        d.push(format!(
+                            "modal ζ = {} on modes ≤ {} rad/s, at most {}",
+                            md.ratio,
+                            if md.max_frequency.is_finite() { format!("{}", md.max_frequency) } else { "∞".into() },
+                            if md.modes == usize::MAX { "all".into() } else { md.modes.to_string() }
+                        ));
+                    }
+                    d.push("bearings".into());
+                    d.join(", ")
+                },
                 f.omega_n,
                 f.omega_n / (2.0 * std::f64::consts::PI),
                 f.omega_max,
