@@ -12,14 +12,21 @@ import numpy as np
 #: `part` cell data values.
 PART_STATOR, PART_ROTOR, PART_CONTACT = 0, 1, 2
 
+#: Columns of `/rotor/node_dofs`: the DOFs of a rotor node (m, rad). θ_x, θ_y right-handed about
+#: x, y (θ_y = ∂u_x/∂z, θ_x = −∂u_y/∂z); θ_z, the twist, counter-clockwise seen from +z (the
+#: sense of the spin). −1 where the rotor has no such DOF.
+ROTOR_DOFS = ("u_x", "u_y", "theta_x", "theta_y", "u_z", "theta_z")
+
 
 class Series:
     """The plain datasets of one `results.vtkhdf` (SI units).
 
-    Attributes: `t` (s), `step`, `u` (rotor DOFs, frames × ndof, m), `v` (m/s, or None),
-    `p` (pair normal forces, frames × pairs, N, or None), `pairs` (station, stator, node),
-    `station_force` (frames × stations × 2, N, on the rotor, or None), `scene` (dict),
-    `attrs` (root attributes), `node_dofs` (rotor node → [x DOF, y DOF]).
+    Attributes: `t` (s), `step`, `u` (rotor DOFs, frames × ndof, m and rad), `v` (m/s and
+    rad/s, or None), `p` (pair normal forces, frames × pairs, N, or None), `pairs` (station,
+    stator, node), `station_force` (frames × stations × 2, N, on the rotor, or None), `scene`
+    (dict), `attrs` (root attributes), `node_dofs` (rotor nodes × 6: the column of `u` of each
+    node's [u_x, u_y, θ_x, θ_y, u_z, θ_z], −1 where absent, see `ROTOR_DOFS`; files written
+    before the map had 6 columns are padded with −1).
     """
 
     def __init__(self, path):
@@ -32,7 +39,10 @@ class Series:
             self.units = json.loads(self.attrs["units"])
             self.t = f["time"][:]
             self.step = f["step"][:]
-            self.node_dofs = f["rotor/node_dofs"][:]
+            nd = np.asarray(f["rotor/node_dofs"][:], dtype=np.int64)
+            if nd.shape[1] < len(ROTOR_DOFS):
+                nd = np.c_[nd, np.full((len(nd), len(ROTOR_DOFS) - nd.shape[1]), -1)]
+            self.node_dofs = nd
             self.u = f["rotor/u"][:] if "u" in f["rotor"] else None
             self.v = f["rotor/v"][:] if "v" in f["rotor"] else None
             c = f["contact"]
@@ -57,12 +67,42 @@ class Series:
         """ω_n (rad/s) that speed ratios refer to."""
         return self.omega / self.speed_ratio
 
+    @property
+    def num_nodes(self):
+        """Number of rotor nodes."""
+        return len(self.node_dofs)
+
+    def station_node(self, station=0):
+        """Rotor node carrying a station (node 0 without stations)."""
+        st = self.scene.get("station", [])
+        return int(st[station].get("node", 0)) if st else 0
+
+    def dof(self, node, name):
+        """Column of `u` of DOF `name` (one of `ROTOR_DOFS`) of a rotor node, None if absent."""
+        if not 0 <= node < self.num_nodes:
+            raise IndexError(f"{self.path}: rotor node {node} out of range (0…{self.num_nodes - 1})")
+        d = int(self.node_dofs[node, ROTOR_DOFS.index(name)])
+        return None if d < 0 else d
+
+    def node_disp(self, node):
+        """Displacement [x, y] of a rotor node per frame (m)."""
+        return self.u[:, [self.dof(node, "u_x"), self.dof(node, "u_y")]]
+
+    def twist(self, node):
+        """Twist θ_z of a rotor node per frame (rad, counter-clockwise seen from +z), or None
+        when the rotor has no torsional DOFs."""
+        d = self.dof(node, "theta_z")
+        return None if d is None else self.u[:, d]
+
+    def observed_node(self):
+        """The rotor node the run's analysis observed (`output.node`, default the first station's
+        node): the node of summary.json's orbits, spectra and amplitudes."""
+        node = self.scene.get("output", {}).get("node")
+        return self.station_node(0) if node is None else int(node)
+
     def station_disp(self, station=0):
         """Displacement [x, y] of a station's rotor node per frame (m)."""
-        st = self.scene.get("station", [])
-        node = st[station].get("node", 0) if st else 0
-        d = self.node_dofs[node]
-        return self.u[:, d]
+        return self.node_disp(self.station_node(station))
 
     def frames_per_rev(self):
         """Frames per revolution when frames are evenly spaced and whole per revolution."""
@@ -105,11 +145,13 @@ def line_amplitude(spec, k):
     return max((spec[i] for i in range(c - 1, c + 2) if 0 < i < len(spec)), default=0.0)
 
 
-def spectrum(series, component=None, station=0):
-    """(f/ω_n, amplitude in m) of a station displacement component over the steady window."""
+def spectrum(series, component=None, station=0, node=None):
+    """(f/ω_n, amplitude in m) of a displacement component (`output.component`, "x" or "y") of
+    a rotor node (default: the node of station `station`) over the steady window."""
     comp = component or series.scene.get("output", {}).get("component", "y")
     a, b = series.steady()
-    x = series.station_disp(station)[a:b, 0 if comp == "x" else 1]
+    node = series.station_node(station) if node is None else node
+    x = series.node_disp(node)[a:b, 0 if comp == "x" else 1]
     spec = hann_spectrum(x)
     nrev = (b - a) / series.frames_per_rev()
     f = np.arange(len(spec)) / nrev * series.speed_ratio

@@ -687,7 +687,7 @@ pub fn integrate_with(
         dt,
         &rotor_cd,
     )
-        .map_err(|e| model_err(format!("rotor: {e}")))?;
+    .map_err(|e| model_err(format!("rotor: {e}")))?;
     let mut stators: Vec<StatorDyn> = Vec::with_capacity(case.stators.len());
     for s in &case.stators {
         stators.push(if s.massless() {

@@ -28,14 +28,27 @@ fn load(name: &str, sets: &[&str]) -> (LoadedScene, Model) {
 /// Runs one speed with the scene's time series into `dir` (through the output directory's
 /// staging folder and commit, as the CLI does).
 fn run(name: &str, sets: &[&str], dir: &Path) -> (rubsim::analysis::SpeedResults, Vec<PathBuf>) {
-    let (ls, model) = load(name, sets);
+    run_scene(&data(name), sets, None, dir)
+}
+
+/// [`run`] of the scene file `path` at ω/ω_n = `speed` (default: the scene's `run.speed_ratio`;
+/// give it for a sweep scene, as `rubsim run --speed` does).
+fn run_scene(
+    path: &Path,
+    sets: &[&str],
+    speed: Option<f64>,
+    dir: &Path,
+) -> (rubsim::analysis::SpeedResults, Vec<PathBuf>) {
+    let ov: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let ls = scene::load(path, &ov).expect("scene");
+    let model = Model::build(&ls).expect("model");
     let s = RunSettings::from_run(&ls.scene.run, "y");
     let mut out = OutDir::prepare(dir).expect("prepare");
     let staging = out.staging_dir().to_path_buf();
     let (r, names) = results::run_speed(
         &model,
         &s,
-        ls.scene.run.speed_ratio.expect("single speed"),
+        speed.unwrap_or_else(|| ls.scene.run.speed_ratio.expect("single speed")),
         Keep {
             orbit: true,
             ..Keep::default()
@@ -68,6 +81,13 @@ fn f64s(b: &IOBuffer) -> Vec<f64> {
         IOBuffer::F64(v) => v.clone(),
         other => panic!("not f64: {other:?}"),
     }
+}
+
+/// True when a piece's data hold an array `name`.
+fn has_array(attrs: &[Attribute], name: &str) -> bool {
+    attrs
+        .iter()
+        .any(|a| matches!(a, Attribute::DataArray(d) if d.name == name))
 }
 
 fn array(attrs: &[Attribute], name: &str) -> Vec<f64> {
@@ -300,6 +320,9 @@ fn vtk_frames_hold_the_run() {
         let d = array(&g.data.point, "displacement");
         // Points: rod tip, rod base, rotor centre.
         assert_eq!(d.len(), 9);
+        // The Jeffcott rotor has no θ_z: no twist arrays; it moves in its plane.
+        assert!(!has_array(&g.data.point, "twist") && !has_array(&g.data.point, "twist_rate"));
+        assert_eq!(d[8], 0.0);
         // Frame k is sample 20·64 + k of the record; the orbit window holds samples
         // 10·64 … 30·64 − 1.
         if k < spr * 10 {
@@ -803,6 +826,10 @@ mod hdf5_file {
         assert_eq!(t.len(), n);
         let u: Vec<f64> = read(&f, "rotor/u");
         assert_eq!(u.len(), 2 * n);
+        // The Jeffcott rotor's one node: [u_x, u_y] only, no rotation, axial or twist DOF.
+        let nd: Vec<i64> = read(&f, "rotor/node_dofs");
+        assert_eq!(nd, vec![0, 1, -1, -1, -1, -1]);
+        assert!(f.dataset("VTKHDF/PointData/twist").is_err());
         for (k, o) in r.orbit_nd.iter().enumerate() {
             let i = 10 * spr + k;
             assert!((u[2 * i] - o[0] * r.z0).abs() <= 1e-12 * r.z0);
@@ -881,6 +908,171 @@ mod hdf5_file {
         // zero where it stays undeformed.
         assert!(vel.iter().all(|x| x.is_finite()));
         assert!(vel[..3 * npts].iter().take(3 * 150).all(|x| *x == 0.0));
+    }
+
+    /// The paper rotor as FE model with torsional DOFs rubbing the rod
+    /// (`scenes/fe/paper_rotor_rub_torsion.toml` at ω/ω_n = 1.7): `/rotor/node_dofs` maps every
+    /// node to its DOFs; the point array `twist` of the `.vtu` frames and the VTKHDF grid is the
+    /// θ_z entry of the rotor DOF vector at every frame (NaN on the rod), `twist_rate` its
+    /// one-step backward difference; the friction torque −R μ p winds the shaft up against the
+    /// spin, the disk more than the drive end, as the static twist of the mean torque.
+    #[test]
+    fn fe_rotor_twist_in_vtk_and_hdf5() {
+        use rubsim::results::{THETA_Z, U_Z};
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        let scene =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/fe/paper_rotor_rub_torsion.toml");
+        let sets = [
+            "run.revolutions=20",
+            "run.transient_revolutions=10",
+            "run.error_estimate=false",
+            "output.vtk={ from_revolution = 10 }",
+            "output.hdf5={ every = 1, from_revolution = 10 }",
+        ];
+        let speed = 1.7;
+        let ov: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let ls = scene::load(&scene, &ov).unwrap();
+        let model = Model::build(&ls).unwrap();
+        let case = model.case(speed * model.rotor.natural_frequency()).unwrap();
+        let layout = Layout::new(&model, &case);
+        run_scene(&scene, &sets, Some(speed), &dir);
+
+        // The DOF map: lateral 4i..4i+4, no u_z, θ_z after every lateral DOF.
+        let nn = case.rotor.node_dofs.len();
+        assert_eq!(nn, 9);
+        let ndof = case.rotor.ndof;
+        let f = h5::File::open(dir.join("results.vtkhdf")).unwrap();
+        let format: h5::types::VarLenUnicode = f.attr("format").unwrap().read_scalar().unwrap();
+        assert_eq!(format.as_str(), "rubsim results 2 (docs/OUTPUTS.md)");
+        let ds = f.dataset("rotor/node_dofs").unwrap();
+        assert_eq!(ds.shape(), vec![nn, 6]);
+        let cols: h5::types::VarLenUnicode = ds.attr("columns").unwrap().read_scalar().unwrap();
+        assert_eq!(cols.as_str(), "u_x u_y theta_x theta_y u_z theta_z");
+        let nd: Vec<i64> = read(&f, "rotor/node_dofs");
+        let lateral = 4 * nn as i64;
+        for i in 0..nn {
+            let t = case.rotor.node_torsion[i].unwrap() as i64;
+            assert!(t >= lateral && t < ndof as i64);
+            let i6 = i as i64 * 4;
+            assert_eq!(&nd[6 * i..6 * i + 6], &[i6, i6 + 1, i6 + 2, i6 + 3, -1, t]);
+            assert_eq!(
+                layout.rotor_dofs[i][THETA_Z], case.rotor.node_torsion[i],
+                "node {i}"
+            );
+            assert_eq!(layout.rotor_dofs[i][U_Z], None);
+        }
+        let theta_z = |node: usize| nd[6 * node + THETA_Z] as usize;
+
+        // HDF5: the grid's twist is the DOF vector's θ_z at every frame, NaN on the rod.
+        let t: Vec<f64> = read(&f, "time");
+        let step: Vec<i64> = read(&f, "step");
+        let u: Vec<f64> = read(&f, "rotor/u");
+        let v: Vec<f64> = read(&f, "rotor/v");
+        let n = t.len();
+        let spr = f
+            .attr("steps_per_rev")
+            .unwrap()
+            .read_scalar::<i64>()
+            .unwrap() as usize;
+        assert_eq!(n, 10 * spr + 1, "every step of revolutions 10…20");
+        assert!(step
+            .iter()
+            .enumerate()
+            .all(|(k, s)| *s as usize == 10 * spr + k));
+        assert_eq!(u.len(), n * ndof);
+        let npts = layout.num_points();
+        let rf = layout.rotor_first_point;
+        assert_eq!(rf + nn, npts);
+        let twist: Vec<f64> = read(&f, "VTKHDF/PointData/twist");
+        let twist_rate: Vec<f64> = read(&f, "VTKHDF/PointData/twist_rate");
+        let disp: Vec<f64> = read(&f, "VTKHDF/PointData/displacement");
+        assert_eq!(twist.len(), n * npts);
+        let off: Vec<i64> = read(&f, "VTKHDF/Steps/PointDataOffsets/twist");
+        assert!(off.iter().enumerate().all(|(k, o)| *o == (k * npts) as i64));
+        for k in 0..n {
+            let row = &twist[k * npts..(k + 1) * npts];
+            assert!(
+                row[..rf].iter().all(|x| x.is_nan()),
+                "frame {k}: rod points"
+            );
+            for i in 0..nn {
+                assert_eq!(row[rf + i], u[k * ndof + theta_z(i)], "frame {k} node {i}");
+                // No axial DOFs: the rotor points stay in their planes.
+                assert_eq!(disp[3 * (k * npts + rf + i) + 2], 0.0);
+                assert_eq!(
+                    twist_rate[k * npts + rf + i],
+                    v[k * ndof + theta_z(i)],
+                    "frame {k} node {i}"
+                );
+            }
+            if k > 0 {
+                // A frame every step: the rate is the difference of consecutive frames.
+                let i = 4;
+                let fd =
+                    (u[k * ndof + theta_z(i)] - u[(k - 1) * ndof + theta_z(i)]) / (t[k] - t[k - 1]);
+                let r = twist_rate[k * npts + rf + i];
+                assert!((r - fd).abs() <= 1e-9 * fd.abs().max(1e-9), "{r} vs {fd}");
+            }
+        }
+
+        // VTK: the same twist in every .vtu (frames on the recording interval of the same
+        // window, all of them in the HDF5 series, which holds every step).
+        let frames = pvd(&dir.join("results.pvd"));
+        assert_eq!(frames.len(), 10 * 64 + 1);
+        for (tk, file) in &frames {
+            let k = t
+                .iter()
+                .position(|x| x == tk)
+                .expect("frame time in the HDF5 series");
+            let g = vtu(&dir.join(file));
+            let tw = array(&g.data.point, "twist");
+            let tr = array(&g.data.point, "twist_rate");
+            let d = vectors3(&g.data.point, "displacement");
+            assert_eq!(tw.len(), npts);
+            assert!(tw[..rf].iter().chain(&tr[..rf]).all(|x| x.is_nan()));
+            for i in 0..nn {
+                assert_eq!(tw[rf + i], u[k * ndof + theta_z(i)], "t = {tk}, node {i}");
+                assert_eq!(tr[rf + i], v[k * ndof + theta_z(i)], "t = {tk}, node {i}");
+                assert_eq!(d[rf + i][2], 0.0);
+                let lat = &nd[6 * i..6 * i + 2];
+                assert_eq!(d[rf + i][0], u[k * ndof + lat[0] as usize]);
+                assert_eq!(d[rf + i][1], u[k * ndof + lat[1] as usize]);
+            }
+        }
+
+        // Physics over the steady window (revolutions 10…20, every step): the friction torque
+        // τ = −R μ p opposes the spin, so the disk (node 4) twists backwards on average, more
+        // than the drive end (node 0, on the 1000 N·m/rad coupling). Averaged over the window,
+        // M θ̈ and C θ̇ leave only their end values, so the mean twist is the static twist under
+        // the mean torque: θ̄_0 = τ̄/k_c, θ̄_4 = τ̄ (1/k_c + L/(G J)) over the shaft from the
+        // drive to the disk (L = 0.2 m, d = 1 cm, G = E/2.6).
+        let p: Vec<f64> = read(&f, "contact/p");
+        assert_eq!(p.len(), n, "one pair");
+        assert!(p.iter().any(|x| *x > 0.0), "the rotor rubs");
+        let mean = |it: &mut dyn Iterator<Item = f64>| {
+            let (s, c) = it.fold((0.0, 0), |(s, c), x| (s + x, c + 1));
+            s / c as f64
+        };
+        let (r, mu, kc) = (0.06, 0.1, 1000.0);
+        let gj = 200e9 / 2.6 * std::f64::consts::PI * 0.01_f64.powi(4) / 32.0;
+        let tau = -r * mu * mean(&mut p.iter().copied());
+        let th = |node: usize| mean(&mut (0..n).map(|k| u[k * ndof + theta_z(node)]));
+        let (th0, th4, th8) = (th(0), th(4), th(8));
+        assert!(th4 < 0.0, "mean twist at the disk {th4}");
+        assert!(th4.abs() > th0.abs(), "disk {th4}, drive {th0}");
+        let expect0 = tau / kc;
+        let expect4 = tau * (1.0 / kc + 0.2 / gj);
+        assert!(
+            (th0 - expect0).abs() <= 1e-3 * expect0.abs(),
+            "{th0} vs {expect0}"
+        );
+        assert!(
+            (th4 - expect4).abs() <= 1e-3 * expect4.abs(),
+            "{th4} vs {expect4}"
+        );
+        // Beyond the disk no torque: the free end (node 8) follows it.
+        assert!((th8 - th4).abs() <= 1e-3 * th4.abs(), "{th8} vs {th4}");
     }
 
     /// With a frame every step the velocity is exactly the difference of consecutive frames.

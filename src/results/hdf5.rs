@@ -4,8 +4,10 @@
 //! `unit` attribute each; the resolved scene and the units as JSON attributes of `/`) and a
 //! transient VTKHDF 2 `UnstructuredGrid` group `/VTKHDF` that VTK's `vtkHDFReader` (ParaView,
 //! `pyvista.read`) opens as a time series: the grid is written once and every step's point and
-//! cell data are appended, addressed through `/VTKHDF/Steps` offsets. The layout is documented
-//! in `docs/OUTPUTS.md`.
+//! cell data are appended, addressed through `/VTKHDF/Steps` offsets. The rotor DOF vector
+//! `/rotor/u` comes with its map `/rotor/node_dofs`: each node's [`super::RotorNodeDofs`]
+//! `[u_x, u_y, θ_x, θ_y, u_z, θ_z]` as int64, −1 where absent. The layout is documented in
+//! `docs/OUTPUTS.md`.
 //!
 //! Streaming: every time-dependent dataset is chunked with an unlimited first axis; frames are
 //! buffered in blocks of about 256 KiB per dataset and appended block by block, so memory does
@@ -163,6 +165,10 @@ enum PointField {
     Displacement,
     Velocity,
     ContactForce,
+    /// θ_z of the rotor points (rad), NaN on the stator points.
+    Twist,
+    /// dθ_z/dt of the rotor points (rad/s), NaN on the stator points.
+    TwistRate,
 }
 
 #[derive(Clone, Copy)]
@@ -194,7 +200,7 @@ impl std::fmt::Debug for Hdf5Series {
 }
 
 /// Units and conventions stored as the `units` attribute (JSON).
-pub const UNITS_JSON: &str = r#"{"length":"m","time":"s","force":"N","stress":"Pa","strain":"1","velocity":"m/s","angle":"rad","frequency":"rad/s","axes":"x horizontal, y vertical, rotor axis z; rotor spins counter-clockwise seen from +z","contact":"normal n from the section centre to the stator node; normal force p >= 0 in compression; force on the stator node (n + mu a) p, on the rotor its opposite"}"#;
+pub const UNITS_JSON: &str = r#"{"length":"m","time":"s","force":"N","stress":"Pa","strain":"1","velocity":"m/s","angle":"rad","frequency":"rad/s","axes":"x horizontal, y vertical, rotor axis z; rotor spins counter-clockwise seen from +z","rotations":"theta_x, theta_y right-handed about x, y (theta_y = du_x/dz, theta_x = -du_y/dz); theta_z (twist) counter-clockwise seen from +z, the sense of the spin; rotor DOFs of each node: /rotor/node_dofs","contact":"normal n from the section centre to the stator node; normal force p >= 0 in compression; force on the stator node (n + mu a) p, on the rotor its opposite"}"#;
 
 impl Hdf5Series {
     /// Creates `staging/prefix/results.vtkhdf` and writes everything that does not change
@@ -236,7 +242,8 @@ impl Hdf5Series {
         let f = h5::File::create(path)?;
         close_on_exec(&f);
         let fl = plan.fields;
-        attr_str(&f, "format", "rubsim results 1 (docs/OUTPUTS.md)")?;
+        // 2: `/rotor/node_dofs` is the 6-column DOF map (1: `[u_x, u_y]` only).
+        attr_str(&f, "format", "rubsim results 2 (docs/OUTPUTS.md)")?;
         attr_str(&f, "rubsim_version", env!("CARGO_PKG_VERSION"))?;
         attr_str(&f, "scene", &info.scene_json)?;
         attr_str(&f, "units", UNITS_JSON)?;
@@ -253,15 +260,16 @@ impl Hdf5Series {
         let time = Column::new(&f, "time", 1, &[], "s")?;
         let step = Column::new(&f, "step", 1, &[], "")?;
         let rg = f.create_group("rotor")?;
-        let nn = case.rotor.node_dofs.len();
-        let nd: Vec<i64> = case
-            .rotor
-            .node_dofs
+        // Every DOF of each node, [u_x, u_y, θ_x, θ_y, u_z, θ_z], −1 where absent.
+        let nn = layout.rotor_dofs.len();
+        let nd: Vec<i64> = layout
+            .rotor_dofs
             .iter()
             .flatten()
-            .map(|d| *d as i64)
+            .map(|d| d.map_or(-1, |d| d as i64))
             .collect();
-        static_ds(&rg, "node_dofs", &[nn, 2], &nd, "")?;
+        let ds = static_ds(&rg, "node_dofs", &[nn, 6], &nd, "")?;
+        attr_str(&ds, "columns", &super::ROTOR_DOF_NAMES.join(" "))?;
         let z: Vec<f64> = layout.grid.points[layout.rotor_first_point..]
             .iter()
             .map(|p| p[2])
@@ -269,13 +277,14 @@ impl Hdf5Series {
         static_ds(&rg, "node_z", &[nn], &z, "m")?;
         attr(&rg, "first_point", layout.rotor_first_point as i64)?;
         let ndof = case.rotor.ndof;
+        // Translations in m, rotations (θ_x, θ_y, θ_z columns of node_dofs) in rad.
         let rotor_u = fl
             .displacement
-            .then(|| Column::new(&rg, "u", 1, &[ndof], "m"))
+            .then(|| Column::new(&rg, "u", 1, &[ndof], "m, rad"))
             .transpose()?;
         let rotor_v = fl
             .velocity
-            .then(|| Column::new(&rg, "v", 1, &[ndof], "m/s"))
+            .then(|| Column::new(&rg, "v", 1, &[ndof], "m/s, rad/s"))
             .transpose()?;
 
         let cg = f.create_group("contact")?;
@@ -388,24 +397,41 @@ impl Hdf5Series {
         let cdo = steps.create_group("CellDataOffsets")?;
         steps.create_group("FieldDataOffsets")?;
         let mut point_data = Vec::new();
-        for (on, name, field, unit) in [
+        let torsion = layout.rotor_has_torsion();
+        for (on, name, field, unit, inner) in [
             (
                 fl.displacement,
                 "displacement",
                 PointField::Displacement,
                 "m",
+                &[3][..],
             ),
-            (fl.velocity, "velocity", PointField::Velocity, "m/s"),
+            (fl.velocity, "velocity", PointField::Velocity, "m/s", &[3]),
             (
                 fl.contact_force,
                 "contact_force",
                 PointField::ContactForce,
                 "N",
+                &[3],
+            ),
+            (
+                fl.displacement && torsion,
+                "twist",
+                PointField::Twist,
+                "rad",
+                &[],
+            ),
+            (
+                fl.velocity && torsion,
+                "twist_rate",
+                PointField::TwistRate,
+                "rad/s",
+                &[],
             ),
         ] {
             if on {
                 point_data.push((
-                    Column::new(&pd, name, npts, &[3], unit)?,
+                    Column::new(&pd, name, npts, inner, unit)?,
                     Column::new(&pdo, name, 1, &[], "")?,
                     field,
                 ));
@@ -488,12 +514,17 @@ impl Hdf5Series {
         }
         let npts = layout.num_points() as i64;
         for (data, off, field) in &mut c.point_data {
-            let v = match field {
-                PointField::Displacement => &st.displacement,
-                PointField::Velocity => &st.velocity,
-                PointField::ContactForce => &st.contact_force,
-            };
-            data.push(v.iter().flatten().copied())?;
+            match field {
+                PointField::Displacement => data.push(st.displacement.iter().flatten().copied())?,
+                PointField::Velocity => data.push(st.velocity.iter().flatten().copied())?,
+                PointField::ContactForce => {
+                    data.push(st.contact_force.iter().flatten().copied())?
+                }
+                PointField::Twist => data.push(layout.rotor_point_values(&st.rotor_twist))?,
+                PointField::TwistRate => {
+                    data.push(layout.rotor_point_values(&st.rotor_twist_rate))?
+                }
+            }
             off.push([k * npts])?;
         }
         let nc = layout.grid.num_cells() as i64;

@@ -27,6 +27,12 @@
 //! * cell data `part` (0 stator element or ring circle, 1 rotor, 2 contact pair), `stator`
 //!   (stator index, −1 for the rotor) and `index` (element index in its stator, −1 for a ring
 //!   circle, pair index, 0 for the rotor).
+//! * rotor points: `displacement` `[u_x, u_y, u_z]` (u_z of rotors with axial DOFs, else 0);
+//!   with torsional DOFs ([`Layout::rotor_has_torsion`]) the point array `twist` (θ_z, rad,
+//!   counter-clockwise seen from +z, the sense of the spin) and, with velocities,
+//!   `twist_rate` (rad/s), NaN on the stator points. The bending rotations θ_x, θ_y are not
+//!   grid arrays (a point array spans every stator point); the HDF5 file's `/rotor/u` with
+//!   `/rotor/node_dofs` ([`RotorNodeDofs`]) holds them.
 //!
 //! Conventions are the crate's: SI units, x horizontal, y vertical, rotor axis z; contact force
 //! positive on the body it acts on (`contact_force` at a stator node is `Σ (n + μa) p` of its
@@ -43,7 +49,7 @@ use crate::error::{Error, Result};
 use crate::math::V2;
 use crate::mesh::CellKind;
 use crate::model::stator::StatorElement;
-use crate::model::{Case, Model, Target};
+use crate::model::{Case, Model, Rotor, Target};
 use crate::scene::StatorSpec;
 use crate::scene::{OutputSpec, PerSpeed, SeriesField, SeriesSpec};
 use crate::time::{plan_steps, Frame, FrameSink, StepPlan};
@@ -128,6 +134,46 @@ fn element_strain(el: &StatorElement, stress: f64) -> f64 {
 /// rotor's nodes along its shaft; stator planes sit at their station's node.
 pub fn rotor_node_z(case: &Case) -> Vec<f64> {
     case.rotor.node_z.clone()
+}
+
+/// The rotor DOFs of one node in the order [`ROTOR_DOF_NAMES`]:
+/// `[u_x, u_y, θ_x, θ_y, u_z, θ_z]` (indices into the rotor DOF vector; `None` where the
+/// rotor has no such DOF). Units m and rad; `θ_x`, `θ_y` follow the right-hand rule about x
+/// and y ([`crate::element::timoshenko`]: `θ_y = ∂u_x/∂z`, `θ_x = −∂u_y/∂z`), `u_z` is
+/// positive along +z, `θ_z` counter-clockwise seen from +z (the sense of the spin Ω).
+pub type RotorNodeDofs = [Option<usize>; 6];
+
+/// Names of the columns of [`RotorNodeDofs`] (and of the HDF5 dataset `/rotor/node_dofs`).
+pub const ROTOR_DOF_NAMES: [&str; 6] = ["u_x", "u_y", "theta_x", "theta_y", "u_z", "theta_z"];
+
+/// Column of `θ_z` in [`RotorNodeDofs`].
+pub const THETA_Z: usize = 5;
+/// Column of `u_z` in [`RotorNodeDofs`].
+pub const U_Z: usize = 4;
+
+/// Every DOF of each rotor node of a case ([`RotorNodeDofs`], in node order): the Jeffcott
+/// rotor `[0, 1, −, −, −, −]`; an FE rotor `[4i, 4i + 1, 4i + 2, 4i + 3, u_z, θ_z]` (the
+/// lateral numbering of [`crate::model::fe_rotor`]) with `u_z`, `θ_z` from
+/// [`crate::model::rotor::RotorBody::node_axial`] and `node_torsion` (after all lateral DOFs).
+pub fn rotor_dof_map(model: &Model, case: &Case) -> Vec<RotorNodeDofs> {
+    let r = &case.rotor;
+    // Bending rotations: an FE rotor's node owns [u_x, u_y, θ_x, θ_y] at 4i..4i+4.
+    let bending = matches!(model.rotor, Rotor::Fe(_));
+    r.node_dofs
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            let rot = |k: usize| bending.then_some(d[0] + k);
+            [
+                Some(d[0]),
+                Some(d[1]),
+                rot(2),
+                rot(3),
+                r.node_axial.get(i).copied().flatten(),
+                r.node_torsion.get(i).copied().flatten(),
+            ]
+        })
+        .collect()
 }
 
 /// The unstructured grid written by both formats (see the module documentation).
@@ -252,8 +298,11 @@ pub struct Layout {
     /// Number of grid points of each stator: its nodes (first), then the points drawing its
     /// ring targets ([`RingSlot`]).
     pub stator_num_points: Vec<usize>,
-    /// First grid point of the rotor.
+    /// First grid point of the rotor; its nodes are the last points of the grid, in node
+    /// order.
     pub rotor_first_point: usize,
+    /// Every DOF of each rotor node ([`rotor_dof_map`]).
+    pub rotor_dofs: Vec<RotorNodeDofs>,
     /// Grid cell of each stator element (`None`: no cell, see [`element_cell`]).
     pub element_cells: Vec<Vec<Option<usize>>>,
     /// Cells before the contact pairs (stator elements, ring circles and the rotor).
@@ -422,6 +471,7 @@ impl Layout {
             stator_first_point,
             stator_num_points,
             rotor_first_point,
+            rotor_dofs: rotor_dof_map(model, case),
             element_cells,
             body_cells,
             pairs,
@@ -435,6 +485,19 @@ impl Layout {
     /// Number of grid points.
     pub fn num_points(&self) -> usize {
         self.grid.points.len()
+    }
+
+    /// True when the rotor has torsional DOFs θ_z: the grid then carries the point arrays
+    /// `twist` (and `twist_rate`).
+    pub fn rotor_has_torsion(&self) -> bool {
+        self.rotor_dofs.iter().any(|d| d[THETA_Z].is_some())
+    }
+
+    /// A point array of the rotor: NaN on every stator point, then `per_node[i]` on rotor
+    /// node `i` (the rotor's points are the last of the grid).
+    pub fn rotor_point_values<'a>(&self, per_node: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
+        debug_assert_eq!(self.rotor_first_point + per_node.len(), self.num_points());
+        std::iter::repeat_n(f64::NAN, self.rotor_first_point).chain(per_node.iter().copied())
     }
 
     /// Pair index of a stator node, if it is a contact target.
@@ -526,7 +589,12 @@ pub struct FrameState {
     pub rotor_u: Vec<f64>,
     /// Rotor DOF velocities (m/s, rad/s), backward difference over one step.
     pub rotor_v: Vec<f64>,
-    /// Point displacements (m).
+    /// Twist θ_z of each rotor node (rad, counter-clockwise seen from +z, the sense of Ω;
+    /// 0 where the node has no θ_z).
+    pub rotor_twist: Vec<f64>,
+    /// Twist rate dθ_z/dt of each rotor node (rad/s), from `rotor_v`.
+    pub rotor_twist_rate: Vec<f64>,
+    /// Point displacements (m); at rotor nodes `[u_x, u_y, u_z]`.
     pub displacement: Vec<[f64; 3]>,
     /// Point velocities (m/s), backward difference over one step.
     pub velocity: Vec<[f64; 3]>,
@@ -561,6 +629,8 @@ impl FrameState {
             t: 0.0,
             rotor_u: vec![0.0; case.rotor.ndof],
             rotor_v: vec![0.0; case.rotor.ndof],
+            rotor_twist: vec![0.0; layout.rotor_dofs.len()],
+            rotor_twist_rate: vec![0.0; layout.rotor_dofs.len()],
             displacement: vec![[0.0; 3]; np],
             velocity: vec![[0.0; 3]; np],
             contact_force: vec![[0.0; 3]; np],
@@ -595,9 +665,10 @@ impl FrameState {
                 self.displacement[first + n] = [c(d[0]), c(d[1]), uz];
             }
         }
-        for (n, d) in case.rotor.node_dofs.iter().enumerate() {
-            self.displacement[layout.rotor_first_point + n] =
-                [f.rotor_u[d[0]], f.rotor_u[d[1]], 0.0];
+        let dof = |d: Option<usize>| d.map_or(0.0, |i| f.rotor_u[i]);
+        for (n, d) in layout.rotor_dofs.iter().enumerate() {
+            self.displacement[layout.rotor_first_point + n] = [dof(d[0]), dof(d[1]), dof(d[U_Z])];
+            self.rotor_twist[n] = dof(d[THETA_Z]);
         }
         // Rings: the circle and the contact point move with the ring centre; the contact point
         // sits on the line of centres (the contact kernel's normal).
@@ -829,15 +900,18 @@ impl ResultsSink {
         let pts = layout.num_points() as f64;
         let cells = layout.grid.num_cells() as f64;
         let conn = layout.grid.connectivity.len() as f64;
+        // `twist` and `twist_rate`: one value per point each.
+        let twist = if layout.rotor_has_torsion() { 2.0 } else { 0.0 };
         if let Some(spec) = &output.vtk {
             let fp = FramePlan::new(spec, &plan);
             // Per .vtu: geometry and fields as base64 text (4/3) of f64/i64.
-            let per = (pts * (3.0 + 9.0) + conn + 2.0 * cells + 4.0 * cells) * 8.0 * 4.0 / 3.0;
+            let per =
+                (pts * (3.0 + 9.0 + twist) + conn + 2.0 * cells + 4.0 * cells) * 8.0 * 4.0 / 3.0;
             need_bytes += fp.count() as f64 * per;
         }
         if let Some(spec) = &output.hdf5 {
             let fp = FramePlan::new(spec, &plan);
-            let per = (pts * 9.0 + 4.0 * cells + case.rotor.ndof as f64 * 2.0) * 8.0;
+            let per = (pts * (9.0 + twist) + 4.0 * cells + case.rotor.ndof as f64 * 2.0) * 8.0;
             need_bytes += fp.count() as f64 * per;
         }
         check_free_space(staging, need_bytes)?;
@@ -933,6 +1007,10 @@ impl ResultsSink {
                     st.velocity[p] = [self.init_velocity[0], self.init_velocity[1], 0.0];
                 }
             }
+        }
+        // Twist rates: the same backward difference, on the θ_z DOFs.
+        for (r, d) in st.rotor_twist_rate.iter_mut().zip(&self.layout.rotor_dofs) {
+            *r = d[THETA_Z].map_or(0.0, |i| st.rotor_v[i]);
         }
     }
 

@@ -5,7 +5,8 @@
 //! ([`super::RingSlot`]). The `.pvd` is streamed too: its header is written when the run
 //! starts, one `DataSet` line per frame, the footer at [`VtkSeries::finish`].
 //!
-//! Grid, arrays and units: [`super`] and `docs/OUTPUTS.md`.
+//! Grid, arrays and units: [`super`] and `docs/OUTPUTS.md`. Rotors with torsional DOFs add the
+//! point arrays `twist` (θ_z, rad) and `twist_rate` (rad/s), NaN on the stator points.
 
 use super::{part, Fields, FrameState, Layout, RunInfo};
 use crate::error::{Error, Result};
@@ -166,11 +167,22 @@ fn frame_vtk(layout: &Layout, st: &FrameState, fields: &Fields) -> Vtk {
             IOBuffer::I64(cells.iter().map(|&c| g.index[c]).collect()),
         ),
     ];
+    // Rotors with θ_z: `twist` (rad) and `twist_rate` (rad/s) on the rotor points, NaN on
+    // the stator points.
+    let torsion = layout.rotor_has_torsion();
     if fields.displacement {
         point.push(vectors("displacement", flat3(&st.displacement)));
+        if torsion {
+            let v = layout.rotor_point_values(&st.rotor_twist).collect();
+            point.push(scalars("twist", IOBuffer::F64(v)));
+        }
     }
     if fields.velocity {
         point.push(vectors("velocity", flat3(&st.velocity)));
+        if torsion {
+            let v = layout.rotor_point_values(&st.rotor_twist_rate).collect();
+            point.push(scalars("twist_rate", IOBuffer::F64(v)));
+        }
     }
     if fields.contact_force {
         point.push(vectors("contact_force", flat3(&st.contact_force)));

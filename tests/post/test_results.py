@@ -301,3 +301,109 @@ def test_ring_stator_is_a_circle_around_its_displaced_centre(tmp_path):
             n /= np.linalg.norm(n)
             np.testing.assert_allclose(warped.points[b, :2], centre[:2] + big_r * n, rtol=0, atol=1e-12 * big_r)
     assert moved > 0 and 0 < rubbing < len(frames)
+
+
+TORSION_SCENE = os.path.join(ROOT, "scenes", "fe", "paper_rotor_rub_torsion.toml")
+
+
+@pytest.fixture(scope="module")
+def torsion(tmp_path_factory):
+    """The paper rotor as FE model with torsional DOFs rubbing the rod, at ω/ω_n = 1.7: 20
+    revolutions (steady window 10…20), the last two as VTK frames, the whole run in HDF5, both
+    at the recording interval."""
+    out = tmp_path_factory.mktemp("torsion") / "out"
+    rubsim(
+        "run", TORSION_SCENE, "--speed", "1.7", "--out", str(out),
+        "--set", "run.revolutions=20", "--set", "run.transient_revolutions=10",
+        "--set", "run.error_estimate=false",
+        "--set", "output.vtk={ from_revolution = 18 }", "--set", "output.hdf5={}",
+    )
+    with open(out / "summary.json") as f:
+        summary = json.load(f)
+    return out, summary
+
+
+def _rotor_points(grid):
+    """Point ids of the rotor polyline (the rotor nodes in node order)."""
+    rotor = np.nonzero(grid.cell_data["part"] == rr.PART_ROTOR)[0]
+    assert len(rotor) == 1 and grid.celltypes[rotor[0]] == pv.CellType.POLY_LINE
+    return np.asarray(grid.get_cell(int(rotor[0])).point_ids)
+
+
+def test_twist_reads_back_with_pyvista_and_h5py(torsion):
+    out, _ = torsion
+    s = rr.Series(str(out / "results.vtkhdf"))
+    # The DOF map: [u_x, u_y, θ_x, θ_y, u_z, θ_z] per node; lateral 4i…4i+3, no u_z, θ_z after
+    # every lateral DOF.
+    nd = s.node_dofs
+    assert nd.shape == (9, 6)
+    with h5py.File(out / "results.vtkhdf", "r") as f:
+        cols = rr._plain(f["rotor/node_dofs"].attrs["columns"])
+    assert tuple(cols.split()) == rr.ROTOR_DOFS
+    np.testing.assert_array_equal(nd[:, :4], 4 * np.arange(9)[:, None] + np.arange(4))
+    assert (nd[:, 4] == -1).all() and (nd[:, 5] >= 36).all() and len(set(nd[:, 5])) == 9
+    disk = s.station_node(0)
+    assert disk == 4
+    theta_z = s.u[:, nd[:, 5]]
+    np.testing.assert_array_equal(s.twist(disk), theta_z[:, disk])
+
+    pvd = pv.get_reader(str(out / "results.pvd"))
+    times = np.asarray(pvd.time_values)
+    assert len(times) == 2 * 64 + 1
+    h = pv.get_reader(str(out / "results.vtkhdf"))
+    assert h.reader.GetNumberOfSteps() == len(s.t)
+    for i, t in enumerate(times):
+        k = np.nonzero(s.t == t)[0]
+        assert len(k) == 1, f"frame at t = {t} in the HDF5 series"
+        k = int(k[0])
+        pvd.set_active_time_point(i)
+        g = pvd.read()[0]
+        h.reader.SetStep(k)
+        hg = h.read()
+        for grid in (g, hg):
+            ids = _rotor_points(grid)
+            assert len(ids) == 9
+            tw = grid.point_data["twist"]
+            np.testing.assert_array_equal(tw[ids], theta_z[k])
+            np.testing.assert_array_equal(grid.point_data["twist_rate"][ids], s.v[k, nd[:, 5]])
+            # NaN off the rotor (the rod's two nodes).
+            off = np.setdiff1d(np.arange(grid.n_points), ids)
+            assert len(off) == 2 and np.isnan(tw[off]).all()
+            # Rotor displacement: [u_x, u_y] of the DOF vector, u_z = 0 (no axial DOFs).
+            d = grid.point_data["displacement"][ids]
+            np.testing.assert_array_equal(d[:, :2], s.u[k][nd[:, :2]])
+            assert not d[:, 2].any()
+            # Rotor points on the axis at the nodes' axial positions.
+            np.testing.assert_allclose(grid.points[ids, 2], np.linspace(0.0, 0.4, 9), atol=1e-15)
+        np.testing.assert_array_equal(g.point_data["twist"], hg.point_data["twist"])
+
+    # Over the steady window the friction torque −R μ p (against the spin) winds the disk back,
+    # more than the drive end on its coupling.
+    a, b = s.steady()
+    mean = theta_z[a:b].mean(axis=0)
+    assert mean[disk] < 0
+    assert abs(mean[disk]) > abs(mean[0])
+    assert (s.p[a:b] > 0).any()
+
+
+def test_orbit_cascade_at_any_node(torsion, tmp_path):
+    out, summary = torsion
+    res = summary["result"]
+    path = str(out / "results.vtkhdf")
+    s = rr.Series(path)
+    a, b = s.steady()
+    # Default: the analysed node (the first station's, the disk): the summary's numbers.
+    png = tmp_path / "disk.png"
+    (row,) = orbit_cascade.main([path, "--png", str(png)])
+    assert row[1] / res["z0"] == pytest.approx(res["amp_1x_nd"], rel=1e-9)
+    assert png.stat().st_size > 10_000
+    # --node 0 (the drive-end journal): the y spectrum of its own DOF, found through the map.
+    (row0,) = orbit_cascade.main([path, "--node", "0", "--png", str(tmp_path / "n0.png")])
+    y0 = s.u[a:b, s.node_dofs[0, 1]]
+    spec = rr.hann_spectrum(y0)
+    nrev = (b - a) / s.frames_per_rev()
+    assert row0[1] == pytest.approx(rr.line_amplitude(spec, nrev), rel=1e-12)
+    # The journal on its 1e8 N/m bearing barely moves next to the disk.
+    assert 0 < row0[1] < 0.1 * row[1]
+    with pytest.raises(SystemExit):
+        orbit_cascade.main([path, "--node", "9", "--png", str(tmp_path / "bad.png")])
