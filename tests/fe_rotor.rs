@@ -127,8 +127,10 @@ fn simply_supported_frequencies_and_convergence_rate() {
         }
         // Euler–Bernoulli/Rayleigh (Φ = 0): fourth order until the 1e14 N/m supports' own
         // flexibility (≈ 4e-7) is reached at 32 elements, so fit the first three levels.
-        // Timoshenko: Φ = 12EI/(κGAh²) grows as h shrinks and the frequency converges at
-        // second order (measured; docs/VALIDATION.md), to the closed form within 1.4e-6 at 64.
+        // Timoshenko: second order, inherent to the element (its shear force is constant per
+        // element, leaving an error (kh)²/24 · U_shear/U; see
+        // `pinned_timoshenko_error_is_second_order_through_the_shear_energy`), to the closed
+        // form within 1.4e-6 at 64 (1.77e-6 of discretisation less the supports' ≈ 4e-7).
         let (p, expected, tol) = if shear {
             (loglog_slope(&hs, &errs), 2.0, 0.35)
         } else {
@@ -144,6 +146,119 @@ fn simply_supported_frequencies_and_convergence_rate() {
     // our circular section gives, for mode 1 with shear:
     let f1 = ss_closed_form(1, true) / (2.0 * PI);
     assert!(f1 > 100.0 && f1 < 130.0, "{f1}");
+}
+
+/// First frequency (rad/s) of the shaft of `ss_shaft` as `n` elements of
+/// `rubsim::element::timoshenko` in one bending plane (x–z: `[u_x, θ_y]` per node), pinned
+/// exactly (u_x = 0 at both ends: no bearing flexibility), from the dense generalised problem.
+fn pinned_beam_first_frequency(n: usize, shear: bool, rotary_inertia: bool) -> f64 {
+    use nalgebra::DMatrix;
+    use rubsim::element::timoshenko::{shaft_element, ShaftSection};
+    let s = ShaftSection {
+        length: 2.0 / n as f64,
+        outer_diameter: 0.2,
+        inner_diameter: 0.0,
+        youngs_modulus: 2.1e11,
+        poisson: 0.3,
+        density: 7800.0,
+        shear,
+        rotary_inertia,
+    };
+    let e = shaft_element(&s);
+    const XZ: [usize; 4] = [0, 3, 4, 7];
+    let nd = 2 * (n + 1);
+    let (mut k, mut m) = (DMatrix::<f64>::zeros(nd, nd), DMatrix::<f64>::zeros(nd, nd));
+    for el in 0..n {
+        for a in 0..4 {
+            for b in 0..4 {
+                k[(2 * el + a, 2 * el + b)] += e.k[XZ[a]][XZ[b]];
+                m[(2 * el + a, 2 * el + b)] += e.m[XZ[a]][XZ[b]];
+            }
+        }
+    }
+    let free: Vec<usize> = (0..nd).filter(|&i| i != 0 && i != 2 * n).collect();
+    let k = k.select_rows(&free).select_columns(&free);
+    let m = m.select_rows(&free).select_columns(&free);
+    // Largest eigenvalue of L⁻¹ M L⁻ᵀ (K = L Lᵀ) is 1/ω₁²: accurate for the lowest mode even
+    // when M is nearly singular in the rotations (no rotary inertia).
+    let l = k.cholesky().expect("pinned K positive definite").l();
+    let linv = l.try_inverse().unwrap();
+    let a: DMatrix<f64> = &linv * m * linv.transpose();
+    let a = (&a + a.transpose()) * 0.5;
+    1.0 / a.symmetric_eigenvalues().max().sqrt()
+}
+
+/// Why the Timoshenko element converges at second order and Euler–Bernoulli at fourth.
+///
+/// The element's shape functions solve the unloaded static Timoshenko equations, so its shear
+/// force κGA(w′ − ψ) is constant along each element, while a mode's shear force varies like
+/// cos kz. The element's matrices are exactly the consistent ones of those shape functions
+/// (checked against Friswell et al. 2010 / ROSS `shaft_element.py` and a symbolic derivation),
+/// yet a piecewise-constant shear force leaves an O((kh)²) error in the shear strain energy.
+/// Rayleigh–Ritz turns it into ω_h/ω − 1 = (kh)²/24 · U_s/U + O((kh)⁴), where U_s/U is the
+/// mode's share of shear strain energy (= s/(1+s), s = EIk²/(κGA), without rotary inertia) —
+/// the same (kh)²/24 as a linear bar element, weighted by the shear share. Euler–Bernoulli has
+/// no shear energy (U_s = 0) and keeps the Hermite O((kh)⁴). Exact pins (no 1e14 N/m bearing
+/// floor) so every digit is discretisation error.
+#[test]
+fn pinned_timoshenko_error_is_second_order_through_the_shear_energy() {
+    let (l, d, e, nu, rho) = (2.0_f64, 0.2_f64, 2.1e11, 0.3_f64, 7800.0);
+    let (a, i) = (PI * d * d / 4.0, PI * d.powi(4) / 64.0);
+    let kga = 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu) * e / (2.0 * (1.0 + nu)) * a;
+    let k = PI / l;
+    let s = e * i * k * k / kga;
+    // Shear without rotary inertia: ω² = EIk⁴/(ρA(1+s)).
+    let exact_shear_only = (e * i * k.powi(4) / (rho * a * (1.0 + s))).sqrt();
+    let ns = [4usize, 8, 16, 32, 64, 128];
+    let hs: Vec<f64> = ns.iter().map(|&n| l / n as f64).collect();
+    for (label, shear, rot, exact) in [
+        (
+            "Euler–Bernoulli + rotary",
+            false,
+            true,
+            ss_closed_form(1, false),
+        ),
+        (
+            "Timoshenko (shear + rotary)",
+            true,
+            true,
+            ss_closed_form(1, true),
+        ),
+        ("shear, no rotary inertia", true, false, exact_shear_only),
+    ] {
+        let errs: Vec<f64> = ns
+            .iter()
+            .map(|&n| pinned_beam_first_frequency(n, shear, rot) / exact - 1.0)
+            .collect();
+        let scaled: Vec<f64> = errs
+            .iter()
+            .zip(&hs)
+            .map(|(e, h)| e / (k * h).powi(2))
+            .collect();
+        let last = ns.len() - 1;
+        let p_fine = loglog_slope(&hs[last - 1..], &errs[last - 1..]);
+        let p_all = loglog_slope(&hs, &errs);
+        eprintln!(
+            "pinned, {label}: errors {errs:?}; err/(kh)² {scaled:?}; order 4–128 {p_all:.3}, \
+             64–128 {p_fine:.4}"
+        );
+        // Rayleigh–Ritz: the consistent-mass FE frequency bounds the exact one from above.
+        assert!(errs.iter().all(|&x| x > 0.0), "{label}: {errs:?}");
+        if !shear {
+            let p = loglog_slope(&hs[..4], &errs[..4]);
+            assert!((p - 4.0).abs() < 0.05, "{label}: order {p}");
+        } else {
+            assert!((p_fine - 2.0).abs() < 0.02, "{label}: order {p_fine}");
+            assert!(p_all < 2.3, "{label}: order {p_all}");
+        }
+    }
+    // Leading coefficient without rotary inertia: (kh)²/24 · s/(1+s), to 0.3 % at 128 elements.
+    let n = 128;
+    let h = l / n as f64;
+    let err = pinned_beam_first_frequency(n, true, false) / exact_shear_only - 1.0;
+    let predicted = (k * h).powi(2) / 24.0 * s / (1.0 + s);
+    eprintln!("err {err:.6e}, predicted (kh)²/24·s/(1+s) = {predicted:.6e} (s = {s:.6})");
+    assert!((err / predicted - 1.0).abs() < 3e-3, "{err} vs {predicted}");
 }
 
 /// Friswell et al. (2010) Example 5.9.1 / ROSS `rotor_example`: 1.5 m, 50 mm steel shaft in 6
