@@ -248,6 +248,10 @@ enum MInv {
 /// damping term (modal damping).
 #[derive(Debug)]
 enum StepSolver {
+    /// Block-tridiagonal LU in 4 × 4 node blocks (shaft models without pedestal, axial or
+    /// torsional DOFs).
+    Block(crate::linalg::BlockTridiag),
+    /// General sparse LU with pivoting (faer).
     Sparse(StepLu),
     LowRank(crate::linalg::WoodburyLu),
 }
@@ -255,6 +259,7 @@ enum StepSolver {
 impl StepSolver {
     fn solve_in_place(&mut self, b: &mut [f64]) {
         match self {
+            StepSolver::Block(lu) => lu.solve_in_place(b),
             StepSolver::Sparse(lu) => lu.solve_in_place(b),
             StepSolver::LowRank(w) => w.solve_in_place(b),
         }
@@ -310,7 +315,12 @@ impl DynBody {
                     };
                     StepSolver::LowRank(crate::linalg::WoodburyLu::new(&mt, scaled)?)
                 }
-                None => StepSolver::Sparse(StepLu::new(&mt)?),
+                // A shaft chain in node blocks gets the block Thomas solver; anything else (or
+                // a singular pivot block) the pivoting sparse LU.
+                None => match crate::linalg::BlockTridiag::new(&mt) {
+                    Ok(Some(b)) => StepSolver::Block(b),
+                    _ => StepSolver::Sparse(StepLu::new(&mt)?),
+                },
             };
             let mut col_of = vec![usize::MAX; n];
             let mut cols = vec![0.0; n * contact_dofs.len()];
