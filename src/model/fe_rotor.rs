@@ -222,16 +222,7 @@ pub struct ModalDamping {
 /// Mass-normalised undamped modes `(ω², Φ)` of `K φ = ω² M φ`, ascending (`Φᵀ M Φ = I`),
 /// dense (by a Cholesky factor of M: every DOF needs mass or rotary inertia).
 pub fn undamped_modes(m: &Csc, k: &Csc) -> Result<(Vec<f64>, DMatrix<f64>), ModelError> {
-    let l = dense(m).cholesky().ok_or_else(|| ModelError::Singular {
-        what: "rotor mass matrix".into(),
-        detail: "not positive definite: every DOF needs mass or rotary inertia".into(),
-    })?;
-    let linv = l.l().try_inverse().ok_or_else(|| ModelError::Singular {
-        what: "rotor mass matrix".into(),
-        detail: "Cholesky factor not invertible".into(),
-    })?;
-    let a = &linv * dense(k) * linv.transpose();
-    let a = (&a + a.transpose()) * 0.5;
+    let (a, linv) = symmetric_form(dense(m), dense(k))?;
     let na = a.nrows();
     let eig = a.symmetric_eigen();
     let mut order: Vec<usize> = (0..eig.eigenvalues.len()).collect();
@@ -239,6 +230,24 @@ pub fn undamped_modes(m: &Csc, k: &Csc) -> Result<(Vec<f64>, DMatrix<f64>), Mode
     let lam: Vec<f64> = order.iter().map(|i| eig.eigenvalues[*i]).collect();
     let v = DMatrix::from_fn(na, order.len(), |r, c| eig.eigenvectors[(r, order[c])]);
     Ok((lam, linv.transpose() * v))
+}
+
+/// `(A, L⁻¹)` with `A = L⁻¹ K L⁻ᵀ` (symmetrised), `M = L Lᵀ`: the standard symmetric form of
+/// `K φ = ω² M φ` (eigenvalues ω², eigenvectors ψ = Lᵀ φ).
+fn symmetric_form(
+    m: DMatrix<f64>,
+    k: DMatrix<f64>,
+) -> Result<(DMatrix<f64>, DMatrix<f64>), ModelError> {
+    let l = m.cholesky().ok_or_else(|| ModelError::Singular {
+        what: "rotor mass matrix".into(),
+        detail: "not positive definite: every DOF needs mass or rotary inertia".into(),
+    })?;
+    let linv = l.l().try_inverse().ok_or_else(|| ModelError::Singular {
+        what: "rotor mass matrix".into(),
+        detail: "Cholesky factor not invertible".into(),
+    })?;
+    let a = &linv * k * linv.transpose();
+    Ok(((&a + a.transpose()) * 0.5, linv))
 }
 
 /// Everything needed to build an [`FeRotor`].
@@ -723,16 +732,7 @@ impl FeRotor {
         let k = dense(&self.k(omega_for_bearings))
             .view((0, 0), (n, n))
             .into_owned();
-        let l = m.clone().cholesky().ok_or_else(|| ModelError::Singular {
-            what: "rotor mass matrix".into(),
-            detail: "not positive definite: every DOF needs mass or rotary inertia".into(),
-        })?;
-        let linv = l.l().try_inverse().ok_or_else(|| ModelError::Singular {
-            what: "rotor mass matrix".into(),
-            detail: "Cholesky factor not invertible".into(),
-        })?;
-        let a = &linv * k * linv.transpose();
-        let a = (&a + a.transpose()) * 0.5;
+        let (a, _) = symmetric_form(m, k)?;
         let mut ev: Vec<f64> = a
             .symmetric_eigenvalues()
             .iter()
