@@ -521,6 +521,12 @@ impl WoodburyLu {
         })
     }
 
+    /// `y += U diag(d) Uᵀ x` with the low-rank term this solver was built with (its scratch,
+    /// allocation free).
+    pub fn low_rank_mul_add(&mut self, x: &[f64], y: &mut [f64]) {
+        self.lr.mul_add(1.0, x, y, &mut self.t);
+    }
+
     /// Solves in place (`b` becomes `x`), allocation free.
     pub fn solve_in_place(&mut self, b: &mut [f64]) {
         let n = self.lr.n;

@@ -272,16 +272,11 @@ struct DynBody {
     n: usize,
     /// `A = 2M/Δt² − K` and `B = C/(2Δt) − M/Δt²` on one pattern.
     ab: PairCsr,
-    /// Low-rank damping `C_l = U diag(d) Uᵀ` (its `B` part `C_l/(2Δt)` is applied to uⁿ⁻¹
-    /// separately) with an m-vector of scratch.
-    low: Option<(crate::linalg::LowRank, Vec<f64>)>,
     minv: MInv,
     u_prev: Vec<f64>,
     u: Vec<f64>,
     u_next: Vec<f64>,
     rhs: Vec<f64>,
-    /// 1/(2Δt), the factor of the low-rank damping in B.
-    dt_half_inv: f64,
 }
 
 impl DynBody {
@@ -340,21 +335,23 @@ impl DynBody {
         Ok(Self {
             n,
             ab: PairCsr::new(&aop, &bop),
-            low: low.map(|lr| (lr.clone(), vec![0.0; lr.rank()])),
             minv,
             u_prev: vec![0.0; n],
             u: vec![0.0; n],
             u_next: vec![0.0; n],
             rhs: vec![0.0; n],
-            dt_half_inv: 1.0 / (2.0 * dt),
         })
     }
 
     /// `u_next = M̃⁻¹ (rhs + A u + B u_prev)`; `rhs` holds the external force on entry.
     fn predict(&mut self) {
         self.ab.mul_add(&self.u, &self.u_prev, &mut self.rhs);
-        if let Some((lr, scratch)) = &mut self.low {
-            lr.mul_add(self.dt_half_inv, &self.u_prev, &mut self.rhs, scratch);
+        // Low-rank damping C_l: its share of B, C_l/(2Δt), is the term the Woodbury solver
+        // holds (M̃ = S + C_l/(2Δt)).
+        if let MInv::Lu { lu, .. } = &mut self.minv {
+            if let StepSolver::LowRank(w) = lu.as_mut() {
+                w.low_rank_mul_add(&self.u_prev, &mut self.rhs);
+            }
         }
         match &mut self.minv {
             MInv::Diag(inv) => {
