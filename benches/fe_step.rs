@@ -9,7 +9,8 @@
 use nalgebra::{DMatrix, DVector};
 use rubsim::model::fe_rotor::dense;
 use rubsim::model::Model;
-use rubsim::scene::{self, IntegratorKind};
+use rubsim::scene;
+use rubsim::time::Scheme;
 use rubsim::time::{integrate, plan_steps, Initial};
 use std::path::Path;
 use std::time::Instant;
@@ -102,8 +103,7 @@ fn main() {
         for _ in 0..3 {
             let t0 = Instant::now();
             let (_, stats) =
-                integrate(&case, IntegratorKind::Collocated, &plan, Initial::default())
-                    .expect("run");
+                integrate(&case, Scheme::Collocated, &plan, Initial::default()).expect("run");
             best = best.min(t0.elapsed().as_secs_f64());
             steps = stats.steps;
             contact = stats.contact_steps;

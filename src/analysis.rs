@@ -10,8 +10,8 @@ use crate::model::Model;
 use crate::scene::{IntegratorKind, RunSpec};
 use crate::signal::{extents, hann_spectrum, line_amplitude, poincare_period};
 use crate::time::{
-    integrate, integrate_with, plan_steps, FrameSink, Initial, Record, RunStats, StepParams,
-    StepPlan,
+    integrate, integrate_with, plan_steps, FrameSink, Initial, Record, RunStats, Scheme,
+    StepParams, StepPlan,
 };
 use rayon::prelude::*;
 use serde::Serialize;
@@ -41,7 +41,7 @@ impl RunSettings {
     pub fn from_run(run: &RunSpec, component: &str) -> Self {
         Self {
             step: StepParams {
-                integrator: run.integrator,
+                integrator: scheme(run.integrator),
                 dt: run.dt,
                 harmonics: run.harmonics,
                 revolutions: run.revolutions,
@@ -55,6 +55,14 @@ impl RunSettings {
             },
             component: if component == "x" { 0 } else { 1 },
         }
+    }
+}
+
+/// The time loop's scheme for the scene's `run.integrator`.
+pub fn scheme(kind: IntegratorKind) -> Scheme {
+    match kind {
+        IntegratorKind::ForwardIncrement => Scheme::ForwardIncrement,
+        IntegratorKind::Collocated => Scheme::Collocated,
     }
 }
 
@@ -429,7 +437,7 @@ pub fn convergence(
     let case = model.case(omega)?;
     let spr = s.step.samples_per_rev;
     let t_rev = 2.0 * std::f64::consts::PI / omega;
-    let run = |kind: IntegratorKind, level: u32| -> Result<(SpeedResults, Record)> {
+    let run = |kind: Scheme, level: u32| -> Result<(SpeedResults, Record)> {
         let mut st = *s;
         st.step.integrator = kind;
         st.step.dt = Some(t_rev / (spr as f64 * (1u64 << level) as f64) * (1.0 + 1e-12));
@@ -438,7 +446,7 @@ pub fn convergence(
         let r = analyse(&case, &st, &plan, &rec, stats, Keep::default());
         Ok((r, rec))
     };
-    let (rref, recref) = run(IntegratorKind::Collocated, ref_level)?;
+    let (rref, recref) = run(Scheme::Collocated, ref_level)?;
     let nrec = recref.len();
     let cmp_from = nrec.saturating_sub(compare_revs * spr + 1);
     let ref_orbit: Vec<V2> = (cmp_from..nrec).map(|i| recref.observed[i]).collect();
@@ -451,7 +459,7 @@ pub fn convergence(
     let ref_span = extent_scale(&rref.extents_nd);
     let mut points = Vec::new();
     let mut orders = Vec::new();
-    for kind in [IntegratorKind::ForwardIncrement, IntegratorKind::Collocated] {
+    for kind in [Scheme::ForwardIncrement, Scheme::Collocated] {
         let mut dts = Vec::new();
         let mut errs = Vec::new();
         for &l in levels {
@@ -497,7 +505,7 @@ pub fn convergence(
     Ok(ConvergenceResults {
         speed_ratio,
         reference_dt: rref.plan.dt,
-        reference_integrator: IntegratorKind::Collocated.name(),
+        reference_integrator: Scheme::Collocated.name(),
         reference_period: rref.period,
         points,
         orders,

@@ -117,15 +117,26 @@ pub enum SolveError {
         /// What sets the limit.
         reason: String,
     },
-    /// A frame writer (VTK/HDF5) failed while the run was streaming its output.
-    #[error("writing the frame of step {step} (t = {time:.6e} s) failed: {message}")]
+    /// A frame sink (VTK/HDF5 writer, stress probe) failed while the run was streaming.
+    #[error("writing the frame of step {step} (t = {time:.6e} s) failed: {source}")]
     FrameOutput {
         /// Step index.
         step: usize,
         /// Time (s).
         time: f64,
-        /// The writer's message.
-        message: String,
+        /// The sink's error.
+        source: Box<Error>,
+    },
+    /// The step matrix of a body (M̃ = M/Δt² + C/(2Δt)) or the stiffness of a massless stator
+    /// could not be factored before the loop.
+    #[error("{what}: cannot factor its step matrix (Δt = {dt:.3e} s): {detail}")]
+    Factorization {
+        /// Which body (`rotor`, ``stator `name` ``).
+        what: String,
+        /// Time step (s).
+        dt: f64,
+        /// Solver detail.
+        detail: String,
     },
     /// The contact complementarity problem could not be solved.
     #[error("contact solve failed at step {step} (t = {time:.6e} s) with {pairs} candidate pairs: {message}")]

@@ -533,7 +533,7 @@ fn check(c: &Common) -> Result<()> {
             println!(
                 "  massless: enters the time loop as the compliance of its {} contact DOFs (one sparse Cholesky; {}), not as a mesh",
                 m.contact_dofs().len(),
-                if m.contact_dofs().len() <= 32 { "every column up front" } else { "columns computed when a node first touches, cached" }
+                if m.contact_dofs().len() <= rubsim::time::EAGER_DOFS { "every column up front" } else { "columns computed when a node first touches, cached" }
             );
         } else {
             println!(
@@ -739,7 +739,7 @@ fn bench(c: &Common, repeat: usize, reference: bool) -> Result<()> {
     if reference {
         let mut rs = s;
         rs.error_estimate = false;
-        rs.step.integrator = rubsim::scene::IntegratorKind::Collocated;
+        rs.step.integrator = rubsim::time::Scheme::Collocated;
         rs.step.harmonics *= 16.0;
         let rr = analysis::sweep(&model, &rs, &speeds, &|_| Keep::default(), &|| {})?;
         let mut errs: Vec<(f64, f64, usize)> = r

@@ -90,7 +90,7 @@ impl FrameSink for StressProbe<'_> {
     fn every(&self) -> usize {
         self.every
     }
-    fn frame(&mut self, f: &Frame<'_>) -> std::result::Result<(), String> {
+    fn frame(&mut self, f: &Frame<'_>) -> Result<()> {
         if f.t < self.start {
             return Ok(());
         }

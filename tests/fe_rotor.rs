@@ -1059,7 +1059,7 @@ impl rubsim::time::FrameSink for TwistProbe {
     fn every(&self) -> usize {
         1
     }
-    fn frame(&mut self, fr: &rubsim::time::Frame<'_>) -> Result<(), String> {
+    fn frame(&mut self, fr: &rubsim::time::Frame<'_>) -> rubsim::error::Result<()> {
         let p: f64 = fr.pairs.iter().map(|x| x.p).sum();
         self.rows
             .push([fr.t, fr.rotor_u[self.dofs[0]], fr.rotor_u[self.dofs[1]], p]);
@@ -1075,7 +1075,7 @@ impl rubsim::time::FrameSink for TwistProbe {
 /// M̃⁻¹ like the contact force), and for a full annular rub on a ring (constant torque).
 #[test]
 fn friction_torque_twists_the_shaft_by_r_mu_p_over_k() {
-    use rubsim::scene::IntegratorKind;
+    use rubsim::time::Scheme;
     let ring = PAPER_TORSION.replace(
         "[[stator]]\nkind = \"rod\"\nname = \"rod\"\nstation = \"disk\"\nclearance_nd = 0.6\nlength = 0.04\narea = 25e-6\nstiffness_ratio = 25.0\nangle_deg = 90.0\n",
         "[[stator]]\nkind = \"ring\"\nname = \"ring\"\nstation = \"disk\"\nclearance_nd = 0.48\nstiffness_ratio = 25.0\n",
@@ -1085,24 +1085,14 @@ fn friction_torque_twists_the_shaft_by_r_mu_p_over_k() {
     let gj = 200e9 / 2.6 * PI * 0.01_f64.powi(4) / 32.0;
     let l04 = 0.2;
     for (text, nu, kind, what) in [
+        (PAPER_TORSION, 1.7, Scheme::Collocated, "rod, collocated"),
         (
             PAPER_TORSION,
             1.7,
-            IntegratorKind::Collocated,
-            "rod, collocated",
-        ),
-        (
-            PAPER_TORSION,
-            1.7,
-            IntegratorKind::ForwardIncrement,
+            Scheme::ForwardIncrement,
             "rod, forward increment",
         ),
-        (
-            ring.as_str(),
-            1.0,
-            IntegratorKind::Collocated,
-            "ring, collocated",
-        ),
+        (ring.as_str(), 1.0, Scheme::Collocated, "ring, collocated"),
     ] {
         let ov: Vec<String> = vec![
             "run.revolutions=80".into(),

@@ -2,7 +2,8 @@
 //! the number of steps (everything is allocated before the loop, the recorder up front).
 
 use rubsim::model::Model;
-use rubsim::scene::{self, IntegratorKind};
+use rubsim::scene;
+use rubsim::time::Scheme;
 use rubsim::time::{integrate, plan_steps, Initial};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
@@ -44,9 +45,9 @@ fn allocations_do_not_grow_with_steps() {
     let text = include_str!("../scenes/paper/partial_rub.toml")
         .replace("[run.sweep]\nfrom = 0.5\nto = 6.0\nstep = 0.1", "");
     for (kind, extra) in [
-        (IntegratorKind::Collocated, "stator.0.density=0.0"),
-        (IntegratorKind::ForwardIncrement, "stator.0.density=0.0"),
-        (IntegratorKind::ForwardIncrement, "stator.0.density=20.0"),
+        (Scheme::Collocated, "stator.0.density=0.0"),
+        (Scheme::ForwardIncrement, "stator.0.density=0.0"),
+        (Scheme::ForwardIncrement, "stator.0.density=20.0"),
     ] {
         let mut counts = Vec::new();
         for revs in [20usize, 80] {

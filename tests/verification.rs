@@ -2,7 +2,8 @@
 
 use rubsim::analysis::{self, Keep, RunSettings};
 use rubsim::model::Model;
-use rubsim::scene::{self, IntegratorKind, LoadedScene};
+use rubsim::scene::{self, LoadedScene};
+use rubsim::time::Scheme;
 use rubsim::time::{integrate, plan_steps, Initial, Record};
 use std::path::Path;
 
@@ -81,7 +82,7 @@ fn record(
     model: &Model,
     nu: f64,
     init: Initial,
-    kind: IntegratorKind,
+    kind: Scheme,
 ) -> (Record, rubsim::time::StepPlan) {
     let case = model.case(nu * model.rotor.natural_frequency()).unwrap();
     let mut st = settings(ls).step;
@@ -108,10 +109,7 @@ stiffness_ratio = 25.0
         (1.0, 1.23273, 35.094),
         (1.2, 1.27061, 33.102),
     ] {
-        for (kind, harmonics) in [
-            (IntegratorKind::Collocated, "4"),
-            (IntegratorKind::ForwardIncrement, "64"),
-        ] {
+        for (kind, harmonics) in [(Scheme::Collocated, "4"), (Scheme::ForwardIncrement, "64")] {
             let (ls, model) = load(&text, &[&format!("run.harmonics={harmonics}")]);
             let e = 1e-3;
             let b = f64::to_radians(beta_deg);
@@ -134,7 +132,7 @@ stiffness_ratio = 25.0
             }
             let d = rec.disp_at(last - last % spr, 0);
             let lag = -d[1].atan2(d[0]);
-            let tol = if kind == IntegratorKind::Collocated {
+            let tol = if kind == Scheme::Collocated {
                 1e-3
             } else {
                 4e-3
@@ -190,7 +188,7 @@ error_estimate = false
         u: [r0, 0.0],
         v: [0.0, -ww * r0],
     };
-    let (rec, plan) = record(&ls, &model, 2.0, init, IntegratorKind::Collocated);
+    let (rec, plan) = record(&ls, &model, 2.0, init, Scheme::Collocated);
     let spr = plan.steps_per_rev / plan.record_every;
     let last = rec.len() - 1;
     let rmax = (last - spr..=last)
@@ -225,7 +223,7 @@ fn dry_whip_threshold() {
 
 /// Energy balance of a run recorded at every step (collocated: forces at tₙ):
 /// ΔE_rotor + ΔE_stator = W_unbalance − W_damping + W_friction.
-fn energy_residual(kind: IntegratorKind) -> f64 {
+fn energy_residual(kind: Scheme) -> f64 {
     let text = PAPER.replace("[run.sweep]\nfrom = 0.5\nto = 6.0\nstep = 0.1", "");
     let (ls, model) = load(
         &text,
@@ -289,10 +287,10 @@ fn energy_residual(kind: IntegratorKind) -> f64 {
 
 #[test]
 fn energy_balance_closes() {
-    let r = energy_residual(IntegratorKind::Collocated);
+    let r = energy_residual(Scheme::Collocated);
     assert!(r < 2e-4, "collocated energy residual {r:e}");
     // The forward-increment scheme dissipates at impacts; measured, not required to close.
-    let f = energy_residual(IntegratorKind::ForwardIncrement);
+    let f = energy_residual(Scheme::ForwardIncrement);
     assert!(f.is_finite() && f < 0.5, "forward-increment residual {f:e}");
     eprintln!("energy residual: collocated {r:.2e}, forward increment {f:.2e}");
 }

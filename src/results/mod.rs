@@ -1053,7 +1053,7 @@ impl FrameSink for ResultsSink {
         self.every
     }
 
-    fn frame(&mut self, frame: &Frame<'_>) -> std::result::Result<(), String> {
+    fn frame(&mut self, frame: &Frame<'_>) -> Result<()> {
         let now = self.wants(frame.step);
         let before_next = self.need_velocity && self.wants(frame.step + 1);
         if !now && !before_next {
@@ -1064,7 +1064,7 @@ impl FrameSink for ResultsSink {
             if self.need_velocity {
                 self.velocities();
             }
-            self.write().map_err(|e| e.to_string())?;
+            self.write()?;
         }
         if before_next {
             // Reuses the buffers of the previous copy: no allocation after the first frame.

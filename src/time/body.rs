@@ -1,0 +1,229 @@
+//! The bodies of the loop: a body with mass integrated by central differences ([`DynBody`]) and
+//! a stator's state in the loop ([`StatorDyn`]: a body with mass, or a massless stator's
+//! [`Compliance`]).
+//!
+//! Central differences (Eqs. 35–36): `M̃ uⁿ⁺¹ = fⁿ + A uⁿ + B uⁿ⁻¹` with `M̃ = M/Δt² + C/(2Δt)`,
+//! `A = 2M/Δt² − K`, `B = C/(2Δt) − M/Δt²`. M̃ is factored once per run.
+
+use super::compliance::Compliance;
+use crate::linalg::{BlockTridiag, Csc, LowRank, PairCsr, StepLu, WoodburyLu};
+
+/// M̃⁻¹ of a body with mass.
+#[derive(Debug)]
+pub(crate) enum MInv {
+    /// Diagonal M̃ (Jeffcott rotor, lumped stators without stiffness-proportional damping).
+    Diag(Vec<f64>),
+    /// A factored M̃ with its columns at the contact DOFs.
+    Lu {
+        /// The factor.
+        lu: Box<StepSolver>,
+        /// Columns M̃⁻¹ e_d for contact DOFs, column-major n × ncd.
+        cols: Vec<f64>,
+        /// DOF → column index in `cols` (`usize::MAX` for other DOFs).
+        col_of: Vec<usize>,
+    },
+}
+
+/// The factored M̃: sparse LU, or sparse LU plus the Woodbury correction of a low-rank
+/// damping term (modal damping).
+#[derive(Debug)]
+pub(crate) enum StepSolver {
+    /// Block-tridiagonal LU in 4 × 4 node blocks (shaft models without pedestal, axial or
+    /// torsional DOFs).
+    Block(BlockTridiag),
+    /// General sparse LU with pivoting (faer).
+    Sparse(StepLu),
+    /// Sparse LU plus the Woodbury correction of a low-rank damping term.
+    LowRank(WoodburyLu),
+}
+
+impl StepSolver {
+    fn solve_in_place(&mut self, b: &mut [f64]) {
+        match self {
+            StepSolver::Block(lu) => lu.solve_in_place(b),
+            StepSolver::Sparse(lu) => lu.solve_in_place(b),
+            StepSolver::LowRank(w) => w.solve_in_place(b),
+        }
+    }
+}
+
+/// A body with mass, integrated explicitly.
+#[derive(Debug)]
+pub(crate) struct DynBody {
+    pub(crate) n: usize,
+    /// `A = 2M/Δt² − K` and `B = C/(2Δt) − M/Δt²` on one pattern.
+    ab: PairCsr,
+    pub(crate) minv: MInv,
+    pub(crate) u_prev: Vec<f64>,
+    pub(crate) u: Vec<f64>,
+    pub(crate) u_next: Vec<f64>,
+    pub(crate) rhs: Vec<f64>,
+}
+
+impl DynBody {
+    /// `low`: an optional low-rank damping term added to `c` (M̃ then gets a Woodbury solve).
+    pub(crate) fn new(
+        m: &Csc,
+        c: &Csc,
+        k: &Csc,
+        low: Option<&LowRank>,
+        dt: f64,
+        contact_dofs: &[usize],
+    ) -> Result<Self, String> {
+        let n = m.nrows();
+        let aop = Csc::lin_comb(2.0 / (dt * dt), m, -1.0, k);
+        let bop = Csc::lin_comb(1.0 / (2.0 * dt), c, -1.0 / (dt * dt), m);
+        let mt = Csc::lin_comb(1.0 / (dt * dt), m, 1.0 / (2.0 * dt), c);
+        let minv = if mt.is_diagonal() && low.is_none() {
+            let d = mt.diagonal();
+            if let Some(i) = d.iter().position(|v| *v <= 0.0) {
+                return Err(format!("M̃ has a non-positive diagonal entry at DOF {i}"));
+            }
+            MInv::Diag(d.iter().map(|v| 1.0 / v).collect())
+        } else {
+            let mut lu = match low {
+                // M̃ = S + U diag(d/(2Δt)) Uᵀ.
+                Some(lr) => {
+                    let scaled = LowRank {
+                        n: lr.n,
+                        u: lr.u.clone(),
+                        d: lr.d.iter().map(|d| d / (2.0 * dt)).collect(),
+                    };
+                    StepSolver::LowRank(WoodburyLu::new(&mt, scaled)?)
+                }
+                // A shaft chain in node blocks gets the block Thomas solver; anything else (or
+                // a singular pivot block) the pivoting sparse LU.
+                None => match BlockTridiag::new(&mt) {
+                    Ok(Some(b)) => StepSolver::Block(b),
+                    _ => StepSolver::Sparse(StepLu::new(&mt)?),
+                },
+            };
+            let mut col_of = vec![usize::MAX; n];
+            let mut cols = vec![0.0; n * contact_dofs.len()];
+            for (j, &d) in contact_dofs.iter().enumerate() {
+                col_of[d] = j;
+                cols[j * n + d] = 1.0;
+            }
+            for c in cols.chunks_mut(n) {
+                lu.solve_in_place(c);
+            }
+            MInv::Lu {
+                lu: Box::new(lu),
+                cols,
+                col_of,
+            }
+        };
+        Ok(Self {
+            n,
+            ab: PairCsr::new(&aop, &bop),
+            minv,
+            u_prev: vec![0.0; n],
+            u: vec![0.0; n],
+            u_next: vec![0.0; n],
+            rhs: vec![0.0; n],
+        })
+    }
+
+    /// `u_next = M̃⁻¹ (rhs + A u + B u_prev)`; `rhs` holds the external force on entry.
+    pub(crate) fn predict(&mut self) {
+        self.ab.mul_add(&self.u, &self.u_prev, &mut self.rhs);
+        // Low-rank damping C_l: its share of B, C_l/(2Δt), is the term the Woodbury solver
+        // holds (M̃ = S + C_l/(2Δt)).
+        if let MInv::Lu { lu, .. } = &mut self.minv {
+            if let StepSolver::LowRank(w) = lu.as_mut() {
+                w.low_rank_mul_add(&self.u_prev, &mut self.rhs);
+            }
+        }
+        match &mut self.minv {
+            MInv::Diag(inv) => {
+                for ((u, r), d) in self.u_next.iter_mut().zip(&self.rhs).zip(inv.iter()) {
+                    *u = d * r;
+                }
+            }
+            MInv::Lu { lu, .. } => {
+                self.u_next.copy_from_slice(&self.rhs);
+                lu.solve_in_place(&mut self.u_next);
+            }
+        }
+    }
+
+    #[inline]
+    pub(crate) fn flex(&self, a: usize, b: usize) -> f64 {
+        match &self.minv {
+            MInv::Diag(inv) => {
+                if a == b {
+                    inv[a]
+                } else {
+                    0.0
+                }
+            }
+            MInv::Lu { cols, col_of, .. } => cols[col_of[b] * self.n + a],
+        }
+    }
+
+    /// `u_next += M̃⁻¹ e_d · f`.
+    #[inline]
+    pub(crate) fn apply(&mut self, d: usize, f: f64) {
+        match &self.minv {
+            MInv::Diag(inv) => self.u_next[d] += inv[d] * f,
+            MInv::Lu { cols, col_of, .. } => {
+                let c = &cols[col_of[d] * self.n..(col_of[d] + 1) * self.n];
+                for (u, v) in self.u_next.iter_mut().zip(c) {
+                    *u += v * f;
+                }
+            }
+        }
+    }
+
+    pub(crate) fn rotate(&mut self) {
+        std::mem::swap(&mut self.u_prev, &mut self.u);
+        std::mem::swap(&mut self.u, &mut self.u_next);
+    }
+}
+
+/// A stator in the loop.
+#[derive(Debug)]
+pub(crate) enum StatorDyn {
+    /// Massless (Eq. 49): the compliance of its contact DOFs.
+    Massless(Compliance),
+    /// With mass: integrated explicitly like the rotor.
+    Massive(Box<DynBody>),
+}
+
+impl StatorDyn {
+    /// Current (predicted) displacement vector.
+    pub(crate) fn disp(&self) -> &[f64] {
+        match self {
+            StatorDyn::Massless(c) => &c.u,
+            StatorDyn::Massive(b) => &b.u_next,
+        }
+    }
+    pub(crate) fn flex(&self, a: usize, b: usize) -> f64 {
+        match self {
+            StatorDyn::Massless(c) => c.flex(a, b),
+            StatorDyn::Massive(d) => d.flex(a, b),
+        }
+    }
+    pub(crate) fn apply(&mut self, d: usize, f: f64) {
+        match self {
+            StatorDyn::Massless(c) => c.apply(d, f),
+            StatorDyn::Massive(b) => b.apply(d, f),
+        }
+    }
+    /// Makes `flex` available for a target's DOFs (massless: computes missing columns).
+    pub(crate) fn prepare(&mut self, dofs: [Option<usize>; 2]) {
+        if let StatorDyn::Massless(c) = self {
+            for d in dofs.into_iter().flatten() {
+                c.ensure(d);
+            }
+        }
+    }
+    /// First DOF whose current value is not finite (massless: the contact DOFs, the only ones
+    /// the loop updates).
+    pub(crate) fn first_non_finite(&self) -> Option<usize> {
+        match self {
+            StatorDyn::Massless(c) => c.cd.iter().copied().find(|&d| !c.u[d].is_finite()),
+            StatorDyn::Massive(b) => b.u_next.iter().position(|v| !v.is_finite()),
+        }
+    }
+}

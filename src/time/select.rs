@@ -1,0 +1,185 @@
+//! Contact selection: which candidate pairs enter a complementarity problem.
+//!
+//! Every contact phase of a step selects the same way ([`Pairs::select`]): freeze `n`, `a` and
+//! the gap `g` of every candidate that can be near the rotor (broad phase), find the deepest
+//! penetration `d = max(−g, 0)`; if there is one, every pair with `g < d` enters the problem
+//! (a pair that is open now may close when the others push the rotor toward it). Phases
+//! differ only in which stators they see, whether the broad-phase index is used, and whether
+//! the stators are taken deformed ([`Phase`]).
+
+use super::body::StatorDyn;
+use super::workspace::StepWorkspace;
+use crate::contact::search::BroadPhase;
+use crate::contact::{exact_gap, pair_state, target_disp, Candidate, PairState};
+use crate::math::V2;
+use crate::model::{Case, Target};
+
+/// Which candidates a contact phase considers, and how it sees the stators.
+#[derive(Debug, Clone)]
+pub(crate) struct Phase {
+    /// Query the broad-phase index (node targets of massless stators).
+    pub(crate) use_index: bool,
+    /// Per stator: whether its non-indexed candidates (stators with mass, ring targets) take
+    /// part.
+    pub(crate) keep: Vec<bool>,
+    /// Gaps with the stators' current displacement (`false`: undeformed).
+    pub(crate) deformed: bool,
+}
+
+/// The candidate pairs of a run and the index that finds the ones near the rotor.
+#[derive(Debug)]
+pub(crate) struct Pairs {
+    /// Every (station, stator target) pair that may touch.
+    pub(crate) cands: Vec<Candidate>,
+    /// Rotor DOFs `[x, y]` of each station's node.
+    pub(crate) station_dofs: Vec<[usize; 2]>,
+    /// Section radius of each station (m).
+    station_radius: Vec<f64>,
+    /// Node targets of massless stators, which do not move in a prediction, binned by radius
+    /// and angle (`contact::search`).
+    broad: BroadPhase,
+    /// Candidates visited every step (stators with mass, ring targets).
+    dynamic: Vec<usize>,
+    /// Spin (rad/s), for the tangent `a = Ω × n`.
+    omega: f64,
+}
+
+impl Pairs {
+    /// Every station against every target of the stators facing it.
+    pub(crate) fn new(case: &Case) -> Self {
+        let mut cands: Vec<Candidate> = Vec::new();
+        for (k, s) in case.stators.iter().enumerate() {
+            for t in 0..s.targets.len() {
+                let station = s.target_station(t);
+                let st = &case.stations[station];
+                cands.push(Candidate {
+                    station,
+                    stator: k,
+                    target: t,
+                    mu: st.friction,
+                    radius: st.radius,
+                });
+            }
+        }
+        let station_dofs: Vec<[usize; 2]> = case
+            .stations
+            .iter()
+            .map(|s| case.rotor.node_dofs[s.node])
+            .collect();
+        let mut indexed = Vec::new();
+        let mut dynamic = Vec::new();
+        for (ci, c) in cands.iter().enumerate() {
+            match &case.stators[c.stator].targets[c.target] {
+                Target::Node { x0, .. } if case.stators[c.stator].massless() => {
+                    indexed.push((ci, c.station, *x0))
+                }
+                _ => dynamic.push(ci),
+            }
+        }
+        Self {
+            broad: BroadPhase::new(&indexed, 16),
+            cands,
+            station_dofs,
+            station_radius: case.stations.iter().map(|s| s.radius).collect(),
+            dynamic,
+            omega: case.omega,
+        }
+    }
+
+    /// Number of candidates.
+    pub(crate) fn len(&self) -> usize {
+        self.cands.len()
+    }
+
+    /// Section centre `[x, y]` of a candidate's station with the rotor at `u`.
+    #[inline]
+    pub(crate) fn centre(&self, ci: usize, u: &[f64]) -> V2 {
+        let rd = self.station_dofs[self.cands[ci].station];
+        [u[rd[0]], u[rd[1]]]
+    }
+
+    /// Frozen geometry of candidate `ci` with the rotor at `u` and the stator at `stator_u`
+    /// (None: undeformed, the start of a massless stator's step).
+    fn pair_at(&self, case: &Case, ci: usize, u: &[f64], stator_u: Option<&[f64]>) -> PairState {
+        let c = &self.cands[ci];
+        let tg = &case.stators[c.stator].targets[c.target];
+        let us = stator_u.map_or([0.0; 2], |s| target_disp(tg.dofs(), s));
+        pair_state(tg, c.radius, self.centre(ci, u), us, self.omega)
+    }
+
+    /// The candidates that may have `g < margin` with the stations displaced as in `u`: from
+    /// the index when the phase uses it, plus the non-indexed candidates the phase keeps;
+    /// sorted.
+    fn gather(&self, ws: &mut StepWorkspace, u: &[f64], margin: f64, phase: &Phase) {
+        ws.near.clear();
+        if phase.use_index && !self.broad.is_empty() {
+            for (s, d) in self.station_dofs.iter().enumerate() {
+                ws.centre[s] = [u[d[0]], u[d[1]]];
+                ws.reach[s] = self.station_radius[s] + margin;
+            }
+            self.broad.query(&ws.centre, &ws.reach, &mut ws.near);
+        }
+        let before = ws.near.len();
+        ws.near.extend(
+            self.dynamic
+                .iter()
+                .copied()
+                .filter(|&ci| phase.keep[self.cands[ci].stator]),
+        );
+        if before > 0 && ws.near.len() > before {
+            ws.near.sort_unstable();
+        }
+    }
+
+    /// Fills `ws.sel` with the pairs of this phase's complementarity problem and their frozen
+    /// geometry in `ws.states`, the rotor at `u`; true when there is one (some pair
+    /// penetrates).
+    pub(crate) fn select(
+        &self,
+        case: &Case,
+        ws: &mut StepWorkspace,
+        u: &[f64],
+        stators: &[StatorDyn],
+        phase: &Phase,
+    ) -> bool {
+        let disp = |k: usize| phase.deformed.then(|| stators[k].disp());
+        ws.sel.clear();
+        let mut deepest = 0.0_f64;
+        self.gather(ws, u, 0.0, phase);
+        for &ci in &ws.near {
+            ws.states[ci] = self.pair_at(case, ci, u, disp(self.cands[ci].stator));
+            deepest = deepest.max(-ws.states[ci].g);
+        }
+        if deepest <= 0.0 {
+            return false;
+        }
+        // Every pair with g < deepest, from the nodes within r + deepest.
+        self.gather(ws, u, deepest, phase);
+        for &ci in &ws.near {
+            ws.states[ci] = self.pair_at(case, ci, u, disp(self.cands[ci].stator));
+            if ws.states[ci].g < deepest {
+                ws.sel.push(ci);
+            }
+        }
+        true
+    }
+
+    /// Smallest exact gap (no frozen normal) of the selected pairs after their correction,
+    /// the rotor at `u` and the stators at their current displacement (m).
+    pub(crate) fn min_gap(
+        &self,
+        case: &Case,
+        sel: &[usize],
+        u: &[f64],
+        stators: &[StatorDyn],
+        mut min: f64,
+    ) -> f64 {
+        for &ci in sel {
+            let c = &self.cands[ci];
+            let tg = &case.stators[c.stator].targets[c.target];
+            let us = target_disp(tg.dofs(), stators[c.stator].disp());
+            min = min.min(exact_gap(tg, c.radius, self.centre(ci, u), us));
+        }
+        min
+    }
+}

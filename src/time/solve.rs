@@ -1,0 +1,210 @@
+//! The contact solve of a step: assemble `W` over the selected pairs, solve the complementarity
+//! problem, apply the forces (Eqs. 45–47).
+//!
+//! The contact law enters here only through the force direction per unit normal force
+//! `b = n + μa` (permanent slip, Eq. 19; [`crate::contact::PairState::b`]): the problem is
+//! `p ≥ 0, g + W p ≥ 0, pᵀ(g + W p) = 0` with `W_ij = n_i · F (b_j)` summed over the bodies of
+//! the pair (`F` their flexibility at the contact DOFs), and the correction adds `F b_j p_j`.
+//! Another law (stick, wear) changes `b`, the unknowns per pair and the correction, not the
+//! loop.
+
+use super::body::StatorDyn;
+use super::frame::PairForce;
+use super::stepper::Stepper;
+use super::workspace::ForceSet;
+use crate::contact::{lcp, target_disp};
+use crate::error::SolveError;
+use crate::model::Target;
+
+/// Who takes part in a contact solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Held {
+    /// The rotor moves with the contact forces (forward increment): its flexibility `M̃⁻¹`
+    /// enters `W` and the forces correct its prediction.
+    No,
+    /// The rotor is held at uⁿ (collocated static solve of massless stators): only the
+    /// stators' compliance enters `W`; the forces load the rotor's next prediction.
+    Rotor,
+}
+
+impl Stepper<'_> {
+    /// Assembles `W` (row-major) and the gaps of the selected pairs into the workspace.
+    #[allow(clippy::needless_range_loop)]
+    fn assemble(&mut self, held: Held) {
+        let (case, pairs, rotor, stators) = (self.case, &self.pairs, &self.rotor, &self.stators);
+        let ws = &mut self.ws;
+        let q = ws.sel.len();
+        let sel = &ws.sel;
+        for (i, &ci) in sel.iter().enumerate() {
+            let c = &pairs.cands[ci];
+            let si = &ws.states[ci];
+            let rdi = pairs.station_dofs[c.station];
+            let tdi = case.stators[c.stator].targets[c.target].dofs();
+            ws.gvec[i] = si.g;
+            for (j, &cj) in sel.iter().enumerate() {
+                let d = &pairs.cands[cj];
+                let bj = ws.states[cj].b(d.mu);
+                let mut w = 0.0;
+                if held == Held::No {
+                    let rdj = pairs.station_dofs[d.station];
+                    for a in 0..2 {
+                        for b in 0..2 {
+                            w += si.n[a] * rotor.flex(rdi[a], rdj[b]) * bj[b];
+                        }
+                    }
+                }
+                if c.stator == d.stator {
+                    let tdj = case.stators[d.stator].targets[d.target].dofs();
+                    let body = &stators[c.stator];
+                    for a in 0..2 {
+                        for b in 0..2 {
+                            if let (Some(x), Some(y)) = (tdi[a], tdj[b]) {
+                                w += si.n[a] * body.flex(x, y) * bj[b];
+                            }
+                        }
+                    }
+                }
+                ws.wmat[i * q + j] = w;
+            }
+        }
+    }
+
+    /// One complementarity solve over `ws.sel` (frozen geometry in `ws.states`) at step `step`,
+    /// time `time` (s): the normal forces `ws.pvec`, applied to the rotor (unless held), the
+    /// stators and the station forces `into`; returns the principal pivots taken.
+    pub(crate) fn solve_contact(
+        &mut self,
+        held: Held,
+        into: ForceSet,
+        step: usize,
+        time: f64,
+    ) -> Result<usize, SolveError> {
+        let q = self.ws.sel.len();
+        self.ws.grow(q);
+        for &ci in &self.ws.sel {
+            let c = &self.pairs.cands[ci];
+            self.stators[c.stator].prepare(self.case.stators[c.stator].targets[c.target].dofs());
+        }
+        self.assemble(held);
+        let ws = &mut self.ws;
+        // Warm start: the pairs that carried force when last solved start active.
+        for (i, &ci) in ws.sel.iter().enumerate() {
+            ws.guess[i] = ws.carried[ci];
+        }
+        let piv = lcp::solve_warm(
+            q,
+            &ws.wmat[..q * q],
+            &ws.gvec[..q],
+            &mut ws.pvec[..q],
+            &mut ws.lcp,
+            &ws.guess,
+        )
+        .map_err(|e| SolveError::Contact {
+            step,
+            time,
+            pairs: q,
+            message: e.to_string(),
+        })?;
+        for (i, &ci) in ws.sel.iter().enumerate() {
+            ws.carried[ci] = ws.pvec[i] > 0.0;
+        }
+        self.apply_forces(held, into);
+        Ok(piv)
+    }
+
+    /// Applies the solved normal forces: `−b p` on the rotor section (a correction along M̃⁻¹, or
+    /// a load of the next prediction when the rotor is held), `+b p` on the stator target, and the
+    /// friction torque on the station's θ_z when the rotor has torsional DOFs.
+    fn apply_forces(&mut self, held: Held, into: ForceSet) {
+        let (case, pairs) = (self.case, &self.pairs);
+        let (ws, rotor, stators) = (&mut self.ws, &mut self.rotor, &mut self.stators);
+        let rotor_in = held == Held::No;
+        for i in 0..ws.sel.len() {
+            let p = ws.pvec[i];
+            if p == 0.0 {
+                continue;
+            }
+            let ci = ws.sel[i];
+            let c = &pairs.cands[ci];
+            let b = ws.states[ci].b(c.mu);
+            let n = ws.states[ci].n;
+            let rd = pairs.station_dofs[c.station];
+            if rotor_in {
+                rotor.apply(rd[0], -b[0] * p);
+                rotor.apply(rd[1], -b[1] * p);
+            }
+            // Friction torque on the station's θ_z (rotors with torsional DOFs): the force
+            // −(n + μa)p acts at R·n from the section centre, τ_z = R (n × F)_z = −R μ p (n × a)_z.
+            // θ_z is uncoupled from the lateral DOFs in M̃ (M, C + ΩG, bearings have no entries
+            // between them), so the torque moves no gap and W above is unchanged. Collocated
+            // static solve (rotor held): the torque joins the step's load like the force.
+            let tz = case.rotor.node_torsion.get(case.stations[c.station].node);
+            if let Some(&Some(tz)) = tz {
+                let tau = -c.radius * (n[0] * b[1] - n[1] * b[0]) * p;
+                if rotor_in {
+                    rotor.apply(tz, tau);
+                } else {
+                    rotor.rhs[tz] += tau;
+                }
+            }
+            let f = ws.forces(into);
+            f.total[c.station][0] -= b[0] * p;
+            f.total[c.station][1] -= b[1] * p;
+            f.normal[c.station][0] -= n[0] * p;
+            f.normal[c.station][1] -= n[1] * p;
+            let td = case.stators[c.stator].targets[c.target].dofs();
+            for a in 0..2 {
+                if let Some(d) = td[a] {
+                    stators[c.stator].apply(d, b[a] * p);
+                }
+            }
+        }
+    }
+
+    /// Elastic energy stored in the massless stators by the solved forces (J):
+    /// `½ Σ p_i b_i · u_s,i`.
+    pub(crate) fn stator_energy(&self) -> f64 {
+        let (case, pairs, ws, stators) = (self.case, &self.pairs, &self.ws, &self.stators);
+        let mut e = 0.0;
+        for (i, &ci) in ws.sel.iter().enumerate() {
+            let c = &pairs.cands[ci];
+            if let StatorDyn::Massless(cm) = &stators[c.stator] {
+                let b = ws.states[ci].b(c.mu);
+                let us = target_disp(case.stators[c.stator].targets[c.target].dofs(), &cm.u);
+                e += 0.5 * ws.pvec[i] * (b[0] * us[0] + b[1] * us[1]);
+            }
+        }
+        e
+    }
+
+    /// Appends the selected pairs that carry force to the frame's pairs (`ForceSet::Main`) or
+    /// to the collocated scheme's pairs of stators with mass, up to the buffer's capacity.
+    pub(crate) fn collect_pairs(&mut self, into: ForceSet) {
+        let (case, pairs) = (self.case, &self.pairs);
+        let ws = &mut self.ws;
+        let (sel, states, pvec) = (&ws.sel, &ws.states, &ws.pvec);
+        let out = match into {
+            ForceSet::Main => &mut ws.frame_pairs,
+            ForceSet::WithMass => &mut ws.with_mass_pairs,
+        };
+        for (i, &ci) in sel.iter().enumerate() {
+            let p = pvec[i];
+            if p > 0.0 && out.len() < out.capacity() {
+                let c = &pairs.cands[ci];
+                let b = states[ci].b(c.mu);
+                let node = match &case.stators[c.stator].targets[c.target] {
+                    Target::Node { node, .. } => *node,
+                    Target::Ring { .. } => 0,
+                };
+                out.push(PairForce {
+                    station: c.station,
+                    stator: c.stator,
+                    node,
+                    n: states[ci].n,
+                    p,
+                    force: [b[0] * p, b[1] * p],
+                });
+            }
+        }
+    }
+}

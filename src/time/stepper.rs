@@ -1,0 +1,499 @@
+//! The stepper: one step of the paper's algorithm, predict → select → solve → correct → guard
+//! → record, for both schemes.
+
+use super::body::{DynBody, StatorDyn};
+use super::compliance::Compliance;
+use super::frame::{Frame, FrameSink};
+use super::plan::{Scheme, StepPlan};
+use super::record::{Record, Recorder, RunStats};
+use super::select::{Pairs, Phase};
+use super::solve::Held;
+use super::workspace::{ForceSet, StepWorkspace};
+use crate::error::SolveError;
+use crate::math::V2;
+use crate::model::Case;
+use std::time::Instant;
+
+/// Initial state of the rotor, on station 0's node (node 0 without stations).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Initial {
+    /// Displacement `[x, y]` (m).
+    pub u: V2,
+    /// Velocity `[vx, vy]` (m/s).
+    pub v: V2,
+}
+
+/// A frame sink, or none.
+pub type Sink<'s> = Option<&'s mut dyn FrameSink>;
+
+/// Integrates one case step by step: owns the bodies (rotor and stators with mass as
+/// [`DynBody`], massless stators as their contact [`Compliance`]), the candidate pairs and
+/// their broad phase, every buffer of a step ([`StepWorkspace`]) and the record.
+///
+/// [`Stepper::step`] is the paper's algorithm (Sec. 2.5); the schemes ([`Scheme`]) differ
+/// only in when the massless stators' contact is solved:
+/// * forward increment: predict every body with λ = 0 (massless stators undeformed, Eq. 49),
+///   select the pairs penetrating the prediction, solve, correct (Eqs. 34–47);
+/// * collocated: first solve the massless stators' contact at tₙ with the rotor held at uⁿ
+///   and load the prediction with it; then the same forward increment for stators with mass.
+#[derive(Debug)]
+pub struct Stepper<'a> {
+    pub(crate) case: &'a Case,
+    plan: StepPlan,
+    scheme: Scheme,
+    pub(crate) pairs: Pairs,
+    /// Collocated static phase: massless stators, undeformed, rotor at uⁿ.
+    static_phase: Phase,
+    /// Forward-increment phase on the prediction (collocated: stators with mass only).
+    increment_phase: Phase,
+    pub(crate) rotor: DynBody,
+    pub(crate) stators: Vec<StatorDyn>,
+    pub(crate) ws: StepWorkspace,
+    recorder: Recorder,
+    stats: RunStats,
+    /// Divergence bound on the rotor displacement (m).
+    bound: f64,
+    /// Elastic energy in the massless stators after the last solve (J).
+    energy: f64,
+    /// Pairs carrying force in the current step.
+    active: usize,
+    /// Index of the next step.
+    n: usize,
+}
+
+impl<'a> Stepper<'a> {
+    /// Builds the bodies (M̃ factored once, massless stators condensed), the candidate pairs,
+    /// the workspace and a record sized for the whole run, and sets the initial state.
+    ///
+    /// # Errors
+    /// [`SolveError::Factorization`] when M̃ of a body or K of a massless stator cannot be
+    /// factored.
+    pub fn new(
+        case: &'a Case,
+        scheme: Scheme,
+        plan: &StepPlan,
+        init: Initial,
+    ) -> Result<Self, SolveError> {
+        let dt = plan.dt;
+        let factor_err = |what: String| {
+            move |detail: String| SolveError::Factorization {
+                what: what.clone(),
+                dt,
+                detail,
+            }
+        };
+        let rotor = DynBody::new(
+            &case.rotor.m,
+            &case.rotor.c,
+            &case.rotor.k,
+            case.rotor.c_low.as_ref(),
+            dt,
+            &rotor_contact_dofs(case),
+        )
+        .map_err(factor_err("rotor".into()))?;
+        let mut stators = Vec::with_capacity(case.stators.len());
+        for s in &case.stators {
+            let err = factor_err(format!("stator `{}`", s.name));
+            stators.push(if s.massless() {
+                StatorDyn::Massless(Compliance::new(s).map_err(err)?)
+            } else {
+                StatorDyn::Massive(Box::new(
+                    DynBody::new(&s.m, &s.c, &s.k, None, dt, &s.contact_dofs()).map_err(err)?,
+                ))
+            });
+        }
+        let pairs = Pairs::new(case);
+        let massless: Vec<bool> = case.stators.iter().map(|s| s.massless()).collect();
+        let collocated = scheme == Scheme::Collocated;
+        let static_phase = Phase {
+            use_index: true,
+            keep: massless.clone(),
+            deformed: false,
+        };
+        let increment_phase = Phase {
+            use_index: !collocated,
+            keep: massless.iter().map(|m| !(collocated && *m)).collect(),
+            deformed: true,
+        };
+        let node0 = case.stations.first().map_or(0, |s| s.node);
+        let recorder = Recorder::new(
+            pairs.station_dofs.clone(),
+            case.rotor.node_dofs[case.observed_node],
+            case.rotor.node_dofs[node0],
+            plan.steps / plan.record_every + 2,
+        );
+        let mut st = Self {
+            case,
+            plan: *plan,
+            scheme,
+            ws: StepWorkspace::new(pairs.len(), case.stations.len()),
+            pairs,
+            static_phase,
+            increment_phase,
+            rotor,
+            stators,
+            recorder,
+            stats: RunStats {
+                min_gap: f64::INFINITY,
+                ..Default::default()
+            },
+            bound: divergence_bound(case, init),
+            energy: 0.0,
+            active: 0,
+            n: 0,
+        };
+        st.set_initial(init, node0);
+        Ok(st)
+    }
+
+    /// uⁿ and uⁿ⁻¹ of the rotor from the initial displacement and velocity on `node`'s DOFs:
+    /// `u⁻¹ = u⁰ − Δt v⁰ + ½Δt² a⁰`, `a⁰ = M⁻¹(f⁰ − K u⁰ − C v⁰)` when M is diagonal (else 0).
+    fn set_initial(&mut self, init: Initial, node: usize) {
+        let (case, dt) = (self.case, self.plan.dt);
+        let n = self.rotor.n;
+        let d0 = case.rotor.node_dofs[node];
+        let mdiag = case.rotor.m.diagonal();
+        let mut f0 = vec![0.0; n];
+        case.rotor.add_unbalance(case.omega, 0.0, &mut f0);
+        let mut u0 = vec![0.0; n];
+        let mut v0 = vec![0.0; n];
+        for c in 0..2 {
+            u0[d0[c]] = init.u[c];
+            v0[d0[c]] = init.v[c];
+        }
+        case.rotor.k.mul_add(-1.0, &u0, &mut f0);
+        case.rotor.c.mul_add(-1.0, &v0, &mut f0);
+        if let Some(lr) = &case.rotor.c_low {
+            lr.mul_add(-1.0, &v0, &mut f0, &mut vec![0.0; lr.rank()]);
+        }
+        for i in 0..n {
+            let a0 = if case.rotor.m.is_diagonal() && mdiag[i] > 0.0 {
+                f0[i] / mdiag[i]
+            } else {
+                0.0
+            };
+            self.rotor.u[i] = u0[i];
+            self.rotor.u_prev[i] = u0[i] - dt * v0[i] + 0.5 * dt * dt * a0;
+        }
+    }
+
+    /// Runs every step of the plan, handing frames to `sink`; returns the record and counters.
+    pub fn run(mut self, mut sink: Sink<'_>) -> Result<(Record, RunStats), SolveError> {
+        let start = Instant::now();
+        if self.scheme == Scheme::ForwardIncrement {
+            // The initial state: nothing in contact yet.
+            self.record(0.0, ForceSet::Main, 0);
+            self.emit(&mut sink, 0, 0.0)?;
+        }
+        while self.step(&mut sink)? {}
+        let mut stats = self.stats;
+        stats.wall_s = start.elapsed().as_secs_f64();
+        if stats.min_gap == f64::INFINITY {
+            stats.min_gap = f64::NAN;
+        }
+        Ok((self.recorder.rec, stats))
+    }
+
+    /// One step of the plan, tₙ → tₙ₊₁; false once the plan is done (the collocated scheme
+    /// still solves and records the final instant's contact then).
+    pub fn step(&mut self, sink: &mut Sink<'_>) -> Result<bool, SolveError> {
+        let (n, dt) = (self.n, self.plan.dt);
+        let t = n as f64 * dt;
+        self.begin_step();
+        if self.scheme == Scheme::Collocated {
+            self.static_contact(n, t)?;
+            self.record_collocated(sink, n, t)?;
+            if n == self.plan.steps {
+                return Ok(false);
+            }
+            self.load_static_forces();
+        } else if n == self.plan.steps {
+            return Ok(false);
+        }
+        self.predict(t);
+        self.increment_contact(n, t)?;
+        if self.active > 0 {
+            self.stats.contact_steps += 1;
+            self.stats.max_active = self.stats.max_active.max(self.active);
+        }
+        self.guard(n + 1, t + dt)?;
+        self.advance();
+        if self.scheme == Scheme::ForwardIncrement {
+            if (n + 1) % self.plan.record_every == 0 {
+                self.record(t + dt, ForceSet::Main, self.active);
+            }
+            self.emit(sink, n + 1, t + dt)?;
+        }
+        self.n += 1;
+        Ok(true)
+    }
+
+    /// Clears what a step accumulates: frame pairs, station forces, the rotor's load.
+    fn begin_step(&mut self) {
+        self.ws.frame_pairs.clear();
+        self.ws.main.clear();
+        self.rotor.rhs.fill(0.0);
+        self.active = 0;
+    }
+
+    /// Collocated scheme: contact of the massless stators at tₙ, rotor held at uⁿ, stators
+    /// undeformed at the start of the solve.
+    fn static_contact(&mut self, n: usize, t: f64) -> Result<(), SolveError> {
+        for st in self.stators.iter_mut() {
+            if let StatorDyn::Massless(c) = st {
+                c.reset();
+            }
+        }
+        let found = self.pairs.select(
+            self.case,
+            &mut self.ws,
+            &self.rotor.u,
+            &self.stators,
+            &self.static_phase,
+        );
+        if !found {
+            self.energy = 0.0;
+            return Ok(());
+        }
+        self.stats.pivots += self.solve_contact(Held::Rotor, ForceSet::Main, n, t)?;
+        self.active = self.ws.active();
+        self.energy = self.stator_energy();
+        self.collect_pairs(ForceSet::Main);
+        self.stats.min_gap = self.pairs.min_gap(
+            self.case,
+            &self.ws.sel,
+            &self.rotor.u,
+            &self.stators,
+            self.stats.min_gap,
+        );
+        Ok(())
+    }
+
+    /// Collocated scheme: records tₙ with the static forces plus the forces of the stators
+    /// with mass from the step that ended at tₙ, and hands the frame to the sink.
+    fn record_collocated(
+        &mut self,
+        sink: &mut Sink<'_>,
+        n: usize,
+        t: f64,
+    ) -> Result<(), SolveError> {
+        let ws = &mut self.ws;
+        ws.recorded.set_sum(&ws.main, &ws.with_mass);
+        for pf in &ws.with_mass_pairs {
+            if ws.frame_pairs.len() < ws.frame_pairs.capacity() {
+                ws.frame_pairs.push(*pf);
+            }
+        }
+        let active = self.active + ws.with_mass_active;
+        if n % self.plan.record_every == 0 {
+            self.record(t, ForceSet::WithMass, active);
+        }
+        self.emit(sink, n, t)
+    }
+
+    /// Collocated scheme: the static contact forces load the rotor's prediction; the stators
+    /// with mass start a new step.
+    fn load_static_forces(&mut self) {
+        let ws = &mut self.ws;
+        ws.with_mass.clear();
+        ws.with_mass_pairs.clear();
+        ws.with_mass_active = 0;
+        for (s, d) in self.pairs.station_dofs.iter().enumerate() {
+            self.rotor.rhs[d[0]] += ws.main.total[s][0];
+            self.rotor.rhs[d[1]] += ws.main.total[s][1];
+        }
+    }
+
+    /// Predicts every body with mass with λ = 0 (Eqs. 35–36); forward increment: massless
+    /// stators start undeformed (Eq. 49).
+    fn predict(&mut self, t: f64) {
+        self.case
+            .rotor
+            .add_unbalance(self.case.omega, t, &mut self.rotor.rhs);
+        self.rotor.predict();
+        let collocated = self.scheme == Scheme::Collocated;
+        for st in self.stators.iter_mut() {
+            match st {
+                StatorDyn::Massive(b) => {
+                    b.rhs.fill(0.0);
+                    b.predict();
+                }
+                StatorDyn::Massless(c) => {
+                    if !collocated {
+                        c.reset();
+                    }
+                }
+            }
+        }
+    }
+
+    /// Forward-increment contact on the predicted configuration: select, solve, correct
+    /// (Eqs. 37–47).
+    fn increment_contact(&mut self, n: usize, t: f64) -> Result<(), SolveError> {
+        let collocated = self.scheme == Scheme::Collocated;
+        let found = self.pairs.select(
+            self.case,
+            &mut self.ws,
+            &self.rotor.u_next,
+            &self.stators,
+            &self.increment_phase,
+        );
+        if !found {
+            if !collocated {
+                self.energy = 0.0;
+            }
+            return Ok(());
+        }
+        let into = if collocated {
+            ForceSet::WithMass
+        } else {
+            ForceSet::Main
+        };
+        self.stats.pivots += self.solve_contact(Held::No, into, n, t)?;
+        let act = self.ws.active();
+        self.collect_pairs(into);
+        if collocated {
+            self.ws.with_mass_active = act;
+            self.active += act;
+        } else {
+            self.active = act;
+            self.energy = self.stator_energy();
+        }
+        self.stats.min_gap = self.pairs.min_gap(
+            self.case,
+            &self.ws.sel,
+            &self.rotor.u_next,
+            &self.stators,
+            self.stats.min_gap,
+        );
+        Ok(())
+    }
+
+    /// Stops a run that went unstable: a NaN or a rotor displacement beyond the divergence
+    /// bound, or a non-finite stator value, at step `n` (time `t`).
+    fn guard(&self, n: usize, t: f64) -> Result<(), SolveError> {
+        let (dt, limit, bound) = (self.plan.dt, self.plan.limit, self.bound);
+        for (i, v) in self.rotor.u_next.iter().enumerate() {
+            if v.is_nan() || v.abs() > bound {
+                return Err(if v.is_finite() {
+                    SolveError::Diverged {
+                        step: n,
+                        time: t,
+                        magnitude: v.abs(),
+                        bound,
+                        dt,
+                        limit,
+                    }
+                } else {
+                    SolveError::NonFinite {
+                        step: n,
+                        time: t,
+                        what: "rotor".into(),
+                        dof: i,
+                        dt,
+                        limit,
+                    }
+                });
+            }
+        }
+        for (k, st) in self.stators.iter().enumerate() {
+            if let Some(i) = st.first_non_finite() {
+                return Err(SolveError::NonFinite {
+                    step: n,
+                    time: t,
+                    what: format!("stator `{}`", self.case.stators[k].name),
+                    dof: i,
+                    dt,
+                    limit,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// uⁿ⁺¹ becomes uⁿ for every body with mass.
+    fn advance(&mut self) {
+        self.rotor.rotate();
+        for st in self.stators.iter_mut() {
+            if let StatorDyn::Massive(b) = st {
+                b.rotate();
+            }
+        }
+        self.stats.steps += 1;
+    }
+
+    /// Records a sample at time `t`: the rotor's current state and the station
+    /// forces (`Main`, or the collocated scheme's sum with the stators with mass).
+    fn record(&mut self, t: f64, forces: ForceSet, active: usize) {
+        let f = match forces {
+            ForceSet::Main => &self.ws.main,
+            ForceSet::WithMass => &self.ws.recorded,
+        };
+        self.recorder
+            .sample(t, &self.rotor.u, &f.total, &f.normal, self.energy, active);
+    }
+
+    /// Hands the state at step `n` to the sink when its interval asks for it (massless
+    /// stators, which keep only their contact DOFs current, rebuild their field first).
+    fn emit(&mut self, sink: &mut Sink<'_>, n: usize, t: f64) -> Result<(), SolveError> {
+        let Some(s) = sink.as_mut() else {
+            return Ok(());
+        };
+        let every = s.every();
+        if every == 0 || n % every != 0 {
+            return Ok(());
+        }
+        for st in self.stators.iter_mut() {
+            if let StatorDyn::Massless(c) = st {
+                c.refresh();
+            }
+        }
+        s.frame(&Frame {
+            step: n,
+            t,
+            rotor_u: &self.rotor.u,
+            pairs: &self.ws.frame_pairs,
+            stators: &self.stators,
+        })
+        .map_err(|e| SolveError::FrameOutput {
+            step: n,
+            time: t,
+            source: Box::new(e),
+        })
+    }
+}
+
+/// Rotor DOFs the contact acts on: every station node's `[u_x, u_y]` and, with torsional
+/// DOFs, its θ_z (the friction torque acts there); sorted.
+fn rotor_contact_dofs(case: &Case) -> Vec<usize> {
+    let mut cd: Vec<usize> = case
+        .stations
+        .iter()
+        .flat_map(|s| case.rotor.node_dofs[s.node])
+        .collect();
+    cd.extend(
+        case.stations
+            .iter()
+            .filter_map(|s| case.rotor.node_torsion.get(s.node).copied().flatten()),
+    );
+    cd.sort_unstable();
+    cd.dedup();
+    cd
+}
+
+/// A rotor displacement beyond 10⁴ times the run's length scale (|Z0|, the largest finite
+/// clearance, the initial displacement) means the run diverged (m).
+fn divergence_bound(case: &Case, init: Initial) -> f64 {
+    let scale = case
+        .z0
+        .max(
+            case.stators
+                .iter()
+                .map(|s| s.clearance)
+                .filter(|c| c.is_finite())
+                .fold(0.0, f64::max),
+        )
+        .max(init.u[0].hypot(init.u[1]))
+        .max(1e-9);
+    1e4 * scale
+}

@@ -1,0 +1,147 @@
+//! Every buffer a step uses, allocated before the loop.
+
+use super::frame::PairForce;
+use crate::contact::lcp::LcpWorkspace;
+use crate::contact::PairState;
+use crate::math::V2;
+
+/// The dense contact buffers are first sized for this many pairs at once (all candidates when
+/// fewer); they grow only if a contact problem is larger (large meshed stators).
+const LCP_CAP: usize = 256;
+
+/// Contact force on each station `[Fx, Fy]` (N) and its normal part, summed over pairs.
+#[derive(Debug, Clone)]
+pub(crate) struct StationForces {
+    /// Total force `−Σ (n + μa) p` on each station's section.
+    pub(crate) total: Vec<V2>,
+    /// Normal part `−Σ n p`.
+    pub(crate) normal: Vec<V2>,
+}
+
+impl StationForces {
+    fn new(nst: usize) -> Self {
+        Self {
+            total: vec![[0.0; 2]; nst],
+            normal: vec![[0.0; 2]; nst],
+        }
+    }
+    /// Back to zero.
+    pub(crate) fn clear(&mut self) {
+        for f in self.total.iter_mut().chain(self.normal.iter_mut()) {
+            *f = [0.0; 2];
+        }
+    }
+    /// `self = a + b`, component by component.
+    pub(crate) fn set_sum(&mut self, a: &StationForces, b: &StationForces) {
+        for s in 0..self.total.len() {
+            for k in 0..2 {
+                self.total[s][k] = a.total[s][k] + b.total[s][k];
+                self.normal[s][k] = a.normal[s][k] + b.normal[s][k];
+            }
+        }
+    }
+}
+
+/// Which accumulator a contact solve adds its station forces to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ForceSet {
+    /// The forces that enter the next prediction and the record: every pair in the
+    /// forward-increment scheme, the massless stators' static forces in the collocated one.
+    Main,
+    /// Collocated scheme only: the stators with mass, solved by forward increment within the
+    /// step and reported at its end.
+    WithMass,
+}
+
+/// Preallocated buffers of the stepper: selection, complementarity problem, forces, frames.
+#[derive(Debug)]
+pub(crate) struct StepWorkspace {
+    /// Broad-phase output: candidates near the rotor.
+    pub(crate) near: Vec<usize>,
+    /// Station centres and reach of a broad-phase query.
+    pub(crate) centre: Vec<V2>,
+    /// Reach `r + margin` per station (m).
+    pub(crate) reach: Vec<f64>,
+    /// Frozen geometry per candidate.
+    pub(crate) states: Vec<PairState>,
+    /// Candidates of the current complementarity problem.
+    pub(crate) sel: Vec<usize>,
+    /// Per candidate: did it carry force when last solved (the warm start of the LCP).
+    pub(crate) carried: Vec<bool>,
+    /// Warm-start guess per selected pair.
+    pub(crate) guess: Vec<bool>,
+    /// LCP pivoting workspace.
+    pub(crate) lcp: LcpWorkspace,
+    /// Contact operator `W` (row-major q × q), gaps `g`, normal forces `p`.
+    pub(crate) wmat: Vec<f64>,
+    /// Gaps of the selected pairs (m).
+    pub(crate) gvec: Vec<f64>,
+    /// Normal forces of the selected pairs (N).
+    pub(crate) pvec: Vec<f64>,
+    /// Station forces entering the prediction and the record.
+    pub(crate) main: StationForces,
+    /// Collocated scheme: forces of the stators with mass from the step ending now.
+    pub(crate) with_mass: StationForces,
+    /// Collocated scheme: the sum of both, as recorded.
+    pub(crate) recorded: StationForces,
+    /// Collocated scheme: the pairs of stators with mass in contact at the step's end.
+    pub(crate) with_mass_pairs: Vec<PairForce>,
+    /// Collocated scheme: how many of those.
+    pub(crate) with_mass_active: usize,
+    /// Pairs in contact at the frame's instant.
+    pub(crate) frame_pairs: Vec<PairForce>,
+}
+
+impl StepWorkspace {
+    /// Buffers for `nc` candidate pairs and `nst` stations (at least one force slot).
+    pub(crate) fn new(nc: usize, nstations: usize) -> Self {
+        let cap0 = nc.clamp(1, LCP_CAP);
+        let nst = nstations.max(1);
+        Self {
+            near: Vec::with_capacity(nc),
+            centre: vec![[0.0; 2]; nstations],
+            reach: vec![0.0; nstations],
+            states: vec![PairState::default(); nc],
+            sel: Vec::with_capacity(nc),
+            carried: vec![false; nc],
+            guess: vec![false; nc],
+            lcp: LcpWorkspace::new(cap0),
+            wmat: vec![0.0; cap0 * cap0],
+            gvec: vec![0.0; cap0],
+            pvec: vec![0.0; cap0],
+            main: StationForces::new(nst),
+            with_mass: StationForces::new(nst),
+            recorded: StationForces::new(nst),
+            with_mass_pairs: Vec::with_capacity(nc),
+            with_mass_active: 0,
+            frame_pairs: Vec::with_capacity(nc),
+        }
+    }
+
+    /// Makes room for a problem of `q` pairs (allocates only when `q` exceeds every earlier
+    /// problem and the first capacity).
+    pub(crate) fn grow(&mut self, q: usize) {
+        if q > self.lcp.capacity() {
+            self.lcp = LcpWorkspace::new(q);
+            self.wmat.resize(q * q, 0.0);
+            self.gvec.resize(q, 0.0);
+            self.pvec.resize(q, 0.0);
+        }
+    }
+
+    /// The station-force accumulator `which`.
+    pub(crate) fn forces(&mut self, which: ForceSet) -> &mut StationForces {
+        match which {
+            ForceSet::Main => &mut self.main,
+            ForceSet::WithMass => &mut self.with_mass,
+        }
+    }
+
+    /// Number of selected pairs that carry force after a solve.
+    pub(crate) fn active(&self) -> usize {
+        self.pvec[..self.sel.len()]
+            .iter()
+            .filter(|p| **p > 0.0)
+            .count()
+    }
+}
