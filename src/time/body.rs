@@ -192,18 +192,21 @@ pub(crate) enum StatorDyn {
 
 impl StatorDyn {
     /// Current (predicted) displacement vector.
+    #[inline]
     pub(crate) fn disp(&self) -> &[f64] {
         match self {
             StatorDyn::Massless(c) => &c.u,
             StatorDyn::Massive(b) => &b.u_next,
         }
     }
+    #[inline]
     pub(crate) fn flex(&self, a: usize, b: usize) -> f64 {
         match self {
             StatorDyn::Massless(c) => c.flex(a, b),
             StatorDyn::Massive(d) => d.flex(a, b),
         }
     }
+    #[inline]
     pub(crate) fn apply(&mut self, d: usize, f: f64) {
         match self {
             StatorDyn::Massless(c) => c.apply(d, f),
@@ -211,6 +214,7 @@ impl StatorDyn {
         }
     }
     /// Makes `flex` available for a target's DOFs (massless: computes missing columns).
+    #[inline]
     pub(crate) fn prepare(&mut self, dofs: [Option<usize>; 2]) {
         if let StatorDyn::Massless(c) = self {
             for d in dofs.into_iter().flatten() {
@@ -220,6 +224,7 @@ impl StatorDyn {
     }
     /// First DOF whose current value is not finite (massless: the contact DOFs, the only ones
     /// the loop updates).
+    #[inline]
     pub(crate) fn first_non_finite(&self) -> Option<usize> {
         match self {
             StatorDyn::Massless(c) => c.cd.iter().copied().find(|&d| !c.u[d].is_finite()),

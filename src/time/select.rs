@@ -100,6 +100,7 @@ impl Pairs {
 
     /// Frozen geometry of candidate `ci` with the rotor at `u` and the stator at `stator_u`
     /// (None: undeformed, the start of a massless stator's step).
+    #[inline]
     fn pair_at(&self, case: &Case, ci: usize, u: &[f64], stator_u: Option<&[f64]>) -> PairState {
         let c = &self.cands[ci];
         let tg = &case.stators[c.stator].targets[c.target];

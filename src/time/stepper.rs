@@ -424,6 +424,7 @@ impl<'a> Stepper<'a> {
 
     /// Records a sample at time `t`: the rotor's current state and the station
     /// forces (`Main`, or the collocated scheme's sum with the stators with mass).
+    #[inline]
     fn record(&mut self, t: f64, forces: ForceSet, active: usize) {
         let f = match forces {
             ForceSet::Main => &self.ws.main,
@@ -433,22 +434,25 @@ impl<'a> Stepper<'a> {
             .sample(t, &self.rotor.u, &f.total, &f.normal, self.energy, active);
     }
 
-    /// Hands the state at step `n` to the sink when its interval asks for it (massless
-    /// stators, which keep only their contact DOFs current, rebuild their field first).
+    /// Hands the state at step `n` to the sink when its interval asks for it.
+    #[inline]
     fn emit(&mut self, sink: &mut Sink<'_>, n: usize, t: f64) -> Result<(), SolveError> {
-        let Some(s) = sink.as_mut() else {
-            return Ok(());
-        };
-        let every = s.every();
-        if every == 0 || n % every != 0 {
-            return Ok(());
+        match sink.as_mut() {
+            Some(s) if s.every() > 0 && n % s.every() == 0 => self.emit_frame(&mut **s, n, t),
+            _ => Ok(()),
         }
+    }
+
+    /// Builds the frame of step `n` (massless stators, which keep only their contact DOFs
+    /// current, rebuild their field first) and hands it to `sink`.
+    #[cold]
+    fn emit_frame(&mut self, sink: &mut dyn FrameSink, n: usize, t: f64) -> Result<(), SolveError> {
         for st in self.stators.iter_mut() {
             if let StatorDyn::Massless(c) = st {
                 c.refresh();
             }
         }
-        s.frame(&Frame {
+        sink.frame(&Frame {
             step: n,
             t,
             rotor_u: &self.rotor.u,

@@ -26,18 +26,18 @@ impl StationForces {
         }
     }
     /// Back to zero.
+    #[inline]
     pub(crate) fn clear(&mut self) {
         for f in self.total.iter_mut().chain(self.normal.iter_mut()) {
             *f = [0.0; 2];
         }
     }
     /// `self = a + b`, component by component.
+    #[inline]
     pub(crate) fn set_sum(&mut self, a: &StationForces, b: &StationForces) {
-        for s in 0..self.total.len() {
-            for k in 0..2 {
-                self.total[s][k] = a.total[s][k] + b.total[s][k];
-                self.normal[s][k] = a.normal[s][k] + b.normal[s][k];
-            }
+        let pairs = self.total.iter_mut().zip(a.total.iter().zip(&b.total));
+        for (o, (x, y)) in pairs.chain(self.normal.iter_mut().zip(a.normal.iter().zip(&b.normal))) {
+            *o = [x[0] + y[0], x[1] + y[1]];
         }
     }
 }
@@ -130,6 +130,7 @@ impl StepWorkspace {
     }
 
     /// The station-force accumulator `which`.
+    #[inline]
     pub(crate) fn forces(&mut self, which: ForceSet) -> &mut StationForces {
         match which {
             ForceSet::Main => &mut self.main,
@@ -138,6 +139,7 @@ impl StepWorkspace {
     }
 
     /// Number of selected pairs that carry force after a solve.
+    #[inline]
     pub(crate) fn active(&self) -> usize {
         self.pvec[..self.sel.len()]
             .iter()
