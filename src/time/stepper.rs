@@ -26,9 +26,10 @@ pub struct Initial {
 /// A frame sink, or none.
 pub type Sink<'s> = Option<&'s mut dyn FrameSink>;
 
-/// Integrates one case step by step: owns the bodies (rotor and stators with mass as
-/// [`DynBody`], massless stators as their contact [`Compliance`]), the candidate pairs and
-/// their broad phase, every buffer of a step ([`StepWorkspace`]) and the record.
+/// Integrates one case step by step: owns the bodies (rotor and stators with mass integrated
+/// by central differences, massless stators as the compliance of their contact DOFs), the
+/// candidate pairs and their broad phase, every buffer of a step (its workspace) and the
+/// record.
 ///
 /// [`Stepper::step`] is the paper's algorithm (Sec. 2.5); the schemes ([`Scheme`]) differ
 /// only in when the massless stators' contact is solved:
