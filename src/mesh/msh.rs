@@ -1,0 +1,310 @@
+//! Reading gmsh MSH 4.1 files (ASCII or binary) into a [`Mesh`]: nodes and cells through the
+//! `mshio` crate, physical groups from the entities' physical tags, and their names from the
+//! `$PhysicalNames` section, which `mshio` does not parse.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use super::{CellBlock, CellKind, Group, Mesh};
+use crate::error::MeshError;
+
+/// The file as `mshio` returns it (node tags `u64`, entity tags `i32`, coordinates `f64`).
+type MshFile = mshio::MshFile<u64, i32, f64>;
+
+/// An element block of a type rubsim does not read: (type, cell count, entity dimension,
+/// entity tag).
+type Unsupported = (String, usize, i32, i32);
+
+impl Mesh {
+    /// Reads an MSH 4.1 file (ASCII or binary).
+    pub fn read(path: &Path) -> Result<Mesh, MeshError> {
+        let bytes = std::fs::read(path).map_err(|e| {
+            if e.kind() == std::io::ErrorKind::NotFound {
+                MeshError::MissingFile {
+                    file: path.to_path_buf(),
+                    referenced_by: None,
+                }
+            } else {
+                MeshError::Io {
+                    file: path.to_path_buf(),
+                    source: e,
+                }
+            }
+        })?;
+        Self::parse(path, &bytes)
+    }
+
+    /// Parses the bytes of an MSH 4.1 file; `path` is used in messages only.
+    pub fn parse(path: &Path, bytes: &[u8]) -> Result<Mesh, MeshError> {
+        let parse_err = |message: String| MeshError::Parse {
+            file: path.to_path_buf(),
+            message,
+        };
+        check_version(bytes).map_err(parse_err)?;
+        let msh = mshio::parse_msh_bytes(bytes).map_err(|e| parse_err(mshio_message(bytes, &e)))?;
+        let names = physical_names(bytes).map_err(parse_err)?;
+        let (nodes, node_tags) = read_nodes(&msh);
+        let index: HashMap<u64, usize> =
+            node_tags.iter().enumerate().map(|(i, &t)| (t, i)).collect();
+        if index.len() != node_tags.len() {
+            return Err(parse_err("duplicate node tags".into()));
+        }
+        let (blocks, unsupported) = read_cells(&msh, &index).map_err(parse_err)?;
+        let groups = read_groups(&msh, &names);
+        let mesh = Mesh {
+            file: path.to_path_buf(),
+            nodes,
+            node_tags,
+            blocks,
+            groups,
+        };
+        if let Some((kind, count, dim, entity)) = unsupported {
+            let group = mesh
+                .groups
+                .iter()
+                .find(|g| g.dim as i32 == dim && g.entities.contains(&entity))
+                .map_or_else(
+                    || format!("(entity {entity} of dimension {dim})"),
+                    |g| g.name.clone(),
+                );
+            return Err(MeshError::UnsupportedCell {
+                file: path.to_path_buf(),
+                group,
+                kind,
+                count,
+            });
+        }
+        Ok(mesh)
+    }
+}
+
+/// Checks the `$MeshFormat` header: an MSH file of version 4.1. Done before `mshio` parses,
+/// since `mshio` reads 4.1 only and its errors on 2.2 files are cryptic.
+fn check_version(bytes: &[u8]) -> Result<(), String> {
+    if !bytes.starts_with(b"$MeshFormat") {
+        return Err("the file does not start with $MeshFormat (not a gmsh .msh file?)".into());
+    }
+    let header = String::from_utf8_lossy(&bytes[..bytes.len().min(64)]);
+    let version = header
+        .lines()
+        .nth(1)
+        .and_then(|l| l.split_whitespace().next());
+    if version != Some("4.1") {
+        return Err(format!(
+            "MSH format version {} (rubsim reads 4.1: mesh with `-format msh41`)",
+            version.unwrap_or("?")
+        ));
+    }
+    Ok(())
+}
+
+/// A `mshio` parse error as `line N: what: why` (outermost context first).
+fn mshio_message(bytes: &[u8], e: &mshio::MshParserError<&[u8]>) -> String {
+    let bt = e.filtered_backtrace();
+    let line = bt.first().map(|(rest, _)| {
+        let off = bytes.len() - rest.len();
+        bytes[..off].iter().filter(|b| **b == b'\n').count() + 1
+    });
+    let what: Vec<String> = bt.iter().rev().map(|(_, k)| k.to_string()).collect();
+    format!(
+        "{}{}",
+        line.map(|l| format!("line {l}: ")).unwrap_or_default(),
+        what.join(": ")
+    )
+}
+
+/// Node coordinates and gmsh tags, in file order.
+fn read_nodes(msh: &MshFile) -> (Vec<[f64; 3]>, Vec<u64>) {
+    let mut nodes = Vec::new();
+    let mut node_tags = Vec::new();
+    if let Some(nd) = &msh.data.nodes {
+        let mut next_tag = nd.min_node_tag;
+        for b in &nd.node_blocks {
+            let mut tags: Vec<u64> = match &b.node_tags {
+                Some(map) => {
+                    let mut t = vec![0; b.nodes.len()];
+                    for (tag, &i) in map {
+                        t[i] = *tag;
+                    }
+                    t
+                }
+                // Dense numbering: gmsh writes the tags of a dense file in block order.
+                None => (0..b.nodes.len() as u64).map(|i| next_tag + i).collect(),
+            };
+            next_tag += b.nodes.len() as u64;
+            for n in &b.nodes {
+                nodes.push([n.x, n.y, n.z]);
+            }
+            node_tags.append(&mut tags);
+        }
+    }
+    (nodes, node_tags)
+}
+
+/// The cell blocks of the types rubsim reads, connectivity mapped to node indices through
+/// `index` (gmsh node tag → index), and the first block of another type, if any.
+fn read_cells(
+    msh: &MshFile,
+    index: &HashMap<u64, usize>,
+) -> Result<(Vec<CellBlock>, Option<Unsupported>), String> {
+    let mut blocks: Vec<CellBlock> = Vec::new();
+    let mut unsupported: Option<Unsupported> = None;
+    if let Some(el) = &msh.data.elements {
+        for b in &el.element_blocks {
+            let Some(kind) = CellKind::from_gmsh(b.element_type) else {
+                unsupported.get_or_insert((
+                    format!("{:?}", b.element_type),
+                    b.elements.len(),
+                    b.entity_dim,
+                    b.entity_tag,
+                ));
+                continue;
+            };
+            let mut conn = Vec::with_capacity(b.elements.len() * kind.nodes());
+            let mut tags = Vec::with_capacity(b.elements.len());
+            for e in &b.elements {
+                if e.nodes.len() != kind.nodes() {
+                    return Err(format!(
+                        "element {} has {} nodes, a {} has {}",
+                        e.element_tag,
+                        e.nodes.len(),
+                        kind.name(),
+                        kind.nodes()
+                    ));
+                }
+                for t in &e.nodes {
+                    let i = index.get(t).ok_or_else(|| {
+                        format!(
+                            "element {} refers to node {t}, which is not in $Nodes",
+                            e.element_tag
+                        )
+                    })?;
+                    conn.push(*i);
+                }
+                tags.push(e.element_tag);
+            }
+            blocks.push(CellBlock {
+                kind,
+                entity_dim: b.entity_dim.max(0) as usize,
+                entity: b.entity_tag,
+                conn,
+                tags,
+            });
+        }
+    }
+    Ok((blocks, unsupported))
+}
+
+/// The physical groups: entities carry their physical tags; `names` are the `(dim, tag, name)`
+/// of `$PhysicalNames` (a group without a name is called `group_<tag>`).
+fn read_groups(msh: &MshFile, names: &[(usize, i32, String)]) -> Vec<Group> {
+    let mut groups: Vec<Group> = Vec::new();
+    if let Some(ent) = &msh.data.entities {
+        let mut add = |dim: usize, etag: i32, phys: &[i32]| {
+            for &p in phys {
+                let p = p.abs();
+                match groups.iter_mut().find(|g| g.dim == dim && g.tag == p) {
+                    Some(g) => g.entities.push(etag),
+                    None => groups.push(Group {
+                        name: names
+                            .iter()
+                            .find(|(d, t, _)| *d == dim && *t == p)
+                            .map(|(_, _, n)| n.clone())
+                            .unwrap_or_else(|| format!("group_{p}")),
+                        dim,
+                        tag: p,
+                        entities: vec![etag],
+                    }),
+                }
+            }
+        };
+        for e in &ent.points {
+            add(0, e.tag, &e.physical_tags);
+        }
+        for e in &ent.curves {
+            add(1, e.tag, &e.physical_tags);
+        }
+        for e in &ent.surfaces {
+            add(2, e.tag, &e.physical_tags);
+        }
+        for e in &ent.volumes {
+            add(3, e.tag, &e.physical_tags);
+        }
+    }
+    // Named groups without entities (possible in hand-written files) still get listed.
+    for (d, t, n) in names {
+        if !groups.iter().any(|g| g.dim == *d && g.tag == *t) {
+            groups.push(Group {
+                name: n.clone(),
+                dim: *d,
+                tag: *t,
+                entities: vec![],
+            });
+        }
+    }
+    groups
+}
+
+/// Parses the `$PhysicalNames` section (ASCII even in binary files): `(dim, tag, name)`.
+fn physical_names(bytes: &[u8]) -> Result<Vec<(usize, i32, String)>, String> {
+    let start = match find(bytes, b"$PhysicalNames") {
+        Some(s) => s + b"$PhysicalNames".len(),
+        None => return Ok(vec![]),
+    };
+    let end = find(&bytes[start..], b"$EndPhysicalNames")
+        .ok_or("$PhysicalNames without $EndPhysicalNames")?
+        + start;
+    let text = std::str::from_utf8(&bytes[start..end])
+        .map_err(|_| "$PhysicalNames is not UTF-8 text".to_string())?;
+    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    let n: usize = lines
+        .next()
+        .and_then(|l| l.parse().ok())
+        .ok_or("$PhysicalNames: missing count")?;
+    let mut out = Vec::with_capacity(n);
+    for l in lines.take(n) {
+        let mut it = l.splitn(3, char::is_whitespace);
+        let bad = || format!("$PhysicalNames: cannot read `{l}`");
+        let dim: usize = it.next().and_then(|s| s.parse().ok()).ok_or_else(bad)?;
+        let tag: i32 = it.next().and_then(|s| s.parse().ok()).ok_or_else(bad)?;
+        let name = it
+            .next()
+            .ok_or_else(bad)?
+            .trim()
+            .trim_matches('"')
+            .to_string();
+        out.push((dim, tag, name));
+    }
+    if out.len() != n {
+        return Err(format!(
+            "$PhysicalNames announces {n} names, holds {}",
+            out.len()
+        ));
+    }
+    Ok(out)
+}
+
+/// Byte offset of the first occurrence of `needle` in `hay`.
+fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
+    hay.windows(needle.len()).position(|w| w == needle)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_other_formats_with_the_file_name() {
+        let e = Mesh::parse(
+            Path::new("old.msh"),
+            b"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("old.msh") && e.contains("2.2"), "{e}");
+        let e = Mesh::parse(Path::new("x.msh"), b"hello")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("x.msh"), "{e}");
+    }
+}
