@@ -1,0 +1,32 @@
+//! PNG figures: orbit grids, spectrum cascades, bifurcation diagrams, stacked time series,
+//! log–log work-precision plots and plain line plots.
+//!
+//! All figures are rendered with `plotters` into a bitmap and written as PNG to exactly the
+//! path given by the caller. Text uses the embedded DejaVu Sans font (the `ab_glyph` backend of
+//! `plotters` has no system fonts), registered once under the family name `sans-serif`.
+//! The bitmap encoder infers the format from the extension, so a target without a `.png`
+//! extension (e.g. a temporary name) is rendered to a hidden `.png` sibling and renamed to it.
+//!
+//! Every function is robust to empty input (a page with the title and "no data" is written),
+//! to non-finite values (skipped; lines are broken at them), to single points and to zero
+//! data ranges (ranges are padded).
+//!
+//! The module is split by concern: `style` (font, palette, sizes, tick labels, writing the
+//! PNG), `chart` (the frame and axes every chart is built with, shared drawing helpers), `geom`
+//! (data ranges, clipping, equal aspect, markers), and one file per kind of figure: `orbit`,
+//! `cascade`, `xy` (bifurcation, stacked series, log–log, lines) and `mesh_field`.
+
+mod cascade;
+mod chart;
+mod geom;
+mod mesh_field;
+mod orbit;
+mod style;
+#[cfg(test)]
+mod tests;
+mod xy;
+
+pub use cascade::{cascade, CascadeLine};
+pub use mesh_field::mesh_field;
+pub use orbit::{orbit_grid, Boundary, OrbitPanel};
+pub use xy::{bifurcation, lines, loglog, stacked_series, Curve, Series};
