@@ -1,0 +1,259 @@
+//! Scene files: what the user asks for, as plain validated data.
+//!
+//! A scene is a TOML file read with serde; unknown keys are rejected. All physical values are SI
+//! (kg, m, s, N, Pa, rad/s); angles are given in degrees where the key says `_deg`. The paper's
+//! non-dimensional inputs (Table 2) are accepted beside the SI ones:
+//!
+//! * `clearance_nd` = δ/|Z0(ω)|, with |Z0| the steady unbalance response without stator at the
+//!   speed being run, so the clearance changes along a sweep;
+//! * `speed_ratio` = ω/ω_n;
+//! * `damping_ratio` ξ, with c = 2ξ√(m k);
+//! * `stiffness_ratio` ε = k_s/k_r.
+//!
+//! [`load`] reads a file, applies `--set key=value` overrides, deserialises and validates. Errors
+//! name the file, the dotted key and the line ([`crate::error::SceneError`]).
+
+mod output;
+mod overrides;
+mod rotor;
+mod run;
+mod stator;
+pub mod validate;
+
+pub use output::*;
+pub use overrides::{apply_override, locate_key};
+pub use rotor::*;
+pub use run::*;
+pub use stator::*;
+pub use validate::validate;
+
+use crate::error::SceneError;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// A whole scene.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Free text shown in reports.
+    #[serde(default)]
+    pub title: String,
+    /// The rotor model.
+    pub rotor: RotorSpec,
+    /// Contact stations: rotor sections that can rub (`[[station]]`).
+    #[serde(default, rename = "station")]
+    pub stations: Vec<StationSpec>,
+    /// Stators, each facing one station (`[[stator]]`).
+    #[serde(default, rename = "stator")]
+    pub stators: Vec<StatorSpec>,
+    /// What to run.
+    pub run: RunSpec,
+    /// What to write.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+fn one() -> usize {
+    1
+}
+fn yes() -> bool {
+    true
+}
+
+/// A scene with where it came from, for error messages.
+#[derive(Debug, Clone)]
+pub struct LoadedScene {
+    /// The validated scene.
+    pub scene: Scene,
+    /// The file it was read from.
+    pub file: PathBuf,
+    /// The file's text (for locating keys in later errors).
+    pub source: String,
+    /// Overrides applied (`key=value`).
+    pub overrides: Vec<String>,
+}
+
+impl LoadedScene {
+    /// An `Invalid` error for `key`, with the line of that key in the file when present.
+    pub fn invalid(&self, key: &str, message: impl Into<String>) -> SceneError {
+        invalid_at(&self.file, &self.source, key, message)
+    }
+}
+
+fn invalid_at(file: &Path, source: &str, key: &str, message: impl Into<String>) -> SceneError {
+    SceneError::Invalid {
+        file: file.to_path_buf(),
+        key: key.to_string(),
+        line: locate_key(source, key),
+        message: message.into(),
+    }
+}
+
+/// Reads, overrides, deserialises and validates a scene file.
+pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError> {
+    let source = std::fs::read_to_string(path).map_err(|e| SceneError::Read {
+        file: path.to_path_buf(),
+        source: e,
+    })?;
+    parse(path, &source, overrides)
+}
+
+/// Like [`load`] but from text already in memory (`path` is used in messages only).
+pub fn parse(path: &Path, source: &str, overrides: &[String]) -> Result<LoadedScene, SceneError> {
+    let mut value: toml::Value =
+        toml::from_str(source).map_err(|e| parse_error(path, source, e))?;
+    for a in overrides {
+        apply_override(&mut value, a)?;
+    }
+    let scene: Scene = if overrides.is_empty() {
+        toml::from_str(source).map_err(|e| parse_error(path, source, e))?
+    } else {
+        // No spans here (the lines of a re-serialised document would not be the file's): when
+        // the file alone fails the same way, report that with its lines, else blame the --set.
+        Scene::deserialize(value).map_err(|e| match toml::from_str::<Scene>(source) {
+            Err(fe) if fe.message() == e.message() => parse_error(path, source, fe),
+            _ => SceneError::Override {
+                assignment: overrides.join(" --set "),
+                message: e.to_string().trim_end().replace('\n', " "),
+            },
+        })?
+    };
+    let loaded = LoadedScene {
+        scene,
+        file: path.to_path_buf(),
+        source: source.to_string(),
+        overrides: overrides.to_vec(),
+    };
+    validate(&loaded)?;
+    Ok(loaded)
+}
+
+/// A TOML/serde error in the file's own text. In a `kind`-tagged table (`[rotor]`,
+/// `[[stator]]`) serde reports an unknown key at the table header; name the key's own line too.
+fn parse_error(path: &Path, source: &str, e: toml::de::Error) -> SceneError {
+    let mut message = e.to_string().trim_end().to_string();
+    let key = e
+        .message()
+        .strip_prefix("unknown field `")
+        .and_then(|r| r.split('`').next());
+    if let (Some(span), Some(key)) = (e.span(), key) {
+        let header = source[..span.start.min(source.len())].matches('\n').count();
+        let is_header = |l: &str| {
+            let l = l.trim_start();
+            let name = l.trim_start_matches('[').trim_start();
+            l.starts_with('[') && name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '"')
+        };
+        let is_key = |l: &str| {
+            let r = l.trim_start().strip_prefix(key).map(str::trim_start);
+            r.is_some_and(|r| r.starts_with(['=', '.']))
+        };
+        let found = source
+            .lines()
+            .enumerate()
+            .skip(header + 1)
+            .take_while(|(_, l)| !is_header(l))
+            .find(|(_, l)| is_key(l));
+        if let Some((n, _)) = found {
+            message.push_str(&format!("\n`{key}` is on line {}", n + 1));
+        }
+    }
+    SceneError::Parse {
+        file: path.to_path_buf(),
+        message,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const OK: &str = r#"
+title = "t"
+[rotor]
+kind = "jeffcott"
+mass = 2.0
+stiffness = 8.0e4
+damping_ratio = 0.2
+[[rotor.unbalance]]
+mass = 0.01
+radius = 0.05
+
+[[station]]
+name = "disk"
+radius = 0.06
+friction = 0.1
+
+[[stator]]
+kind = "rod"
+name = "rod"
+station = "disk"
+clearance_nd = 0.6
+length = 0.04
+area = 25e-6
+stiffness_ratio = 25
+
+[run]
+speed_ratio = 1.7
+"#;
+
+    fn p(text: &str, ov: &[&str]) -> Result<LoadedScene, SceneError> {
+        let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
+        parse(Path::new("scene.toml"), text, &ov)
+    }
+
+    #[test]
+    fn parses_a_valid_scene() {
+        let s = p(OK, &[]).unwrap();
+        assert_eq!(s.scene.stators.len(), 1);
+        assert_eq!(s.scene.run.integrator, IntegratorKind::Collocated);
+    }
+
+    #[test]
+    fn unknown_key_names_line() {
+        let bad = OK.replace("radius = 0.06", "radius = 0.06\nfrobnicate = 1");
+        let e = p(&bad, &[]).unwrap_err().to_string();
+        assert!(e.contains("frobnicate"), "{e}");
+        assert!(e.contains("line 15"), "{e}");
+    }
+
+    #[test]
+    fn negative_mass_names_key_and_line() {
+        let bad = OK.replace("mass = 2.0", "mass = -2.0");
+        let e = p(&bad, &[]).unwrap_err().to_string();
+        assert!(
+            e.contains("rotor.mass") && e.contains("scene.toml:5"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn clearance_in_array_of_tables_is_located() {
+        let bad = OK.replace("clearance_nd = 0.6", "clearance_nd = -0.6");
+        let e = p(&bad, &[]).unwrap_err().to_string();
+        assert!(
+            e.contains("stator.0.clearance_nd") && e.contains(":21"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn override_changes_values_and_is_validated() {
+        let s = p(OK, &["stator.0.clearance_nd=0.3", "run.speed_ratio=2.5"]).unwrap();
+        match &s.scene.stators[0] {
+            StatorSpec::Rod(r) => assert_eq!(r.clearance_nd, Some(0.3)),
+            _ => panic!(),
+        }
+        assert_eq!(s.scene.run.speed_ratio, Some(2.5));
+        let e = p(OK, &["station.0.friction=-1"]).unwrap_err().to_string();
+        assert!(e.contains("station.0.friction"), "{e}");
+        let e = p(OK, &["stator.3.clearance=1"]).unwrap_err().to_string();
+        assert!(e.contains("out of range"), "{e}");
+    }
+
+    #[test]
+    fn missing_section_is_named() {
+        let bad = OK.replace("[run]\nspeed_ratio = 1.7", "");
+        let e = p(&bad, &[]).unwrap_err().to_string();
+        assert!(e.contains("run"), "{e}");
+    }
+}

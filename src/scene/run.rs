@@ -1,0 +1,114 @@
+//! `[run]`: speed or sweep, duration, integrator and time step.
+
+use super::yes;
+use serde::{Deserialize, Serialize};
+
+/// Time integrators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorKind {
+    /// The paper's scheme: explicit central differences with forward-increment Lagrange
+    /// multipliers (Eqs. 34–47), massless stators by Eq. 49. First order in Δt with a massless
+    /// stator; unconditionally stable with respect to the stator stiffness.
+    ForwardIncrement,
+    /// Central differences with the massless stator's contact force solved at tₙ from the rotor
+    /// position at tₙ (stator force collocated with the displacement). Second order; its stable
+    /// step shrinks as the stator stiffens (Δt < 2/√((k_r + k_s)/m)). Stators with mass are
+    /// coupled by forward increment as in the paper.
+    Collocated,
+}
+
+impl IntegratorKind {
+    /// Name as written in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::ForwardIncrement => "forward_increment",
+            IntegratorKind::Collocated => "collocated",
+        }
+    }
+    /// Nominal order in Δt with a massless stator (used by the error estimate).
+    pub fn nominal_order(self) -> f64 {
+        match self {
+            IntegratorKind::ForwardIncrement => 1.0,
+            IntegratorKind::Collocated => 2.0,
+        }
+    }
+}
+
+/// What to run.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    /// Speed as ω/ω_n (single run).
+    pub speed_ratio: Option<f64>,
+    /// Speed ω (rad/s) (single run).
+    pub speed: Option<f64>,
+    /// Speed sweep over ω/ω_n.
+    pub sweep: Option<SweepSpec>,
+    /// Total simulated revolutions.
+    #[serde(default = "default_revs")]
+    pub revolutions: usize,
+    /// Revolutions cut as transient before analysis.
+    #[serde(default = "default_transient")]
+    pub transient_revolutions: usize,
+    /// Integrator; default `collocated` (see docs/VALIDATION.md for why).
+    #[serde(default = "default_integrator")]
+    pub integrator: IntegratorKind,
+    /// Time step override (s). Rounded down so a revolution holds a whole number of steps.
+    pub dt: Option<f64>,
+    /// The paper's rule Δt ≤ min(T_min/(32 n), 2π/(32 n ω)) with n = `harmonics`.
+    #[serde(default = "default_harmonics")]
+    pub harmonics: f64,
+    /// Recorded samples per revolution (a power of two is best for the FFT).
+    #[serde(default = "default_spr")]
+    pub samples_per_rev: usize,
+    /// Estimate the discretisation error by a companion run at 2Δt.
+    #[serde(default = "yes")]
+    pub error_estimate: bool,
+    /// Initial rotor station displacement `[x, y]` (m) at node 0.
+    #[serde(default)]
+    pub initial_displacement: [f64; 2],
+    /// Initial rotor station velocity `[vx, vy]` (m/s) at node 0.
+    #[serde(default)]
+    pub initial_velocity: [f64; 2],
+}
+
+/// Speed sweep over ω/ω_n, inclusive of both ends.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSpec {
+    /// First ω/ω_n.
+    pub from: f64,
+    /// Last ω/ω_n.
+    pub to: f64,
+    /// Increment.
+    pub step: f64,
+    /// Optional parameter study: one sweep per value of a scene key (Sec. 4.2 sensitivity).
+    pub vary: Option<VarySpec>,
+}
+
+/// A sensitivity study: the sweep is repeated for each value of one scene key.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VarySpec {
+    /// Dotted key, as for `--set` (e.g. `stator.0.clearance_nd`).
+    pub key: String,
+    /// Values to set.
+    pub values: Vec<f64>,
+}
+
+fn default_revs() -> usize {
+    220
+}
+fn default_transient() -> usize {
+    100
+}
+fn default_integrator() -> IntegratorKind {
+    IntegratorKind::Collocated
+}
+fn default_harmonics() -> f64 {
+    4.0
+}
+fn default_spr() -> usize {
+    64
+}

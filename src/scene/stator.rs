@@ -1,0 +1,320 @@
+//! `[[stator]]`: rods, rings, general 2-D FE stators and meshed stators, each facing a station.
+
+use super::one;
+use serde::{Deserialize, Serialize};
+
+/// Stator models.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum StatorSpec {
+    /// The paper's elastic rod, meshed with 2-D bar elements, its axis radial.
+    Rod(RodSpec),
+    /// Rigid ring on isotropic radial springs around the station (classic rub model).
+    Ring(RingSpec),
+    /// General 2-D finite-element stator given as nodes, elements and fixed DOFs.
+    Fe(FeStatorSpec),
+    /// Stator meshed by gmsh from a parametric `.geo`, a CAD file or a `.msh` file.
+    Mesh(Box<MeshStatorSpec>),
+}
+
+impl StatorSpec {
+    /// The stator's name.
+    pub fn name(&self) -> &str {
+        match self {
+            StatorSpec::Rod(s) => &s.name,
+            StatorSpec::Ring(s) => &s.name,
+            StatorSpec::Fe(s) => &s.name,
+            StatorSpec::Mesh(s) => &s.name,
+        }
+    }
+    /// The station it faces.
+    pub fn station(&self) -> &str {
+        match self {
+            StatorSpec::Rod(s) => &s.station,
+            StatorSpec::Ring(s) => &s.station,
+            StatorSpec::Fe(s) => &s.station,
+            StatorSpec::Mesh(s) => &s.station,
+        }
+    }
+}
+
+/// Stator meshed by gmsh (`kind = "mesh"`).
+///
+/// The geometry is a parametric gmsh `.geo` (its `DefineConstant` parameters set from
+/// `parameters`), a CAD file (`.step`, `.stp`, `.brep`, `.iges`: imported through OpenCASCADE,
+/// its bodies grouped as `stator` and each boundary entity as `boundary_<tag>`), or a ready
+/// `.msh` (MSH 4.1). Relative paths are resolved against the scene file's directory, then its
+/// ancestors (so `geometry/annulus.geo` works from `scenes/stators/`). Meshes are cached in
+/// `meshes/` by content; an up-to-date mesh never runs gmsh.
+///
+/// Coordinates of the geometry are relative to the undeformed centre of the station (m), rotor
+/// axis z. Physical groups are the contract: `contact_group` (curves in 2-D, surfaces in 3-D)
+/// holds the nodes that can touch the rotor, the `fixed*` groups the supports; 2-D groups of a
+/// 2-D mesh (volumes of a 3-D mesh) are material regions, `regions` overriding the default
+/// material per group.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshStatorSpec {
+    /// Stator name.
+    pub name: String,
+    /// Station it faces.
+    pub station: String,
+    /// Geometry file (`.geo`, `.step`/`.stp`/`.brep`/`.iges`/`.igs`, or `.msh`).
+    pub geometry: String,
+    /// gmsh parameters (`-setnumber name value`), declared by the geometry's `DefineConstant`.
+    #[serde(default)]
+    pub parameters: std::collections::BTreeMap<String, f64>,
+    /// Element order: 1 (linear) or 2 (quadratic).
+    #[serde(default = "one_u8")]
+    pub order: u8,
+    /// Quadrilaterals instead of triangles (gmsh `Mesh.RecombineAll`); 2-D only.
+    #[serde(default)]
+    pub quads: bool,
+    /// 8-node instead of 9-node quadratic quadrilaterals.
+    #[serde(default)]
+    pub serendipity: bool,
+    /// Factor on every mesh size of the geometry (gmsh `-clscale`).
+    #[serde(default = "unit")]
+    pub size_factor: f64,
+    /// 2-D meshes: `"stress"` (default) or `"strain"`.
+    #[serde(default = "plane_stress")]
+    pub plane: String,
+    /// 2-D meshes: out-of-plane thickness (m).
+    pub thickness: Option<f64>,
+    /// Young's modulus E (Pa) of the default material.
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν of the default material.
+    pub poisson_ratio: f64,
+    /// Density ρ (kg/m³) of the default material; 0 everywhere makes the stator massless.
+    #[serde(default)]
+    pub density: f64,
+    /// Material of particular regions (physical groups of the mesh's dimension).
+    #[serde(default)]
+    pub regions: Vec<RegionSpec>,
+    /// Physical group of the contact boundary.
+    #[serde(default = "contact_group")]
+    pub contact_group: String,
+    /// Physical groups whose nodes are fixed in every direction (frame nodes: clamped, θ too).
+    #[serde(default = "fixed_groups")]
+    pub fixed: Vec<String>,
+    /// Physical groups whose nodes have u_x = 0 (symmetry planes, guides).
+    #[serde(default)]
+    pub fixed_x: Vec<String>,
+    /// Physical groups whose nodes have u_y = 0.
+    #[serde(default)]
+    pub fixed_y: Vec<String>,
+    /// 3-D meshes: physical groups whose nodes have u_z = 0.
+    #[serde(default)]
+    pub fixed_z: Vec<String>,
+    /// Grounded springs on the nodes of a group.
+    #[serde(default)]
+    pub springs: Vec<SpringSupportSpec>,
+    /// Bars and frames (beam-columns) on the line elements of a group (2-D meshes).
+    #[serde(default)]
+    pub frames: Vec<FrameSpec>,
+    /// Rayleigh damping `[α, β]`, C = α M + β K (only with mass).
+    #[serde(default)]
+    pub rayleigh: [f64; 2],
+    /// Place the mesh so its nearest contact node is at clearance δ (m) from the rotor surface,
+    /// by a rigid translation along `approach_deg`. Without `clearance`/`clearance_nd` the
+    /// geometry's own position sets the clearance.
+    pub clearance: Option<f64>,
+    /// As `clearance`, given as δ/|Z0(ω)| (re-placed at every speed).
+    pub clearance_nd: Option<f64>,
+    /// Direction (degrees from +x) from the station centre toward the stator along which it is
+    /// translated to its clearance.
+    #[serde(default = "ninety")]
+    pub approach_deg: f64,
+    /// 3-D meshes: further stations the contact nodes may face; each contact node is assigned
+    /// to the one (of these and `station`) nearest to its axial position.
+    #[serde(default)]
+    pub stations: Vec<String>,
+    /// 3-D meshes: axial position along the rotor (m) of the mesh's z = 0.
+    #[serde(default)]
+    pub axial_origin: f64,
+}
+
+/// Material of a region (physical group) of a meshed stator; unset values are the stator's.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSpec {
+    /// Physical group name.
+    pub group: String,
+    /// Young's modulus (Pa).
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio.
+    pub poisson_ratio: Option<f64>,
+    /// Density (kg/m³).
+    pub density: Option<f64>,
+    /// Thickness (m), 2-D.
+    pub thickness: Option<f64>,
+}
+
+/// Grounded springs on the nodes of a group: the stiffness is the group's total, shared
+/// equally by its nodes.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSupportSpec {
+    /// Physical group name.
+    pub group: String,
+    /// Total stiffness `[k_x, k_y]` (N/m).
+    pub stiffness: [f64; 2],
+}
+
+/// Bars (without `inertia`) or frames (with it) on the line elements of a group.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrameSpec {
+    /// Physical group of lines (dimension 1).
+    pub group: String,
+    /// Young's modulus (Pa).
+    pub youngs_modulus: f64,
+    /// Cross-section area (m²).
+    pub area: f64,
+    /// Second moment of area about z (m⁴); absent: pin-jointed bars.
+    pub inertia: Option<f64>,
+    /// Shear correction factor κ: Timoshenko frames; absent: Euler–Bernoulli.
+    pub shear_factor: Option<f64>,
+    /// Poisson's ratio (for G = E / (2(1+ν))).
+    #[serde(default = "poisson")]
+    pub poisson_ratio: f64,
+    /// Density (kg/m³).
+    #[serde(default)]
+    pub density: f64,
+}
+
+fn one_u8() -> u8 {
+    1
+}
+fn unit() -> f64 {
+    1.0
+}
+fn poisson() -> f64 {
+    0.3
+}
+fn plane_stress() -> String {
+    "stress".into()
+}
+fn contact_group() -> String {
+    "stator_contact".into()
+}
+fn fixed_groups() -> Vec<String> {
+    vec!["stator_fixed".into()]
+}
+
+/// Elastic rod stator (paper Fig. 4). The tip faces the station at clearance δ along
+/// `angle_deg` (90° = +y, above the rotor); the far end is fixed; lateral DOFs are guided so the
+/// bar model is not singular. Stiffness k_s = E A / L, or ε k_r when `stiffness_ratio` is given.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RodSpec {
+    /// Stator name.
+    pub name: String,
+    /// Station it faces.
+    pub station: String,
+    /// Clearance δ between rotor surface and rod tip (m).
+    pub clearance: Option<f64>,
+    /// Clearance as δ/|Z0(ω)| (paper's δ_nd).
+    pub clearance_nd: Option<f64>,
+    /// Rod length L (m).
+    pub length: f64,
+    /// Cross-section area A (m²).
+    pub area: f64,
+    /// Young's modulus E (Pa); ignored for stiffness when `stiffness_ratio` is given.
+    pub youngs_modulus: Option<f64>,
+    /// ε = k_s/k_r; overrides E so that E A / L = ε k_r.
+    pub stiffness_ratio: Option<f64>,
+    /// Density ρ (kg/m³); 0 (default) makes the rod massless.
+    #[serde(default)]
+    pub density: f64,
+    /// Number of bar elements along the rod.
+    #[serde(default = "one")]
+    pub elements: usize,
+    /// Direction from the station centre to the tip (degrees from +x, counter-clockwise).
+    #[serde(default = "ninety")]
+    pub angle_deg: f64,
+    /// Rayleigh damping `[α, β]`, C = α M + β K (only with mass).
+    #[serde(default)]
+    pub rayleigh: [f64; 2],
+}
+
+/// Rigid ring on isotropic springs: radial force k_s (R − δ) when the rotor displacement R
+/// relative to the ring exceeds δ.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RingSpec {
+    /// Stator name.
+    pub name: String,
+    /// Station it faces.
+    pub station: String,
+    /// Radial clearance δ (m).
+    pub clearance: Option<f64>,
+    /// Clearance as δ/|Z0(ω)|.
+    pub clearance_nd: Option<f64>,
+    /// Support stiffness k_s (N/m).
+    pub stiffness: Option<f64>,
+    /// ε = k_s/k_r.
+    pub stiffness_ratio: Option<f64>,
+    /// Ring mass (kg); 0 (default) makes it massless.
+    #[serde(default)]
+    pub mass: f64,
+    /// Support damping (N·s/m), only with mass.
+    #[serde(default)]
+    pub damping: f64,
+}
+
+/// General 2-D FE stator in the station plane, coordinates relative to the undeformed station
+/// centre. Node DOFs are `[u_x, u_y]`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeStatorSpec {
+    /// Stator name.
+    pub name: String,
+    /// Station it faces.
+    pub station: String,
+    /// Node coordinates `[x, y]` (m).
+    pub nodes: Vec<[f64; 2]>,
+    /// Elements.
+    pub elements: Vec<FeElementSpec>,
+    /// Fixed DOFs as `[node, component]` with component 0 = x, 1 = y.
+    pub fixed: Vec<[usize; 2]>,
+    /// Nodes that can touch the rotor (the contact boundary).
+    pub contact_nodes: Vec<usize>,
+    /// Rayleigh damping `[α, β]`, C = α M + β K (only with mass).
+    #[serde(default)]
+    pub rayleigh: [f64; 2],
+    /// Lumped point masses `[node, kg]` added to element masses.
+    #[serde(default)]
+    pub point_masses: Vec<(usize, f64)>,
+}
+
+/// Elements of the general FE stator.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum FeElementSpec {
+    /// 2-node bar (truss) element: axial stiffness E A / L, lumped mass ρ A L / 2 per node.
+    Bar {
+        /// The two node indices.
+        nodes: [usize; 2],
+        /// Young's modulus (Pa).
+        youngs_modulus: f64,
+        /// Area (m²).
+        area: f64,
+        /// Density (kg/m³); 0 for massless.
+        #[serde(default)]
+        density: f64,
+    },
+    /// Grounded spring on one node along a direction (N/m).
+    Spring {
+        /// Node index.
+        node: usize,
+        /// Stiffness (N/m).
+        stiffness: f64,
+        /// Direction (degrees from +x).
+        angle_deg: f64,
+    },
+}
+
+fn ninety() -> f64 {
+    90.0
+}
