@@ -7,7 +7,7 @@
 use crate::error::{Error, Result};
 use crate::math::{loglog_slope, V2};
 use crate::model::Model;
-use crate::scene::{IntegratorKind, RunSpec};
+use crate::scene::{Component, IntegratorKind, RunSpec};
 use crate::signal::{extents, hann_spectrum, line_amplitude, poincare_period};
 use crate::time::{
     integrate, integrate_with, plan_steps, FrameSink, Initial, Record, RunStats, Scheme,
@@ -37,7 +37,8 @@ pub struct RunSettings {
 }
 
 impl RunSettings {
-    /// From a scene's `[run]` table.
+    /// From a scene's `[run]` table and its `output.component` (`"x"`, else y: the scene
+    /// checks the name when it is loaded).
     pub fn from_run(run: &RunSpec, component: &str) -> Self {
         Self {
             step: StepParams {
@@ -53,7 +54,7 @@ impl RunSettings {
                 u: run.initial_displacement,
                 v: run.initial_velocity,
             },
-            component: if component == "x" { 0 } else { 1 },
+            component: Component::from_name(component).unwrap_or_default().index(),
         }
     }
 }

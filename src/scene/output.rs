@@ -110,6 +110,41 @@ impl Default for OutputSpec {
     }
 }
 
+/// A lateral response component of a rotor node: what `output.component` names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Component {
+    /// `"x"`: horizontal.
+    X,
+    /// `"y"`: vertical (the default).
+    #[default]
+    Y,
+}
+
+impl Component {
+    /// The component named `"x"` or `"y"`; `None` for any other name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "x" => Some(Component::X),
+            "y" => Some(Component::Y),
+            _ => None,
+        }
+    }
+    /// Name as written in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Component::X => "x",
+            Component::Y => "y",
+        }
+    }
+    /// Index in a node's `[u_x, u_y]`: 0 for x, 1 for y.
+    pub fn index(self) -> usize {
+        match self {
+            Component::X => 0,
+            Component::Y => 1,
+        }
+    }
+}
+
 fn default_component() -> String {
     "y".into()
 }

@@ -1,6 +1,7 @@
 //! `[[stator]]`: rods, rings, general 2-D FE stators and meshed stators, each facing a station.
 
 use super::one;
+use crate::element::solid2d::Plane;
 use serde::{Deserialize, Serialize};
 
 /// Stator models.
@@ -132,6 +133,17 @@ pub struct MeshStatorSpec {
     /// 3-D meshes: axial position along the rotor (m) of the mesh's z = 0.
     #[serde(default)]
     pub axial_origin: f64,
+}
+
+impl MeshStatorSpec {
+    /// The 2-D idealisation `plane` names (`"stress"` or `"strain"`); `None` for any other name.
+    pub fn plane(&self) -> Option<Plane> {
+        match self.plane.as_str() {
+            "stress" => Some(Plane::Stress),
+            "strain" => Some(Plane::Strain),
+            _ => None,
+        }
+    }
 }
 
 /// Material of a region (physical group) of a meshed stator; unset values are the stator's.
