@@ -20,9 +20,10 @@
 
 pub mod lcp;
 pub mod search;
+pub mod target;
 
 use crate::math::{dot, norm, spin_tangent, V2};
-use crate::model::Target;
+pub use target::Target;
 
 /// A pair that may come into contact: station `station` against target `target` of stator
 /// `stator`.

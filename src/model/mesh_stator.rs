@@ -22,7 +22,8 @@
 //! clockwise; a cell oriented against the rest of its surface, folded or degenerate, is an
 //! error ([`MeshError::Inverted`]).
 
-use super::stator::{StatorElement, StatorModel, Target};
+use super::stator::{StatorElement, StatorModel};
+use crate::contact::Target;
 use crate::element::frame::{self, FrameSection};
 use crate::element::solid2d::{self, Elastic2, Plane};
 use crate::element::solid3d::{self, Elastic3};

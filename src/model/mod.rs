@@ -13,7 +13,9 @@ pub mod stator;
 use crate::error::{Error, ModelError};
 use crate::scene::{LoadedScene, RotorSpec, StatorSpec};
 pub use rotor::{Jeffcott, RotorBody, UnbalanceLoad};
-pub use stator::{StatorModel, Target};
+// The contact target is contact's type; re-exported for the paths `crate::model::Target` in use.
+pub use crate::contact::Target;
+pub use stator::StatorModel;
 
 /// A contact station: a radially rigid circular rotor section.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,42 +5,11 @@
 //! A stator with zero total mass is *massless* (paper Sec. 2.5.1): it enters the time loop only
 //! through the compliance `K⁻¹` of its contact DOFs. Otherwise it is lumped and explicit.
 
+use crate::contact::Target;
 use crate::error::ModelError;
 use crate::linalg::{Cholesky, Csc};
 use crate::math::V2;
 use crate::scene::{FeElementSpec, FeStatorSpec};
-
-/// What the rotor section can touch.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Target {
-    /// A stator node at undeformed position `x0` (node-to-nodes, paper Method III).
-    Node {
-        /// Node index in the stator mesh.
-        node: usize,
-        /// Undeformed position (m).
-        x0: V2,
-        /// Free DOFs `[x, y]` (None = fixed).
-        dofs: [Option<usize>; 2],
-    },
-    /// The inner circle of a rigid ring centred at `center0 + u` (circle-in-circle contact).
-    Ring {
-        /// Undeformed centre (m).
-        center0: V2,
-        /// Inner radius r + δ (m).
-        inner_radius: f64,
-        /// Free DOFs of the ring centre `[x, y]`.
-        dofs: [Option<usize>; 2],
-    },
-}
-
-impl Target {
-    /// The target's free DOFs.
-    pub fn dofs(&self) -> [Option<usize>; 2] {
-        match self {
-            Target::Node { dofs, .. } | Target::Ring { dofs, .. } => *dofs,
-        }
-    }
-}
 
 /// Element connectivity kept for output and stress recovery.
 #[derive(Debug, Clone, PartialEq)]
