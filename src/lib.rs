@@ -1,6 +1,7 @@
 //! rubsim (being built).
 #![warn(missing_docs)]
 pub mod analysis;
+pub mod assembly;
 pub mod contact;
 pub mod element;
 pub mod error;

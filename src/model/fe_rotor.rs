@@ -18,6 +18,7 @@
 //! torsional ones; [`FeRotor::build`] refuses a rotor without them, as it refuses one without a
 //! bearing (a free rigid-body mode would make K singular for the static and unbalance solves).
 
+use crate::assembly::scatter;
 use crate::element::timoshenko::{
     axial_element, disk, shaft_element, torsion_element, ShaftSection,
 };
@@ -279,16 +280,6 @@ pub struct FeRotorData {
     pub torsional_supports: Vec<GroundSpring>,
 }
 
-fn scatter(t: &mut Vec<(usize, usize, f64)>, dofs: &[usize], m: &[&[f64]]) {
-    for (i, row) in m.iter().enumerate() {
-        for (j, v) in row.iter().enumerate() {
-            if *v != 0.0 {
-                t.push((dofs[i], dofs[j], *v));
-            }
-        }
-    }
-}
-
 impl FeRotor {
     /// Assembles the model. Errors name the offending item: a node that does not exist, a
     /// rotor without bearing, axial DOFs without an axial support, torsional DOFs without a
@@ -416,43 +407,20 @@ impl FeRotor {
         let mut total_ip = 0.0;
         for (i, e) in d.elements.iter().enumerate() {
             let el = shaft_element(e);
-            let dofs: Vec<usize> = (4 * i..4 * i + 8).collect();
-            let rows =
-                |a: &[[f64; 8]; 8]| -> Vec<Vec<f64>> { a.iter().map(|r| r.to_vec()).collect() };
-            let (m, k, g) = (rows(&el.m), rows(&el.k), rows(&el.g));
-            scatter(
-                &mut mt,
-                &dofs,
-                &m.iter().map(|r| r.as_slice()).collect::<Vec<_>>(),
-            );
-            scatter(
-                &mut kt,
-                &dofs,
-                &k.iter().map(|r| r.as_slice()).collect::<Vec<_>>(),
-            );
+            let dofs: [usize; 8] = std::array::from_fn(|k| 4 * i + k);
+            scatter(&mut mt, &dofs, el.m.as_flattened());
+            scatter(&mut kt, &dofs, el.k.as_flattened());
             if e.rotary_inertia {
-                scatter(
-                    &mut gt,
-                    &dofs,
-                    &g.iter().map(|r| r.as_slice()).collect::<Vec<_>>(),
-                );
+                scatter(&mut gt, &dofs, el.g.as_flattened());
             }
             total_mass += e.mass();
             total_ip += e.density * 2.0 * e.inertia() * e.length;
         }
         for dk in &d.disks {
             let (m, g) = disk(dk.mass, dk.id, dk.ip);
-            let dofs: Vec<usize> = (4 * dk.node..4 * dk.node + 4).collect();
-            scatter(
-                &mut mt,
-                &dofs,
-                &m.iter().map(|r| r.as_slice()).collect::<Vec<_>>(),
-            );
-            scatter(
-                &mut gt,
-                &dofs,
-                &g.iter().map(|r| r.as_slice()).collect::<Vec<_>>(),
-            );
+            let dofs: [usize; 4] = std::array::from_fn(|k| 4 * dk.node + k);
+            scatter(&mut mt, &dofs, m.as_flattened());
+            scatter(&mut gt, &dofs, g.as_flattened());
             total_mass += dk.mass;
             total_ip += dk.ip;
         }
@@ -476,8 +444,8 @@ impl FeRotor {
             ] {
                 if let (Some(a), Some(b)) = (dofs[i], dofs[i + 1]) {
                     let ab = [a, b];
-                    scatter(&mut mt, &ab, &[el.m[0].as_slice(), el.m[1].as_slice()]);
-                    scatter(&mut kt, &ab, &[el.k[0].as_slice(), el.k[1].as_slice()]);
+                    scatter(&mut mt, &ab, el.m.as_flattened());
+                    scatter(&mut kt, &ab, el.k.as_flattened());
                 }
             }
         }

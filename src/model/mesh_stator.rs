@@ -23,6 +23,7 @@
 //! error ([`MeshError::Inverted`]).
 
 use super::stator::{StatorElement, StatorModel};
+use crate::assembly::scatter;
 use crate::contact::Target;
 use crate::element::frame::{self, FrameSection};
 use crate::element::solid2d::{self, Elastic2, Plane};
@@ -486,20 +487,6 @@ pub fn from_mesh(
     let mut ml = [0.0; solid3d::MAX_NODES];
     let mut dofs: Vec<Option<usize>> = Vec::with_capacity(3 * solid3d::MAX_NODES);
     let mut element_bound = 0.0_f64;
-    let scatter = |dofs: &[Option<usize>], ke: &[f64], kt: &mut Vec<(usize, usize, f64)>| {
-        let n = dofs.len();
-        for i in 0..n {
-            let Some(a) = dofs[i] else { continue };
-            for j in 0..n {
-                if let Some(b) = dofs[j] {
-                    let v = ke[i * n + j];
-                    if v != 0.0 {
-                        kt.push((a, b, v));
-                    }
-                }
-            }
-        }
-    };
     for (kind, nodes, reg) in &cells {
         let nn = kind.nodes();
         let ke = &mut ke[..(ncomp * nn).pow(2)];
@@ -544,7 +531,7 @@ pub fn from_mesh(
         for &n in nodes {
             dofs_of(n, &mut dofs);
         }
-        scatter(&dofs, ke, &mut kt);
+        scatter(&mut kt, &dofs, ke);
         if reg.density > 0.0 {
             // Element eigenvalue bound (Irons): λ_max(K, M) ≤ max_e λ_max(K_e, M_e) with the
             // element's lumped mass, on its free DOFs.
@@ -577,7 +564,7 @@ pub fn from_mesh(
                 let mut kb = [0.0; 16];
                 frame::bar_stiffness(a, b, fr.youngs_modulus * fr.area, &mut kb);
                 let d = [node_dofs[l[0]], node_dofs[l[1]]].concat();
-                scatter(&d, &kb, &mut kt);
+                scatter(&mut kt, &d, &kb);
                 let half = fr.density * fr.area * length / 2.0;
                 for &n in l {
                     for d in node_dofs[n].iter().flatten() {
@@ -611,7 +598,7 @@ pub fn from_mesh(
                     node_dofs[l[1]][1],
                     rot_dofs[1],
                 ];
-                scatter(&d, &kf, &mut kt);
+                scatter(&mut kt, &d, &kf);
                 let [mt, mr] = frame::frame_mass_lumped(a, b, &section);
                 for (k, &n) in l.iter().enumerate() {
                     for d in node_dofs[n].iter().flatten() {

@@ -5,6 +5,7 @@
 //! A stator with zero total mass is *massless* (paper Sec. 2.5.1): it enters the time loop only
 //! through the compliance `K⁻¹` of its contact DOFs. Otherwise it is lumped and explicit.
 
+use crate::assembly::scatter;
 use crate::contact::Target;
 use crate::error::ModelError;
 use crate::linalg::{Cholesky, Csc};
@@ -304,18 +305,6 @@ impl StatorModel {
             })
             .collect();
         let mut kt: Vec<(usize, usize, f64)> = Vec::new();
-        let mut scatter = |dofs: &[Option<usize>], ke: &[f64]| {
-            let n = dofs.len();
-            for i in 0..n {
-                for j in 0..n {
-                    if let (Some(a), Some(b)) = (dofs[i], dofs[j]) {
-                        if ke[i * n + j] != 0.0 {
-                            kt.push((a, b, ke[i * n + j]));
-                        }
-                    }
-                }
-            }
-        };
         for el in &elements {
             match el {
                 StatorElement::Bar {
@@ -341,7 +330,7 @@ impl StatorModel {
                         node_dofs[nd[1]][0],
                         node_dofs[nd[1]][1],
                     ];
-                    scatter(&dofs, &ke);
+                    scatter(&mut kt, &dofs, &ke);
                 }
                 StatorElement::Spring {
                     node,
@@ -354,7 +343,7 @@ impl StatorModel {
                         stiffness * dir[1] * dir[0],
                         stiffness * dir[1] * dir[1],
                     ];
-                    scatter(&node_dofs[*node], &ke);
+                    scatter(&mut kt, &node_dofs[*node], &ke);
                 }
                 StatorElement::Solid2 { .. }
                 | StatorElement::Solid3 { .. }
