@@ -18,39 +18,30 @@ pub fn apply_override(root: &mut toml::Value, assignment: &str) -> Result<(), Sc
         return Err(err("empty key"));
     }
     let raw = raw.trim();
-    let value: toml::Value = match toml::from_str::<toml::Table>(&format!("v = {raw}")) {
-        Ok(mut t) => t.remove("v").expect("parsed key"),
-        Err(_) => toml::Value::String(raw.to_string()),
-    };
+    let value = match toml::from_str::<toml::Table>(&format!("v = {raw}")) {
+        Ok(mut t) => t.remove("v"),
+        Err(_) => None,
+    }
+    .unwrap_or_else(|| toml::Value::String(raw.to_string()));
     let parts: Vec<&str> = key.split('.').collect();
     let mut cur = root;
     for (i, part) in parts.iter().enumerate() {
-        let last = i + 1 == parts.len();
-        // Scene arrays of tables are named in the singular in TOML (`[[stator]]`).
+        // Scene arrays of tables are named in the singular in TOML (`[[stator]]`); a missing
+        // table on the way is created.
         cur = match cur {
-            toml::Value::Table(t) => {
-                if last {
-                    t.insert(part.to_string(), value);
-                    return Ok(());
-                }
-                t.entry(part.to_string())
-                    .or_insert_with(|| toml::Value::Table(toml::Table::new()))
-            }
+            toml::Value::Table(t) => t
+                .entry(part.to_string())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new())),
             toml::Value::Array(a) => {
                 let idx: usize = part
                     .parse()
                     .map_err(|_| err(&format!("`{part}` is not an index into an array")))?;
                 let len = a.len();
-                let slot = a.get_mut(idx).ok_or_else(|| {
+                a.get_mut(idx).ok_or_else(|| {
                     err(&format!(
                         "index {idx} out of range (array has {len} entries)"
                     ))
-                })?;
-                if last {
-                    *slot = value;
-                    return Ok(());
-                }
-                slot
+                })?
             }
             _ => {
                 return Err(err(&format!(
@@ -60,7 +51,8 @@ pub fn apply_override(root: &mut toml::Value, assignment: &str) -> Result<(), Sc
             }
         };
     }
-    unreachable!("loop returns on the last part")
+    *cur = value;
+    Ok(())
 }
 
 /// 1-based line of a dotted key (`stator.0.clearance_nd`, `rotor.mass`) in TOML text, if
