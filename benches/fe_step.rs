@@ -89,7 +89,7 @@ fn main() {
     for elements in [50usize, 100] {
         let text = scene_text(elements);
         let ls = scene::parse(Path::new("bench.toml"), &text, &[]).expect("scene");
-        let model = Model::build(&ls).expect("model");
+        let model = Model::from_scene(&ls).expect("model");
         let nu = 1.5;
         let case = model
             .case(nu * model.rotor.natural_frequency())

@@ -11,6 +11,7 @@ pub mod mesh;
 pub mod model;
 pub mod output;
 pub mod plot;
+pub mod resolve;
 pub mod results;
 pub mod rotordyn;
 pub mod scene;

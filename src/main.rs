@@ -163,8 +163,8 @@ enum Cmd {
 
 fn load(c: &Common) -> Result<(LoadedScene, Model)> {
     let ls = scene::load(&c.scene, &c.set)?;
-    let model =
-        Model::build(&ls).with_context(|| format!("{}: building the model", c.scene.display()))?;
+    let model = Model::from_scene(&ls)
+        .with_context(|| format!("{}: building the model", c.scene.display()))?;
     Ok((ls, model))
 }
 

@@ -188,7 +188,7 @@ pub fn stress(a: &StressArgs) -> Result<()> {
     use rubsim::output::OutDir;
     use rubsim::plot::{self, Series};
     let ls = rubsim::scene::load(&a.scene, &a.set)?;
-    let model = rubsim::model::Model::build(&ls)
+    let model = rubsim::model::Model::from_scene(&ls)
         .with_context(|| format!("{}: building the model", a.scene.display()))?;
     let settings = RunSettings::from_run(&ls.scene.run, &ls.scene.output.component);
     let speeds: Vec<f64> = if a.speeds.is_empty() {
@@ -411,7 +411,7 @@ pub fn refine(a: &RefineArgs) -> Result<()> {
         set.push(format!("{}={v}", a.key));
         set.push("run.error_estimate=false".into());
         let ls = rubsim::scene::load(&a.scene, &set)?;
-        let model = rubsim::model::Model::build(&ls)
+        let model = rubsim::model::Model::from_scene(&ls)
             .with_context(|| format!("{} with {} = {v}", a.scene.display(), a.key))?;
         let speed = a.speed.or(ls.scene.run.speed_ratio).unwrap_or(1.7);
         let s = RunSettings::from_run(&ls.scene.run, &ls.scene.output.component);

@@ -9,7 +9,7 @@ use std::path::Path;
 
 fn model(text: &str) -> Model {
     let ls = scene::parse(Path::new("t.toml"), text, &[]).expect("scene");
-    Model::build(&ls).expect("model")
+    Model::from_scene(&ls).expect("model")
 }
 
 fn fe(r: &Rotor) -> &rubsim::model::FeModel {
@@ -386,7 +386,7 @@ fn run_at(text: &str, nu: f64) -> rubsim::analysis::SpeedResults {
         "run.error_estimate=false".into(),
     ];
     let ls = scene::parse(Path::new("t.toml"), text, &ov).unwrap();
-    let m = Model::build(&ls).unwrap();
+    let m = Model::from_scene(&ls).unwrap();
     let s = rubsim::analysis::RunSettings::from_run(&ls.scene.run, "y");
     rubsim::analysis::run_speed(&m, &s, nu, rubsim::analysis::Keep::default()).unwrap()
 }
@@ -1100,7 +1100,7 @@ fn friction_torque_twists_the_shaft_by_r_mu_p_over_k() {
             "run.error_estimate=false".into(),
         ];
         let ls = scene::parse(Path::new("t.toml"), text, &ov).unwrap();
-        let m = Model::build(&ls).unwrap();
+        let m = Model::from_scene(&ls).unwrap();
         let f = &fe(&m.rotor).rotor;
         let case = m.case(nu * m.rotor.natural_frequency()).unwrap();
         let mut st = rubsim::analysis::RunSettings::from_run(&ls.scene.run, "y").step;
@@ -1223,7 +1223,8 @@ fn bad_axial_torsion_input_names_the_item() {
         assert!(e.contains(key) && e.contains("bad.toml"), "{key}: {e}");
     }
     // The model layer refuses the same on its own (library users who skip the scene).
-    use rubsim::model::fe_rotor::{data_from_spec, FeRotor, GroundSpring};
+    use rubsim::model::fe_rotor::{FeRotor, GroundSpring};
+    use rubsim::resolve::rotor::data_from_spec;
     let ls = scene::parse(Path::new("t.toml"), &full_rotor(true, true), &[]).unwrap();
     let spec = match &ls.scene.rotor {
         rubsim::scene::RotorSpec::Fe(f) => f.clone(),
@@ -1385,7 +1386,7 @@ fn modal_damping_in_the_time_loop_matches_the_frequency_domain() {
         "run.harmonics=16".to_string(),
     ];
     let ls = scene::parse(Path::new("t.toml"), &text, &free).unwrap();
-    let model = Model::build(&ls).unwrap();
+    let model = Model::from_scene(&ls).unwrap();
     let s = RunSettings::from_run(&ls.scene.run, "y");
     let r = analysis::run_speed(&model, &s, 1.0, Keep::default()).unwrap();
     for (k, e) in r.extents_nd.iter().enumerate() {
@@ -1407,7 +1408,7 @@ fn modal_damping_in_the_time_loop_matches_the_frequency_domain() {
     ov.push("run.transient_revolutions=0".into());
     ov.push("run.samples_per_rev=256".into());
     let ls = scene::parse(Path::new("t.toml"), &text, &ov).unwrap();
-    let model = Model::build(&ls).unwrap();
+    let model = Model::from_scene(&ls).unwrap();
     let Rotor::Fe(f) = &model.rotor else { panic!() };
     let wn = f.omega_n;
     let omega = 0.3 * wn;

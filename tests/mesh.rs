@@ -10,7 +10,7 @@ use rubsim::linalg::{Cholesky, Csc};
 use rubsim::math::loglog_slope;
 use rubsim::mesh::gmsh::{self as gm, MeshRequest};
 use rubsim::mesh::{CellKind, Mesh};
-use rubsim::model::mesh_stator;
+use rubsim::model::stator::mesh as mesh_stator;
 use rubsim::model::stator::{StatorElement, StatorModel};
 use rubsim::scene::MeshStatorSpec;
 use std::f64::consts::PI;
@@ -163,7 +163,7 @@ fn ring_msh(
 
 fn model_of(msh: &str, spec: &MeshStatorSpec) -> (Mesh, StatorModel) {
     let mesh = Mesh::parse(Path::new("ring.msh"), msh.as_bytes()).expect("parse");
-    let m = mesh_stator::from_mesh(&mesh, spec, 0, &[], PathBuf::from("ring.msh"), true)
+    let m = mesh_stator::from_spec(&mesh, spec, 0, &[], PathBuf::from("ring.msh"), true)
         .expect("model");
     (mesh, m)
 }
@@ -479,7 +479,7 @@ fn clockwise_surfaces_are_renumbered_and_a_folded_cell_is_rejected() {
     lines[first] = format!("{} {} {} {} {}", w[0], w[1], w[3], w[2], w[4]);
     let bad = lines.join("\n") + "\n";
     let mesh = Mesh::parse(Path::new("folded.msh"), bad.as_bytes()).unwrap();
-    let e = mesh_stator::from_mesh(&mesh, &sp, 0, &[], PathBuf::from("folded.msh"), true)
+    let e = mesh_stator::from_spec(&mesh, &sp, 0, &[], PathBuf::from("folded.msh"), true)
         .unwrap_err()
         .to_string();
     assert!(
@@ -627,7 +627,10 @@ fn build_geo(geo_text: &str, name: &str, extra: &str) -> String {
     std::fs::write(&geo, geo_text).unwrap();
     let mut sp = spec(extra);
     sp.geometry = geo.display().to_string();
-    match mesh_stator::build(&sp, &dir.path().join("scene.toml"), 0, &[]) {
+    let built = rubsim::resolve::mesh::load_mesh(&sp, &dir.path().join("scene.toml"))
+        .map_err(rubsim::error::Error::from)
+        .and_then(|(mesh, geo, cached)| mesh_stator::from_spec(&mesh, &sp, 0, &[], geo, cached));
+    match built {
         Ok(_) => String::new(),
         Err(e) => e.to_string(),
     }
@@ -689,7 +692,7 @@ fn scene_with_meshed_rod_runs_and_matches_the_bar_model_stiffness() {
         return;
     }
     let ls = rubsim::scene::load(&repo("scenes/stators/rod2d.toml"), &[]).unwrap();
-    let model = rubsim::model::Model::build(&ls).unwrap();
+    let model = rubsim::model::Model::from_scene(&ls).unwrap();
     let case = model.case(1.7 * model.rotor.natural_frequency()).unwrap();
     let s = &case.stators[0];
     // E A / L of the bar model; the 2-D body pushed at its whole tip is slightly stiffer.
@@ -870,7 +873,7 @@ fn tetrahedra_converge_to_plane_strain_lame_in_a_tube() {
         for nr in levels {
             let mesh = tube_mesh(kind, r0, r1, (r1 - r0) / nr as f64, nr, 8 * nr);
             mesh.check_conforming().unwrap();
-            let m = mesh_stator::from_mesh(&mesh, &sp, 0, &[], PathBuf::from("tube.msh"), true)
+            let m = mesh_stator::from_spec(&mesh, &sp, 0, &[], PathBuf::from("tube.msh"), true)
                 .unwrap();
             let md = m.mesh.as_ref().unwrap();
             assert_eq!(md.dim, 3);
@@ -1019,7 +1022,7 @@ fn three_d_seal_scene_builds_with_tetrahedra() {
         return;
     }
     let ls = rubsim::scene::load(&repo("scenes/stators/labyrinth_seal.toml"), &[]).unwrap();
-    let model = rubsim::model::Model::build(&ls).unwrap();
+    let model = rubsim::model::Model::from_scene(&ls).unwrap();
     let case = model.case(model.rotor.natural_frequency()).unwrap();
     let s = &case.stators[0];
     let md = s.mesh.as_ref().unwrap();
@@ -1217,7 +1220,7 @@ speed_ratio = 1.0
 "#;
     let ls =
         rubsim::scene::parse(&repo("scenes/stators/two_station_seal.toml"), text, &[]).unwrap();
-    let model = rubsim::model::Model::build(&ls).unwrap();
+    let model = rubsim::model::Model::from_scene(&ls).unwrap();
     let case = model.case(model.rotor.natural_frequency()).unwrap();
     let s = &case.stators[0];
     let md = s.mesh.as_ref().unwrap();

@@ -59,7 +59,7 @@ fn allocations_do_not_grow_with_steps() {
                 extra.to_string(),
             ];
             let ls = scene::parse(Path::new("t.toml"), &text, &ov).unwrap();
-            let model = Model::build(&ls).unwrap();
+            let model = Model::from_scene(&ls).unwrap();
             let case = model.case(1.7 * model.rotor.natural_frequency()).unwrap();
             let mut st = rubsim::analysis::RunSettings::from_run(&ls.scene.run, "y").step;
             st.integrator = kind;

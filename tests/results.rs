@@ -21,7 +21,7 @@ fn data(name: &str) -> PathBuf {
 fn load(name: &str, sets: &[&str]) -> (LoadedScene, Model) {
     let ov: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let ls = scene::load(&data(name), &ov).expect("scene");
-    let model = Model::build(&ls).expect("model");
+    let model = Model::from_scene(&ls).expect("model");
     (ls, model)
 }
 
@@ -41,7 +41,7 @@ fn run_scene(
 ) -> (rubsim::analysis::SpeedResults, Vec<PathBuf>) {
     let ov: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let ls = scene::load(path, &ov).expect("scene");
-    let model = Model::build(&ls).expect("model");
+    let model = Model::from_scene(&ls).expect("model");
     let s = RunSettings::from_run(&ls.scene.run, "y");
     let mut out = OutDir::prepare(dir).expect("prepare");
     let staging = out.staging_dir().to_path_buf();
@@ -268,7 +268,7 @@ poisson_ratio = 0.33
 speed_ratio = 1.0
 "#;
     let ls = scene::parse(&data("two_station_seal.toml"), text, &[]).unwrap();
-    let model = Model::build(&ls).unwrap();
+    let model = Model::from_scene(&ls).unwrap();
     let case = model.case(model.rotor.natural_frequency()).unwrap();
     let l = Layout::new(&model, &case);
     let s = &case.stators[0];
@@ -933,7 +933,7 @@ mod hdf5_file {
         let speed = 1.7;
         let ov: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
         let ls = scene::load(&scene, &ov).unwrap();
-        let model = Model::build(&ls).unwrap();
+        let model = Model::from_scene(&ls).unwrap();
         let case = model.case(speed * model.rotor.natural_frequency()).unwrap();
         let layout = Layout::new(&model, &case);
         run_scene(&scene, &sets, Some(speed), &dir);

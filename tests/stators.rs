@@ -21,7 +21,7 @@ fn run(text: &str, ov: &[&str], nu: f64) -> analysis::SpeedResults {
     o.push("run.error_estimate=false".into());
     o.push(format!("run.speed_ratio={nu}"));
     let ls = scene::parse(Path::new("t.toml"), text, &o).expect("scene");
-    let model = Model::build(&ls).expect("model");
+    let model = Model::from_scene(&ls).expect("model");
     let s = RunSettings::from_run(&ls.scene.run, "y");
     analysis::run_speed(&model, &s, nu, Keep::default()).expect("run")
 }

@@ -12,7 +12,7 @@ const PAPER: &str = include_str!("../scenes/paper/partial_rub.toml");
 fn load(text: &str, ov: &[&str]) -> (LoadedScene, Model) {
     let ov: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
     let ls = scene::parse(Path::new("test.toml"), text, &ov).expect("scene");
-    let m = Model::build(&ls).expect("model");
+    let m = Model::from_scene(&ls).expect("model");
     (ls, m)
 }
 

@@ -19,99 +19,13 @@
 //! bearing (a free rigid-body mode would make K singular for the static and unbalance solves).
 
 use crate::assembly::scatter;
-use crate::element::timoshenko::{
-    axial_element, disk, shaft_element, torsion_element, ShaftSection,
-};
+use crate::element::timoshenko::{axial_element, disk, shaft_element, torsion_element};
 use crate::error::ModelError;
 use crate::linalg::{Csc, LowRank};
 use crate::model::rotor::{RotorBody, UnbalanceLoad};
+pub use crate::resolve::rotor::{Bearing, Disk, FeRotorData, GroundSpring, ModalDamping};
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
-
-/// A bearing's 2×2 stiffness and damping on `[u_x, u_y]`, possibly tabulated against speed.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Bearing {
-    /// Rotor node.
-    pub node: usize,
-    /// Speeds (rad/s) of the table; empty for constant coefficients.
-    pub speeds: Vec<f64>,
-    /// `[kxx, kxy, kyx, kyy]` per table row (N/m).
-    pub k: Vec<[f64; 4]>,
-    /// `[cxx, cxy, cyx, cyy]` per table row (N·s/m).
-    pub c: Vec<[f64; 4]>,
-    /// Pedestal `(mass kg, stiffness N/m, damping N·s/m)` between bearing and ground.
-    pub pedestal: Option<(f64, f64, f64)>,
-}
-
-impl Bearing {
-    /// Coefficients at speed ω (linear interpolation in the table, constant outside).
-    pub fn coefficients(&self, omega: f64) -> ([f64; 4], [f64; 4]) {
-        if self.speeds.len() < 2 {
-            return (self.k[0], self.c[0]);
-        }
-        let s = &self.speeds;
-        let i = match s.iter().position(|v| *v >= omega) {
-            None => return (self.k[s.len() - 1], self.c[s.len() - 1]),
-            Some(0) => return (self.k[0], self.c[0]),
-            Some(i) => i,
-        };
-        let t = (omega - s[i - 1]) / (s[i] - s[i - 1]);
-        let lerp = |a: [f64; 4], b: [f64; 4]| {
-            [
-                a[0] + t * (b[0] - a[0]),
-                a[1] + t * (b[1] - a[1]),
-                a[2] + t * (b[2] - a[2]),
-                a[3] + t * (b[3] - a[3]),
-            ]
-        };
-        (
-            lerp(self.k[i - 1], self.k[i]),
-            lerp(self.c[i - 1], self.c[i]),
-        )
-    }
-}
-
-/// A spring and dashpot from one scalar DOF of a rotor node to ground: a thrust bearing on
-/// `u_z` (stiffness N/m, damping N·s/m) or a torsional restraint on `θ_z` — coupling or drive
-/// stiffness (N·m/rad, N·m·s/rad). Adds `stiffness` to `K` and `damping` to `C` on that DOF.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GroundSpring {
-    /// Rotor node.
-    pub node: usize,
-    /// Stiffness (> 0): N/m axial, N·m/rad torsional.
-    pub stiffness: f64,
-    /// Damping (≥ 0): N·s/m axial, N·m·s/rad torsional.
-    pub damping: f64,
-}
-
-/// A rigid disk. With axial DOFs it adds its mass to `u_z`, with torsional DOFs its polar
-/// inertia `I_p` to `θ_z`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Disk {
-    /// Node.
-    pub node: usize,
-    /// Mass (kg).
-    pub mass: f64,
-    /// Polar moment of inertia I_p (kg·m²).
-    pub ip: f64,
-    /// Diametral moment of inertia I_d (kg·m²).
-    pub id: f64,
-}
-
-impl Disk {
-    /// Disk from geometry: annulus of outer diameter `od`, bore `bore`, width `w`, density ρ:
-    /// m = ρπ(D²−d²)w/4, I_p = m(R²+r²)/2, I_d = m(3(R²+r²) + w²)/12.
-    pub fn from_geometry(node: usize, od: f64, bore: f64, width: f64, density: f64) -> Self {
-        let r2 = (od / 2.0).powi(2) + (bore / 2.0).powi(2);
-        let mass = density * std::f64::consts::PI * (od * od - bore * bore) / 4.0 * width;
-        Disk {
-            node,
-            mass,
-            ip: mass * r2 / 2.0,
-            id: mass * (3.0 * r2 + width * width) / 12.0,
-        }
-    }
-}
 
 /// The FE rotor model (speed independent parts assembled once).
 #[derive(Debug, Clone)]
@@ -206,20 +120,6 @@ impl Refill {
     }
 }
 
-/// Modal damping: the ratio ζ on every undamped mode (at rest, bearings at the run's speed,
-/// without gyroscopics) up to `max_frequency` and at most `modes` modes, lowest first; a
-/// repeated frequency (the x and y bending modes of an axisymmetric rotor) is never split.
-/// The other modes get none from it (add Rayleigh damping for them).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ModalDamping {
-    /// ζ (dimensionless).
-    pub ratio: f64,
-    /// Highest undamped frequency that gets ζ (rad/s); infinite: no limit.
-    pub max_frequency: f64,
-    /// Largest number of modes that get ζ; `usize::MAX`: no limit.
-    pub modes: usize,
-}
-
 /// Mass-normalised undamped modes `(ω², Φ)` of `K φ = ω² M φ`, ascending (`Φᵀ M Φ = I`),
 /// dense (by a Cholesky factor of M: every DOF needs mass or rotary inertia).
 pub fn undamped_modes(m: &Csc, k: &Csc) -> Result<(Vec<f64>, DMatrix<f64>), ModelError> {
@@ -251,137 +151,14 @@ fn symmetric_form(
     Ok(((&a + a.transpose()) * 0.5, linv))
 }
 
-/// Everything needed to build an [`FeRotor`].
-#[derive(Debug, Clone)]
-pub struct FeRotorData {
-    /// Elements in order along the shaft.
-    pub elements: Vec<ShaftSection>,
-    /// Disks.
-    pub disks: Vec<Disk>,
-    /// Point masses `(node, kg)`.
-    pub point_masses: Vec<(usize, f64)>,
-    /// Bearings.
-    pub bearings: Vec<Bearing>,
-    /// Unbalances `(node, m_u e kg·m, phase rad)`.
-    pub unbalances: Vec<(usize, f64, f64)>,
-    /// Rayleigh `[α, β]`.
-    pub rayleigh: [f64; 2],
-    /// Modal damping.
-    pub modal_damping: Option<ModalDamping>,
-    /// Axial DOF `u_z` per node (axial bar elements, see
-    /// [`crate::element::timoshenko::axial_element`]); needs `axial_supports`.
-    pub axial: bool,
-    /// Torsional DOF `θ_z` per node (see [`crate::element::timoshenko::torsion_element`]);
-    /// needs `torsional_supports`.
-    pub torsion: bool,
-    /// Thrust bearings on `u_z`.
-    pub axial_supports: Vec<GroundSpring>,
-    /// Torsional restraints on `θ_z`.
-    pub torsional_supports: Vec<GroundSpring>,
-}
-
 impl FeRotor {
     /// Assembles the model. Errors name the offending item: a node that does not exist, a
     /// rotor without bearing, axial DOFs without an axial support, torsional DOFs without a
     /// torsional restraint, supports of DOFs that are off, non-positive support stiffness or
     /// negative damping.
     pub fn build(d: &FeRotorData) -> Result<Self, ModelError> {
-        let err = |what: String, message: String| ModelError::Inconsistent { what, message };
-        if d.elements.is_empty() {
-            return Err(err("rotor".into(), "no shaft elements".into()));
-        }
-        let nn = d.elements.len() + 1;
-        let mut z = vec![0.0; nn];
-        let mut node_diameter = vec![0.0_f64; nn];
-        for (i, e) in d.elements.iter().enumerate() {
-            if e.length.is_nan()
-                || e.length <= 0.0
-                || e.outer_diameter.is_nan()
-                || e.outer_diameter <= e.inner_diameter
-                || e.inner_diameter < 0.0
-            {
-                return Err(err(
-                    format!("rotor shaft element {i}"),
-                    format!(
-                        "needs length > 0 and outer diameter > inner diameter ≥ 0 (L = {}, D = {}, d = {})",
-                        e.length, e.outer_diameter, e.inner_diameter
-                    ),
-                ));
-            }
-            z[i + 1] = z[i] + e.length;
-            node_diameter[i] = node_diameter[i].max(e.outer_diameter);
-            node_diameter[i + 1] = e.outer_diameter;
-        }
-        let check_node = |what: String, n: usize| -> Result<(), ModelError> {
-            if n >= nn {
-                Err(err(
-                    what,
-                    format!(
-                        "node {n} does not exist (the shaft has nodes 0..={})",
-                        nn - 1
-                    ),
-                ))
-            } else {
-                Ok(())
-            }
-        };
-        for (i, dk) in d.disks.iter().enumerate() {
-            check_node(format!("rotor disk {i}"), dk.node)?;
-        }
-        for (i, b) in d.bearings.iter().enumerate() {
-            check_node(format!("rotor bearing {i}"), b.node)?;
-        }
-        for (i, (n, _)) in d.point_masses.iter().enumerate() {
-            check_node(format!("rotor point mass {i}"), *n)?;
-        }
-        for (i, (n, _, _)) in d.unbalances.iter().enumerate() {
-            check_node(format!("rotor unbalance {i}"), *n)?;
-        }
-        if d.bearings.is_empty() {
-            return Err(err(
-                "rotor".into(),
-                "no bearing: a free rotor has rigid-body modes and no static equilibrium".into(),
-            ));
-        }
-        for (kind, on, supports) in [
-            ("axial", d.axial, &d.axial_supports),
-            ("torsional", d.torsion, &d.torsional_supports),
-        ] {
-            for (i, s) in supports.iter().enumerate() {
-                let what = format!("rotor {kind} support {i}");
-                check_node(what.clone(), s.node)?;
-                if !on {
-                    return Err(err(
-                        what,
-                        format!("the rotor has no {kind} DOFs: switch them on to use it"),
-                    ));
-                }
-                if !(s.stiffness.is_finite() && s.stiffness > 0.0) {
-                    return Err(err(
-                        what,
-                        format!("stiffness must be positive and finite, got {}", s.stiffness),
-                    ));
-                }
-                if !(s.damping.is_finite() && s.damping >= 0.0) {
-                    return Err(err(
-                        what,
-                        format!("damping must be zero or positive, got {}", s.damping),
-                    ));
-                }
-            }
-        }
-        if d.axial && d.axial_supports.is_empty() {
-            return Err(err(
-                "rotor".into(),
-                "axial DOFs but no axial support: the rotor would slide freely along its axis (a rigid-body axial mode, no static equilibrium); add a thrust bearing".into(),
-            ));
-        }
-        if d.torsion && d.torsional_supports.is_empty() {
-            return Err(err(
-                "rotor".into(),
-                "torsional DOFs but no torsional restraint: the rotor would turn freely about its axis (a rigid-body torsional mode, no static equilibrium); add a coupling or drive stiffness".into(),
-            ));
-        }
+        let (z, node_diameter) = check(d)?;
+        let nn = z.len();
         let mut ndof = 4 * nn;
         let mut pedestal_dofs = Vec::new();
         for b in &d.bearings {
@@ -402,66 +179,13 @@ impl FeRotor {
         };
         let node_axial = scalar_dofs(d.axial);
         let node_torsion = scalar_dofs(d.torsion);
-        let (mut mt, mut kt, mut gt) = (Vec::new(), Vec::new(), Vec::new());
-        let mut total_mass = 0.0;
-        let mut total_ip = 0.0;
-        for (i, e) in d.elements.iter().enumerate() {
-            let el = shaft_element(e);
-            let dofs: [usize; 8] = std::array::from_fn(|k| 4 * i + k);
-            scatter(&mut mt, &dofs, el.m.as_flattened());
-            scatter(&mut kt, &dofs, el.k.as_flattened());
-            if e.rotary_inertia {
-                scatter(&mut gt, &dofs, el.g.as_flattened());
-            }
-            total_mass += e.mass();
-            total_ip += e.density * 2.0 * e.inertia() * e.length;
-        }
-        for dk in &d.disks {
-            let (m, g) = disk(dk.mass, dk.id, dk.ip);
-            let dofs: [usize; 4] = std::array::from_fn(|k| 4 * dk.node + k);
-            scatter(&mut mt, &dofs, m.as_flattened());
-            scatter(&mut gt, &dofs, g.as_flattened());
-            total_mass += dk.mass;
-            total_ip += dk.ip;
-        }
-        for (n, m) in &d.point_masses {
-            mt.push((4 * n, 4 * n, *m));
-            mt.push((4 * n + 1, 4 * n + 1, *m));
-            total_mass += m;
-        }
-        for (b, pd) in d.bearings.iter().zip(&pedestal_dofs) {
-            if let (Some((pm, _, _)), Some(p)) = (b.pedestal, pd) {
-                mt.push((*p, *p, pm));
-                mt.push((p + 1, p + 1, pm));
-            }
-        }
-        // Axial and torsional DOFs (after every lateral triplet, so the lateral entries sum in
-        // the same order as without them): bar and torsion elements, disks, point masses.
-        for (i, e) in d.elements.iter().enumerate() {
-            for (dofs, el) in [
-                (&node_axial, axial_element(e)),
-                (&node_torsion, torsion_element(e)),
-            ] {
-                if let (Some(a), Some(b)) = (dofs[i], dofs[i + 1]) {
-                    let ab = [a, b];
-                    scatter(&mut mt, &ab, el.m.as_flattened());
-                    scatter(&mut kt, &ab, el.k.as_flattened());
-                }
-            }
-        }
-        for dk in &d.disks {
-            if let Some(a) = node_axial[dk.node] {
-                mt.push((a, a, dk.mass));
-            }
-            if let Some(t) = node_torsion[dk.node] {
-                mt.push((t, t, dk.ip));
-            }
-        }
-        for (n, m) in &d.point_masses {
-            if let Some(a) = node_axial[*n] {
-                mt.push((a, a, *m));
-            }
-        }
+        let Triplets {
+            mt,
+            kt,
+            gt,
+            total_mass,
+            total_ip,
+        } = Triplets::assemble(d, &pedestal_dofs, &node_axial, &node_torsion);
         let unbalance = d
             .unbalances
             .iter()
@@ -753,6 +477,196 @@ impl FeRotor {
     }
 }
 
+/// Checks what [`FeRotor::build`] needs of the data; returns the node positions z (m) and the
+/// outer diameter at each node (m).
+fn check(d: &FeRotorData) -> Result<(Vec<f64>, Vec<f64>), ModelError> {
+    let err = |what: String, message: String| ModelError::Inconsistent { what, message };
+    if d.elements.is_empty() {
+        return Err(err("rotor".into(), "no shaft elements".into()));
+    }
+    let nn = d.elements.len() + 1;
+    let mut z = vec![0.0; nn];
+    let mut node_diameter = vec![0.0_f64; nn];
+    for (i, e) in d.elements.iter().enumerate() {
+        if e.length.is_nan()
+            || e.length <= 0.0
+            || e.outer_diameter.is_nan()
+            || e.outer_diameter <= e.inner_diameter
+            || e.inner_diameter < 0.0
+        {
+            return Err(err(
+                    format!("rotor shaft element {i}"),
+                    format!(
+                        "needs length > 0 and outer diameter > inner diameter ≥ 0 (L = {}, D = {}, d = {})",
+                        e.length, e.outer_diameter, e.inner_diameter
+                    ),
+                ));
+        }
+        z[i + 1] = z[i] + e.length;
+        node_diameter[i] = node_diameter[i].max(e.outer_diameter);
+        node_diameter[i + 1] = e.outer_diameter;
+    }
+    let check_node = |what: String, n: usize| -> Result<(), ModelError> {
+        if n >= nn {
+            Err(err(
+                what,
+                format!(
+                    "node {n} does not exist (the shaft has nodes 0..={})",
+                    nn - 1
+                ),
+            ))
+        } else {
+            Ok(())
+        }
+    };
+    for (i, dk) in d.disks.iter().enumerate() {
+        check_node(format!("rotor disk {i}"), dk.node)?;
+    }
+    for (i, b) in d.bearings.iter().enumerate() {
+        check_node(format!("rotor bearing {i}"), b.node)?;
+    }
+    for (i, (n, _)) in d.point_masses.iter().enumerate() {
+        check_node(format!("rotor point mass {i}"), *n)?;
+    }
+    for (i, (n, _, _)) in d.unbalances.iter().enumerate() {
+        check_node(format!("rotor unbalance {i}"), *n)?;
+    }
+    if d.bearings.is_empty() {
+        return Err(err(
+            "rotor".into(),
+            "no bearing: a free rotor has rigid-body modes and no static equilibrium".into(),
+        ));
+    }
+    for (kind, on, supports) in [
+        ("axial", d.axial, &d.axial_supports),
+        ("torsional", d.torsion, &d.torsional_supports),
+    ] {
+        for (i, s) in supports.iter().enumerate() {
+            let what = format!("rotor {kind} support {i}");
+            check_node(what.clone(), s.node)?;
+            if !on {
+                return Err(err(
+                    what,
+                    format!("the rotor has no {kind} DOFs: switch them on to use it"),
+                ));
+            }
+            if !(s.stiffness.is_finite() && s.stiffness > 0.0) {
+                return Err(err(
+                    what,
+                    format!("stiffness must be positive and finite, got {}", s.stiffness),
+                ));
+            }
+            if !(s.damping.is_finite() && s.damping >= 0.0) {
+                return Err(err(
+                    what,
+                    format!("damping must be zero or positive, got {}", s.damping),
+                ));
+            }
+        }
+    }
+    if d.axial && d.axial_supports.is_empty() {
+        return Err(err(
+                "rotor".into(),
+                "axial DOFs but no axial support: the rotor would slide freely along its axis (a rigid-body axial mode, no static equilibrium); add a thrust bearing".into(),
+            ));
+    }
+    if d.torsion && d.torsional_supports.is_empty() {
+        return Err(err(
+                "rotor".into(),
+                "torsional DOFs but no torsional restraint: the rotor would turn freely about its axis (a rigid-body torsional mode, no static equilibrium); add a coupling or drive stiffness".into(),
+            ));
+    }
+    Ok((z, node_diameter))
+}
+
+/// The triplets of M, K (shaft) and G, with the total mass and polar inertia.
+struct Triplets {
+    mt: Vec<(usize, usize, f64)>,
+    kt: Vec<(usize, usize, f64)>,
+    gt: Vec<(usize, usize, f64)>,
+    total_mass: f64,
+    total_ip: f64,
+}
+
+impl Triplets {
+    /// Scatters the shaft elements, disks, point masses and pedestals, then the axial and
+    /// torsional DOFs.
+    fn assemble(
+        d: &FeRotorData,
+        pedestal_dofs: &[Option<usize>],
+        node_axial: &[Option<usize>],
+        node_torsion: &[Option<usize>],
+    ) -> Self {
+        let (mut mt, mut kt, mut gt) = (Vec::new(), Vec::new(), Vec::new());
+        let mut total_mass = 0.0;
+        let mut total_ip = 0.0;
+        for (i, e) in d.elements.iter().enumerate() {
+            let el = shaft_element(e);
+            let dofs: [usize; 8] = std::array::from_fn(|k| 4 * i + k);
+            scatter(&mut mt, &dofs, el.m.as_flattened());
+            scatter(&mut kt, &dofs, el.k.as_flattened());
+            if e.rotary_inertia {
+                scatter(&mut gt, &dofs, el.g.as_flattened());
+            }
+            total_mass += e.mass();
+            total_ip += e.density * 2.0 * e.inertia() * e.length;
+        }
+        for dk in &d.disks {
+            let (m, g) = disk(dk.mass, dk.id, dk.ip);
+            let dofs: [usize; 4] = std::array::from_fn(|k| 4 * dk.node + k);
+            scatter(&mut mt, &dofs, m.as_flattened());
+            scatter(&mut gt, &dofs, g.as_flattened());
+            total_mass += dk.mass;
+            total_ip += dk.ip;
+        }
+        for (n, m) in &d.point_masses {
+            mt.push((4 * n, 4 * n, *m));
+            mt.push((4 * n + 1, 4 * n + 1, *m));
+            total_mass += m;
+        }
+        for (b, pd) in d.bearings.iter().zip(pedestal_dofs) {
+            if let (Some((pm, _, _)), Some(p)) = (b.pedestal, pd) {
+                mt.push((*p, *p, pm));
+                mt.push((p + 1, p + 1, pm));
+            }
+        }
+        // Axial and torsional DOFs (after every lateral triplet, so the lateral entries sum in
+        // the same order as without them): bar and torsion elements, disks, point masses.
+        for (i, e) in d.elements.iter().enumerate() {
+            for (dofs, el) in [
+                (node_axial, axial_element(e)),
+                (node_torsion, torsion_element(e)),
+            ] {
+                if let (Some(a), Some(b)) = (dofs[i], dofs[i + 1]) {
+                    let ab = [a, b];
+                    scatter(&mut mt, &ab, el.m.as_flattened());
+                    scatter(&mut kt, &ab, el.k.as_flattened());
+                }
+            }
+        }
+        for dk in &d.disks {
+            if let Some(a) = node_axial[dk.node] {
+                mt.push((a, a, dk.mass));
+            }
+            if let Some(t) = node_torsion[dk.node] {
+                mt.push((t, t, dk.ip));
+            }
+        }
+        for (n, m) in &d.point_masses {
+            if let Some(a) = node_axial[*n] {
+                mt.push((a, a, *m));
+            }
+        }
+        Triplets {
+            mt,
+            kt,
+            gt,
+            total_mass,
+            total_ip,
+        }
+    }
+}
+
 /// Largest radius of the forced ellipse `x = Re(X e^{iωt}), y = Re(Y e^{iωt})`:
 /// `r_max² = (|X|² + |Y|²)/2 + |X² + Y²|/2`.
 pub fn ellipse_major(x: Complex64, y: Complex64) -> f64 {
@@ -766,130 +680,4 @@ pub fn dense(a: &Csc) -> DMatrix<f64> {
         d[(r, c)] += v;
     }
     d
-}
-
-/// Converts a validated scene spec into model data.
-pub fn data_from_spec(s: &crate::scene::FeRotorSpec) -> FeRotorData {
-    use crate::scene::{material, ScalarOrTable};
-    let mut elements = Vec::new();
-    for seg in &s.shaft {
-        let named = seg.material.as_deref().and_then(material);
-        let (e0, nu0, rho0) = named.unwrap_or((f64::NAN, 0.3, f64::NAN));
-        let section = ShaftSection {
-            length: seg.length / seg.elements as f64,
-            outer_diameter: seg.outer_diameter,
-            inner_diameter: seg.inner_diameter,
-            youngs_modulus: seg.youngs_modulus.unwrap_or(e0),
-            poisson: seg.poisson.unwrap_or(nu0),
-            density: seg.density.unwrap_or(rho0),
-            shear: s.shear,
-            rotary_inertia: s.rotary_inertia,
-        };
-        elements.extend(std::iter::repeat_n(section, seg.elements));
-    }
-    let disks = s
-        .disk
-        .iter()
-        .map(|d| match d.mass {
-            Some(m) => Disk {
-                node: d.node,
-                mass: m,
-                ip: d.polar_inertia.unwrap_or(0.0),
-                id: d.diametral_inertia.unwrap_or(0.0),
-            },
-            None => {
-                let rho = d
-                    .density
-                    .or_else(|| d.material.as_deref().and_then(material).map(|m| m.2))
-                    .unwrap_or(0.0);
-                Disk::from_geometry(
-                    d.node,
-                    d.outer_diameter.unwrap_or(0.0),
-                    d.bore,
-                    d.width.unwrap_or(0.0),
-                    rho,
-                )
-            }
-        })
-        .collect();
-    let rows = |b: &crate::scene::BearingSpec| b.speeds.len().max(1);
-    let at = |v: &Option<ScalarOrTable>, i: usize| -> f64 {
-        match v {
-            None => 0.0,
-            Some(ScalarOrTable::Scalar(x)) => *x,
-            Some(ScalarOrTable::Table(t)) => t[i],
-        }
-    };
-    let bearings = s
-        .bearing
-        .iter()
-        .map(|b| {
-            let n = rows(b);
-            let pick = |iso: &Option<ScalarOrTable>, own: &Option<ScalarOrTable>, i: usize| {
-                if own.is_some() {
-                    at(own, i)
-                } else {
-                    at(iso, i)
-                }
-            };
-            Bearing {
-                node: b.node,
-                speeds: b.speeds.clone(),
-                k: (0..n)
-                    .map(|i| {
-                        [
-                            pick(&b.stiffness, &b.kxx, i),
-                            at(&b.kxy, i),
-                            at(&b.kyx, i),
-                            pick(&b.stiffness, &b.kyy, i),
-                        ]
-                    })
-                    .collect(),
-                c: (0..n)
-                    .map(|i| {
-                        [
-                            pick(&b.damping, &b.cxx, i),
-                            at(&b.cxy, i),
-                            at(&b.cyx, i),
-                            pick(&b.damping, &b.cyy, i),
-                        ]
-                    })
-                    .collect(),
-                pedestal: b
-                    .pedestal
-                    .as_ref()
-                    .map(|p| (p.mass, p.stiffness, p.damping)),
-            }
-        })
-        .collect();
-    let springs = |v: &[crate::scene::GroundSpringSpec]| -> Vec<GroundSpring> {
-        v.iter()
-            .map(|g| GroundSpring {
-                node: g.node,
-                stiffness: g.stiffness,
-                damping: g.damping,
-            })
-            .collect()
-    };
-    FeRotorData {
-        axial: s.axial,
-        torsion: s.torsion,
-        axial_supports: springs(&s.axial_support),
-        torsional_supports: springs(&s.torsional_support),
-        elements,
-        disks,
-        point_masses: s.point_mass.iter().map(|p| (p.node, p.mass)).collect(),
-        bearings,
-        unbalances: s
-            .unbalance
-            .iter()
-            .map(|u| (u.node, u.mass * u.radius, u.phase_deg.to_radians()))
-            .collect(),
-        rayleigh: s.rayleigh,
-        modal_damping: s.modal_damping.as_ref().map(|m| ModalDamping {
-            ratio: m.ratio,
-            max_frequency: m.max_frequency.unwrap_or(f64::INFINITY),
-            modes: m.modes.unwrap_or(usize::MAX),
-        }),
-    }
 }

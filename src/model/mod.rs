@@ -1,34 +1,32 @@
-//! Building the physical model from a validated scene.
+//! Building the physical model from a resolved scene.
 //!
-//! [`Model`] is speed independent (rotor, stations, stator descriptions). [`Model::case`]
-//! resolves everything that depends on the speed ω — the clearance δ = δ_nd |Z0(ω)| when the
-//! scene gives it non-dimensionally, the stator geometry placed at that clearance — into a
-//! [`Case`] that the integrator runs.
+//! [`Model`] is speed independent (rotor, stations, stators as far as they do not depend on
+//! the speed). It is built from the resolve stage's plain data ([`crate::resolve::Resolved`]) by
+//! [`Model::build`], or from a loaded scene in one call by [`Model::from_scene`] (resolve, then
+//! build). [`Model::case`] evaluates everything that depends on the speed ω — the clearance
+//! δ = δ_nd |Z0(ω)| when the scene gives it non-dimensionally, a stiffness ε k_r, the stator
+//! geometry placed at that clearance — into a [`Case`] that the integrator runs.
+//!
+//! The model does no file I/O and runs no mesher: meshes come read with the resolved data.
 
 pub mod fe_rotor;
-pub mod mesh_stator;
 pub mod rotor;
 pub mod stator;
 
 use crate::error::{Error, ModelError};
-use crate::scene::{LoadedScene, RotorSpec, StatorSpec};
+use crate::resolve::{
+    Clearance, FeRotorInput, FeStatorInput, Placement, Resolved, RingInput, RodInput, RotorInput,
+    StatorInput,
+};
+use crate::scene::LoadedScene;
 pub use rotor::{Jeffcott, RotorBody, UnbalanceLoad};
+pub use stator::StatorModel;
+use std::sync::Arc;
+
 // The contact target is contact's type; re-exported for the paths `crate::model::Target` in use.
 pub use crate::contact::Target;
-pub use stator::StatorModel;
-
-/// A contact station: a radially rigid circular rotor section.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Station {
-    /// Name.
-    pub name: String,
-    /// Rotor node carrying the section centre.
-    pub node: usize,
-    /// Section radius r (m).
-    pub radius: f64,
-    /// Coulomb friction coefficient μ.
-    pub friction: f64,
-}
+// A station is resolved data; re-exported for the paths `crate::model::Station` in use.
+pub use crate::resolve::Station;
 
 /// An FE rotor with the quantities the non-dimensional inputs refer to.
 #[derive(Debug, Clone)]
@@ -242,13 +240,49 @@ pub struct Model {
     pub rotor: Rotor,
     /// Contact stations.
     pub stations: Vec<Station>,
-    /// Stator specifications (resolved per speed).
-    pub stator_specs: Vec<StatorSpec>,
-    /// Meshed stators, built once (speed independent) and placed per speed; `None` for the
-    /// other kinds. Same order as `stator_specs`.
-    pub mesh_stators: Vec<Option<std::sync::Arc<StatorModel>>>,
+    /// Stators, in scene order, as far as they are speed independent.
+    pub stators: Vec<StatorPlan>,
     /// Rotor node the analysis observes (`output.node`); `None`: the first station's node.
     pub observed_node: Option<usize>,
+}
+
+/// A stator before a speed is chosen: what [`Model::case`] makes a [`StatorModel`] of.
+#[derive(Debug, Clone)]
+pub enum StatorPlan {
+    /// A rod, built per speed (its clearance and stiffness may depend on it).
+    Rod(RodInput),
+    /// A ring, built per speed.
+    Ring(RingInput),
+    /// A general FE stator, built per speed; its clearance follows from its geometry.
+    Fe(FeStatorInput),
+    /// A meshed stator, assembled once, shared by every speed, and placed per speed.
+    Mesh {
+        /// The assembled stator as meshed.
+        model: Arc<StatorModel>,
+        /// Where it is placed at each speed.
+        placement: Placement,
+    },
+}
+
+impl StatorPlan {
+    /// The stator's name.
+    pub fn name(&self) -> &str {
+        match self {
+            StatorPlan::Rod(r) => &r.name,
+            StatorPlan::Ring(r) => &r.name,
+            StatorPlan::Fe(f) => &f.name,
+            StatorPlan::Mesh { model, .. } => &model.name,
+        }
+    }
+    /// Index of the station it faces.
+    pub fn station(&self) -> usize {
+        match self {
+            StatorPlan::Rod(r) => r.station,
+            StatorPlan::Ring(r) => r.station,
+            StatorPlan::Fe(f) => f.station,
+            StatorPlan::Mesh { model, .. } => model.station,
+        }
+    }
 }
 
 /// Everything the integrator needs at one speed.
@@ -283,107 +317,123 @@ pub struct Case {
     pub unbalance_force: f64,
 }
 
+impl Rotor {
+    /// Builds the rotor of resolved data: an FE rotor is assembled and its ω_n (first lateral
+    /// mode), ω_max, reference stiffness k_r and `(M⁻¹)_xx` per node are computed.
+    pub fn build(input: &RotorInput) -> Result<Self, ModelError> {
+        Ok(match input {
+            RotorInput::Jeffcott(j) => Rotor::Jeffcott(Jeffcott::new(j)),
+            RotorInput::Fe(f) => Rotor::Fe(Box::new(FeModel::build(f)?)),
+        })
+    }
+}
+
+impl FeModel {
+    /// Assembles the FE rotor and the quantities the non-dimensional inputs refer to.
+    pub fn build(f: &FeRotorInput) -> Result<Self, ModelError> {
+        let mut rotor = fe_rotor::FeRotor::build(&f.data)?;
+        if !f.gyroscopic {
+            rotor.g = crate::linalg::Csc::zeros(rotor.ndof, rotor.ndof);
+        }
+        // ω_n of ω/ω_n: the first lateral mode (axial and torsional modes, when the rotor has
+        // those DOFs, are not what the speed ratio refers to); ω_max over all DOFs, for the
+        // stability limit.
+        let freqs = rotor.undamped_frequencies(0.0)?;
+        let lateral = rotor.lateral_frequencies(0.0)?;
+        let omega_n =
+            lateral
+                .iter()
+                .copied()
+                .find(|w| *w > 1e-6)
+                .ok_or_else(|| ModelError::Singular {
+                    what: "rotor".into(),
+                    detail: "no positive natural frequency".into(),
+                })?;
+        let omega_max = freqs.last().copied().unwrap_or(omega_n);
+        let reference_node = f.reference_node;
+        let k_ref = rotor.node_stiffness(reference_node)?;
+        let minv = fe_rotor::dense(&rotor.m)
+            .try_inverse()
+            .ok_or_else(|| ModelError::Singular {
+                what: "rotor mass matrix".into(),
+                detail: "not invertible".into(),
+            })?;
+        let inv_mass_node = (0..rotor.nodes()).map(|i| minv[(4 * i, 4 * i)]).collect();
+        let [a, b] = f.data.rayleigh;
+        let xi_max = (0.5 * (a / omega_max + b * omega_max)).min(1.0);
+        Ok(FeModel {
+            rotor,
+            omega_n,
+            omega_max,
+            reference_node,
+            k_ref,
+            xi_max,
+            inv_mass_node,
+        })
+    }
+}
+
 impl Model {
-    /// Builds the model of a validated scene.
-    pub fn build(ls: &LoadedScene) -> Result<Self, Error> {
-        let s = &ls.scene;
-        let rotor = match &s.rotor {
-            RotorSpec::Jeffcott(j) => Rotor::Jeffcott(Jeffcott::from_spec(j)),
-            RotorSpec::Fe(f) => {
-                let mut rotor = fe_rotor::FeRotor::build(&fe_rotor::data_from_spec(f))?;
-                if !f.gyroscopic {
-                    rotor.g = crate::linalg::Csc::zeros(rotor.ndof, rotor.ndof);
-                }
-                // ω_n of ω/ω_n: the first lateral mode (axial and torsional modes, when the
-                // rotor has those DOFs, are not what the speed ratio refers to); ω_max over all
-                // DOFs, for the stability limit.
-                let freqs = rotor.undamped_frequencies(0.0)?;
-                let lateral = rotor.lateral_frequencies(0.0)?;
-                let omega_n = lateral.iter().copied().find(|w| *w > 1e-6).ok_or_else(|| {
-                    ModelError::Singular {
-                        what: "rotor".into(),
-                        detail: "no positive natural frequency".into(),
-                    }
-                })?;
-                let omega_max = freqs.last().copied().unwrap_or(omega_n);
-                let reference_node = s
-                    .stations
-                    .first()
-                    .map_or_else(|| f.unbalance.first().map_or(0, |u| u.node), |st| st.node);
-                let k_ref = rotor.node_stiffness(reference_node)?;
-                let minv = fe_rotor::dense(&rotor.m).try_inverse().ok_or_else(|| {
-                    ModelError::Singular {
-                        what: "rotor mass matrix".into(),
-                        detail: "not invertible".into(),
-                    }
-                })?;
-                let inv_mass_node = (0..rotor.nodes()).map(|i| minv[(4 * i, 4 * i)]).collect();
-                let [a, b] = f.rayleigh;
-                let xi_max = (0.5 * (a / omega_max + b * omega_max)).min(1.0);
-                Rotor::Fe(Box::new(FeModel {
-                    rotor,
-                    omega_n,
-                    omega_max,
-                    reference_node,
-                    k_ref,
-                    xi_max,
-                    inv_mass_node,
-                }))
-            }
-        };
-        let stations = s
+    /// Builds the model of a resolved scene: the rotor, the stations, the meshed stators
+    /// (assembled once; the others are built per speed), then the case at ω_n, so that model
+    /// errors (a singular stator, a clearance that cannot be placed) surface before any run.
+    pub fn build(r: &Resolved) -> Result<Self, Error> {
+        let rotor = Rotor::build(&r.rotor)?;
+        let nodes = rotor.node_count();
+        for (what, n) in r
             .stations
             .iter()
-            .map(|st| Station {
-                name: st.name.clone(),
-                node: st.node,
-                radius: st.radius,
-                friction: st.friction,
-            })
-            .collect();
-        let mut mesh_stators = Vec::with_capacity(s.stators.len());
-        for spec in &s.stators {
-            mesh_stators.push(match spec {
-                StatorSpec::Mesh(ms) => {
-                    let index = |name: &str| {
-                        s.stations
-                            .iter()
-                            .position(|st| st.name == name)
-                            .expect("validated station name")
-                    };
-                    let si = index(&ms.station);
+            .map(|st| (format!("station `{}`", st.name), st.node))
+            .chain(r.observed_node.map(|n| ("observed node".to_string(), n)))
+        {
+            if n >= nodes {
+                return Err(ModelError::Inconsistent {
+                    what,
+                    message: format!("node {n} does not exist (the rotor has {nodes} nodes)"),
+                }
+                .into());
+            }
+        }
+        let mut stators = Vec::with_capacity(r.stators.len());
+        for s in &r.stators {
+            stators.push(match s {
+                StatorInput::Rod(x) => StatorPlan::Rod(x.clone()),
+                StatorInput::Ring(x) => StatorPlan::Ring(x.clone()),
+                StatorInput::Fe(x) => StatorPlan::Fe(x.clone()),
+                StatorInput::Mesh(ms) => {
                     // Axial positions of the stations a 3-D stator may face.
-                    let stations_z: Vec<(usize, f64)> = std::iter::once(&ms.station)
-                        .chain(&ms.stations)
-                        .map(|name| {
-                            let i = index(name);
+                    let stations_z: Vec<(usize, f64)> = ms
+                        .stations
+                        .iter()
+                        .map(|&i| {
                             let z = match &rotor {
-                                Rotor::Fe(f) => f.rotor.z[s.stations[i].node],
+                                Rotor::Fe(f) => f.rotor.z[r.stations[i].node],
                                 _ => 0.0,
                             };
                             (i, z)
                         })
                         .collect();
-                    Some(std::sync::Arc::new(mesh_stator::build(
-                        ms,
-                        &ls.file,
-                        si,
-                        &stations_z,
-                    )?))
+                    StatorPlan::Mesh {
+                        model: Arc::new(stator::mesh::from_input(ms, &stations_z)?),
+                        placement: ms.placement,
+                    }
                 }
-                _ => None,
             });
         }
         let m = Model {
             rotor,
-            stations,
-            stator_specs: s.stators.clone(),
-            observed_node: s.output.node,
-            mesh_stators,
+            stations: r.stations.clone(),
+            stators,
+            observed_node: r.observed_node,
         };
-        // Build once at ω_n to surface model errors (singular stators) before any run.
         m.case(m.rotor.natural_frequency())?;
         Ok(m)
+    }
+
+    /// Resolves a loaded scene ([`crate::resolve::resolve`]: checks, meshes) and builds its
+    /// model.
+    pub fn from_scene(ls: &LoadedScene) -> Result<Self, Error> {
+        Self::build(&crate::resolve::resolve(ls)?)
     }
 
     /// Index of a station by name.
@@ -401,108 +451,11 @@ impl Model {
         let body = self.rotor.body(omega)?;
         let u = body.unbalance_resultant();
         let kr = self.rotor.reference_stiffness();
-        let mut stators = Vec::new();
-        for (spec_index, spec) in self.stator_specs.iter().enumerate() {
-            let si = self
-                .station_index(spec.station())
-                .expect("validated station name");
-            let st = &self.stations[si];
-            let zs = self.rotor.z0(st.node, omega);
-            let resolve_clearance = |c: Option<f64>,
-                                     c_nd: Option<f64>|
-             -> Result<f64, ModelError> {
-                match (c, c_nd) {
-                    (Some(c), _) => Ok(c),
-                    (None, Some(nd)) => {
-                        if zs > 0.0 {
-                            Ok(nd * zs)
-                        } else {
-                            Err(ModelError::Inconsistent {
-                                what: format!("stator `{}`", spec.name()),
-                                message: "clearance_nd needs a non-zero unbalance response |Z0|; give `clearance` in metres".into(),
-                            })
-                        }
-                    }
-                    _ => unreachable!("validated clearance"),
-                }
-            };
-            let model = match spec {
-                StatorSpec::Rod(r) => {
-                    let clearance = resolve_clearance(r.clearance, r.clearance_nd)?;
-                    let ks = match (r.stiffness_ratio, r.youngs_modulus) {
-                        (Some(eps), _) => eps * kr,
-                        (None, Some(e)) => e * r.area / r.length,
-                        _ => unreachable!("validated rod stiffness"),
-                    };
-                    let e = ks * r.length / r.area;
-                    StatorModel::rod(
-                        &r.name,
-                        si,
-                        st.radius,
-                        clearance,
-                        r.length,
-                        ks * r.length,
-                        e,
-                        r.density * r.area,
-                        r.elements,
-                        r.angle_deg,
-                        r.rayleigh,
-                    )?
-                }
-                StatorSpec::Ring(r) => {
-                    let clearance = resolve_clearance(r.clearance, r.clearance_nd)?;
-                    let ks = r
-                        .stiffness
-                        .unwrap_or_else(|| r.stiffness_ratio.unwrap_or(0.0) * kr);
-                    StatorModel::ring(&r.name, si, st.radius, clearance, ks, r.mass, r.damping)
-                }
-                StatorSpec::Fe(f) => {
-                    let mut m = StatorModel::from_fe(f, si)?;
-                    m.clearance = m
-                        .targets
-                        .iter()
-                        .map(|t| match t {
-                            Target::Node { x0, .. } => x0[0].hypot(x0[1]) - st.radius,
-                            Target::Ring { inner_radius, .. } => inner_radius - st.radius,
-                        })
-                        .fold(f64::INFINITY, f64::min);
-                    if m.clearance < 0.0 {
-                        return Err(ModelError::Inconsistent {
-                            what: format!("stator `{}`", f.name),
-                            message: format!(
-                                "a contact node lies inside the rotor section (clearance {:.3e} m ≤ 0)",
-                                m.clearance
-                            ),
-                        });
-                    }
-                    m
-                }
-                StatorSpec::Mesh(ms) => {
-                    let template = self.mesh_stators[spec_index]
-                        .as_ref()
-                        .expect("meshed stators are built with the model");
-                    let mut m = StatorModel::clone(template);
-                    let radii: Vec<f64> = self.stations.iter().map(|s| s.radius).collect();
-                    if ms.clearance.is_some() || ms.clearance_nd.is_some() {
-                        let clearance = resolve_clearance(ms.clearance, ms.clearance_nd)?;
-                        mesh_stator::place(&mut m, &radii, clearance, ms.approach_deg)?;
-                    } else {
-                        m.clearance = mesh_stator::clearance_of(&m, &radii);
-                    }
-                    if m.clearance.is_nan() || m.clearance <= 0.0 {
-                        return Err(ModelError::Inconsistent {
-                            what: format!("stator `{}`", ms.name),
-                            message: format!(
-                                "a contact node lies inside the rotor section (clearance {:.3e} m ≤ 0): check the geometry's radii against the station radius {} m",
-                                m.clearance, st.radius
-                            ),
-                        });
-                    }
-                    m
-                }
-            };
-            stators.push(model);
-        }
+        let stators = self
+            .stators
+            .iter()
+            .map(|plan| self.stator_at(plan, omega, kr))
+            .collect::<Result<Vec<_>, _>>()?;
         Ok(Case {
             omega,
             speed_ratio: omega / wn,
@@ -521,6 +474,87 @@ impl Model {
             observed_node,
             z0,
             unbalance_force: u[0].hypot(u[1]) * omega * omega,
+        })
+    }
+
+    /// One stator at speed ω, placed at its clearance, for a rotor of reference stiffness
+    /// `kr` (N/m).
+    fn stator_at(&self, plan: &StatorPlan, omega: f64, kr: f64) -> Result<StatorModel, ModelError> {
+        let si = plan.station();
+        let st = &self.stations[si];
+        let clearance = |c: Clearance| {
+            c.at(|| self.rotor.z0(st.node, omega))
+                .ok_or_else(|| ModelError::Inconsistent {
+                    what: format!("stator `{}`", plan.name()),
+                    message: "clearance_nd needs a non-zero unbalance response |Z0|; give `clearance` in metres".into(),
+                })
+        };
+        Ok(match plan {
+            StatorPlan::Rod(r) => {
+                let clearance = clearance(r.clearance)?;
+                let ks = r.stiffness(kr);
+                let e = ks * r.length / r.area;
+                StatorModel::rod(
+                    &r.name,
+                    si,
+                    st.radius,
+                    clearance,
+                    r.length,
+                    ks * r.length,
+                    e,
+                    r.density * r.area,
+                    r.elements,
+                    r.angle_deg,
+                    r.rayleigh,
+                )?
+            }
+            StatorPlan::Ring(r) => {
+                let clearance = clearance(r.clearance)?;
+                let ks = r.stiffness.value(kr);
+                StatorModel::ring(&r.name, si, st.radius, clearance, ks, r.mass, r.damping)
+            }
+            StatorPlan::Fe(f) => {
+                let mut m = StatorModel::from_fe(f)?;
+                m.clearance = m
+                    .targets
+                    .iter()
+                    .map(|t| match t {
+                        Target::Node { x0, .. } => x0[0].hypot(x0[1]) - st.radius,
+                        Target::Ring { inner_radius, .. } => inner_radius - st.radius,
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                if m.clearance < 0.0 {
+                    return Err(ModelError::Inconsistent {
+                        what: format!("stator `{}`", f.name),
+                        message: format!(
+                            "a contact node lies inside the rotor section (clearance {:.3e} m ≤ 0)",
+                            m.clearance
+                        ),
+                    });
+                }
+                m
+            }
+            StatorPlan::Mesh { model, placement } => {
+                let mut m = StatorModel::clone(model);
+                let radii: Vec<f64> = self.stations.iter().map(|s| s.radius).collect();
+                match *placement {
+                    Placement::At {
+                        clearance: c,
+                        approach_deg,
+                    } => stator::mesh::place(&mut m, &radii, clearance(c)?, approach_deg)?,
+                    Placement::AsMeshed => m.clearance = stator::mesh::clearance_of(&m, &radii),
+                }
+                if m.clearance.is_nan() || m.clearance <= 0.0 {
+                    return Err(ModelError::Inconsistent {
+                        what: format!("stator `{}`", m.name),
+                        message: format!(
+                            "a contact node lies inside the rotor section (clearance {:.3e} m ≤ 0): check the geometry's radii against the station radius {} m",
+                            m.clearance, st.radius
+                        ),
+                    });
+                }
+                m
+            }
         })
     }
 }

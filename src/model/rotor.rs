@@ -7,8 +7,7 @@
 //! and neither axial nor torsional DOFs.
 
 use crate::linalg::Csc;
-use crate::scene::JeffcottSpec;
-use std::f64::consts::PI;
+use crate::resolve::JeffcottData;
 
 /// An unbalance load: force `me·ω²·(cos(ωt+φ), sin(ωt+φ))` on DOFs `dofs = [x, y]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,36 +86,22 @@ pub struct Jeffcott {
 }
 
 impl Jeffcott {
-    /// From a scene: mass from `mass` or the disk (ρ π D²/4 t), stiffness from `stiffness` or
-    /// the simply supported shaft with the disk at mid-span (48 E I / L³, I = π d⁴/64), damping
-    /// from `damping` or `damping_ratio` (c = 2ξ√(m k)).
-    pub fn from_spec(s: &JeffcottSpec) -> Self {
-        let mass = s.mass.unwrap_or_else(|| {
-            let d = s.disk.as_ref().expect("validated: mass or disk");
-            d.density * PI * d.diameter * d.diameter / 4.0 * d.thickness
-        });
-        let stiffness = s.stiffness.unwrap_or_else(|| {
-            let sh = s.shaft.as_ref().expect("validated: stiffness or shaft");
-            let i = PI * sh.diameter.powi(4) / 64.0;
-            48.0 * sh.youngs_modulus * i / sh.length.powi(3)
-        });
-        let damping = s
-            .damping
-            .unwrap_or_else(|| 2.0 * s.damping_ratio.unwrap_or(0.0) * (mass * stiffness).sqrt());
-        let unbalance = s
-            .unbalance
-            .iter()
-            .map(|u| UnbalanceLoad {
-                dofs: [0, 1],
-                me: u.mass * u.radius,
-                phase: u.phase_deg.to_radians(),
-            })
-            .collect();
+    /// From resolved data ([`crate::resolve::rotor::jeffcott`]): the unbalances act on the
+    /// node's DOFs `[0, 1]`.
+    pub fn new(d: &JeffcottData) -> Self {
         Self {
-            mass,
-            stiffness,
-            damping,
-            unbalance,
+            mass: d.mass,
+            stiffness: d.stiffness,
+            damping: d.damping,
+            unbalance: d
+                .unbalances
+                .iter()
+                .map(|&(me, phase)| UnbalanceLoad {
+                    dofs: [0, 1],
+                    me,
+                    phase,
+                })
+                .collect(),
         }
     }
 
@@ -161,7 +146,10 @@ impl Jeffcott {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{DiskSpec, ShaftSpec, UnbalanceSpec};
+    use crate::scene::{DiskSpec, JeffcottSpec, ShaftSpec, UnbalanceSpec};
+
+    /// A scene for the errors of the resolve stage (none here).
+    const SCENE: &str = "[rotor]\nkind = \"jeffcott\"\nmass = 1.0\nstiffness = 1.0\ndamping = 0.0\n[run]\nspeed_ratio = 1.0\n";
 
     #[test]
     fn paper_table_1_data() {
@@ -187,7 +175,8 @@ mod tests {
                 node: 0,
             }],
         };
-        let j = Jeffcott::from_spec(&s);
+        let ls = crate::scene::parse(std::path::Path::new("t.toml"), SCENE, &[]).unwrap();
+        let j = Jeffcott::new(&crate::resolve::rotor::jeffcott(&ls, &s).unwrap());
         assert!((j.stiffness - 73631.0).abs() < 1.0, "{}", j.stiffness);
         assert!((j.mass - 2.6465).abs() < 1e-3, "{}", j.mass);
         assert!((j.damping_ratio() - 0.2).abs() < 1e-12);

@@ -50,7 +50,6 @@ use crate::math::V2;
 use crate::mesh::CellKind;
 use crate::model::stator::StatorElement;
 use crate::model::{Case, Model, Rotor, Target};
-use crate::scene::StatorSpec;
 use crate::scene::{OutputSpec, PerSpeed, SeriesField, SeriesSpec};
 use crate::time::{plan_steps, Frame, FrameSink, StepPlan};
 use std::path::Path;
@@ -319,17 +318,8 @@ pub struct Layout {
     pub station_names: Vec<String>,
 }
 
-/// Axial position (m, rotor frame) of the mesh's z = 0 of stator `k` of the model: the scene's
-/// `axial_origin` of a meshed stator, 0 otherwise.
-fn axial_origin(model: &Model, k: usize) -> f64 {
-    match model.stator_specs.get(k) {
-        Some(StatorSpec::Mesh(m)) => m.axial_origin,
-        _ => 0.0,
-    }
-}
-
 impl Layout {
-    /// Lays out a case of `model` (which gives the axial origin of 3-D meshed stators).
+    /// Lays out a case of `model` (which tells whether rotor nodes carry rotations).
     pub fn new(model: &Model, case: &Case) -> Self {
         let z = rotor_node_z(case);
         let mut g = OutputGrid::new();
@@ -337,14 +327,14 @@ impl Layout {
         let mut stator_num_points = Vec::new();
         // Per stator, per ring target: (target, first circle point, contact point).
         let mut ring_points: Vec<Vec<(usize, usize, usize)>> = Vec::new();
-        for (k, s) in case.stators.iter().enumerate() {
+        for s in &case.stators {
             let first = g.points.len();
             stator_first_point.push(first);
             let zs = z[case.stations[s.station].node];
             match s.mesh.as_ref().filter(|m| !m.node_z.is_empty()) {
                 // 3-D meshed stator: every node at its own axial position.
                 Some(md) => {
-                    let z0 = axial_origin(model, k);
+                    let z0 = md.axial_origin;
                     g.points.extend(
                         s.nodes
                             .iter()

@@ -147,7 +147,7 @@ impl MeshStatorSpec {
 }
 
 /// Material of a region (physical group) of a meshed stator; unset values are the stator's.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RegionSpec {
     /// Physical group name.
@@ -164,7 +164,7 @@ pub struct RegionSpec {
 
 /// Grounded springs on the nodes of a group: the stiffness is the group's total, shared
 /// equally by its nodes.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpringSupportSpec {
     /// Physical group name.
@@ -174,7 +174,7 @@ pub struct SpringSupportSpec {
 }
 
 /// Bars (without `inertia`) or frames (with it) on the line elements of a group.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FrameSpec {
     /// Physical group of lines (dimension 1).

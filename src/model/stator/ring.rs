@@ -1,0 +1,61 @@
+//! A rigid ring on isotropic radial springs around its station (scene `kind = "ring"`): the
+//! classic rub model, contact circle in circle.
+
+use super::StatorModel;
+use crate::contact::Target;
+use crate::linalg::Csc;
+
+impl StatorModel {
+    /// Rigid ring on isotropic springs `stiffness` around a station of radius `radius`, with
+    /// radial clearance `clearance`; `mass` 0 for massless.
+    pub fn ring(
+        name: &str,
+        station: usize,
+        radius: f64,
+        clearance: f64,
+        stiffness: f64,
+        mass: f64,
+        damping: f64,
+    ) -> Self {
+        let d = |v: f64| Csc::from_triplets(2, 2, &[(0, 0, v), (1, 1, v)]);
+        StatorModel {
+            name: name.to_string(),
+            station,
+            nodes: vec![[0.0, 0.0]],
+            node_dofs: vec![[Some(0), Some(1)]],
+            ndof: 2,
+            k: d(stiffness),
+            m: if mass > 0.0 {
+                d(mass)
+            } else {
+                Csc::zeros(2, 2)
+            },
+            c: if mass > 0.0 {
+                d(damping)
+            } else {
+                Csc::zeros(2, 2)
+            },
+            targets: vec![Target::Ring {
+                center0: [0.0, 0.0],
+                inner_radius: radius + clearance,
+                dofs: [Some(0), Some(1)],
+            }],
+            elements: vec![],
+            clearance,
+            angle_deg: None,
+            is_ring: true,
+            mesh: None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ring_is_isotropic_spring() {
+        let r = StatorModel::ring("g", 0, 0.05, 1e-4, 2e6, 0.0, 0.0);
+        assert!((r.contact_stiffness_bound() - 2e6).abs() < 1e-6);
+    }
+}

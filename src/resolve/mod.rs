@@ -1,0 +1,94 @@
+//! The resolve stage: a loaded scene becomes the plain data the model is built from.
+//!
+//! [`resolve`] checks the scene ([`crate::scene::validate`], the same rules and messages as
+//! when it was loaded: its fields are public and may have changed since) and turns what the
+//! user wrote into what the model needs:
+//!
+//! * names into indices: the station each stator faces, the further stations of a 3-D meshed
+//!   stator;
+//! * alternative keys and names into enums: a clearance in metres or times |Z0(ω)|
+//!   ([`stator::Clearance`]), a stiffness as ε k_r or from the material ([`stator::RodStiffness`],
+//!   [`stator::RingStiffness`]), Jeffcott mass, stiffness and damping from whichever keys are
+//!   given, a mesh's plane stress or strain;
+//! * FE rotor specs into element, disk and bearing data ([`rotor::FeRotorData`]);
+//! * geometry files into meshes: found beside the scene or in its ancestors, meshed by gmsh when
+//!   the cached mesh is out of date, read ([`mesh`]).
+//!
+//! The choices are read from the rules that checked them ([`crate::scene::validate::one_of`]
+//! and its siblings), so a resolved value never rests on an unchecked assumption, and an error
+//! names the file, the dotted key and the line as validation does. File and gmsh errors are
+//! [`crate::error::MeshError`]s naming the files.
+//!
+//! What depends on the speed (a clearance relative to |Z0(ω)|, a stiffness relative to k_r, the
+//! placement of a meshed stator) stays in the enums and is evaluated by
+//! [`crate::model::Model::case`].
+
+pub mod mesh;
+pub mod rotor;
+pub mod stator;
+
+pub use mesh::{MeshStatorInput, MeshStatorParams, Placement};
+pub use rotor::{FeRotorData, FeRotorInput, JeffcottData, RotorInput};
+pub use stator::{
+    Clearance, FeElement, FeStatorInput, RingInput, RingStiffness, RodInput, RodStiffness,
+    StatorInput,
+};
+
+use crate::error::Error;
+use crate::scene::{validate, LoadedScene, StationSpec};
+
+/// A contact station: a radially rigid circular rotor section.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Station {
+    /// Name.
+    pub name: String,
+    /// Rotor node carrying the section centre.
+    pub node: usize,
+    /// Section radius r (m).
+    pub radius: f64,
+    /// Coulomb friction coefficient μ.
+    pub friction: f64,
+}
+
+impl From<&StationSpec> for Station {
+    fn from(st: &StationSpec) -> Self {
+        Station {
+            name: st.name.clone(),
+            node: st.node,
+            radius: st.radius,
+            friction: st.friction,
+        }
+    }
+}
+
+/// A scene resolved: what [`crate::model::Model::build`] builds from.
+#[derive(Debug, Clone)]
+pub struct Resolved {
+    /// The rotor.
+    pub rotor: RotorInput,
+    /// Contact stations, in scene order (stators refer to them by index).
+    pub stations: Vec<Station>,
+    /// Stators, in scene order.
+    pub stators: Vec<StatorInput>,
+    /// Rotor node the analysis observes (`output.node`); `None`: the first station's node.
+    pub observed_node: Option<usize>,
+}
+
+/// Checks and resolves a loaded scene; meshes of meshed stators are found, made and read here.
+pub fn resolve(ls: &LoadedScene) -> Result<Resolved, Error> {
+    validate(ls)?;
+    let s = &ls.scene;
+    let rotor = rotor::resolve(ls)?;
+    let stators = s
+        .stators
+        .iter()
+        .enumerate()
+        .map(|(i, spec)| stator::resolve(ls, i, spec))
+        .collect::<Result<_, _>>()?;
+    Ok(Resolved {
+        rotor,
+        stations: s.stations.iter().map(Station::from).collect(),
+        stators,
+        observed_node: s.output.node,
+    })
+}
