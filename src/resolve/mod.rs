@@ -1,6 +1,6 @@
 //! The resolve stage: a loaded scene becomes the plain data the model is built from.
 //!
-//! [`resolve`] checks the scene ([`crate::scene::validate`], the same rules and messages as
+//! [`resolve`] checks the scene ([`crate::scene::validate()`], the same rules and messages as
 //! when it was loaded: its fields are public and may have changed since) and turns what the
 //! user wrote into what the model needs:
 //!

@@ -64,7 +64,7 @@ pub fn resolve(ls: &LoadedScene) -> Result<RotorInput, SceneError> {
 /// Jeffcott data: mass from `mass` or the disk (ρ π D²/4 t), stiffness from `stiffness` or the
 /// simply supported shaft with the disk at mid-span (48 E I / L³, I = π d⁴/64), damping from
 /// `damping` or `damping_ratio` (c = 2ξ√(m k)). Errors name the pair of keys when not exactly
-/// one of each is given (as [`crate::scene::validate`]).
+/// one of each is given (as [`crate::scene::validate()`]).
 pub fn jeffcott(ls: &LoadedScene, s: &JeffcottSpec) -> Result<JeffcottData, SceneError> {
     let mass = match one_of(ls, ("mass", s.mass), ("disk", s.disk.as_ref()), "rotor")? {
         OneOf::First(m) => m,
@@ -234,7 +234,7 @@ pub struct FeRotorData {
 /// The data of an FE rotor spec: shaft segments cut into equal elements (material by name,
 /// overridden by the given values), disks from their inertias or geometry, bearing tables row
 /// by row, unbalances as `m_u e` (kg·m) and phase (rad). The spec is taken as checked by
-/// [`crate::scene::validate`] (a segment without a material and without `youngs_modulus`
+/// [`crate::scene::validate()`] (a segment without a material and without `youngs_modulus`
 /// or `density` gets NaN there, which the FE rotor's element checks do not catch).
 pub fn data_from_spec(s: &FeRotorSpec) -> FeRotorData {
     let mut elements = Vec::new();

@@ -1,6 +1,6 @@
 //! Admissibility rules that types cannot express, with errors naming file, key and line.
 //!
-//! [`validate`] runs every rule in a fixed order (rotor, stations, stators, run, output) and
+//! [`validate()`] runs every rule in a fixed order (rotor, stations, stators, run, output) and
 //! reports the first one broken. The rules that choose between keys or turn a name into
 //! something else ([`one_of`], [`at_most_one`], [`station_index`], [`extra_station_index`],
 //! [`mesh_plane`], [`output_component`]) return what they chose, so the resolve stage
