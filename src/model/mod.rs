@@ -64,14 +64,19 @@ impl Rotor {
             Rotor::Fe(f) => f.omega_n,
         }
     }
-    /// |Z0(ω)| at a rotor node (m).
-    pub fn z0(&self, node: usize, omega: f64) -> f64 {
+    /// |Z0(ω)| at a rotor node (m): the major semi-axis of the steady unbalance response
+    /// without stator.
+    ///
+    /// # Errors
+    /// [`ModelError`] when the dynamic stiffness `K − ω²M + iω(C + ωG)` of an FE rotor is
+    /// singular at ω (an undamped rotor exactly at a critical speed): |Z0| is not defined there.
+    pub fn z0(&self, node: usize, omega: f64) -> Result<f64, ModelError> {
         match self {
-            Rotor::Jeffcott(j) => j.z0(omega),
-            Rotor::Fe(f) => match f.rotor.unbalance_response(omega) {
-                Ok(q) => fe_rotor::ellipse_major(q[4 * node], q[4 * node + 1]),
-                Err(_) => f64::NAN,
-            },
+            Rotor::Jeffcott(j) => Ok(j.z0(omega)),
+            Rotor::Fe(f) => {
+                let q = f.rotor.unbalance_response(omega)?;
+                Ok(fe_rotor::ellipse_major(q[4 * node], q[4 * node + 1]))
+            }
         }
     }
     /// The linear body at speed ω.
@@ -447,7 +452,7 @@ impl Model {
         let observed_node = self
             .observed_node
             .unwrap_or_else(|| self.stations.first().map_or(0, |s| s.node));
-        let z0 = self.rotor.z0(observed_node, omega);
+        let z0 = self.rotor.z0(observed_node, omega)?;
         let body = self.rotor.body(omega)?;
         let u = body.unbalance_resultant();
         let kr = self.rotor.reference_stiffness();
@@ -483,7 +488,7 @@ impl Model {
         let si = plan.station();
         let st = &self.stations[si];
         let clearance = |c: Clearance| {
-            c.at(|| self.rotor.z0(st.node, omega))
+            c.at(|| self.rotor.z0(st.node, omega))?
                 .ok_or_else(|| ModelError::Inconsistent {
                     what: format!("stator `{}`", plan.name()),
                     message: "clearance_nd needs a non-zero unbalance response |Z0|; give `clearance` in metres".into(),

@@ -19,16 +19,19 @@ pub enum Clearance {
 }
 
 impl Clearance {
-    /// δ (m) at a speed where the unbalance response at the station is `z0()` (m); `None` when
-    /// δ is relative to |Z0| and |Z0| is not positive (no unbalance, or not computable).
-    pub fn at(self, z0: impl FnOnce() -> f64) -> Option<f64> {
-        match self {
+    /// δ (m) at a speed where the unbalance response at the station is `z0()` (m), computed
+    /// only when δ is relative to it; `None` when |Z0| is not positive (no unbalance).
+    ///
+    /// # Errors
+    /// Those of `z0`.
+    pub fn at<E>(self, z0: impl FnOnce() -> Result<f64, E>) -> Result<Option<f64>, E> {
+        Ok(match self {
             Clearance::Metres(c) => Some(c),
             Clearance::TimesZ0(nd) => {
-                let z = z0();
+                let z = z0()?;
                 (z > 0.0).then_some(nd * z)
             }
-        }
+        })
     }
 }
 
