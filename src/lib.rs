@@ -13,8 +13,6 @@ pub mod output;
 pub mod plot;
 pub mod resolve;
 pub mod results;
-pub mod rotordyn;
 pub mod scene;
 pub mod signal;
-pub mod stress;
 pub mod time;

@@ -7,6 +7,7 @@ use rubsim::analysis::{self, Keep, RunSettings};
 use rubsim::model::Model;
 use rubsim::output::{self, OutDir};
 use rubsim::scene::{self, LoadedScene};
+use rubsim::time::FrameSink;
 use std::path::{Path, PathBuf};
 
 mod mesh_cmd;
@@ -186,13 +187,6 @@ fn single_speed(ls: &LoadedScene, model: &Model) -> Option<f64> {
         .or_else(|| r.speed.map(|w| w / model.rotor.natural_frequency()))
 }
 
-fn cascade_max(ls: &LoadedScene, speeds: &[f64]) -> f64 {
-    ls.scene
-        .output
-        .cascade_max_freq
-        .unwrap_or_else(|| speeds.iter().cloned().fold(1.0, f64::max))
-}
-
 fn summary_base(ls: &LoadedScene, model: &Model, command: &str) -> serde_json::Value {
     serde_json::json!({
         "rubsim_version": env!("CARGO_PKG_VERSION"),
@@ -227,42 +221,39 @@ fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
     })?;
     let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene)))?;
     let s = settings(&ls);
-    let fmax = ls.scene.output.cascade_max_freq.unwrap_or(v.max(1.0) * 1.5);
-    let keep = Keep {
-        orbit: true,
-        force_history: true,
-        spectrum_up_to: Some(fmax.ceil() as u32),
-    };
+    let keep = Keep::single_run(&ls.scene.output, v);
     let t0 = std::time::Instant::now();
+    let prep = analysis::prepare(&model, &s, v)?;
     // VTK/HDF5 time series (output.vtk, output.hdf5) stream into the staging folder.
     let scene_json = serde_json::to_string(&ls.scene)?;
     let staging = outd.staging_dir().to_path_buf();
-    let (r, series) = rubsim::results::run_speed(
+    let mut series = rubsim::results::ResultsSink::for_output(
         &model,
-        &s,
-        v,
-        keep,
+        &prep,
         &ls.scene.output,
         &scene_json,
         &staging,
         "",
     )?;
-    for name in &series {
-        outd.adopt(name)?;
+    let mut sinks: Vec<&mut dyn FrameSink> = series.iter_mut().map(|w| w as _).collect();
+    let r = prep.run(keep, &mut sinks)?;
+    if let Some(w) = series {
+        for name in &w.finish()? {
+            outd.adopt(name)?;
+        }
     }
-    let case = model.case(r.omega)?;
     if ls.scene.output.png {
         output::write_run_pngs(
             &mut outd,
             &ls.scene.title,
             &r,
-            output::boundary(&case),
+            output::boundary(&prep.case),
             &ls.scene.output.component,
         )?;
     }
     let mut sum = summary_base(&ls, &model, "run");
     sum["result"] = serde_json::to_value(&r)?;
-    sum["regime"] = output::regime_name(r.period).into();
+    sum["regime"] = analysis::regime_name(r.period).into();
     sum["wall_s"] = t0.elapsed().as_secs_f64().into();
     outd.write(
         "summary.json",
@@ -273,7 +264,7 @@ fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
     println!(
         "ω/ωn = {:.3}: {} | x/|Z0| ∈ [{:.3}, {:.3}], y/|Z0| ∈ [{:.3}, {:.3}] | 1× {:.3}, 1/2× {:.3}, 1/3× {:.3} | {} steps (Δt = {:.3e} s) in {:.3} s | est. rel. error {}",
         r.speed_ratio,
-        output::regime_name(r.period),
+        analysis::regime_name(r.period),
         r.extents_nd[0], r.extents_nd[1], r.extents_nd[2], r.extents_nd[3],
         r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd,
         r.stats.steps, r.plan.dt, r.stats.wall_s,
@@ -342,20 +333,8 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
         };
         let s = settings(&ls_v);
         let o = &ls_v.scene.output;
-        let fmax = cascade_max(&ls_v, &speeds);
-        let wanted: Vec<f64> = o
-            .orbit_grids
-            .iter()
-            .flatten()
-            .chain(o.force_histories.iter())
-            .copied()
-            .collect();
-        let fh = o.force_histories.clone();
-        let keep = move |v: f64| Keep {
-            orbit: wanted.iter().any(|w| (w - v).abs() < 1e-6) || wanted.is_empty(),
-            force_history: fh.iter().any(|w| (w - v).abs() < 1e-6),
-            spectrum_up_to: Some(fmax.ceil() as u32),
-        };
+        let fmax = analysis::sweep::cascade_max(o, &speeds);
+        let keep = analysis::sweep::SweepKeep::new(o, fmax);
         let pb = progress_bar(speeds.len());
         if !prefix.is_empty() {
             pb.set_message(prefix.trim_end_matches('/').to_string());
@@ -365,33 +344,39 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
             .map_err(|m| ls_v.invalid("output.per_speed", m))?;
         let scene_json = serde_json::to_string(&ls_v.scene)?;
         let staging = outd.staging_dir().to_path_buf();
-        let (res, series) = rubsim::results::sweep(
-            &model_v,
-            &s,
-            &speeds,
-            &keep,
-            &|| pb.inc(1),
-            &selected,
-            o,
-            &scene_json,
-            &staging,
-            prefix,
-        )?;
+        let written = std::sync::Mutex::new(Vec::new());
+        let run = |v: f64| -> rubsim::error::Result<_> {
+            let prep = analysis::prepare(&model_v, &s, v)?;
+            let i = speeds.iter().position(|x| *x == v);
+            let mut series = if i.is_some_and(|i| selected[i]) {
+                let dir = format!("{prefix}{}", rubsim::results::speed_folder(v));
+                rubsim::results::ResultsSink::for_output(
+                    &model_v,
+                    &prep,
+                    o,
+                    &scene_json,
+                    &staging,
+                    &dir,
+                )?
+            } else {
+                None
+            };
+            let mut sinks: Vec<&mut dyn FrameSink> = series.iter_mut().map(|w| w as _).collect();
+            let r = prep.run(keep.at(v), &mut sinks)?;
+            if let Some(w) = series {
+                let names = w.finish()?;
+                written.lock().expect("no writer panicked").extend(names);
+            }
+            Ok((r, output::boundary(&prep.case)))
+        };
+        let (res, bounds) = analysis::sweep(&speeds, &run, &|| pb.inc(1))?.unzip();
+        let mut series = written.into_inner().expect("no writer panicked");
+        series.sort();
         for name in &series {
             outd.adopt(name)?;
         }
         pb.finish_and_clear();
-        let bounds: Vec<_> = res
-            .speeds
-            .iter()
-            .map(|r| model_v.case(r.omega).map(|cs| output::boundary(&cs)))
-            .collect::<std::result::Result<_, _>>()?;
-        let grids = if o.orbit_grids.is_empty() {
-            let n = speeds.len();
-            vec![(0..9.min(n)).map(|i| speeds[i * (n - 1) / 8]).collect()]
-        } else {
-            o.orbit_grids.clone()
-        };
+        let grids = analysis::sweep::orbit_grids(o, &speeds);
         let title = if extra.is_empty() {
             ls_v.scene.title.clone()
         } else {
@@ -411,8 +396,8 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
                 component: &o.component,
             },
         )?;
-        let regimes = output::regime_ranges(&res.speeds);
-        let peaks = output::quasi_resonances(&res.speeds);
+        let regimes = analysis::regime_ranges(&res.speeds);
+        let peaks = analysis::quasi_resonances(&res.speeds);
         let total_steps = res.total_steps();
         let max_err = res.max_estimated_error();
         println!(
@@ -434,7 +419,7 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
         for r in &regimes {
             println!(
                 "  {:>13}  ω/ωn {:.2} – {:.2}",
-                output::regime_name(r.period),
+                analysis::regime_name(r.period),
                 r.from,
                 r.to
             );
@@ -442,7 +427,7 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
         if !peaks.is_empty() {
             let p: Vec<String> = peaks
                 .iter()
-                .map(|(per, v)| format!("{v:.2} ({})", output::regime_name(*per)))
+                .map(|(per, v)| format!("{v:.2} ({})", analysis::regime_name(*per)))
                 .collect();
             println!("  quasi-resonance peaks: {}", p.join(", "));
         }
@@ -713,16 +698,8 @@ fn bench(c: &Common, repeat: usize, reference: bool) -> Result<()> {
         Some(w) => analysis::sweep_speeds(w.from, w.to, w.step),
         None => vec![single_speed(&ls, &model).unwrap_or(1.0)],
     };
-    let mut best: Option<analysis::SweepResults> = None;
-    for _ in 0..repeat.max(1) {
-        let r = analysis::sweep(&model, &s, &speeds, &|_| Keep::default(), &|| {})?;
-        if best.as_ref().is_none_or(|b| r.wall_s < b.wall_s) {
-            best = Some(r);
-        }
-    }
-    let r = best.expect("at least one repetition");
+    let r = analysis::bench::best_of(&model, &s, &speeds, repeat)?;
     let steps = r.total_steps();
-    let loop_s: f64 = r.speeds.iter().map(|x| x.stats.wall_s).sum();
     let err = r.max_estimated_error();
     println!(
         "bench {}: {} speeds, threads {}, best of {}: wall {:.3} s, {} steps (main runs), {:.1} ns/step (loop time per step, main runs), largest estimated extents error {:.2e}{}",
@@ -732,47 +709,28 @@ fn bench(c: &Common, repeat: usize, reference: bool) -> Result<()> {
         repeat.max(1),
         r.wall_s,
         steps,
-        loop_s / steps as f64 * 1e9,
+        analysis::bench::ns_per_step(&r),
         err,
         if s.error_estimate { " (wall includes the 2Δt companion runs)" } else { "" }
     );
     if reference {
-        let mut rs = s;
-        rs.error_estimate = false;
-        rs.step.integrator = rubsim::time::Scheme::Collocated;
-        rs.step.harmonics *= 16.0;
-        let rr = analysis::sweep(&model, &rs, &speeds, &|_| Keep::default(), &|| {})?;
-        let mut errs: Vec<(f64, f64, usize)> = r
-            .speeds
-            .iter()
-            .zip(&rr.speeds)
-            .map(|(a, b)| {
-                let span =
-                    (b.extents_nd[1] - b.extents_nd[0]).max(b.extents_nd[3] - b.extents_nd[2]);
-                let e = (0..4)
-                    .map(|i| (a.extents_nd[i] - b.extents_nd[i]).abs())
-                    .fold(0.0, f64::max)
-                    / span;
-                (a.speed_ratio, e, b.period)
-            })
-            .collect();
-        let periodic: Vec<f64> = errs.iter().filter(|x| x.2 > 0).map(|x| x.1).collect();
-        let worst = errs
-            .iter()
-            .cloned()
-            .fold((0.0, 0.0, 0), |m, x| if x.1 > m.1 { x } else { m });
-        errs.sort_by(|a, b| a.1.total_cmp(&b.1));
-        let median = errs[errs.len() / 2].1;
+        let rs = analysis::bench::reference_settings(&s);
+        let rr = analysis::sweep(
+            &speeds,
+            &|v| analysis::run_speed(&model, &rs, v, Keep::default()),
+            &|| {},
+        )?;
+        let cmp = analysis::bench::compare(&r, &rr);
         println!(
             "reference: collocated, Δt 16× finer ({:.3} s): orbit-extents error of the timed sweep — median {:.2e}, largest over periodic speeds {:.2e}, largest overall {:.2e} at ω/ωn = {} (reference period {}); {} of {} speeds above 1%",
             rr.wall_s,
-            median,
-            periodic.iter().cloned().fold(0.0, f64::max),
-            worst.1,
-            worst.0,
-            worst.2,
-            errs.iter().filter(|x| x.1 > 0.01).count(),
-            errs.len()
+            cmp.median,
+            cmp.largest_periodic,
+            cmp.largest,
+            cmp.largest_at,
+            cmp.largest_period,
+            cmp.above_one_percent,
+            cmp.speeds
         );
     }
     Ok(())

@@ -116,6 +116,16 @@ pub fn loglog_slope(x: &[f64], y: &[f64]) -> f64 {
     sxy / sxx
 }
 
+/// Greatest common divisor; `gcd(0, b) = b`, so a fold from 0 over intervals gives their
+/// common interval (0 when every interval is 0).
+pub fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

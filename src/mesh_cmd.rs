@@ -224,7 +224,15 @@ pub fn stress(a: &StressArgs) -> Result<()> {
     let mut strain_series = Vec::new();
     let mut summary = Vec::new();
     for &v in &speeds {
-        let (r, case) = rubsim::stress::stress_run(&model, &settings, v, a.per_rev, a.window)?;
+        let prep = rubsim::analysis::prepare(&model, &settings, v)?;
+        let mut probe = rubsim::analysis::StressProbe::for_run(&prep, a.per_rev, a.window);
+        prep.integrate(&mut [&mut probe])
+            .map_err(|e| rubsim::error::Error::AtSpeed {
+                speed_ratio: v,
+                source: Box::new(e),
+            })?;
+        let r = rubsim::analysis::StressResults::new(&prep, probe);
+        let case = &prep.case;
         for tr in &r.traces {
             for i in 0..tr.t.len() {
                 csv.push_str(&format!(
@@ -280,7 +288,7 @@ pub fn stress(a: &StressArgs) -> Result<()> {
                 .iter()
                 .map(|s| (s.abs() / 1e6).max(floor).max(1e-12).log10())
                 .collect();
-            let polys = rubsim::stress::cell_polygons(st, &mpa);
+            let polys = rubsim::analysis::stress::cell_polygons(st, &mpa);
             if !polys.is_empty() && ls.scene.output.png {
                 let marks: Vec<(f64, f64)> = tr
                     .peak_contacts
@@ -364,25 +372,6 @@ pub struct RefineArgs {
     pub out: Option<PathBuf>,
 }
 
-/// Total variation of a force history per revolution over twice its peak-to-peak range: 1 for
-/// a smooth once-per-revolution pulse, larger when the force ripples (nodes being passed).
-pub fn ripple(history: &[(f64, f64)]) -> f64 {
-    if history.len() < 3 {
-        return f64::NAN;
-    }
-    let tv: f64 = history.windows(2).map(|w| (w[1].1 - w[0].1).abs()).sum();
-    let (lo, hi) = history
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-            (a.min(p.1), b.max(p.1))
-        });
-    let revs = history.last().map_or(0.0, |p| p.0) - history[0].0;
-    if hi - lo <= 0.0 || revs <= 0.0 {
-        return f64::NAN;
-    }
-    tv / (2.0 * (hi - lo) * revs)
-}
-
 /// Runs `rubsim refine`: the same scene at several mesh refinements (the node-to-nodes
 /// contact's sensitivity to the boundary discretisation): refine.csv, force and orbit overlays.
 pub fn refine(a: &RefineArgs) -> Result<()> {
@@ -434,7 +423,7 @@ pub fn refine(a: &RefineArgs) -> Result<()> {
             .copied()
             .filter(|p| p.0 >= t_end - a.window as f64)
             .collect();
-        let rip = ripple(&tail);
+        let rip = analysis::refine::ripple(&tail);
         csv.push_str(&format!(
             "{v},{targets},{dofs},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{},{},{:.4},{us:.3},{setup:.3}\n",
             r.extents_nd[0],

@@ -3,9 +3,9 @@
 
 use super::{default_out, finish, load, summary_base, Common};
 use anyhow::{Context, Result};
+use rubsim::analysis::rotordyn;
 use rubsim::output::OutDir;
 use rubsim::plot::{self, Curve};
-use rubsim::rotordyn;
 use std::path::PathBuf;
 
 fn speed_list(from: f64, to: f64, points: usize) -> Vec<f64> {

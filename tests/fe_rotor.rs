@@ -1,8 +1,8 @@
 //! Verification of the Timoshenko FE rotor (issue 3).
 
+use rubsim::analysis::rotordyn::{self, Whirl};
 use rubsim::math::loglog_slope;
 use rubsim::model::{Model, Rotor};
-use rubsim::rotordyn::{self, Whirl};
 use rubsim::scene;
 use std::f64::consts::PI;
 use std::path::Path;

@@ -44,14 +44,15 @@ pub mod vtk;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
 
-use crate::analysis::{self, Keep, RunSettings, SpeedResults, SweepResults};
+use crate::analysis::Prepared;
+use crate::contact::{pair_state, target_disp};
 use crate::error::{Error, Result};
-use crate::math::V2;
+use crate::math::{gcd, V2};
 use crate::mesh::CellKind;
 use crate::model::stator::StatorElement;
 use crate::model::{Case, Model, Rotor, Target};
 use crate::scene::{OutputSpec, PerSpeed, SeriesField, SeriesSpec};
-use crate::time::{plan_steps, Frame, FrameSink, StepPlan};
+use crate::time::{Frame, FrameSink, StepPlan};
 use std::path::Path;
 pub use vtkio::model::CellType;
 
@@ -285,6 +286,17 @@ pub struct RingSlot {
     pub contact_point: usize,
     /// Axial position z of the drawing (m): the plane of the station.
     pub z: f64,
+}
+
+impl RingSlot {
+    /// The contact target the ring is: the contact kernel ([`pair_state`]) gives its normal.
+    pub fn target(&self) -> Target {
+        Target::Ring {
+            center0: self.center0,
+            inner_radius: self.inner_radius,
+            dofs: self.dofs,
+        }
+    }
 }
 
 /// Where everything of a case sits in the [`OutputGrid`].
@@ -663,18 +675,9 @@ impl FrameState {
         // Rings: the circle and the contact point move with the ring centre; the contact point
         // sits on the line of centres (the contact kernel's normal).
         for (ring, pos) in layout.rings.iter().zip(self.ring_contact.iter_mut()) {
-            let u = f.stator_u(ring.stator);
-            let us = ring.dofs.map(|i| i.map_or(0.0, |i| u[i]));
-            let d = [
-                f.rotor_u[ring.rotor_dofs[0]] - ring.center0[0] - us[0],
-                f.rotor_u[ring.rotor_dofs[1]] - ring.center0[1] - us[1],
-            ];
-            let l = d[0].hypot(d[1]);
-            let n = if l > 0.0 {
-                [d[0] / l, d[1] / l]
-            } else {
-                [1.0, 0.0]
-            };
+            let us = target_disp(ring.dofs, f.stator_u(ring.stator));
+            let uc = ring.rotor_dofs.map(|i| f.rotor_u[i]);
+            let n = pair_state(&ring.target(), 0.0, uc, us, 0.0).n;
             *pos = [
                 ring.center0[0] + ring.inner_radius * n[0],
                 ring.center0[1] + ring.inner_radius * n[1],
@@ -744,8 +747,8 @@ struct PrevStep {
 }
 
 /// Streams the frames of one run to the VTK and HDF5 writers a scene asks for.
-pub struct ResultsSink {
-    case: Case,
+pub struct ResultsSink<'a> {
+    case: &'a Case,
     layout: Layout,
     state: FrameState,
     every: usize,
@@ -758,20 +761,12 @@ pub struct ResultsSink {
     hdf5: Option<(FramePlan, hdf5::Hdf5Series)>,
 }
 
-impl std::fmt::Debug for ResultsSink {
+impl std::fmt::Debug for ResultsSink<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("ResultsSink")
             .field("every", &self.every)
             .field("points", &self.layout.num_points())
             .finish_non_exhaustive()
-    }
-}
-
-fn gcd(a: usize, b: usize) -> usize {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
     }
 }
 
@@ -857,33 +852,51 @@ pub fn describe(o: &OutputSpec, plan: &StepPlan, sweep: bool) -> Vec<String> {
         .collect()
 }
 
-impl ResultsSink {
-    /// Prepares the writers of `output` for a run of `model` at ω/ω_n = `speed_ratio`; files go
-    /// below `staging/prefix` (`prefix` empty or ending in `/`). Opens every file and writes
-    /// the static parts at once, so an unwritable directory fails before the run.
+impl<'a> ResultsSink<'a> {
+    /// The writers `output` asks for at the prepared run `prep` of `model`, or `None` when it
+    /// asks for no time series ([`wanted`]); see [`ResultsSink::new`].
     ///
     /// # Errors
-    /// [`Error::Output`] naming the file when a writer cannot be created; model errors.
+    /// As [`ResultsSink::new`].
+    pub fn for_output(
+        model: &Model,
+        prep: &'a Prepared,
+        output: &OutputSpec,
+        scene_json: &str,
+        staging: &Path,
+        prefix: &str,
+    ) -> Result<Option<Self>> {
+        if !wanted(output) {
+            return Ok(None);
+        }
+        Self::new(model, prep, output, scene_json, staging, prefix).map(Some)
+    }
+
+    /// Prepares the writers of `output` for the prepared run `prep` of `model` (whose case and
+    /// step plan it lays out and frames); files go below `staging/prefix` (`prefix` empty or
+    /// ending in `/`). Opens every file and writes the static parts at once, so an unwritable
+    /// directory fails before the run.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file when a writer cannot be created or the disk is too
+    /// full for the series.
     pub fn new(
         model: &Model,
-        settings: &RunSettings,
-        speed_ratio: f64,
+        prep: &'a Prepared,
         output: &OutputSpec,
         scene_json: &str,
         staging: &Path,
         prefix: &str,
     ) -> Result<Self> {
-        let omega = speed_ratio * model.rotor.natural_frequency();
-        let case = model.case(omega)?;
-        let plan = plan_steps(&case, &settings.step)?;
-        let layout = Layout::new(model, &case);
-        let state = FrameState::new(&layout, &case);
+        let (case, plan) = (&prep.case, prep.plan);
+        let layout = Layout::new(model, case);
+        let state = FrameState::new(&layout, case);
         let info = RunInfo {
             scene_json: scene_json.to_string(),
             speed_ratio: case.speed_ratio,
-            omega,
+            omega: prep.omega,
             plan,
-            integrator: settings.step.integrator.name(),
+            integrator: prep.settings.step.integrator.name(),
         };
         // Refuse a run whose series cannot fit on the disk before it spends its time.
         let mut need_bytes = 0.0;
@@ -924,7 +937,7 @@ impl ResultsSink {
                 need_velocity |= fp.fields.velocity;
                 Some((
                     fp,
-                    hdf5::Hdf5Series::create(staging, prefix, &layout, &case, &fp, &info)?,
+                    hdf5::Hdf5Series::create(staging, prefix, &layout, case, &fp, &info)?,
                 ))
             }
             None => None,
@@ -946,7 +959,7 @@ impl ResultsSink {
             every,
             prev: None,
             need_velocity,
-            init_velocity: settings.initial.v,
+            init_velocity: prep.settings.initial.v,
             vtk,
             #[cfg(feature = "hdf5")]
             hdf5,
@@ -1038,7 +1051,7 @@ impl ResultsSink {
     }
 }
 
-impl FrameSink for ResultsSink {
+impl FrameSink for ResultsSink<'_> {
     fn every(&self) -> usize {
         self.every
     }
@@ -1049,7 +1062,7 @@ impl FrameSink for ResultsSink {
         if !now && !before_next {
             return Ok(());
         }
-        self.state.fill(&self.layout, &self.case, frame);
+        self.state.fill(&self.layout, self.case, frame);
         if now {
             if self.need_velocity {
                 self.velocities();
@@ -1079,39 +1092,6 @@ impl FrameSink for ResultsSink {
         }
         Ok(())
     }
-}
-
-/// Runs one speed ([`analysis::run_speed_with`]) with the time series `output` asks for,
-/// written below `staging/prefix`; returns the results and the files written (relative to
-/// `staging`). Without `output.vtk`/`output.hdf5` this is [`analysis::run_speed`].
-#[allow(clippy::too_many_arguments)]
-pub fn run_speed(
-    model: &Model,
-    settings: &RunSettings,
-    speed_ratio: f64,
-    keep: Keep,
-    output: &OutputSpec,
-    scene_json: &str,
-    staging: &Path,
-    prefix: &str,
-) -> Result<(SpeedResults, Vec<String>)> {
-    if !wanted(output) {
-        return Ok((
-            analysis::run_speed(model, settings, speed_ratio, keep)?,
-            Vec::new(),
-        ));
-    }
-    let mut sink = ResultsSink::new(
-        model,
-        settings,
-        speed_ratio,
-        output,
-        scene_json,
-        staging,
-        prefix,
-    )?;
-    let r = analysis::run_speed_with(model, settings, speed_ratio, keep, Some(&mut sink))?;
-    Ok((r, sink.finish()?))
 }
 
 /// The sub-folder of a speed's time series in a sweep: `speed_<ω/ω_n>/`.
@@ -1149,55 +1129,4 @@ pub fn per_speed_selection(
             Ok(sel)
         }
     }
-}
-
-/// A sweep ([`analysis::sweep_with`]) whose speeds flagged in `selected` (see
-/// [`per_speed_selection`]) write their time series into `staging/prefix/speed_<ω/ω_n>/`;
-/// returns the results and the files written (relative to `staging`).
-#[allow(clippy::too_many_arguments)]
-pub fn sweep(
-    model: &Model,
-    settings: &RunSettings,
-    speeds: &[f64],
-    keep: &(dyn Fn(f64) -> Keep + Sync),
-    progress: &(dyn Fn() + Sync),
-    selected: &[bool],
-    output: &OutputSpec,
-    scene_json: &str,
-    staging: &Path,
-    prefix: &str,
-) -> Result<(SweepResults, Vec<String>)> {
-    let sel = selected;
-    if !sel.iter().any(|s| *s) {
-        return Ok((
-            analysis::sweep(model, settings, speeds, keep, progress)?,
-            Vec::new(),
-        ));
-    }
-    let written = std::sync::Mutex::new(Vec::new());
-    let res = analysis::sweep_with(
-        speeds,
-        &|v| {
-            let i = speeds.iter().position(|s| *s == v);
-            if !i.is_some_and(|i| sel.get(i).copied().unwrap_or(false)) {
-                return analysis::run_speed(model, settings, v, keep(v));
-            }
-            let (r, names) = run_speed(
-                model,
-                settings,
-                v,
-                keep(v),
-                output,
-                scene_json,
-                staging,
-                &format!("{prefix}{}", speed_folder(v)),
-            )?;
-            written.lock().expect("no writer panicked").extend(names);
-            Ok(r)
-        },
-        progress,
-    )?;
-    let mut names = written.into_inner().expect("no writer panicked");
-    names.sort();
-    Ok((res, names))
 }

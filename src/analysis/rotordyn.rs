@@ -639,3 +639,22 @@ pub fn static_deflection(rotor: &Rotor, g: f64) -> Result<Vec<f64>, ModelError> 
             detail: "singular: the rotor is not held by its bearings".into(),
         })
 }
+
+/// `points` speeds (at least 2) spread evenly from `from` to `to`, both included.
+pub fn speed_list(from: f64, to: f64, points: usize) -> Vec<f64> {
+    let n = points.max(2);
+    (0..n)
+        .map(|i| from + (to - from) * i as f64 / (n - 1) as f64)
+        .collect()
+}
+
+/// The nodes an unbalance response reports by default: every station's rotor node, node 0
+/// when there is no station.
+pub fn default_response_nodes(model: &crate::model::Model) -> Vec<usize> {
+    let v: Vec<usize> = model.stations.iter().map(|s| s.node).collect();
+    if v.is_empty() {
+        vec![0]
+    } else {
+        v
+    }
+}

@@ -9,13 +9,13 @@
 //! equivalent strain σ_vm/E of continuum cells). The field of the instant of largest stress is
 //! kept for a picture.
 //!
-//! [`stress_run`] runs one speed with the probe; nothing of the normal run changes.
+//! The command layer builds the probe from a prepared run ([`StressProbe::for_run`]) and
+//! attaches it to [`Prepared::run`]; nothing of the normal run changes.
 
-use crate::analysis::RunSettings;
-use crate::error::{Error, Result};
+use super::Prepared;
+use crate::error::Result;
 use crate::model::stator::{StatorElement, StatorModel};
-use crate::model::Model;
-use crate::time::{integrate_with, plan_steps, Frame, FrameSink, StepPlan};
+use crate::time::{Frame, FrameSink, StepPlan};
 
 /// One stator's history.
 #[derive(Debug, Clone, Default, serde::Serialize)]
@@ -143,47 +143,31 @@ pub struct StressResults {
     pub traces: Vec<StressTrace>,
 }
 
-/// Runs speed `speed_ratio` with a [`StressProbe`] sampling `per_rev` times per revolution over
-/// the last `window` revolutions (the whole run when `window` is 0).
-pub fn stress_run(
-    model: &Model,
-    settings: &RunSettings,
-    speed_ratio: f64,
-    per_rev: usize,
-    window: usize,
-) -> Result<(StressResults, crate::model::Case)> {
-    let omega = speed_ratio * model.rotor.natural_frequency();
-    let case = model.case(omega)?;
-    let plan = plan_steps(&case, &settings.step)?;
-    let every = (plan.steps_per_rev / per_rev.max(1)).max(1);
-    let revs = settings.step.revolutions;
-    let start = if window == 0 || window >= revs {
-        0.0
-    } else {
-        (revs - window) as f64 * 2.0 * std::f64::consts::PI / omega
-    };
-    let mut probe = StressProbe::new(&case.stators, every, start);
-    integrate_with(
-        &case,
-        settings.step.integrator,
-        &plan,
-        settings.initial,
-        Some(&mut probe),
-    )
-    .map_err(|e| Error::AtSpeed {
-        speed_ratio,
-        source: Box::new(e.into()),
-    })?;
-    let traces = probe.traces;
-    Ok((
-        StressResults {
-            speed_ratio,
-            omega,
-            plan,
-            traces,
-        },
-        case,
-    ))
+impl<'a> StressProbe<'a> {
+    /// The probe of a prepared run: `per_rev` samples per revolution over the last `window`
+    /// revolutions of the plan (the whole run when `window` is 0 or not shorter than it).
+    pub fn for_run(prep: &'a Prepared, per_rev: usize, window: usize) -> Self {
+        let every = (prep.plan.steps_per_rev / per_rev.max(1)).max(1);
+        let revs = prep.settings.step.revolutions;
+        let start = if window == 0 || window >= revs {
+            0.0
+        } else {
+            (revs - window) as f64 * 2.0 * std::f64::consts::PI / prep.omega
+        };
+        Self::new(&prep.case.stators, every, start)
+    }
+}
+
+impl StressResults {
+    /// The histories a probe recorded during the run of `prep`.
+    pub fn new(prep: &Prepared, probe: StressProbe<'_>) -> Self {
+        Self {
+            speed_ratio: prep.speed_ratio,
+            omega: prep.omega,
+            plan: prep.plan,
+            traces: probe.traces,
+        }
+    }
 }
 
 /// Polygons of the 2-D cells of a stator (corner nodes, m) with a value per element, for

@@ -1,0 +1,136 @@
+//! A convergence study at one speed: each integrator at steps per revolution `spr·2^k`
+//! against a collocated reference at a finer level.
+
+use super::{analyse, extents_error, ExtentsScale, Keep, RunSettings, SpeedResults};
+use crate::error::{Error, Result};
+use crate::math::{loglog_slope, V2};
+use crate::model::Model;
+use crate::time::{integrate, plan_steps, Record, Scheme};
+use serde::Serialize;
+
+/// One point of a convergence study.
+#[derive(Debug, Clone, Serialize)]
+pub struct ConvergencePoint {
+    /// Integrator.
+    pub integrator: &'static str,
+    /// Δt (s).
+    pub dt: f64,
+    /// Δt·ω_n.
+    pub dt_wn: f64,
+    /// Steps per revolution.
+    pub steps_per_rev: usize,
+    /// Relative orbit error over the last revolutions (phase-locked, max norm / orbit size).
+    pub orbit_err: f64,
+    /// Relative error of the orbit extents.
+    pub extents_err: f64,
+    /// Errors of the 1×, 1/2×, 1/3× amplitudes relative to the largest reference line.
+    pub lines_err: [f64; 3],
+    /// Poincaré period found.
+    pub period: usize,
+    /// Wall time of the loop (s).
+    pub wall_s: f64,
+    /// Steps taken.
+    pub steps: usize,
+}
+
+/// A convergence study at one speed.
+#[derive(Debug, Clone, Serialize)]
+pub struct ConvergenceResults {
+    /// ω/ω_n.
+    pub speed_ratio: f64,
+    /// Reference Δt (s) and integrator.
+    pub reference_dt: f64,
+    /// Reference integrator.
+    pub reference_integrator: &'static str,
+    /// Reference period.
+    pub reference_period: usize,
+    /// Points.
+    pub points: Vec<ConvergencePoint>,
+    /// Observed orders (fitted log–log slope of orbit error against Δt) per integrator.
+    pub orders: Vec<(&'static str, f64)>,
+}
+
+/// Runs each integrator at steps-per-revolution `spr·2^k` for `k in levels` and compares with a
+/// collocated reference at `spr·2^ref_level`. Revolutions and transient from `s`.
+pub fn convergence(
+    model: &Model,
+    s: &RunSettings,
+    speed_ratio: f64,
+    levels: &[u32],
+    ref_level: u32,
+    compare_revs: usize,
+) -> Result<ConvergenceResults> {
+    let omega = speed_ratio * model.rotor.natural_frequency();
+    let case = model.case(omega)?;
+    let spr = s.step.samples_per_rev;
+    let t_rev = 2.0 * std::f64::consts::PI / omega;
+    let run = |kind: Scheme, level: u32| -> Result<(SpeedResults, Record)> {
+        let mut st = *s;
+        st.step.integrator = kind;
+        st.step.dt = Some(t_rev / (spr as f64 * (1u64 << level) as f64) * (1.0 + 1e-12));
+        let plan = plan_steps(&case, &st.step)?;
+        let (rec, stats) = integrate(&case, kind, &plan, st.initial)?;
+        let r = analyse(&case, &st, &plan, &rec, stats, Keep::default());
+        Ok((r, rec))
+    };
+    let (rref, recref) = run(Scheme::Collocated, ref_level)?;
+    let nrec = recref.len();
+    let cmp_from = nrec.saturating_sub(compare_revs * spr + 1);
+    let ref_orbit: Vec<V2> = (cmp_from..nrec).map(|i| recref.observed[i]).collect();
+    let ref_size = ref_orbit
+        .iter()
+        .fold(0.0_f64, |m, p| m.max(p[0].hypot(p[1])))
+        .max(1e-300);
+    let ref_lines = [rref.amp_1x_nd, rref.amp_half_nd, rref.amp_third_nd];
+    let lmax = ref_lines.iter().fold(1e-300_f64, |m, v| m.max(*v));
+    let mut points = Vec::new();
+    let mut orders = Vec::new();
+    for kind in [Scheme::ForwardIncrement, Scheme::Collocated] {
+        let mut dts = Vec::new();
+        let mut errs = Vec::new();
+        for &l in levels {
+            let (r, rec) = match run(kind, l) {
+                Ok(x) => x,
+                Err(Error::Solve(crate::error::SolveError::StepTooLarge { .. })) => continue,
+                Err(e) => return Err(e),
+            };
+            let n = rec.len().min(nrec);
+            let from = n.saturating_sub(compare_revs * spr + 1);
+            let mut oerr = 0.0_f64;
+            for (k, i) in (from..n).enumerate() {
+                let a = rec.observed[i];
+                let b = ref_orbit[k.min(ref_orbit.len() - 1)];
+                oerr = oerr.max((a[0] - b[0]).hypot(a[1] - b[1]));
+            }
+            let lines = [r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd];
+            let ext_err = extents_error(&r.extents_nd, &rref.extents_nd, ExtentsScale::Largest);
+            points.push(ConvergencePoint {
+                integrator: kind.name(),
+                dt: r.plan.dt,
+                dt_wn: r.plan.dt * model.rotor.natural_frequency(),
+                steps_per_rev: r.plan.steps_per_rev,
+                orbit_err: oerr / ref_size,
+                extents_err: ext_err,
+                lines_err: [
+                    (lines[0] - ref_lines[0]).abs() / lmax,
+                    (lines[1] - ref_lines[1]).abs() / lmax,
+                    (lines[2] - ref_lines[2]).abs() / lmax,
+                ],
+                period: r.period,
+                wall_s: r.stats.wall_s,
+                steps: r.stats.steps,
+            });
+            dts.push(r.plan.dt);
+            errs.push(oerr / ref_size);
+        }
+        orders.push((kind.name(), loglog_slope(&dts, &errs)));
+    }
+    Ok(ConvergenceResults {
+        speed_ratio,
+        reference_dt: rref.plan.dt,
+        reference_integrator: Scheme::Collocated.name(),
+        reference_period: rref.period,
+        points,
+        orders,
+    })
+}

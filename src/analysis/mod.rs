@@ -1,0 +1,127 @@
+//! Analyses over a model: one speed, a speed sweep, a convergence study, a bench, stator
+//! stresses, mesh refinement, linear rotordynamics of the rotor alone.
+//!
+//! # One path for a run
+//!
+//! A run at one speed is prepared once and run once:
+//!
+//! 1. [`prepare`] builds the [`Case`](crate::model::Case) at ω = ν ω_n and its
+//!    [`StepPlan`](crate::time::StepPlan) (Δt, steps, recording interval) into a [`Prepared`];
+//! 2. whoever wants frames — the VTK/HDF5 writers (`crate::results::ResultsSink`), the
+//!    [`StressProbe`] — is built from that prepared case and plan by the command layer;
+//! 3. [`Prepared::run`] integrates with any set of those sinks (none, one, or several through a
+//!    [`Fanout`]), analyses the record into [`SpeedResults`] and, when the settings ask for it,
+//!    estimates the discretisation error by a companion run without sinks.
+//!
+//! A sweep ([`sweep`]) is a parallel map of such a per-speed run over the speeds. Sinks never
+//! drive a run, and nothing here writes files (see `crate::output`).
+//!
+//! # Conventions
+//!
+//! Non-dimensional quantities (`_nd`) follow the paper: displacements over |Z0(ω)|, forces over
+//! the unbalance force |Σ m_u e e^{iφ}| ω², frequencies over ω_n; speeds are given as
+//! ν = ω/ω_n.
+//!
+//! Files: [`speed`] (prepare, run, analyse, error estimate), [`sweep`] (speeds, variants, the
+//! parallel map), [`convergence`], [`regimes`] (Poincaré-period ranges, quasi-resonances),
+//! [`bench`] (timing and the comparison with a converged sweep), [`stress`] (stator stress
+//! probe), [`refine`] (mesh-refinement metrics), [`rotordyn`] (modes, Campbell, unbalance
+//! response).
+
+pub mod bench;
+pub mod convergence;
+pub mod refine;
+pub mod regimes;
+pub mod rotordyn;
+pub mod speed;
+pub mod stress;
+pub mod sweep;
+
+pub use convergence::{convergence, ConvergencePoint, ConvergenceResults};
+pub use regimes::{quasi_resonances, regime_name, regime_ranges, RegimeRange};
+pub use speed::{
+    analyse, extent_scale, extents_error, orbit_span, prepare, run_speed, ErrorEstimate,
+    ExtentsScale, Fanout, Prepared, SpeedResults,
+};
+pub use stress::{StressProbe, StressResults, StressTrace};
+pub use sweep::{sweep, sweep_speeds, Sweep, SweepResults};
+
+use crate::scene::{Component, IntegratorKind, OutputSpec, RunSpec};
+use crate::time::{Initial, Scheme, StepParams};
+
+/// Largest Poincaré period reported (longer ones count as not periodic).
+pub const MAX_PERIOD: usize = 8;
+/// Relative tolerance of the Poincaré period test (fraction of the orbit size).
+pub const PERIOD_TOL: f64 = 2e-3;
+
+/// Settings of a run at one speed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunSettings {
+    /// Integrator and step choices.
+    pub step: StepParams,
+    /// Revolutions cut as transient.
+    pub transient_revolutions: usize,
+    /// Companion run at 2Δt for an error estimate.
+    pub error_estimate: bool,
+    /// Initial rotor state.
+    pub initial: Initial,
+    /// Analysed response component: 0 = x, 1 = y.
+    pub component: usize,
+}
+
+impl RunSettings {
+    /// From a scene's `[run]` table.
+    pub fn from_run(run: &RunSpec, component: &str) -> Self {
+        Self {
+            step: StepParams {
+                integrator: scheme(run.integrator),
+                dt: run.dt,
+                harmonics: run.harmonics,
+                revolutions: run.revolutions,
+                samples_per_rev: run.samples_per_rev,
+            },
+            transient_revolutions: run.transient_revolutions,
+            error_estimate: run.error_estimate,
+            initial: Initial {
+                u: run.initial_displacement,
+                v: run.initial_velocity,
+            },
+            component: Component::from_name(component).unwrap_or_default().index(),
+        }
+    }
+}
+
+/// The time loop's scheme for the scene's `run.integrator`.
+pub fn scheme(kind: IntegratorKind) -> Scheme {
+    match kind {
+        IntegratorKind::ForwardIncrement => Scheme::ForwardIncrement,
+        IntegratorKind::Collocated => Scheme::Collocated,
+    }
+}
+
+/// Which heavy data a speed result keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Keep {
+    /// The steady orbit (analysis window).
+    pub orbit: bool,
+    /// The contact-force history of the whole run.
+    pub force_history: bool,
+    /// The spectrum up to this frequency (f/ω_n); 0 keeps none.
+    pub spectrum_up_to: Option<u32>,
+}
+
+impl Keep {
+    /// Everything the pictures of a single run (`rubsim run`) draw: the orbit, the force
+    /// history and the spectrum up to `output.cascade_max_freq`, by default 1.5 max(ν, 1)
+    /// (f/ω_n, rounded up to a whole number).
+    pub fn single_run(output: &OutputSpec, speed_ratio: f64) -> Self {
+        let fmax = output
+            .cascade_max_freq
+            .unwrap_or(speed_ratio.max(1.0) * 1.5);
+        Self {
+            orbit: true,
+            force_history: true,
+            spectrum_up_to: Some(fmax.ceil() as u32),
+        }
+    }
+}

@@ -1,0 +1,357 @@
+//! One speed: prepare the case and step plan once ([`prepare`]), run them with any set of
+//! frame sinks ([`Prepared::run`]), analyse the record ([`analyse`]) and estimate the
+//! discretisation error by a companion run.
+
+use super::{Keep, RunSettings, MAX_PERIOD, PERIOD_TOL};
+use crate::error::Result;
+use crate::math::{gcd, V2};
+use crate::model::{Case, Model};
+use crate::signal::{extents, hann_spectrum, line_amplitude, poincare_period};
+use crate::time::{
+    integrate, integrate_with, plan_steps, Frame, FrameSink, Record, RunStats, StepPlan,
+};
+use serde::Serialize;
+
+/// Discretisation-error estimate from a companion run at about 2Δt (Richardson, nominal order).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ErrorEstimate {
+    /// Companion Δt (s): about 2Δt, or Δt/2 when 2Δt would be unstable.
+    pub dt_coarse: f64,
+    /// Order assumed.
+    pub order: f64,
+    /// Estimated relative error of the orbit extents (of the finer run).
+    pub extents_rel: f64,
+    /// Estimated error of the 1×, 1/2×, 1/3× amplitudes relative to the largest of them.
+    pub lines_rel: f64,
+    /// Whether the companion run found the same Poincaré period.
+    pub same_period: bool,
+}
+
+/// Results of a run at one speed.
+#[derive(Debug, Clone, Serialize)]
+pub struct SpeedResults {
+    /// ω/ω_n.
+    pub speed_ratio: f64,
+    /// ω (rad/s).
+    pub omega: f64,
+    /// Rotor node whose response is analysed (orbit, Poincaré section, spectrum, extents).
+    pub node: usize,
+    /// |Z0(ω)| at the analysed node (m).
+    pub z0: f64,
+    /// Clearance of each stator at this speed (m).
+    pub clearances: Vec<f64>,
+    /// Unbalance force |U| ω² (N).
+    pub unbalance_force: f64,
+    /// Poincaré period 1–8, 0 when not periodic.
+    pub period: usize,
+    /// `[x_min, x_max, y_min, y_max]` / |Z0| over the analysis window.
+    pub extents_nd: [f64; 4],
+    /// 1× amplitude of the analysed component / |Z0|.
+    pub amp_1x_nd: f64,
+    /// 1/2× amplitude / |Z0|.
+    pub amp_half_nd: f64,
+    /// 1/3× amplitude / |Z0|.
+    pub amp_third_nd: f64,
+    /// Largest contact-force magnitude on station 0 in the analysis window / |U|ω².
+    pub contact_force_max_nd: f64,
+    /// Fraction of recorded samples in the analysis window with contact.
+    pub contact_fraction: f64,
+    /// Step plan.
+    pub plan: StepPlan,
+    /// Loop counters.
+    pub stats: RunStats,
+    /// Error estimate (None when not asked or not possible).
+    pub error: Option<ErrorEstimate>,
+    /// Poincaré points / |Z0| (analysis window).
+    pub poincare_nd: Vec<V2>,
+    /// Steady orbit / |Z0| (kept on request).
+    #[serde(skip)]
+    pub orbit_nd: Vec<V2>,
+    /// Time in revolutions and vertical force on the stator / |U|ω² (kept on request).
+    #[serde(skip)]
+    pub force_history: Vec<(f64, f64)>,
+    /// Spectrum: (f/ω_n, amplitude/|Z0|) (kept on request).
+    #[serde(skip)]
+    pub spectrum: Vec<(f64, f64)>,
+}
+
+/// A run at one speed, ready to integrate: the case and the step plan, built once.
+///
+/// Sinks that want frames of this run (VTK/HDF5 writers, a stress probe) are built from
+/// `case` and `plan` and handed to [`Prepared::run`].
+#[derive(Debug)]
+pub struct Prepared {
+    /// ν = ω/ω_n as asked (the case's `speed_ratio` is ω/ω_n recomputed from ω).
+    pub speed_ratio: f64,
+    /// ω = ν ω_n (rad/s).
+    pub omega: f64,
+    /// The run's settings.
+    pub settings: RunSettings,
+    /// The case at ω.
+    pub case: Case,
+    /// The step plan (Δt, steps, recording interval).
+    pub plan: StepPlan,
+}
+
+/// Prepares a run of `model` at ν = `speed_ratio`: the case at ω = ν ω_n and its step plan.
+///
+/// # Errors
+/// Model errors of the case; [`crate::error::SolveError::StepTooLarge`] and other plan errors.
+pub fn prepare(model: &Model, settings: &RunSettings, speed_ratio: f64) -> Result<Prepared> {
+    let omega = speed_ratio * model.rotor.natural_frequency();
+    let case = model.case(omega)?;
+    let plan = plan_steps(&case, &settings.step)?;
+    Ok(Prepared {
+        speed_ratio,
+        omega,
+        settings: *settings,
+        case,
+        plan,
+    })
+}
+
+impl Prepared {
+    /// One revolution 2π/ω (s).
+    pub fn revolution(&self) -> f64 {
+        2.0 * std::f64::consts::PI / self.omega
+    }
+
+    /// Integrates the case with the plan, handing frames to `sinks` (each at its own
+    /// [`FrameSink::every`]); returns the record and the loop's counters.
+    ///
+    /// # Errors
+    /// [`crate::error::SolveError`] of the loop, a sink's error included.
+    pub fn integrate(&self, sinks: &mut [&mut dyn FrameSink]) -> Result<(Record, RunStats)> {
+        let s = &self.settings;
+        let (case, plan) = (&self.case, &self.plan);
+        Ok(match sinks {
+            [] => integrate(case, s.step.integrator, plan, s.initial)?,
+            [one] => integrate_with(case, s.step.integrator, plan, s.initial, Some(&mut **one))?,
+            many => {
+                let mut fan = Fanout::new(many);
+                integrate_with(case, s.step.integrator, plan, s.initial, Some(&mut fan))?
+            }
+        })
+    }
+
+    /// [`Prepared::integrate`] with `sinks`, then [`analyse`] the record; with
+    /// `settings.error_estimate` a companion run (no sinks) estimates the discretisation error
+    /// ([`ErrorEstimate`]).
+    ///
+    /// # Errors
+    /// As [`Prepared::integrate`]; the companion run's failure only leaves the estimate out.
+    pub fn run(&self, keep: Keep, sinks: &mut [&mut dyn FrameSink]) -> Result<SpeedResults> {
+        let (rec, stats) = self.integrate(sinks)?;
+        let mut res = analyse(&self.case, &self.settings, &self.plan, &rec, stats, keep);
+        if self.settings.error_estimate {
+            res.error = self.error_estimate(&res);
+        }
+        Ok(res)
+    }
+
+    /// Companion run at 2Δt (at Δt/2 when 2Δt is above the stability limit); the error of the
+    /// main run ≈ |Q_h − Q_c| / |r^p − 1|, r = h_c / h, p the scheme's nominal order.
+    fn error_estimate(&self, res: &SpeedResults) -> Option<ErrorEstimate> {
+        let (s, case, plan) = (&self.settings, &self.case, &self.plan);
+        let mut coarse = s.step;
+        coarse.dt = Some(2.0 * plan.dt);
+        let cplan = plan_steps(case, &coarse)
+            .ok()
+            .filter(|c| c.steps_per_rev < plan.steps_per_rev)
+            .or_else(|| {
+                let mut fine = s.step;
+                fine.dt = Some(0.5 * plan.dt);
+                plan_steps(case, &fine).ok()
+            })
+            .filter(|c| c.steps_per_rev != plan.steps_per_rev)?;
+        let (crec, cstats) = integrate(case, s.step.integrator, &cplan, s.initial).ok()?;
+        let c = analyse(case, s, &cplan, &crec, cstats, Keep::default());
+        let r = plan.steps_per_rev as f64 / cplan.steps_per_rev as f64;
+        let p = s.step.integrator.nominal_order();
+        let denom = (r.powf(p) - 1.0).abs();
+        let ext = extents_error(&c.extents_nd, &res.extents_nd, ExtentsScale::Largest) / denom;
+        let lines = [res.amp_1x_nd, res.amp_half_nd, res.amp_third_nd];
+        let clines = [c.amp_1x_nd, c.amp_half_nd, c.amp_third_nd];
+        let lmax = lines.iter().fold(1e-300_f64, |m, v| m.max(*v));
+        let lerr = lines
+            .iter()
+            .zip(clines)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
+            / lmax
+            / denom;
+        Some(ErrorEstimate {
+            dt_coarse: cplan.dt,
+            order: p,
+            extents_rel: ext,
+            lines_rel: lerr,
+            same_period: c.period == res.period,
+        })
+    }
+}
+
+/// Runs one speed without sinks: [`prepare`] then [`Prepared::run`].
+pub fn run_speed(
+    model: &Model,
+    s: &RunSettings,
+    speed_ratio: f64,
+    keep: Keep,
+) -> Result<SpeedResults> {
+    prepare(model, s, speed_ratio)?.run(keep, &mut [])
+}
+
+/// Several sinks as one: frames every gcd of their intervals, each sink handed the frames at
+/// its own interval.
+pub struct Fanout<'s, 'a> {
+    sinks: &'s mut [&'a mut dyn FrameSink],
+    every: usize,
+}
+
+impl<'s, 'a> Fanout<'s, 'a> {
+    /// Fans frames out to `sinks` (their intervals are read once, here).
+    pub fn new(sinks: &'s mut [&'a mut dyn FrameSink]) -> Self {
+        let every = sinks.iter().fold(0, |g, s| gcd(g, s.every()));
+        Self { sinks, every }
+    }
+}
+
+impl FrameSink for Fanout<'_, '_> {
+    fn every(&self) -> usize {
+        self.every
+    }
+
+    fn frame(&mut self, frame: &Frame<'_>) -> Result<()> {
+        for s in self.sinks.iter_mut() {
+            let e = s.every();
+            if e > 0 && frame.step % e == 0 {
+                s.frame(frame)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// How an orbit-extents difference is made relative ([`extents_error`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExtentsScale {
+    /// By the largest |extent| of the reference, `max_i |e_i|` ([`extent_scale`]): the error
+    /// estimate and the convergence study.
+    Largest,
+    /// By the size of the reference orbit, `max(x_max − x_min, y_max − y_min)`
+    /// ([`orbit_span`]): the bench's comparison with a converged sweep.
+    Span,
+}
+
+/// Largest |extent| of `[x_min, x_max, y_min, y_max]`, at least 1e-300.
+pub fn extent_scale(e: &[f64; 4]) -> f64 {
+    e.iter().fold(1e-300_f64, |m, v| m.max(v.abs()))
+}
+
+/// Size of an orbit from its extents: `max(x_max − x_min, y_max − y_min)`.
+pub fn orbit_span(e: &[f64; 4]) -> f64 {
+    (e[1] - e[0]).max(e[3] - e[2])
+}
+
+/// The orbit-extents error of `x` against `reference`: `max_i |x_i − ref_i|` over
+/// `[x_min, x_max, y_min, y_max]`, divided by the reference's scale ([`ExtentsScale`]).
+pub fn extents_error(x: &[f64; 4], reference: &[f64; 4], scale: ExtentsScale) -> f64 {
+    let d = (0..4)
+        .map(|i| (x[i] - reference[i]).abs())
+        .fold(0.0, f64::max);
+    d / match scale {
+        ExtentsScale::Largest => extent_scale(reference),
+        ExtentsScale::Span => orbit_span(reference),
+    }
+}
+
+/// Analysis of a record: transient cut, Poincaré section, extents, spectrum, contact forces.
+pub fn analyse(
+    case: &Case,
+    s: &RunSettings,
+    plan: &StepPlan,
+    rec: &Record,
+    stats: RunStats,
+    keep: Keep,
+) -> SpeedResults {
+    let spr = s.step.samples_per_rev;
+    let z0 = if case.z0 > 0.0 { case.z0 } else { 1.0 };
+    let fu = if case.unbalance_force > 0.0 {
+        case.unbalance_force
+    } else {
+        1.0
+    };
+    let first = s.transient_revolutions * spr;
+    let last = (s.step.revolutions * spr).min(rec.len().saturating_sub(1));
+    let window: Vec<V2> = (first..last)
+        .map(|i| {
+            let d = rec.observed[i];
+            [d[0] / z0, d[1] / z0]
+        })
+        .collect();
+    let poincare: Vec<V2> = (first..=last)
+        .step_by(spr)
+        .map(|i| {
+            let d = rec.observed[i];
+            [d[0] / z0, d[1] / z0]
+        })
+        .collect();
+    let ext = extents(&window);
+    let span = orbit_span(&ext);
+    let period = poincare_period(&poincare, span, MAX_PERIOD, PERIOD_TOL);
+    let comp: Vec<f64> = window.iter().map(|p| p[s.component]).collect();
+    let spec = hann_spectrum(&comp);
+    let nrev = (last - first) as f64 / spr as f64;
+    let amp = |order: f64| line_amplitude(&spec, order * nrev);
+    let mut fmax = 0.0_f64;
+    let mut ncontact = 0usize;
+    for i in first..last {
+        let f = rec.force_at(i, 0);
+        let m = f[0].hypot(f[1]);
+        fmax = fmax.max(m);
+        if rec.active[i] > 0 {
+            ncontact += 1;
+        }
+    }
+    let spectrum = match keep.spectrum_up_to {
+        Some(fm) => spec
+            .iter()
+            .enumerate()
+            .map(|(k, a)| (k as f64 / nrev * case.speed_ratio, *a))
+            .take_while(|(f, _)| *f <= fm as f64 + 1e-9)
+            .collect(),
+        None => Vec::new(),
+    };
+    let t_rev = 2.0 * std::f64::consts::PI / case.omega;
+    SpeedResults {
+        speed_ratio: case.speed_ratio,
+        omega: case.omega,
+        node: case.observed_node,
+        z0: case.z0,
+        clearances: case.stators.iter().map(|s| s.clearance).collect(),
+        unbalance_force: case.unbalance_force,
+        period,
+        extents_nd: ext,
+        amp_1x_nd: amp(1.0),
+        amp_half_nd: amp(0.5),
+        amp_third_nd: amp(1.0 / 3.0),
+        contact_force_max_nd: fmax / fu,
+        contact_fraction: if last > first {
+            ncontact as f64 / (last - first) as f64
+        } else {
+            0.0
+        },
+        plan: *plan,
+        stats,
+        error: None,
+        poincare_nd: poincare,
+        orbit_nd: if keep.orbit { window } else { Vec::new() },
+        force_history: if keep.force_history {
+            (0..rec.len())
+                .map(|i| (rec.t[i] / t_rev, -rec.force_at(i, 0)[1] / fu))
+                .collect()
+        } else {
+            Vec::new()
+        },
+        spectrum,
+    }
+}

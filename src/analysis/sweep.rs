@@ -1,0 +1,194 @@
+//! A speed sweep: the speeds, the parameter variants of `[run.sweep.vary]`, what each speed
+//! keeps for the pictures, and the one parallel map [`sweep`] that runs a per-speed closure.
+
+use super::{Keep, SpeedResults};
+use crate::error::{Error, Result};
+use crate::scene::{OutputSpec, VarySpec};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// The speeds of a sweep (inclusive, rounded to the step's decimals to avoid drift).
+pub fn sweep_speeds(from: f64, to: f64, step: f64) -> Vec<f64> {
+    let n = ((to - from) / step + 1e-9).floor() as usize;
+    (0..=n)
+        .map(|i| {
+            let v = from + i as f64 * step;
+            (v * 1e9).round() / 1e9
+        })
+        .collect()
+}
+
+/// Per-speed results of a sweep, in speed order, and its wall time.
+#[derive(Debug, Clone, Serialize)]
+pub struct Sweep<T> {
+    /// Per-speed results, in speed order.
+    pub speeds: Vec<T>,
+    /// Wall time of the whole sweep (s).
+    pub wall_s: f64,
+}
+
+/// Results of a sweep of runs at one speed each.
+pub type SweepResults = Sweep<SpeedResults>;
+
+impl SweepResults {
+    /// Steps of the main runs (companion runs of the error estimate excluded).
+    pub fn total_steps(&self) -> usize {
+        self.speeds.iter().map(|r| r.stats.steps).sum()
+    }
+    /// Largest estimated relative orbit-extents error over the speeds (0 when not estimated).
+    pub fn max_estimated_error(&self) -> f64 {
+        self.speeds
+            .iter()
+            .filter_map(|r| r.error.map(|e| e.extents_rel))
+            .fold(0.0, f64::max)
+    }
+}
+
+impl<A, B> Sweep<(A, B)> {
+    /// Splits a sweep of pairs into a sweep of the first items (same wall time) and the second
+    /// items, in speed order.
+    pub fn unzip(self) -> (Sweep<A>, Vec<B>) {
+        let (a, b) = self.speeds.into_iter().unzip();
+        (
+            Sweep {
+                speeds: a,
+                wall_s: self.wall_s,
+            },
+            b,
+        )
+    }
+}
+
+/// Runs `run(ω/ω_n)` for every speed in parallel (rayon), e.g. [`super::prepare`] then
+/// [`super::Prepared::run`] with the sinks that speed wants; `progress` is called after each
+/// speed. A failing speed fails the sweep with [`Error::AtSpeed`] naming it.
+pub fn sweep<T: Send>(
+    speeds: &[f64],
+    run: &(dyn Fn(f64) -> Result<T> + Sync),
+    progress: &(dyn Fn() + Sync),
+) -> Result<Sweep<T>> {
+    let t0 = std::time::Instant::now();
+    let res: Vec<Result<T>> = speeds
+        .par_iter()
+        .map(|&v| {
+            let r = run(v).map_err(|e| Error::AtSpeed {
+                speed_ratio: v,
+                source: Box::new(e),
+            });
+            progress();
+            r
+        })
+        .collect();
+    let speeds = res.into_iter().collect::<Result<Vec<_>>>()?;
+    Ok(Sweep {
+        speeds,
+        wall_s: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// One sweep of a parameter study (`[run.sweep.vary]`): the overrides it adds and the
+/// sub-folder its files go to.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Variant {
+    /// Sub-folder of its files: `""` for a plain sweep, else `<last key segment>_<value>/`.
+    pub prefix: String,
+    /// Overrides added to the command line's (`key=value`); empty for a plain sweep.
+    pub overrides: Vec<String>,
+}
+
+impl Variant {
+    /// True for the plain sweep (no override added).
+    pub fn is_base(&self) -> bool {
+        self.overrides.is_empty()
+    }
+
+    /// The overrides as shown to the user: `key=value, …`.
+    pub fn label(&self) -> String {
+        self.overrides.join(", ")
+    }
+
+    /// The pictures' title: the scene's, with the overrides in brackets for a variant.
+    pub fn title(&self, scene_title: &str) -> String {
+        if self.is_base() {
+            scene_title.to_string()
+        } else {
+            format!("{scene_title} [{}]", self.label())
+        }
+    }
+}
+
+/// The sweeps of a scene: one plain sweep, or one per value of `[run.sweep.vary]`.
+pub fn variants(vary: Option<&VarySpec>) -> Vec<Variant> {
+    match vary {
+        None => vec![Variant {
+            prefix: String::new(),
+            overrides: Vec::new(),
+        }],
+        Some(v) => v
+            .values
+            .iter()
+            .map(|x| {
+                let name = v.key.rsplit('.').next().unwrap_or("value");
+                Variant {
+                    prefix: format!("{name}_{x}/"),
+                    overrides: vec![format!("{}={}", v.key, x)],
+                }
+            })
+            .collect(),
+    }
+}
+
+/// Upper frequency of a sweep's cascade (f/ω_n): `output.cascade_max_freq`, by default the
+/// top speed (at least 1).
+pub fn cascade_max(output: &OutputSpec, speeds: &[f64]) -> f64 {
+    output
+        .cascade_max_freq
+        .unwrap_or_else(|| speeds.iter().cloned().fold(1.0, f64::max))
+}
+
+/// The orbit grids drawn: `output.orbit_grids`, by default one grid of up to 9 speeds spread
+/// evenly over the sweep.
+pub fn orbit_grids(output: &OutputSpec, speeds: &[f64]) -> Vec<Vec<f64>> {
+    if output.orbit_grids.is_empty() {
+        let n = speeds.len();
+        vec![(0..9.min(n)).map(|i| speeds[i * (n - 1) / 8]).collect()]
+    } else {
+        output.orbit_grids.clone()
+    }
+}
+
+/// What each speed of a sweep keeps for the pictures: the orbit at the speeds of the orbit
+/// grids and force histories (at every speed when none is listed), the force history at the
+/// speeds of `output.force_histories`, the spectrum up to the cascade's top frequency.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepKeep {
+    orbits: Vec<f64>,
+    force_histories: Vec<f64>,
+    spectrum_up_to: u32,
+}
+
+impl SweepKeep {
+    /// From the scene's `[output]` and the cascade's top frequency `cascade_max` (f/ω_n).
+    pub fn new(output: &OutputSpec, cascade_max: f64) -> Self {
+        Self {
+            orbits: output
+                .orbit_grids
+                .iter()
+                .flatten()
+                .chain(output.force_histories.iter())
+                .copied()
+                .collect(),
+            force_histories: output.force_histories.clone(),
+            spectrum_up_to: cascade_max.ceil() as u32,
+        }
+    }
+
+    /// What the speed ν = `v` keeps.
+    pub fn at(&self, v: f64) -> Keep {
+        Keep {
+            orbit: self.orbits.iter().any(|w| (w - v).abs() < 1e-6) || self.orbits.is_empty(),
+            force_history: self.force_histories.iter().any(|w| (w - v).abs() < 1e-6),
+            spectrum_up_to: Some(self.spectrum_up_to),
+        }
+    }
+}
