@@ -243,11 +243,11 @@ fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
         }
     }
     if ls.scene.output.png {
-        output::write_run_pngs(
+        output::figures::write_run(
             &mut outd,
             &ls.scene.title,
             &r,
-            output::boundary(&prep.case),
+            output::figures::boundary(&prep.case),
             &ls.scene.output.component,
         )?;
     }
@@ -367,7 +367,7 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
                 let names = w.finish()?;
                 written.lock().expect("no writer panicked").extend(names);
             }
-            Ok((r, output::boundary(&prep.case)))
+            Ok((r, output::figures::boundary(&prep.case)))
         };
         let (res, bounds) = analysis::sweep(&speeds, &run, &|| pb.inc(1))?.unzip();
         let mut series = written.into_inner().expect("no writer panicked");
@@ -382,11 +382,12 @@ fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
         } else {
             format!("{} [{}]", ls_v.scene.title, extra.join(", "))
         };
-        output::write_sweep(
+        output::csv::write_sweep(&mut outd, prefix, &res)?;
+        output::figures::write_sweep(
             &mut outd,
             prefix,
             &res,
-            &output::SweepFigures {
+            &output::figures::SweepFigures {
                 title: &title,
                 bounds: &bounds,
                 orbit_grids: &grids,
@@ -677,13 +678,15 @@ fn convergence(
         for (n, o) in &res.orders {
             println!("  observed order {n}: {o:.2}");
         }
-        output::write_convergence(
-            &mut outd,
-            &format!("speed_{v}/"),
-            &ls.scene.title,
-            &res,
-            ls.scene.output.png,
-        )?;
+        output::csv::write_convergence(&mut outd, &format!("speed_{v}/"), &res)?;
+        if ls.scene.output.png {
+            output::figures::write_convergence(
+                &mut outd,
+                &format!("speed_{v}/"),
+                &ls.scene.title,
+                &res,
+            )?;
+        }
         all.push(res);
     }
     let mut sum = summary_base(&ls, &model, "convergence");

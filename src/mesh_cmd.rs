@@ -288,7 +288,7 @@ pub fn stress(a: &StressArgs) -> Result<()> {
                 .iter()
                 .map(|s| (s.abs() / 1e6).max(floor).max(1e-12).log10())
                 .collect();
-            let polys = rubsim::analysis::stress::cell_polygons(st, &mpa);
+            let polys = rubsim::output::figures::cell_polygons(st, &mpa);
             if !polys.is_empty() && ls.scene.output.png {
                 let marks: Vec<(f64, f64)> = tr
                     .peak_contacts

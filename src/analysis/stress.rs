@@ -169,33 +169,3 @@ impl StressResults {
         }
     }
 }
-
-/// Polygons of the 2-D cells of a stator (corner nodes, m) with a value per element, for
-/// [`crate::plot::mesh_field`]; 3-D cells are projected on the station plane, tooth-tip first
-/// (cells sorted by decreasing axial position so the ones nearest z = 0 are drawn last).
-pub fn cell_polygons(s: &StatorModel, values: &[f64]) -> Vec<(Vec<(f64, f64)>, f64)> {
-    type Drawn = (f64, Vec<(f64, f64)>, f64);
-    let mut out: Vec<Drawn> = Vec::new();
-    for (el, v) in s.elements.iter().zip(values) {
-        let (kind, nodes) = match el {
-            StatorElement::Solid2 { kind, nodes, .. }
-            | StatorElement::Solid3 { kind, nodes, .. } => (*kind, nodes),
-            _ => continue,
-        };
-        let corners = &nodes[..kind.corners()];
-        let z = s
-            .mesh
-            .as_ref()
-            .filter(|m| !m.node_z.is_empty())
-            .map_or(0.0, |m| {
-                corners.iter().map(|&n| m.node_z[n].abs()).sum::<f64>()
-            });
-        let poly = corners
-            .iter()
-            .map(|&n| (s.nodes[n][0], s.nodes[n][1]))
-            .collect();
-        out.push((z, poly, *v));
-    }
-    out.sort_by(|a, b| b.0.total_cmp(&a.0));
-    out.into_iter().map(|(_, p, v)| (p, v)).collect()
-}

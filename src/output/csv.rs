@@ -1,0 +1,207 @@
+//! Every CSV table rubsim writes: `sweep.csv`, `convergence.csv`, `stress.csv`, `refine.csv`,
+//! `modes.csv`, `static_deflection.csv`, `campbell.csv`, `unbalance.csv`.
+//!
+//! One header line, then one row per record; numbers in SI units (or the `_nd`
+//! normalisations of [`crate::analysis`]), formatted with a fixed precision per column.
+//! `docs/OUTPUTS.md` lists the columns.
+
+use super::OutDir;
+use crate::analysis::refine::RefinePoint;
+use crate::analysis::rotordyn::{CampbellResults, ModalResults, ResponsePoint};
+use crate::analysis::{ConvergenceResults, SpeedResults, StressResults, SweepResults};
+use crate::error::Result;
+
+/// A table: the header line, then one line per row.
+fn table(header: &str, rows: impl IntoIterator<Item = String>) -> String {
+    let mut csv = String::from(header);
+    csv.push('\n');
+    for r in rows {
+        csv.push_str(&r);
+        csv.push('\n');
+    }
+    csv
+}
+
+/// The `sweep.csv` header.
+pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel";
+
+/// One `sweep.csv` row.
+pub fn sweep_row(r: &SpeedResults) -> String {
+    format!(
+        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{}",
+        r.speed_ratio,
+        r.period,
+        r.extents_nd[0],
+        r.extents_nd[1],
+        r.extents_nd[2],
+        r.extents_nd[3],
+        r.amp_1x_nd,
+        r.amp_half_nd,
+        r.amp_third_nd,
+        r.contact_force_max_nd,
+        r.stats.steps,
+        r.stats.wall_s,
+        r.plan.dt,
+        r.plan.steps_per_rev,
+        r.z0,
+        r.clearances.first().copied().unwrap_or(f64::NAN),
+        r.contact_fraction,
+        r.stats.min_gap,
+        r.error
+            .map(|e| format!("{:.3e}", e.extents_rel))
+            .unwrap_or_default()
+    )
+}
+
+/// Writes `prefix + sweep.csv`: [`SWEEP_HEADER`], one [`sweep_row`] per speed.
+pub fn write_sweep(out: &mut OutDir, prefix: &str, res: &SweepResults) -> Result<()> {
+    let csv = table(SWEEP_HEADER, res.speeds.iter().map(sweep_row));
+    out.write(&format!("{prefix}sweep.csv"), csv.as_bytes())
+}
+
+/// Writes `prefix + convergence.csv`: one row per point of the study.
+pub fn write_convergence(out: &mut OutDir, prefix: &str, c: &ConvergenceResults) -> Result<()> {
+    let csv = table(
+        "speed_ratio,integrator,dt_s,dt_wn,steps_per_rev,orbit_err,extents_err,err_1x,err_half,err_third,period,wall_s,steps",
+        c.points.iter().map(|p| {
+            format!(
+                "{},{},{:.6e},{:.6e},{},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{},{:.6},{}",
+                c.speed_ratio,
+                p.integrator,
+                p.dt,
+                p.dt_wn,
+                p.steps_per_rev,
+                p.orbit_err,
+                p.extents_err,
+                p.lines_err[0],
+                p.lines_err[1],
+                p.lines_err[2],
+                p.period,
+                p.wall_s,
+                p.steps
+            )
+        }),
+    );
+    out.write(&format!("{prefix}convergence.csv"), csv.as_bytes())
+}
+
+/// Writes `stress.csv`: one row per sample of every stator's trace, speed after speed.
+pub fn write_stress(out: &mut OutDir, runs: &[StressResults]) -> Result<()> {
+    let rows = runs.iter().flat_map(|r| {
+        let v = r.speed_ratio;
+        r.traces.iter().flat_map(move |tr| {
+            (0..tr.t.len()).map(move |i| {
+                format!(
+                    "{v},{},{:.9e},{:.6e},{:.6e},{:.6e},{}",
+                    tr.stator, tr.t[i], tr.force[i], tr.stress[i], tr.strain[i], tr.element[i]
+                )
+            })
+        })
+    });
+    let csv = table(
+        "speed_ratio,stator,t_s,contact_force_N,stress_Pa,strain,element",
+        rows,
+    );
+    out.write("stress.csv", csv.as_bytes())
+}
+
+/// Writes `refine.csv`: one row per refinement, `(value of the key, its run)`.
+pub fn write_refine(out: &mut OutDir, points: &[(String, RefinePoint)]) -> Result<()> {
+    let rows = points.iter().map(|(v, p)| {
+        let r = &p.results;
+        format!(
+            "{v},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{},{},{:.4},{:.3},{:.3}",
+            p.targets,
+            p.dofs,
+            r.extents_nd[0],
+            r.extents_nd[1],
+            r.extents_nd[2],
+            r.extents_nd[3],
+            r.amp_1x_nd,
+            r.contact_force_max_nd,
+            p.ripple,
+            r.period,
+            r.stats.steps,
+            r.stats.wall_s,
+            p.us_per_step,
+            p.setup_s
+        )
+    });
+    let csv = table(
+        "value,targets,dofs,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,contact_force_max_nd,ripple,period,steps,wall_s,us_per_step,setup_s",
+        rows,
+    );
+    out.write("refine.csv", csv.as_bytes())
+}
+
+/// Writes `modes.csv`: one row per mode. `whirl` is FW/BW/mixed, `-` for axial and torsional
+/// modes; `kind` and the kinetic-energy shares say where the mode sits.
+pub fn write_modes(out: &mut OutDir, res: &ModalResults) -> Result<()> {
+    let rows = res.modes.iter().enumerate().map(|(i, m)| {
+        format!(
+            "{},{:.8e},{:.8e},{:.6e},{:.6e},{},{},{:.6},{:.6},{:.6}",
+            i + 1,
+            m.omega_d,
+            m.freq_hz,
+            m.damping_ratio,
+            m.log_dec,
+            m.whirl.label(),
+            m.kind.label(),
+            m.energy[0],
+            m.energy[1],
+            m.energy[2]
+        )
+    });
+    let csv = table(
+        "mode,omega_d_rad_s,freq_hz,damping_ratio,log_dec,whirl,kind,energy_lateral,energy_axial,energy_torsional",
+        rows,
+    );
+    out.write("modes.csv", csv.as_bytes())
+}
+
+/// Writes `static_deflection.csv`: `[u_x, u_y]` (m) of every rotor node.
+pub fn write_static_deflection(out: &mut OutDir, nodes: &[[f64; 2]]) -> Result<()> {
+    let rows = nodes
+        .iter()
+        .enumerate()
+        .map(|(i, u)| format!("{i},{:.8e},{:.8e}", u[0], u[1]));
+    let csv = table("node,ux_m,uy_m", rows);
+    out.write("static_deflection.csv", csv.as_bytes())
+}
+
+/// Writes `campbell.csv`: per spin speed (rad/s), ω_d and the log decrement of every tracked
+/// mode.
+pub fn write_campbell(out: &mut OutDir, speeds: &[f64], res: &CampbellResults) -> Result<()> {
+    let mut header = String::from("speed_rad_s");
+    for t in &res.tracks {
+        header.push_str(&format!(
+            ",{}_omega_d,{}_log_dec",
+            t.label.replace(' ', "_"),
+            t.label.replace(' ', "_")
+        ));
+    }
+    let rows = speeds.iter().enumerate().map(|(i, s)| {
+        let mut row = format!("{s:.6e}");
+        for t in &res.tracks {
+            row.push_str(&format!(",{:.6e},{:.6e}", t.omega_d[i], t.log_dec[i]));
+        }
+        row
+    });
+    let csv = table(&header, rows);
+    out.write("campbell.csv", csv.as_bytes())
+}
+
+/// Writes `unbalance.csv`: one row per speed and node.
+pub fn write_unbalance(out: &mut OutDir, res: &[ResponsePoint]) -> Result<()> {
+    let rows = res.iter().map(|r| {
+        format!(
+            "{:.6e},{},{:.6e},{:.3},{:.6e},{:.3},{:.6e}",
+            r.speed, r.node, r.x_amp, r.x_phase_deg, r.y_amp, r.y_phase_deg, r.major
+        )
+    });
+    let csv = table(
+        "speed_rad_s,node,x_amp_m,x_phase_deg,y_amp_m,y_phase_deg,major_m",
+        rows,
+    );
+    out.write("unbalance.csv", csv.as_bytes())
+}
