@@ -4,7 +4,16 @@
 use super::{extents_error, run_speed, sweep, ExtentsScale, Keep, RunSettings, SweepResults};
 use crate::error::Result;
 use crate::model::Model;
+use crate::scene::RunSpec;
 use crate::time::Scheme;
+
+/// The speeds a bench times: the scene's sweep, or its single speed (ν = 1 without one).
+pub fn speeds(run: &RunSpec, model: &Model) -> Vec<f64> {
+    match &run.sweep {
+        Some(w) => super::sweep_speeds(w.from, w.to, w.step),
+        None => vec![super::single_speed(run, model).unwrap_or(1.0)],
+    }
+}
 
 /// Runs the sweep over `speeds` `repeat` times (at least once, nothing kept but the scalars)
 /// and returns the fastest by wall time.
@@ -38,6 +47,16 @@ pub fn reference_settings(s: &RunSettings) -> RunSettings {
     rs.step.integrator = Scheme::Collocated;
     rs.step.harmonics *= 16.0;
     rs
+}
+
+/// The converged reference sweep over `speeds` ([`reference_settings`]).
+pub fn reference(model: &Model, s: &RunSettings, speeds: &[f64]) -> Result<SweepResults> {
+    let rs = reference_settings(s);
+    sweep(
+        speeds,
+        &|v| run_speed(model, &rs, v, Keep::default()),
+        &|| {},
+    )
 }
 
 /// The orbit-extents error of a timed sweep against a reference sweep over the same speeds:

@@ -8,6 +8,9 @@ use crate::model::Model;
 use crate::time::{integrate, plan_steps, Record, Scheme};
 use serde::Serialize;
 
+/// Revolutions at the end of the runs whose orbits `rubsim convergence` compares.
+pub const COMPARE_REVOLUTIONS: usize = 12;
+
 /// One point of a convergence study.
 #[derive(Debug, Clone, Serialize)]
 pub struct ConvergencePoint {

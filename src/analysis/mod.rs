@@ -46,6 +46,7 @@ pub use speed::{
 pub use stress::{StressProbe, StressResults, StressTrace};
 pub use sweep::{sweep, sweep_speeds, Sweep, SweepResults};
 
+use crate::model::Model;
 use crate::scene::{Component, IntegratorKind, OutputSpec, RunSpec};
 use crate::time::{Initial, Scheme, StepParams};
 
@@ -123,5 +124,25 @@ impl Keep {
             force_history: true,
             spectrum_up_to: Some(fmax.ceil() as u32),
         }
+    }
+}
+
+/// The scene's single speed as ν = ω/ω_n: `run.speed_ratio`, else `run.speed` (rad/s) over
+/// the rotor's ω_n; `None` for a sweep scene.
+pub fn single_speed(run: &RunSpec, model: &Model) -> Option<f64> {
+    run.speed_ratio
+        .or_else(|| run.speed.map(|w| w / model.rotor.natural_frequency()))
+}
+
+/// Speeds of a study at a few speeds (convergence, stress): `given`, else the scene's single
+/// speed, else ν = 1.7, 3.1, 4.9 (the paper's Fig. 10).
+pub fn study_speeds(run: &RunSpec, model: &Model, given: &[f64]) -> Vec<f64> {
+    if given.is_empty() {
+        match single_speed(run, model) {
+            Some(v) => vec![v],
+            None => vec![1.7, 3.1, 4.9],
+        }
+    } else {
+        given.to_vec()
     }
 }

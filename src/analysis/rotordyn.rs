@@ -658,3 +658,23 @@ pub fn default_response_nodes(model: &crate::model::Model) -> Vec<usize> {
         v
     }
 }
+
+/// The lateral displacement `[u_x, u_y]` of every rotor node from a DOF vector `q` (e.g. the
+/// [`static_deflection`]), in node order.
+pub fn lateral_at_nodes(rotor: &Rotor, q: &[f64]) -> Vec<[f64; 2]> {
+    (0..rotor.node_count())
+        .map(|i| {
+            let d = rotor.node_dofs(i);
+            [q[d[0]], q[d[1]]]
+        })
+        .collect()
+}
+
+/// The largest major semi-axis of the response at `node` and its speed, `(speed, amplitude)`
+/// (`(0, 0)` when the node has no point).
+pub fn peak_response(res: &[ResponsePoint], node: usize) -> (f64, f64) {
+    res.iter()
+        .filter(|r| r.node == node)
+        .map(|r| (r.speed, r.major))
+        .fold((0.0, 0.0), |b, x| if x.1 > b.1 { x } else { b })
+}

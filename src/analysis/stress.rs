@@ -43,6 +43,21 @@ pub struct StressTrace {
     pub peak_contacts: Vec<usize>,
 }
 
+impl StressTrace {
+    /// Largest |stress| over the trace (Pa; 0 when empty).
+    pub fn peak_stress(&self) -> f64 {
+        self.stress.iter().fold(0.0_f64, |m, s| m.max(s.abs()))
+    }
+    /// Largest |strain| over the trace (0 when empty).
+    pub fn peak_strain(&self) -> f64 {
+        self.strain.iter().fold(0.0_f64, |m, s| m.max(s.abs()))
+    }
+    /// Mean total normal contact force over the samples (N; 0 when empty).
+    pub fn mean_force(&self) -> f64 {
+        self.force.iter().sum::<f64>() / self.force.len().max(1) as f64
+    }
+}
+
 /// Young's modulus of an element (Pa), NaN for springs.
 fn modulus(el: &StatorElement) -> f64 {
     match el {

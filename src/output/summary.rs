@@ -65,11 +65,6 @@ pub fn sweep_variant(
     })
 }
 
-/// Largest |value| of a series (0 when empty).
-fn largest(v: &[f64]) -> f64 {
-    v.iter().fold(0.0_f64, |m, s| m.max(s.abs()))
-}
-
 /// The records of a stress run: one per stator and speed, with its peak stress and strain.
 pub fn stress_records(r: &StressResults) -> Vec<Value> {
     r.traces
@@ -78,8 +73,8 @@ pub fn stress_records(r: &StressResults) -> Vec<Value> {
             json!({
                 "speed_ratio": r.speed_ratio,
                 "stator": tr.name,
-                "peak_stress_pa": largest(&tr.stress),
-                "peak_strain": largest(&tr.strain),
+                "peak_stress_pa": tr.peak_stress(),
+                "peak_strain": tr.peak_strain(),
                 "peak_time_s": tr.peak_time,
                 "contacts_at_peak": tr.peak_contacts.len(),
                 "samples": tr.t.len(),
@@ -97,5 +92,36 @@ pub fn refine_record(value: &str, p: &RefinePoint) -> Value {
         "amp_1x_nd": r.amp_1x_nd, "contact_force_max_nd": r.contact_force_max_nd,
         "ripple": p.ripple, "period": r.period, "steps": r.stats.steps, "wall_s": r.stats.wall_s,
         "us_per_step": p.us_per_step, "setup_s": p.setup_s, "dt_s": r.plan.dt,
+    })
+}
+
+/// The `summary.json` of `rubsim stress` (no scene base: the command's own record).
+pub fn stress(
+    scene_file: &std::path::Path,
+    overrides: &[String],
+    per_rev: usize,
+    window: usize,
+    records: Vec<Value>,
+) -> Value {
+    json!({
+        "command": "stress",
+        "scene_file": scene_file.display().to_string(),
+        "overrides": overrides,
+        "per_rev": per_rev,
+        "window_revolutions": window,
+        "results": records,
+    })
+}
+
+/// The `summary.json` of `rubsim refine` (no scene base: the command's own record).
+pub fn refine(
+    scene_file: &std::path::Path,
+    key: &str,
+    overrides: &[String],
+    records: Vec<Value>,
+) -> Value {
+    json!({
+        "command": "refine", "scene_file": scene_file.display().to_string(),
+        "key": key, "overrides": overrides, "results": records,
     })
 }

@@ -1,0 +1,197 @@
+//! `rubsim check`: validate a scene and print the resolved model.
+
+use super::{load, settings, Common};
+use anyhow::Result;
+use rubsim::analysis;
+use rubsim::model::{Case, Model};
+use rubsim::scene::{self, Scene};
+use rubsim::time::StepPlan;
+
+/// Validates the scene and prints the resolved model: rotor, stations, stators, the run and
+/// its step, what is built and what is left out, the outputs.
+pub fn check(c: &Common) -> Result<()> {
+    let (ls, model) = load(c)?;
+    let s = &ls.scene;
+    println!("scene: {}", c.scene.display());
+    if !s.title.is_empty() {
+        println!("title: {}", s.title);
+    }
+    for o in &ls.overrides {
+        println!("override: {o}");
+    }
+    println!("rotor: {}", model.rotor.describe());
+    let case = model.case(
+        analysis::single_speed(&s.run, &model)
+            .or_else(|| s.run.sweep.as_ref().map(|w| w.from))
+            .unwrap_or(1.0)
+            * model.rotor.natural_frequency(),
+    )?;
+    for u in &case.rotor.unbalance {
+        println!(
+            "  unbalance m_u·e = {:.4e} kg·m at {:.1}° on DOFs {:?}",
+            u.me,
+            u.phase.to_degrees(),
+            u.dofs
+        );
+    }
+    for st in &model.stations {
+        println!(
+            "station `{}`: rotor node {}, radius {} m, friction μ = {}",
+            st.name, st.node, st.radius, st.friction
+        );
+    }
+    print_stators(s, &case);
+    let st = settings(&ls);
+    let plan = rubsim::time::plan_steps(&case, &st.step)?;
+    print_run(s, &case, &plan);
+    print_built(s, &model, &case, &plan);
+    Ok(())
+}
+
+/// Each stator: kind, size, contact stiffness, mesh, how it enters the loop, clearance.
+fn print_stators(s: &Scene, case: &Case) {
+    for (spec, m) in s.stators.iter().zip(&case.stators) {
+        let kind = match spec {
+            scene::StatorSpec::Rod(_) => "rod (2-D bar elements, lateral DOFs guided)",
+            scene::StatorSpec::Ring(_) => {
+                "rigid ring on isotropic springs (circle-in-circle contact)"
+            }
+            scene::StatorSpec::Fe(_) => "general 2-D FE stator",
+            scene::StatorSpec::Mesh(_) => "meshed stator (gmsh)",
+        };
+        let ks = m.contact_stiffness_bound();
+        println!(
+            "stator `{}` facing `{}`: {kind}; {} nodes, {} free DOFs, {} contact targets; contact stiffness ≤ {:.4e} N/m (ε ≤ {:.3})",
+            m.name,
+            spec.station(),
+            m.nodes.len(),
+            m.ndof,
+            m.targets.len(),
+            ks,
+            ks / case.rotor_stiffness
+        );
+        if let Some(md) = &m.mesh {
+            println!(
+                "  mesh {} ({}) from {}: {}-D, {} cells, contact group {} nodes",
+                md.mesh_file.display(),
+                if md.from_cache {
+                    "up to date, gmsh not run"
+                } else {
+                    "meshed by gmsh now"
+                },
+                md.geometry.display(),
+                md.dim,
+                md.cells,
+                m.targets.len()
+            );
+        }
+        if m.massless() {
+            println!(
+                "  massless: enters the time loop as the compliance of its {} contact DOFs (one sparse Cholesky; {}), not as a mesh",
+                m.contact_dofs().len(),
+                if m.contact_dofs().len() <= rubsim::time::EAGER_DOFS { "every column up front" } else { "columns computed when a node first touches, cached" }
+            );
+        } else {
+            println!(
+                "  with mass: lumped, integrated explicitly; ω_max ≤ {:.4e} rad/s",
+                m.omega_max_sq_bound().sqrt()
+            );
+        }
+        let nd = match spec {
+            scene::StatorSpec::Rod(r) => r.clearance_nd,
+            scene::StatorSpec::Ring(r) => r.clearance_nd,
+            scene::StatorSpec::Fe(_) => None,
+            scene::StatorSpec::Mesh(m) => m.clearance_nd,
+        };
+        match nd {
+            Some(nd) => println!(
+                "  clearance δ = {nd} |Z0(ω)| (= {:.4e} m at ω/ωn = {:.2}; changes with speed)",
+                m.clearance, case.speed_ratio
+            ),
+            None => println!("  clearance δ = {:.4e} m", m.clearance),
+        }
+    }
+}
+
+/// The run: speeds, integrator, revolutions, Δt at the checked speed.
+fn print_run(s: &Scene, case: &Case, plan: &StepPlan) {
+    let speeds = match &s.run.sweep {
+        Some(w) => {
+            let v = analysis::sweep_speeds(w.from, w.to, w.step);
+            format!(
+                "sweep ω/ωn {} … {} step {} ({} speeds{})",
+                w.from,
+                w.to,
+                w.step,
+                v.len(),
+                w.vary
+                    .as_ref()
+                    .map(|x| format!(", repeated for {} = {:?}", x.key, x.values))
+                    .unwrap_or_default()
+            )
+        }
+        None => format!("single speed ω/ωn = {:.4}", case.speed_ratio),
+    };
+    println!("run: {speeds}");
+    println!(
+        "  integrator {}; {} revolutions, first {} cut as transient; {} samples/rev recorded; error estimate {}",
+        s.run.integrator.name(),
+        s.run.revolutions,
+        s.run.transient_revolutions,
+        s.run.samples_per_rev,
+        if s.run.error_estimate { "by a companion run at 2Δt" } else { "off" }
+    );
+    println!(
+        "  Δt at ω/ωn = {:.2}: {:.4e} s ({} steps/rev); paper rule (n = {}) {:.4e} s; stability limit {:.4e} s; ω_max {:.4e} rad/s",
+        case.speed_ratio, plan.dt, plan.steps_per_rev, s.run.harmonics, plan.rule_dt, plan.limit, plan.omega_max
+    );
+}
+
+/// What is built, what is left out, which files a run writes.
+fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
+    println!(
+        "built: {} rotor body with {} DOF, {} stator(s), {} contact candidate pair(s)",
+        match model.rotor {
+            rubsim::model::Rotor::Jeffcott(_) => "Jeffcott",
+            rubsim::model::Rotor::Fe(_) =>
+                "finite-element (sparse M, C + ΩG, K; M̃ factored once per speed by sparse LU)",
+        },
+        case.rotor.ndof,
+        case.stators.len(),
+        case.stators.iter().map(|m| m.targets.len()).sum::<usize>()
+    );
+    let mut left = Vec::new();
+    if matches!(model.rotor, rubsim::model::Rotor::Jeffcott(_)) {
+        left.push("FE rotor assembly and sparse LU of M̃ (Jeffcott M̃ is diagonal)");
+    }
+    if case.stators.iter().all(|m| m.massless()) {
+        left.push("stator mass matrices and stator time stepping (all stators massless)");
+    }
+    if case.stators.iter().all(|m| m.mesh.is_none()) {
+        left.push("mesher (no meshed stator)");
+    }
+    if !s.output.png {
+        left.push("PNG pictures");
+    }
+    println!("left out: {}", left.join("; "));
+    println!(
+        "outputs: summary.json{}{}",
+        if s.run.sweep.is_some() {
+            ", sweep.csv"
+        } else {
+            ""
+        },
+        if s.output.png {
+            if s.run.sweep.is_some() {
+                ", cascade.png, bifurcation.png, regime_map.png, orbits_N.png, contact_force.png"
+            } else {
+                ", orbit.png, spectrum.png, contact_force.png"
+            }
+        } else {
+            ""
+        }
+    );
+    for line in rubsim::results::describe(&s.output, plan, s.run.sweep.is_some()) {
+        println!("  {line}");
+    }
+}

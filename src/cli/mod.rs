@@ -1,0 +1,322 @@
+//! The `rubsim` command line: parse arguments, load the scene into a model (one place:
+//! [`load_scene`]), call one analysis, attach the frame sinks a command wants, hand the
+//! results to [`rubsim::output`] and print a short report. No domain logic lives here.
+
+mod bench;
+mod check;
+mod convergence;
+mod mesh;
+mod refine;
+mod rotordyn;
+mod run;
+mod stress;
+mod sweep;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use rubsim::analysis::{Keep, Prepared, RunSettings, SpeedResults};
+use rubsim::model::Model;
+use rubsim::results::ResultsSink;
+use rubsim::scene::{self, LoadedScene, OutputSpec};
+use std::path::{Path, PathBuf};
+
+#[derive(Parser)]
+#[command(
+    name = "rubsim",
+    version,
+    about = "Rotor-to-stator rubbing vibration: FE contact with Lagrange multipliers and explicit central differences"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub cmd: Cmd,
+}
+
+#[derive(clap::Args, Clone)]
+pub struct Common {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    /// Override a scene value: `--set stator.0.clearance_nd=0.5` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+#[derive(Subcommand)]
+pub enum Cmd {
+    /// Mesh a stator geometry (.geo or STEP) with gmsh into the cache `meshes/` and report it:
+    /// nodes, cells, physical groups, conformity, the contact boundary.
+    Mesh(mesh::MeshArgs),
+    /// Stress and strain in the stators during a run at one or more speeds (the paper's
+    /// Fig. 10): stress.csv, stress.png, strain.png, the stress field at its peak.
+    Stress(stress::StressArgs),
+    /// Run a scene at several mesh refinements (a scene key, e.g. a geometry parameter) and
+    /// compare orbits and contact forces: the node-to-nodes contact's mesh sensitivity.
+    Refine(refine::RefineArgs),
+    /// Run one speed (run.speed_ratio or run.speed) and write summary.json and pictures.
+    Run {
+        #[command(flatten)]
+        c: Common,
+        /// Output directory (default: out/<scene name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Run at this ω/ω_n instead of the scene's speed (also picks one speed of a sweep scene).
+        #[arg(long)]
+        speed: Option<f64>,
+    },
+    /// Run the speed sweep of [run.sweep] in parallel; write sweep.csv, summary.json, pictures.
+    Sweep {
+        #[command(flatten)]
+        c: Common,
+        /// Output directory (default: out/<scene name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
+    /// Validate the scene and print the resolved model: what is built and what is left out.
+    Check {
+        #[command(flatten)]
+        c: Common,
+    },
+    /// Error against Δt and run time for each integrator at one or more speeds.
+    Convergence {
+        #[command(flatten)]
+        c: Common,
+        /// Speeds ω/ω_n (default: the scene's speed, or 1.7, 3.1, 4.9 for a sweep scene).
+        #[arg(long = "speed")]
+        speeds: Vec<f64>,
+        /// Finest level k of the study: steps per revolution = samples_per_rev · 2^k, k = 0..=K.
+        #[arg(long, default_value_t = 6)]
+        levels: u32,
+        /// Reference level (collocated integrator).
+        #[arg(long, default_value_t = 11)]
+        reference: u32,
+        /// Output directory (default: out/<scene name>/convergence).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Damped modes of the rotor alone at one speed, and its static deflection under gravity.
+    Modal {
+        #[command(flatten)]
+        c: Common,
+        /// Speed ω/ω_n.
+        #[arg(long, default_value_t = 0.0)]
+        speed: f64,
+        /// Number of modes.
+        #[arg(long, default_value_t = 8)]
+        modes: usize,
+        /// Gravity (m/s², along −y) for the static deflection.
+        #[arg(long, default_value_t = 9.81)]
+        gravity: f64,
+        /// Output directory (default: out/<scene name>/modal).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Campbell diagram with mode tracking, forward/backward labels and critical speeds.
+    Campbell {
+        #[command(flatten)]
+        c: Common,
+        /// First speed ω/ω_n.
+        #[arg(long, default_value_t = 0.0)]
+        from: f64,
+        /// Last speed ω/ω_n.
+        #[arg(long, default_value_t = 6.0)]
+        to: f64,
+        /// Number of speeds.
+        #[arg(long, default_value_t = 31)]
+        points: usize,
+        /// Number of modes tracked.
+        #[arg(long, default_value_t = 6)]
+        modes: usize,
+        /// Output directory (default: out/<scene name>/campbell).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Unbalance response (Bode and polar) of the rotor alone at chosen nodes.
+    Unbalance {
+        #[command(flatten)]
+        c: Common,
+        /// First speed ω/ω_n.
+        #[arg(long, default_value_t = 0.05)]
+        from: f64,
+        /// Last speed ω/ω_n.
+        #[arg(long, default_value_t = 6.0)]
+        to: f64,
+        /// Number of speeds.
+        #[arg(long, default_value_t = 400)]
+        points: usize,
+        /// Nodes (repeatable; default: the stations' nodes).
+        #[arg(long = "node")]
+        nodes: Vec<usize>,
+        /// Output directory (default: out/<scene name>/unbalance).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Time the scene's sweep (no output files) and print wall time, ns per step and error.
+    Bench {
+        #[command(flatten)]
+        c: Common,
+        /// Repetitions (the best is reported).
+        #[arg(long, default_value_t = 3)]
+        repeat: usize,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Also run a converged reference sweep (collocated, Δt 16× finer) and report the
+        /// orbit-extents error of the timed sweep against it.
+        #[arg(long)]
+        reference: bool,
+    },
+}
+
+/// Reads the scene file `scene` with the overrides `sets` and builds its model, `what`
+/// naming the build in its error. Every command turns a scene into a model here and nowhere
+/// else.
+pub fn load_scene(
+    scene: &Path,
+    sets: &[String],
+    what: impl FnOnce() -> String,
+) -> Result<(LoadedScene, Model)> {
+    let ls = scene::load(scene, sets)?;
+    let model = Model::from_scene(&ls).with_context(what)?;
+    Ok((ls, model))
+}
+
+/// [`load_scene`] of a command's scene and overrides.
+pub fn load(c: &Common) -> Result<(LoadedScene, Model)> {
+    load_scene(&c.scene, &c.set, || {
+        format!("{}: building the model", c.scene.display())
+    })
+}
+
+/// The default output directory of a scene: `out/<scene file stem>`.
+pub fn default_out(scene: &Path) -> PathBuf {
+    let stem = scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "scene".into());
+    PathBuf::from("out").join(stem)
+}
+
+/// The run settings of a scene (`[run]`, analysed component from `[output]`).
+pub fn settings(ls: &LoadedScene) -> RunSettings {
+    RunSettings::from_run(&ls.scene.run, &ls.scene.output.component)
+}
+
+/// A progress bar over `n` speeds.
+pub fn progress_bar(n: usize) -> ProgressBar {
+    let pb = ProgressBar::new(n as u64);
+    pb.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} speeds {msg}",
+        )
+        .expect("valid template"),
+    );
+    pb
+}
+
+/// Where a run's VTK/HDF5 time series go: the scene's `[output]` (as text for the files'
+/// metadata) and the staging folder plus sub-folder of the output directory.
+pub struct Series<'a> {
+    /// The scene's `[output]`.
+    pub output: &'a OutputSpec,
+    /// The scene as JSON, stored with the series.
+    pub scene_json: &'a str,
+    /// The output directory's staging folder.
+    pub staging: &'a Path,
+}
+
+impl Series<'_> {
+    /// Runs `prep` (a run of `model`) with the time-series writers the scene asks for
+    /// attached, their files below `prefix` (empty or ending in `/`); returns the results and
+    /// the files written, relative to the staging folder.
+    pub fn run(
+        &self,
+        model: &Model,
+        prep: &Prepared,
+        keep: Keep,
+        prefix: &str,
+    ) -> rubsim::error::Result<(SpeedResults, Vec<String>)> {
+        let writer = ResultsSink::for_output(
+            model,
+            prep,
+            self.output,
+            self.scene_json,
+            self.staging,
+            prefix,
+        )?;
+        match writer {
+            None => Ok((prep.run(keep, &mut [])?, Vec::new())),
+            Some(mut w) => {
+                let r = prep.run(keep, &mut [&mut w])?;
+                Ok((r, w.finish()?))
+            }
+        }
+    }
+}
+
+/// Writes `summary.json`, commits the output directory and says where the results are.
+pub fn finish(out: rubsim::output::OutDir, summary: &serde_json::Value) -> Result<()> {
+    let dir = rubsim::output::summary::finish(out, summary)?;
+    println!("results in {}", dir.display());
+    Ok(())
+}
+
+/// Parses the command line, sizes the thread pool (`--jobs`) and runs the command.
+pub fn run() -> Result<()> {
+    let cli = Cli::parse();
+    let jobs = match &cli.cmd {
+        Cmd::Sweep { jobs, .. } | Cmd::Bench { jobs, .. } => *jobs,
+        _ => None,
+    };
+    if let Some(j) = jobs {
+        let _ = rayon::ThreadPoolBuilder::new()
+            .num_threads(j.max(1))
+            .build_global();
+    }
+    match &cli.cmd {
+        Cmd::Run { c, out, speed } => run::run(c, out.clone(), *speed),
+        Cmd::Sweep { c, out, .. } => sweep::sweep(c, out.clone()),
+        Cmd::Check { c } => check::check(c),
+        Cmd::Mesh(a) => mesh::mesh(a),
+        Cmd::Stress(a) => stress::stress(a),
+        Cmd::Refine(a) => refine::refine(a),
+        Cmd::Modal {
+            c,
+            speed,
+            modes,
+            gravity,
+            out,
+        } => rotordyn::modal(c, *speed, *modes, *gravity, out.clone()),
+        Cmd::Campbell {
+            c,
+            from,
+            to,
+            points,
+            modes,
+            out,
+        } => rotordyn::campbell(c, *from, *to, *points, *modes, out.clone()),
+        Cmd::Unbalance {
+            c,
+            from,
+            to,
+            points,
+            nodes,
+            out,
+        } => rotordyn::unbalance(c, *from, *to, *points, nodes, out.clone()),
+        Cmd::Convergence {
+            c,
+            speeds,
+            levels,
+            reference,
+            out,
+        } => convergence::convergence(c, speeds, *levels, *reference, out.clone()),
+        Cmd::Bench {
+            c,
+            repeat,
+            reference,
+            ..
+        } => bench::bench(c, *repeat, *reference),
+    }
+}

@@ -1,0 +1,131 @@
+//! `rubsim modal`, `rubsim campbell`, `rubsim unbalance`: linear rotordynamics of the rotor
+//! alone (no stator), written as CSV, summary.json and PNG.
+
+use super::{default_out, finish, load, Common};
+use anyhow::{Context, Result};
+use rubsim::analysis::rotordyn;
+use rubsim::output::{csv, figures, summary, OutDir};
+use std::path::PathBuf;
+
+/// Modes at one speed (ω/ω_n, default 0) and the static deflection under gravity.
+pub fn modal(
+    c: &Common,
+    speed: f64,
+    nmodes: usize,
+    gravity: f64,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    let (ls, model) = load(c)?;
+    let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene).join("modal")))?;
+    let wn = model.rotor.natural_frequency();
+    let omega = speed * wn;
+    let res = rotordyn::modal(&model.rotor, omega, nmodes)?;
+    let stat = rotordyn::static_deflection(&model.rotor, gravity)?;
+    println!("rotor: {}", model.rotor.describe());
+    println!("modes at Ω = {omega:.4} rad/s (ω/ωn = {speed}):");
+    println!(
+        "  {:>4} {:>12} {:>10} {:>9} {:>9} {:>9}",
+        "mode", "ω_d rad/s", "f Hz", "ζ", "log dec", "type"
+    );
+    for (i, m) in res.modes.iter().enumerate() {
+        println!(
+            "  {:>4} {:>12.4} {:>10.4} {:>9.4} {:>9.4} {:>9}",
+            i + 1,
+            m.omega_d,
+            m.freq_hz,
+            m.damping_ratio,
+            m.log_dec,
+            m.label()
+        );
+    }
+    csv::write_modes(&mut outd, &res)?;
+    let nodes = rotordyn::lateral_at_nodes(&model.rotor, &stat);
+    let ymax = nodes.iter().fold(0.0_f64, |m, u| m.max(u[1].abs()));
+    println!("static deflection under g = {gravity} m/s²: largest |u_y| = {ymax:.4e} m");
+    csv::write_static_deflection(&mut outd, &nodes)?;
+    let mut sum = summary::base(&ls, &model, "modal");
+    sum["modal"] = serde_json::to_value(&res)?;
+    sum["static_deflection_max_m"] = ymax.into();
+    finish(outd, &sum)
+}
+
+/// Campbell diagram from ω/ω_n `from` to `to`.
+pub fn campbell(
+    c: &Common,
+    from: f64,
+    to: f64,
+    points: usize,
+    nmodes: usize,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    let (ls, model) = load(c)?;
+    let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene).join("campbell")))?;
+    let wn = model.rotor.natural_frequency();
+    let speeds: Vec<f64> = rotordyn::speed_list(from * wn, to * wn, points);
+    let res = rotordyn::campbell(&model.rotor, &speeds, nmodes)?;
+    csv::write_campbell(&mut outd, &speeds, &res)?;
+    figures::write_campbell(&mut outd, &ls.scene.title, &speeds, &res)?;
+    println!(
+        "Campbell diagram, Ω = {:.2} … {:.2} rad/s, {} speeds:",
+        speeds[0],
+        speeds[speeds.len() - 1],
+        speeds.len()
+    );
+    for t in &res.tracks {
+        println!(
+            "  mode {:>9}: ω_d {:.3} → {:.3} rad/s",
+            t.label,
+            t.omega_d[0],
+            t.omega_d[t.omega_d.len() - 1]
+        );
+    }
+    for cs in &res.critical_speeds {
+        println!(
+            "  critical speed: mode {} at {:.3} rad/s ({:.1} rpm)",
+            cs.mode, cs.speed, cs.rpm
+        );
+    }
+    let mut sum = summary::base(&ls, &model, "campbell");
+    sum["campbell"] = serde_json::to_value(&res)?;
+    finish(outd, &sum)
+}
+
+/// Unbalance response (Bode and polar) at `nodes` (default: every station's node).
+pub fn unbalance(
+    c: &Common,
+    from: f64,
+    to: f64,
+    points: usize,
+    nodes: &[usize],
+    out: Option<PathBuf>,
+) -> Result<()> {
+    let (ls, model) = load(c)?;
+    let mut outd =
+        OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene).join("unbalance")))?;
+    let wn = model.rotor.natural_frequency();
+    let nodes: Vec<usize> = if nodes.is_empty() {
+        rotordyn::default_response_nodes(&model)
+    } else {
+        nodes.to_vec()
+    };
+    for n in &nodes {
+        if *n >= model.rotor.node_count() {
+            anyhow::bail!(
+                "--node {n} does not exist (the rotor has nodes 0..={})",
+                model.rotor.node_count() - 1
+            );
+        }
+    }
+    let speeds = rotordyn::speed_list(from * wn, to * wn, points);
+    let res = rotordyn::unbalance_response(&model.rotor, &speeds, &nodes)
+        .context("unbalance response")?;
+    csv::write_unbalance(&mut outd, &res)?;
+    figures::write_unbalance(&mut outd, &ls.scene.title, &nodes, &res)?;
+    for n in &nodes {
+        let (s, a) = rotordyn::peak_response(&res, *n);
+        println!("node {n}: peak amplitude {a:.4e} m at Ω = {s:.3} rad/s");
+    }
+    let mut sum = summary::base(&ls, &model, "unbalance");
+    sum["unbalance_response"] = serde_json::to_value(&res)?;
+    finish(outd, &sum)
+}
