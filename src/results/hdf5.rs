@@ -141,6 +141,13 @@ fn static_ds<T: H5Type>(
     Ok(ds)
 }
 
+/// A column written only when its field is asked for.
+type MaybeColumn = Option<Column<f64>>;
+/// A point data column of `/VTKHDF/PointData`, its offsets column and what it holds.
+type PointColumn = (Column<f64>, Column<i64>, PointField);
+/// A cell data column of `/VTKHDF/CellData`, its offsets column and what it holds.
+type CellColumn = (Column<f64>, Column<i64>, CellField);
+
 /// The columns of the VTKHDF group and the plain groups.
 struct Columns {
     time: Column<f64>,
@@ -155,8 +162,8 @@ struct Columns {
     values: Column<f64>,
     zero_offsets: Vec<Column<i64>>,
     parts: Column<i64>,
-    point_data: Vec<(Column<f64>, Column<i64>, PointField)>,
-    cell_data: Vec<(Column<f64>, Column<i64>, CellField)>,
+    point_data: Vec<PointColumn>,
+    cell_data: Vec<CellColumn>,
     static_cell_offsets: Vec<Column<i64>>,
 }
 
@@ -242,226 +249,15 @@ impl Hdf5Series {
         let f = h5::File::create(path)?;
         close_on_exec(&f);
         let fl = plan.fields;
-        // 2: `/rotor/node_dofs` is the 6-column DOF map (1: `[u_x, u_y]` only).
-        attr_str(&f, "format", "rubsim results 2 (docs/OUTPUTS.md)")?;
-        attr_str(&f, "rubsim_version", env!("CARGO_PKG_VERSION"))?;
-        attr_str(&f, "scene", &info.scene_json)?;
-        attr_str(&f, "units", UNITS_JSON)?;
-        attr_str(&f, "integrator", info.integrator)?;
-        attr(&f, "speed_ratio", info.speed_ratio)?;
-        attr(&f, "omega_rad_s", info.omega)?;
-        attr(&f, "dt_s", info.plan.dt)?;
-        attr(&f, "steps_per_rev", info.plan.steps_per_rev as i64)?;
-        attr(&f, "steps", info.plan.steps as i64)?;
-        attr(&f, "every", plan.every as i64)?;
-        attr(&f, "first_step", plan.first as i64)?;
-        attr(&f, "last_step", plan.last as i64)?;
-
+        root_attrs(&f, plan, info)?;
         let time = Column::new(&f, "time", 1, &[], "s")?;
         let step = Column::new(&f, "step", 1, &[], "")?;
-        let rg = f.create_group("rotor")?;
-        // Every DOF of each node, [u_x, u_y, θ_x, θ_y, u_z, θ_z], −1 where absent.
-        let nn = layout.rotor_dofs.len();
-        let nd: Vec<i64> = layout
-            .rotor_dofs
-            .iter()
-            .flatten()
-            .map(|d| d.map_or(-1, |d| d as i64))
-            .collect();
-        let ds = static_ds(&rg, "node_dofs", &[nn, 6], &nd, "")?;
-        attr_str(&ds, "columns", &super::ROTOR_DOF_NAMES.join(" "))?;
-        let z: Vec<f64> = layout.grid.points[layout.rotor_first_point..]
-            .iter()
-            .map(|p| p[2])
-            .collect();
-        static_ds(&rg, "node_z", &[nn], &z, "m")?;
-        attr(&rg, "first_point", layout.rotor_first_point as i64)?;
-        let ndof = case.rotor.ndof;
-        // Translations in m, rotations (θ_x, θ_y, θ_z columns of node_dofs) in rad.
-        let rotor_u = fl
-            .displacement
-            .then(|| Column::new(&rg, "u", 1, &[ndof], "m, rad"))
-            .transpose()?;
-        let rotor_v = fl
-            .velocity
-            .then(|| Column::new(&rg, "v", 1, &[ndof], "m/s, rad/s"))
-            .transpose()?;
-
-        let cg = f.create_group("contact")?;
-        let np = layout.pairs.len();
-        let pairs: Vec<i64> = layout
-            .pairs
-            .iter()
-            .flat_map(|p| [p.station as i64, p.stator as i64, p.node as i64])
-            .collect();
-        static_ds(&cg, "pairs", &[np, 3], &pairs, "")?;
-        let names = |v: &[String]| v.join("\n");
-        attr_str(&cg, "station_names", &names(&layout.station_names))?;
-        let nst = case.stations.len();
-        let (pair_p, pair_force, pair_normal, station_force) = if fl.contact_force {
-            (
-                Some(Column::new(&cg, "p", 1, &[np], "N")?),
-                Some(Column::new(&cg, "force", 1, &[np, 2], "N")?),
-                Some(Column::new(&cg, "normal", 1, &[np, 2], "1")?),
-                Some(Column::new(&cg, "station_force", 1, &[nst, 2], "N")?),
-            )
-        } else {
-            (None, None, None, None)
-        };
-
-        let sg = f.create_group("stators")?;
-        for (k, s) in case.stators.iter().enumerate() {
-            let g = sg.create_group(&k.to_string())?;
-            attr_str(&g, "name", &s.name)?;
-            attr(&g, "station", s.station as i64)?;
-            attr(&g, "first_point", layout.stator_first_point[k] as i64)?;
-            attr(&g, "num_points", layout.stator_num_points[k] as i64)?;
-            attr(&g, "num_nodes", s.nodes.len() as i64)?;
-            let cells: Vec<i64> = layout.element_cells[k]
-                .iter()
-                .map(|c| c.map_or(-1, |c| c as i64))
-                .collect();
-            static_ds(&g, "element_cells", &[cells.len()], &cells, "")?;
-            let dofs: Vec<i64> = s
-                .node_dofs
-                .iter()
-                .flat_map(|d| d.map(|x| x.map_or(-1, |x| x as i64)))
-                .collect();
-            static_ds(&g, "node_dofs", &[s.nodes.len(), 2], &dofs, "")?;
-            if let Some(md) = &s.mesh {
-                // Absolute when it can be resolved, so that the file can be found from anywhere.
-                let mf = std::fs::canonicalize(&md.mesh_file).unwrap_or(md.mesh_file.clone());
-                attr_str(&g, "mesh_file", &mf.to_string_lossy())?;
-                attr(&g, "dim", md.dim as i64)?;
-            }
-            // 3-D meshed stators: the free DOF of u_z of every node.
-            if let Some(md) = s.mesh.as_ref().filter(|m| !m.axial_dofs.is_empty()) {
-                let ax: Vec<i64> = md
-                    .axial_dofs
-                    .iter()
-                    .map(|d| d.map_or(-1, |x| x as i64))
-                    .collect();
-                static_ds(&g, "axial_dofs", &[ax.len()], &ax, "")?;
-            }
-        }
-
+        let (rotor_u, rotor_v) = rotor_group(&f, layout, case, fl)?;
+        let [pair_p, pair_force, pair_normal, station_force] = contact_group(&f, layout, case, fl)?;
+        stator_groups(&f, layout, case)?;
         // VTKHDF: the grid once, data per step.
-        let v = f.create_group("VTKHDF")?;
-        v.new_attr_builder()
-            .with_data(&VTKHDF_VERSION[..])
-            .create("Version")?;
-        let ty = FixedAscii::<16>::from_ascii("UnstructuredGrid")
-            .map_err(|e| h5::Error::from(e.to_string().as_str()))?;
-        attr(&v, "Type", ty)?;
-        let g = &layout.grid;
-        let npts = g.points.len();
-        let nc = g.num_cells();
-        static_ds(&v, "NumberOfPoints", &[1], &[npts as i64], "")?;
-        static_ds(&v, "NumberOfCells", &[1], &[nc as i64], "")?;
-        static_ds(
-            &v,
-            "NumberOfConnectivityIds",
-            &[1],
-            &[g.connectivity.len() as i64],
-            "",
-        )?;
-        let pts: Vec<f64> = g.points.iter().flatten().copied().collect();
-        static_ds(&v, "Points", &[npts, 3], &pts, "m")?;
-        static_ds(
-            &v,
-            "Connectivity",
-            &[g.connectivity.len()],
-            &g.connectivity,
-            "",
-        )?;
-        static_ds(&v, "Offsets", &[g.offsets.len()], &g.offsets, "")?;
-        let types: Vec<u8> = g.types.iter().map(|t| *t as u8).collect();
-        static_ds(&v, "Types", &[nc], &types, "")?;
-        let pd = v.create_group("PointData")?;
-        let cd = v.create_group("CellData")?;
-        v.create_group("FieldData")?;
-        let steps = v.create_group("Steps")?;
-        attr(&steps, "NSteps", 0_i64)?;
-        let values = Column::new(&steps, "Values", 1, &[], "s")?;
-        let parts = Column::new(&steps, "NumberOfParts", 1, &[], "")?;
-        let zero_offsets = [
-            "PartOffsets",
-            "PointOffsets",
-            "CellOffsets",
-            "ConnectivityIdOffsets",
-        ]
-        .iter()
-        .map(|n| Column::new(&steps, n, 1, &[], ""))
-        .collect::<h5::Result<Vec<_>>>()?;
-        let pdo = steps.create_group("PointDataOffsets")?;
-        let cdo = steps.create_group("CellDataOffsets")?;
-        steps.create_group("FieldDataOffsets")?;
-        let mut point_data = Vec::new();
-        let torsion = layout.rotor_has_torsion();
-        for (on, name, field, unit, inner) in [
-            (
-                fl.displacement,
-                "displacement",
-                PointField::Displacement,
-                "m",
-                &[3][..],
-            ),
-            (fl.velocity, "velocity", PointField::Velocity, "m/s", &[3]),
-            (
-                fl.contact_force,
-                "contact_force",
-                PointField::ContactForce,
-                "N",
-                &[3],
-            ),
-            (
-                fl.displacement && torsion,
-                "twist",
-                PointField::Twist,
-                "rad",
-                &[],
-            ),
-            (
-                fl.velocity && torsion,
-                "twist_rate",
-                PointField::TwistRate,
-                "rad/s",
-                &[],
-            ),
-        ] {
-            if on {
-                point_data.push((
-                    Column::new(&pd, name, npts, inner, unit)?,
-                    Column::new(&pdo, name, 1, &[], "")?,
-                    field,
-                ));
-            }
-        }
-        let mut cell_data = Vec::new();
-        let mut cf = Vec::new();
-        if fl.contact_force {
-            cf.push(("normal_force", CellField::NormalForce, "N"));
-        }
-        if fl.stress {
-            cf.push(("axial_force", CellField::AxialForce, "N"));
-            cf.push(("stress", CellField::Stress, "Pa"));
-            cf.push(("strain", CellField::Strain, "1"));
-        }
-        for (name, field, unit) in cf {
-            cell_data.push((
-                Column::new(&cd, name, nc, &[], unit)?,
-                Column::new(&cdo, name, 1, &[], "")?,
-                field,
-            ));
-        }
-        // Cell arrays that do not change: written once, every step points at offset 0.
-        static_ds(&cd, "part", &[nc], &g.part, "")?;
-        static_ds(&cd, "stator", &[nc], &g.stator, "")?;
-        static_ds(&cd, "index", &[nc], &g.index, "")?;
-        let static_cell_offsets = ["part", "stator", "index"]
-            .iter()
-            .map(|n| Column::new(&cdo, n, 1, &[], ""))
-            .collect::<h5::Result<Vec<_>>>()?;
+        let v = vtkhdf_grid(&f, layout)?;
+        let st = vtkhdf_steps(&v, layout, fl)?;
         Ok((
             f,
             Columns {
@@ -473,14 +269,14 @@ impl Hdf5Series {
                 pair_force,
                 pair_normal,
                 station_force,
-                values,
-                zero_offsets,
-                parts,
-                point_data,
-                cell_data,
-                static_cell_offsets,
+                values: st.values,
+                zero_offsets: st.zero_offsets,
+                parts: st.parts,
+                point_data: st.point_data,
+                cell_data: st.cell_data,
+                static_cell_offsets: st.static_cell_offsets,
             },
-            steps,
+            st.group,
         ))
     }
 
@@ -612,6 +408,306 @@ impl Hdf5Series {
         drop(self);
         Ok(vec![name])
     }
+}
+
+/// The attributes of `/`: format, version, the scene and units as JSON, the run and the
+/// frame plan.
+fn root_attrs(f: &h5::File, plan: &FramePlan, info: &RunInfo) -> h5::Result<()> {
+    // 2: `/rotor/node_dofs` is the 6-column DOF map (1: `[u_x, u_y]` only).
+    attr_str(f, "format", "rubsim results 2 (docs/OUTPUTS.md)")?;
+    attr_str(f, "rubsim_version", env!("CARGO_PKG_VERSION"))?;
+    attr_str(f, "scene", &info.scene_json)?;
+    attr_str(f, "units", UNITS_JSON)?;
+    attr_str(f, "integrator", info.integrator)?;
+    attr(f, "speed_ratio", info.speed_ratio)?;
+    attr(f, "omega_rad_s", info.omega)?;
+    attr(f, "dt_s", info.plan.dt)?;
+    attr(f, "steps_per_rev", info.plan.steps_per_rev as i64)?;
+    attr(f, "steps", info.plan.steps as i64)?;
+    attr(f, "every", plan.every as i64)?;
+    attr(f, "first_step", plan.first as i64)?;
+    attr(f, "last_step", plan.last as i64)?;
+    Ok(())
+}
+
+/// `/rotor`: the DOF map and node positions; the columns `u` and `v` when asked for.
+fn rotor_group(
+    f: &h5::File,
+    layout: &Layout,
+    case: &Case,
+    fl: Fields,
+) -> h5::Result<(MaybeColumn, MaybeColumn)> {
+    let rg = f.create_group("rotor")?;
+    // Every DOF of each node, [u_x, u_y, θ_x, θ_y, u_z, θ_z], −1 where absent.
+    let nn = layout.rotor_dofs.len();
+    let nd: Vec<i64> = layout
+        .rotor_dofs
+        .iter()
+        .flatten()
+        .map(|d| d.map_or(-1, |d| d as i64))
+        .collect();
+    let ds = static_ds(&rg, "node_dofs", &[nn, 6], &nd, "")?;
+    attr_str(&ds, "columns", &super::ROTOR_DOF_NAMES.join(" "))?;
+    let z: Vec<f64> = layout.grid.points[layout.rotor_first_point..]
+        .iter()
+        .map(|p| p[2])
+        .collect();
+    static_ds(&rg, "node_z", &[nn], &z, "m")?;
+    attr(&rg, "first_point", layout.rotor_first_point as i64)?;
+    let ndof = case.rotor.ndof;
+    // Translations in m, rotations (θ_x, θ_y, θ_z columns of node_dofs) in rad.
+    let rotor_u = fl
+        .displacement
+        .then(|| Column::new(&rg, "u", 1, &[ndof], "m, rad"))
+        .transpose()?;
+    let rotor_v = fl
+        .velocity
+        .then(|| Column::new(&rg, "v", 1, &[ndof], "m/s, rad/s"))
+        .transpose()?;
+    Ok((rotor_u, rotor_v))
+}
+
+/// `/contact`: the pair table and station names; the columns `p`, `force`, `normal` and
+/// `station_force` when contact forces are asked for.
+fn contact_group(
+    f: &h5::File,
+    layout: &Layout,
+    case: &Case,
+    fl: Fields,
+) -> h5::Result<[MaybeColumn; 4]> {
+    let cg = f.create_group("contact")?;
+    let np = layout.pairs.len();
+    let pairs: Vec<i64> = layout
+        .pairs
+        .iter()
+        .flat_map(|p| [p.station as i64, p.stator as i64, p.node as i64])
+        .collect();
+    static_ds(&cg, "pairs", &[np, 3], &pairs, "")?;
+    let names = |v: &[String]| v.join("\n");
+    attr_str(&cg, "station_names", &names(&layout.station_names))?;
+    let nst = case.stations.len();
+    Ok(if fl.contact_force {
+        [
+            Some(Column::new(&cg, "p", 1, &[np], "N")?),
+            Some(Column::new(&cg, "force", 1, &[np, 2], "N")?),
+            Some(Column::new(&cg, "normal", 1, &[np, 2], "1")?),
+            Some(Column::new(&cg, "station_force", 1, &[nst, 2], "N")?),
+        ]
+    } else {
+        [None, None, None, None]
+    })
+}
+
+/// `/stators/<k>`: each stator's name, station, points, element cells, node DOFs, mesh.
+fn stator_groups(f: &h5::File, layout: &Layout, case: &Case) -> h5::Result<()> {
+    let sg = f.create_group("stators")?;
+    for (k, s) in case.stators.iter().enumerate() {
+        let g = sg.create_group(&k.to_string())?;
+        attr_str(&g, "name", &s.name)?;
+        attr(&g, "station", s.station as i64)?;
+        attr(&g, "first_point", layout.stator_first_point[k] as i64)?;
+        attr(&g, "num_points", layout.stator_num_points[k] as i64)?;
+        attr(&g, "num_nodes", s.nodes.len() as i64)?;
+        let cells: Vec<i64> = layout.element_cells[k]
+            .iter()
+            .map(|c| c.map_or(-1, |c| c as i64))
+            .collect();
+        static_ds(&g, "element_cells", &[cells.len()], &cells, "")?;
+        let dofs: Vec<i64> = s
+            .node_dofs
+            .iter()
+            .flat_map(|d| d.map(|x| x.map_or(-1, |x| x as i64)))
+            .collect();
+        static_ds(&g, "node_dofs", &[s.nodes.len(), 2], &dofs, "")?;
+        if let Some(md) = &s.mesh {
+            // Absolute when it can be resolved, so that the file can be found from anywhere.
+            let mf = std::fs::canonicalize(&md.mesh_file).unwrap_or(md.mesh_file.clone());
+            attr_str(&g, "mesh_file", &mf.to_string_lossy())?;
+            attr(&g, "dim", md.dim as i64)?;
+        }
+        // 3-D meshed stators: the free DOF of u_z of every node.
+        if let Some(md) = s.mesh.as_ref().filter(|m| !m.axial_dofs.is_empty()) {
+            let ax: Vec<i64> = md
+                .axial_dofs
+                .iter()
+                .map(|d| d.map_or(-1, |x| x as i64))
+                .collect();
+            static_ds(&g, "axial_dofs", &[ax.len()], &ax, "")?;
+        }
+    }
+    Ok(())
+}
+
+/// `/VTKHDF` with its version, type and the grid (points, connectivity, offsets, types).
+fn vtkhdf_grid(f: &h5::File, layout: &Layout) -> h5::Result<h5::Group> {
+    let v = f.create_group("VTKHDF")?;
+    v.new_attr_builder()
+        .with_data(&VTKHDF_VERSION[..])
+        .create("Version")?;
+    let ty = FixedAscii::<16>::from_ascii("UnstructuredGrid")
+        .map_err(|e| h5::Error::from(e.to_string().as_str()))?;
+    attr(&v, "Type", ty)?;
+    let g = &layout.grid;
+    let npts = g.points.len();
+    let nc = g.num_cells();
+    static_ds(&v, "NumberOfPoints", &[1], &[npts as i64], "")?;
+    static_ds(&v, "NumberOfCells", &[1], &[nc as i64], "")?;
+    static_ds(
+        &v,
+        "NumberOfConnectivityIds",
+        &[1],
+        &[g.connectivity.len() as i64],
+        "",
+    )?;
+    let pts: Vec<f64> = g.points.iter().flatten().copied().collect();
+    static_ds(&v, "Points", &[npts, 3], &pts, "m")?;
+    static_ds(
+        &v,
+        "Connectivity",
+        &[g.connectivity.len()],
+        &g.connectivity,
+        "",
+    )?;
+    static_ds(&v, "Offsets", &[g.offsets.len()], &g.offsets, "")?;
+    let types: Vec<u8> = g.types.iter().map(|t| *t as u8).collect();
+    static_ds(&v, "Types", &[nc], &types, "")?;
+    Ok(v)
+}
+
+/// The time-dependent part of `/VTKHDF`: `Steps` and its offsets, the point and cell data.
+struct StepColumns {
+    group: h5::Group,
+    values: Column<f64>,
+    parts: Column<i64>,
+    zero_offsets: Vec<Column<i64>>,
+    point_data: Vec<PointColumn>,
+    cell_data: Vec<CellColumn>,
+    static_cell_offsets: Vec<Column<i64>>,
+}
+
+/// Creates the data groups and `Steps` of `/VTKHDF`, then the point and cell data columns
+/// the fields ask for, and the cell arrays that do not change.
+fn vtkhdf_steps(v: &h5::Group, layout: &Layout, fl: Fields) -> h5::Result<StepColumns> {
+    let pd = v.create_group("PointData")?;
+    let cd = v.create_group("CellData")?;
+    v.create_group("FieldData")?;
+    let steps = v.create_group("Steps")?;
+    attr(&steps, "NSteps", 0_i64)?;
+    let values = Column::new(&steps, "Values", 1, &[], "s")?;
+    let parts = Column::new(&steps, "NumberOfParts", 1, &[], "")?;
+    let zero_offsets = [
+        "PartOffsets",
+        "PointOffsets",
+        "CellOffsets",
+        "ConnectivityIdOffsets",
+    ]
+    .iter()
+    .map(|n| Column::new(&steps, n, 1, &[], ""))
+    .collect::<h5::Result<Vec<_>>>()?;
+    let pdo = steps.create_group("PointDataOffsets")?;
+    let cdo = steps.create_group("CellDataOffsets")?;
+    steps.create_group("FieldDataOffsets")?;
+    let point_data = point_columns(&pd, &pdo, layout, fl)?;
+    let (cell_data, static_cell_offsets) = cell_columns(&cd, &cdo, layout, fl)?;
+    Ok(StepColumns {
+        group: steps,
+        values,
+        parts,
+        zero_offsets,
+        point_data,
+        cell_data,
+        static_cell_offsets,
+    })
+}
+
+/// The point data columns (and their offsets) of the fields asked for.
+fn point_columns(
+    pd: &h5::Group,
+    pdo: &h5::Group,
+    layout: &Layout,
+    fl: Fields,
+) -> h5::Result<Vec<PointColumn>> {
+    let npts = layout.grid.points.len();
+    let mut point_data = Vec::new();
+    let torsion = layout.rotor_has_torsion();
+    for (on, name, field, unit, inner) in [
+        (
+            fl.displacement,
+            "displacement",
+            PointField::Displacement,
+            "m",
+            &[3][..],
+        ),
+        (fl.velocity, "velocity", PointField::Velocity, "m/s", &[3]),
+        (
+            fl.contact_force,
+            "contact_force",
+            PointField::ContactForce,
+            "N",
+            &[3],
+        ),
+        (
+            fl.displacement && torsion,
+            "twist",
+            PointField::Twist,
+            "rad",
+            &[],
+        ),
+        (
+            fl.velocity && torsion,
+            "twist_rate",
+            PointField::TwistRate,
+            "rad/s",
+            &[],
+        ),
+    ] {
+        if on {
+            point_data.push((
+                Column::new(pd, name, npts, inner, unit)?,
+                Column::new(pdo, name, 1, &[], "")?,
+                field,
+            ));
+        }
+    }
+    Ok(point_data)
+}
+
+/// The cell data columns (and their offsets) of the fields asked for, then the static cell
+/// arrays `part`, `stator`, `index` (written once, every step pointing at offset 0).
+fn cell_columns(
+    cd: &h5::Group,
+    cdo: &h5::Group,
+    layout: &Layout,
+    fl: Fields,
+) -> h5::Result<(Vec<CellColumn>, Vec<Column<i64>>)> {
+    let g = &layout.grid;
+    let nc = g.num_cells();
+    let mut cell_data = Vec::new();
+    let mut cf = Vec::new();
+    if fl.contact_force {
+        cf.push(("normal_force", CellField::NormalForce, "N"));
+    }
+    if fl.stress {
+        cf.push(("axial_force", CellField::AxialForce, "N"));
+        cf.push(("stress", CellField::Stress, "Pa"));
+        cf.push(("strain", CellField::Strain, "1"));
+    }
+    for (name, field, unit) in cf {
+        cell_data.push((
+            Column::new(cd, name, nc, &[], unit)?,
+            Column::new(cdo, name, 1, &[], "")?,
+            field,
+        ));
+    }
+    // Cell arrays that do not change: written once, every step points at offset 0.
+    static_ds(cd, "part", &[nc], &g.part, "")?;
+    static_ds(cd, "stator", &[nc], &g.stator, "")?;
+    static_ds(cd, "index", &[nc], &g.index, "")?;
+    let static_cell_offsets = ["part", "stator", "index"]
+        .iter()
+        .map(|n| Column::new(cdo, n, 1, &[], ""))
+        .collect::<h5::Result<Vec<_>>>()?;
+    Ok((cell_data, static_cell_offsets))
 }
 
 /// Marks the HDF5 file's descriptor close-on-exec. libhdf5 opens files without `O_CLOEXEC`
