@@ -163,6 +163,65 @@ fn whirl_of(shape: &[[Complex64; 2]]) -> Whirl {
 
 pub use crate::model::fe_rotor::undamped_modes;
 
+/// Shares of the kinetic energy `φᴴ M φ` of a mode `q` in its lateral, axial and torsional
+/// DOFs (`group`: 0, 1, 2 per DOF; M has no entries between groups); all lateral when the
+/// total is not positive.
+fn energy_shares(m: &Csc, group: &[usize], q: &[Complex64]) -> [f64; 3] {
+    let mut e = [0.0; 3];
+    for (r, c, v) in m.triplets() {
+        if group[r] == group[c] {
+            e[group[r]] += (q[r].conj() * v * q[c]).re;
+        }
+    }
+    let tot: f64 = e.iter().sum();
+    if tot > 0.0 {
+        [e[0] / tot, e[1] / tot, e[2] / tot]
+    } else {
+        [1.0, 0.0, 0.0]
+    }
+}
+
+/// The kind of a mode: the DOF group holding the largest share of its energy (lateral on a
+/// tie with it).
+fn kind_of(energy: [f64; 3]) -> ModeKind {
+    if energy[1] > energy[0] && energy[1] >= energy[2] {
+        ModeKind::Axial
+    } else if energy[2] > energy[0] && energy[2] > energy[1] {
+        ModeKind::Torsional
+    } else {
+        ModeKind::Lateral
+    }
+}
+
+/// Scales a mode shape so that its entry of largest modulus is 1.
+fn normalise(
+    shape: &mut [[Complex64; 2]],
+    shape_axial: &mut [Complex64],
+    shape_torsion: &mut [Complex64],
+) {
+    let big = shape
+        .iter()
+        .flat_map(|p| p.iter())
+        .chain(shape_axial.iter())
+        .chain(shape_torsion.iter())
+        .fold(Complex64::new(0.0, 0.0), |b, v| {
+            if v.norm() > b.norm() {
+                *v
+            } else {
+                b
+            }
+        });
+    if big.norm() > 0.0 {
+        for p in shape.iter_mut() {
+            p[0] /= big;
+            p[1] /= big;
+        }
+        for v in shape_axial.iter_mut().chain(shape_torsion.iter_mut()) {
+            *v /= big;
+        }
+    }
+}
+
 /// Damped modes at spin speed `omega` (rad/s): at most `nmodes`, lowest ω_d first.
 ///
 /// Solved in the basis of the lowest undamped modes (pseudo-modal reduction to
@@ -229,49 +288,11 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
         let energy = if axial.is_empty() && torsion.is_empty() {
             [1.0, 0.0, 0.0]
         } else {
-            // φᴴ M φ per group (M has no entries between groups).
             let q: Vec<Complex64> = (0..m.nrows()).map(full).collect();
-            let mut e = [0.0; 3];
-            for (r, c, v) in m.triplets() {
-                if group[r] == group[c] {
-                    e[group[r]] += (q[r].conj() * v * q[c]).re;
-                }
-            }
-            let tot: f64 = e.iter().sum();
-            if tot > 0.0 {
-                [e[0] / tot, e[1] / tot, e[2] / tot]
-            } else {
-                [1.0, 0.0, 0.0]
-            }
+            energy_shares(&m, &group, &q)
         };
-        let kind = if energy[1] > energy[0] && energy[1] >= energy[2] {
-            ModeKind::Axial
-        } else if energy[2] > energy[0] && energy[2] > energy[1] {
-            ModeKind::Torsional
-        } else {
-            ModeKind::Lateral
-        };
-        let big = shape
-            .iter()
-            .flat_map(|p| p.iter())
-            .chain(&shape_axial)
-            .chain(&shape_torsion)
-            .fold(Complex64::new(0.0, 0.0), |b, v| {
-                if v.norm() > b.norm() {
-                    *v
-                } else {
-                    b
-                }
-            });
-        if big.norm() > 0.0 {
-            for p in shape.iter_mut() {
-                p[0] /= big;
-                p[1] /= big;
-            }
-            for v in shape_axial.iter_mut().chain(shape_torsion.iter_mut()) {
-                *v /= big;
-            }
-        }
+        let kind = kind_of(energy);
+        normalise(&mut shape, &mut shape_axial, &mut shape_torsion);
         let whirl = if kind == ModeKind::Lateral {
             whirl_of(&shape)
         } else {
