@@ -13,7 +13,7 @@
 //!    [`Fanout`]), analyses the record into [`SpeedResults`] and, when the settings ask for it,
 //!    estimates the discretisation error by a companion run without sinks.
 //!
-//! A sweep ([`sweep`]) is a parallel map of such a per-speed run over the speeds. Sinks never
+//! A sweep ([`sweep()`]) is a parallel map of such a per-speed run over the speeds. Sinks never
 //! drive a run, and nothing here writes files (see `crate::output`).
 //!
 //! # Conventions
@@ -22,9 +22,9 @@
 //! the unbalance force |Σ m_u e e^{iφ}| ω², frequencies over ω_n; speeds are given as
 //! ν = ω/ω_n.
 //!
-//! Files: [`speed`] (prepare, run, analyse, error estimate), [`sweep`] (speeds, variants, the
-//! parallel map), [`convergence`], [`regimes`] (Poincaré-period ranges, quasi-resonances),
-//! [`bench`] (timing and the comparison with a converged sweep), [`stress`] (stator stress
+//! Files: [`speed`] (prepare, run, analyse, error estimate), [`sweep`](mod@sweep) (speeds, variants, the
+//! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),
+//! [`bench`](mod@bench) (timing and the comparison with a converged sweep), [`stress`] (stator stress
 //! probe), [`refine`] (mesh-refinement metrics), [`rotordyn`] (modes, Campbell, unbalance
 //! response).
 

@@ -17,7 +17,7 @@ fn element_strain(el: &StatorElement, stress: f64) -> f64 {
     }
 }
 
-/// The state of one frame on the [`OutputGrid`], in buffers reused from frame to frame.
+/// The state of one frame on the [`OutputGrid`](super::OutputGrid), in buffers reused from frame to frame.
 #[derive(Debug, Clone)]
 pub struct FrameState {
     /// Step index.
@@ -54,7 +54,7 @@ pub struct FrameState {
     /// Strain per grid cell: stator elements; NaN for other cells.
     pub strain: Vec<f64>,
     /// Undeformed position (m) of the contact point of each ring ([`Layout::rings`]) in this
-    /// frame's contact direction: `center0 + R n` (see [`RingSlot`]); the `.vtu` writes it.
+    /// frame's contact direction: `center0 + R n` (see [`RingSlot`](super::RingSlot)); the `.vtu` writes it.
     pub ring_contact: Vec<[f64; 3]>,
 }
 

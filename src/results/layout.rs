@@ -231,7 +231,7 @@ pub struct RingSlot {
 }
 
 impl RingSlot {
-    /// The contact target the ring is: the contact kernel ([`pair_state`]) gives its normal.
+    /// The contact target the ring is: the contact kernel ([`pair_state`](crate::contact::pair_state)) gives its normal.
     pub fn target(&self) -> Target {
         Target::Ring {
             center0: self.center0,

@@ -2,7 +2,7 @@
 //! [`vtk`]) and one HDF5 file per run with a transient VTKHDF group ([`hdf5`], cargo feature
 //! `hdf5`). The layout of both is documented in `docs/OUTPUTS.md`.
 //!
-//! [`ResultsSink`] is a [`FrameSink`]: the integrator hands it the full state every few steps
+//! [`ResultsSink`] is a [`FrameSink`](crate::time::FrameSink): the integrator hands it the full state every few steps
 //! and it streams frames to disk while the run goes, so memory does not grow with the run.
 //! Files are written below the output directory's staging folder
 //! ([`crate::output::OutDir::staging_dir`]) and moved into place when the command succeeds.
