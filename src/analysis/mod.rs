@@ -71,7 +71,8 @@ pub struct RunSettings {
 }
 
 impl RunSettings {
-    /// From a scene's `[run]` table.
+    /// From a scene's `[run]` table and its `output.component` (`"x"`, else y: the scene
+    /// checks the name when it is loaded).
     pub fn from_run(run: &RunSpec, component: &str) -> Self {
         Self {
             step: StepParams {

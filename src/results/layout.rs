@@ -277,8 +277,7 @@ impl Layout {
     pub fn new(model: &Model, case: &Case) -> Self {
         let z = rotor_node_z(case);
         let mut g = OutputGrid::new();
-        let (stator_first_point, stator_num_points, ring_points) =
-            stator_points(&mut g, case, &z);
+        let (stator_first_point, stator_num_points, ring_points) = stator_points(&mut g, case, &z);
         let rotor_first_point = g.points.len();
         g.points.extend(z.iter().map(|z| [0.0, 0.0, *z]));
         let element_cells = body_cells(
