@@ -60,6 +60,17 @@ pub enum ModelError {
         /// Solver detail.
         detail: String,
     },
+    /// A model matrix could not be factored; `hint` says what in the model causes it.
+    #[error("{what}: {hint}: {source}")]
+    Factorisation {
+        /// Which model matrix (e.g. "stator `casing` stiffness").
+        what: String,
+        /// The likely cause in the model and its remedy.
+        hint: String,
+        /// The factorisation's error.
+        #[source]
+        source: LinalgError,
+    },
     /// Inconsistent model data (e.g. an element referencing a missing node).
     #[error("{what}: {message}")]
     Inconsistent {
@@ -67,6 +78,117 @@ pub enum ModelError {
         what: String,
         /// What is wrong.
         message: String,
+    },
+}
+
+/// Which factorisation a [`LinalgError`] comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Factorisation {
+    /// Sparse Cholesky `A = L Lᵀ` (faer).
+    Cholesky,
+    /// Sparse LU with partial pivoting `P A Q = L U` (faer).
+    Lu,
+}
+
+impl std::fmt::Display for Factorisation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Factorisation::Cholesky => "sparse Cholesky",
+            Factorisation::Lu => "sparse LU",
+        })
+    }
+}
+
+/// A failure of the factorisation machinery that says nothing about the matrix values: an
+/// index that overflows faer's index type, or memory that cannot be allocated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Exhausted {
+    /// An index (row, column or fill-in count) exceeds the largest value of the index type.
+    IndexOverflow,
+    /// A workspace or factor could not be allocated.
+    OutOfMemory,
+}
+
+impl std::fmt::Display for Exhausted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Exhausted::IndexOverflow => "index overflow",
+            Exhausted::OutOfMemory => "out of memory",
+        })
+    }
+}
+
+/// Errors of the factorisations in [`crate::linalg`]. Each names the size `n` of the (square)
+/// matrix and where the factorisation stopped; the caller adds which model matrix it was.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LinalgError {
+    /// The Cholesky factorisation met a pivot `≤ 0`: the matrix is not symmetric positive
+    /// definite (for a stiffness: a free rigid-body or mechanism mode).
+    #[error("{n}×{n} matrix is not positive definite: the sparse Cholesky factorisation met a non-positive pivot (at {pivot} in its fill-reducing order)")]
+    NotPositiveDefinite {
+        /// Matrix size.
+        n: usize,
+        /// Position of the failing pivot as faer reports it (in the fill-reducing order, not
+        /// a DOF number of the model).
+        pivot: usize,
+    },
+    /// The sparse LU found no non-zero pivot: the matrix is structurally or numerically
+    /// singular.
+    #[error("{n}×{n} matrix is singular: no pivot at elimination step {step} of the sparse LU")]
+    Singular {
+        /// Matrix size.
+        n: usize,
+        /// Elimination step at which no pivot was found.
+        step: usize,
+    },
+    /// A 4 × 4 pivot block of the block-tridiagonal LU is singular (its largest pivot is below
+    /// `1e-13` times the largest entry of the matrix).
+    #[error("{n}×{n} matrix: singular pivot block at node {node} of the block LU")]
+    SingularBlock {
+        /// Matrix size.
+        n: usize,
+        /// Node (block row) of the singular pivot block.
+        node: usize,
+    },
+    /// The `m × m` capacitance matrix `D⁻¹ + Uᵀ S⁻¹ U` of a Woodbury solve is singular.
+    #[error("the {rank}×{rank} Woodbury capacitance matrix of a {n}×{n} system is singular")]
+    SingularCapacitance {
+        /// Size of the sparse part.
+        n: usize,
+        /// Rank m of the low-rank term.
+        rank: usize,
+    },
+    /// A coefficient `dᵢ` of a low-rank term `U diag(d) Uᵀ` is zero or not finite (the
+    /// Woodbury identity needs `D⁻¹`).
+    #[error("low-rank term {index} has d = {value}")]
+    LowRankTerm {
+        /// Index i of the term.
+        index: usize,
+        /// Its coefficient dᵢ.
+        value: f64,
+    },
+    /// The symbolic analysis (ordering, elimination tree, fill-in) could not run.
+    #[error("{n}×{n} matrix with {nnz} stored entries: symbolic {factorisation} analysis failed ({cause})")]
+    Symbolic {
+        /// Which factorisation.
+        factorisation: Factorisation,
+        /// Matrix size.
+        n: usize,
+        /// Stored entries of the matrix.
+        nnz: usize,
+        /// Why.
+        cause: Exhausted,
+    },
+    /// The factorisation could not run for want of indices or memory (not because of the
+    /// values: those failures are the variants above).
+    #[error("{n}×{n} matrix: {factorisation} factorisation failed ({cause})")]
+    Resources {
+        /// Which factorisation.
+        factorisation: Factorisation,
+        /// Matrix size.
+        n: usize,
+        /// Why.
+        cause: Exhausted,
     },
 }
 
