@@ -24,6 +24,28 @@ impl std::fmt::Debug for Cholesky {
     }
 }
 
+/// Caller-owned workspace for [`Cholesky::solve_in_place_with`]: faer's solve scratch for up
+/// to `k` right-hand sides of the factor that made it ([`Cholesky::solve_scratch`]). Allocated
+/// once, it makes every later solve allocation free.
+pub struct CholeskyScratch {
+    n: usize,
+    k: usize,
+    mem: MemBuffer,
+}
+
+impl std::fmt::Debug for CholeskyScratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "CholeskyScratch(n = {}, k = {})", self.n, self.k)
+    }
+}
+
+impl CholeskyScratch {
+    /// The largest number of right-hand sides one solve may have.
+    pub fn columns(&self) -> usize {
+        self.k
+    }
+}
+
 impl Cholesky {
     /// Factors `a` (both triangles stored; only the lower one is read).
     ///
@@ -81,18 +103,50 @@ impl Cholesky {
         self.n
     }
 
+    /// Workspace for solves of up to `k` right-hand sides with
+    /// [`Cholesky::solve_in_place_with`] (one allocation; sequential solves).
+    pub fn solve_scratch(&self, k: usize) -> CholeskyScratch {
+        CholeskyScratch {
+            n: self.n,
+            k,
+            mem: MemBuffer::new(
+                self.symbolic
+                    .solve_in_place_scratch::<f64>(k, faer::Par::Seq),
+            ),
+        }
+    }
+
     /// Solves `A X = B` in place for a column-major `n × k` block `b` (`k = b.len()/n`),
-    /// sequentially.
+    /// sequentially. Allocates its solve scratch on every call: for repeated solves use
+    /// [`Cholesky::solve_in_place_with`].
     pub fn solve_in_place(&self, b: &mut [f64]) {
+        let k = b.len().checked_div(self.n).unwrap_or(0);
+        let mut scratch = self.solve_scratch(k);
+        self.solve_in_place_with(b, &mut scratch);
+    }
+
+    /// Solves `A X = B` in place for a column-major `n × k` block `b` (`k = b.len()/n`),
+    /// sequentially and without allocating, in `scratch` from this factor's
+    /// [`Cholesky::solve_scratch`]. The same arithmetic as [`Cholesky::solve_in_place`], so
+    /// the same result bit for bit.
+    ///
+    /// # Panics
+    /// If `b.len()` is not a multiple of n, if `k` exceeds the scratch's
+    /// [`CholeskyScratch::columns`], or if the scratch was made for a factor of another size.
+    pub fn solve_in_place_with(&self, b: &mut [f64], scratch: &mut CholeskyScratch) {
+        assert_eq!(scratch.n, self.n, "scratch of a factor of another size");
         solve_block(self.n, b, |m| {
             let k = m.ncols();
-            let par = faer::Par::Seq;
-            let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, par));
+            assert!(
+                k <= scratch.k,
+                "{k} right-hand sides, scratch for {}",
+                scratch.k
+            );
             LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
                 faer::Conj::No,
                 m,
-                par,
-                MemStack::new(&mut mem),
+                faer::Par::Seq,
+                MemStack::new(&mut scratch.mem),
             );
         });
     }
@@ -101,6 +155,7 @@ impl Cholesky {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::tests::lap;
 
     #[test]
     fn cholesky_rejects_indefinite() {
@@ -118,5 +173,67 @@ mod tests {
             }
             e => panic!("{e:?}"),
         }
+    }
+
+    #[test]
+    fn scratch_solves_equal_one_off_solves_bit_for_bit() {
+        // A wider band than the Laplacian so the factor has fill-in (diagonally dominant, so
+        // positive definite).
+        let n = 40;
+        let mut t: Vec<(usize, usize, f64)> = lap(n).triplets().collect();
+        t.extend((0..n).map(|i| (i, i, 1.0)));
+        for i in 0..n - 3 {
+            t.push((i, i + 3, -0.2));
+            t.push((i + 3, i, -0.2));
+        }
+        let a = Csc::from_triplets(n, n, &t);
+        let ch = Cholesky::new(&a).unwrap();
+        let rhs = |k: usize| -> Vec<f64> {
+            (0..n * k)
+                .map(|i| ((i * 37 % 11) as f64 - 5.0) * 0.3)
+                .collect()
+        };
+        // The solve as it was before the scratch API: a fresh faer buffer sized for this call.
+        let fresh = |b: &mut [f64]| {
+            let k = b.len() / n;
+            let mut mem =
+                MemBuffer::new(ch.symbolic.solve_in_place_scratch::<f64>(k, faer::Par::Seq));
+            LltRef::new(&ch.symbolic, &ch.values).solve_in_place_with_conj(
+                faer::Conj::No,
+                faer::MatMut::from_column_major_slice_mut(b, n, k),
+                faer::Par::Seq,
+                MemStack::new(&mut mem),
+            );
+        };
+        let mut scratch = ch.solve_scratch(5);
+        assert_eq!(scratch.columns(), 5);
+        // Reused for blocks of 5, 1 and 3 columns, in that order and again.
+        for k in [5, 1, 3, 5, 1] {
+            let mut b0 = rhs(k);
+            let mut b1 = b0.clone();
+            let mut b2 = b0.clone();
+            fresh(&mut b0);
+            ch.solve_in_place(&mut b1);
+            ch.solve_in_place_with(&mut b2, &mut scratch);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&b0), bits(&b1), "k = {k}");
+            assert_eq!(bits(&b0), bits(&b2), "k = {k}");
+        }
+        // And the solution is right.
+        let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.21).sin()).collect();
+        let mut b = vec![0.0; n];
+        a.mul_add(1.0, &x, &mut b);
+        ch.solve_in_place_with(&mut b, &mut scratch);
+        for i in 0..n {
+            assert!((b[i] - x[i]).abs() < 1e-12, "{i}");
+        }
+    }
+
+    #[test]
+    #[should_panic(expected = "scratch for 1")]
+    fn scratch_too_small_panics() {
+        let ch = Cholesky::new(&lap(4)).unwrap();
+        let mut s = ch.solve_scratch(1);
+        ch.solve_in_place_with(&mut [1.0; 8], &mut s);
     }
 }

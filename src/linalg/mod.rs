@@ -5,7 +5,8 @@
 //!   [`PairCsr`] ([`pair`]): two matrices on one row pattern for the explicit step's
 //!   `y += A x + B z`.
 //! * [`Cholesky`] ([`cholesky`]): sparse `A = L Lᵀ` of a symmetric positive definite stiffness
-//!   (massless-stator condensation).
+//!   (massless-stator condensation), with caller-owned solve scratch ([`CholeskyScratch`]) for
+//!   solves inside the time loop.
 //! * [`Lu`], [`StepLu`] ([`lu`]): sparse LU with pivoting of a general matrix (the unsymmetric
 //!   M̃ of rotors with gyroscopics); `StepLu` solves without allocating.
 //! * [`BlockTridiag`] ([`block`]): block Thomas LU of a shaft chain in 4 × 4 node blocks.
@@ -24,7 +25,7 @@ pub mod pair;
 
 pub use crate::error::LinalgError;
 pub use block::{BlockTridiag, NODE_BLOCK};
-pub use cholesky::Cholesky;
+pub use cholesky::{Cholesky, CholeskyScratch};
 pub use csc::Csc;
 pub use lowrank::{LowRank, WoodburyLu};
 pub use lu::{Lu, StepLu};
