@@ -2,6 +2,7 @@
 //! matrices; no global indices, no `Result` (a shape mismatch is a bug and panics).
 
 pub mod frame;
+pub mod quadrature;
 pub mod solid2d;
 pub mod solid3d;
 pub mod timoshenko;

@@ -17,6 +17,9 @@
 //! Kernels are pure functions of the cell's coordinates filling caller buffers; they do not
 //! check the Jacobian (call [`det_j_range`] first) and panic on a buffer of the wrong size.
 
+pub use super::quadrature::{gauss_1d, Rule};
+
+use super::quadrature;
 use crate::mesh::CellKind;
 
 /// Largest number of nodes of a 2-D cell.
@@ -87,103 +90,14 @@ pub fn von_mises(s: [f64; 4]) -> f64 {
     (0.5 * ((sx - sy).powi(2) + (sy - sz).powi(2) + (sz - sx).powi(2)) + 3.0 * t * t).sqrt()
 }
 
-/// Quadrature rules on the reference cells.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rule {
-    /// Exact for the stiffness of an undistorted cell.
-    Stiffness,
-    /// Exact for the consistent mass of an undistorted cell.
-    Mass,
-    /// Higher order, for error norms in tests.
-    Accurate,
-}
-
-const G2: f64 = 0.577_350_269_189_625_8;
-const G3: f64 = 0.774_596_669_241_483_4;
-const W3A: f64 = 0.555_555_555_555_555_6;
-const W3B: f64 = 0.888_888_888_888_888_8;
-const G4A: f64 = 0.339_981_043_584_856_3;
-const G4B: f64 = 0.861_136_311_594_052_6;
-const W4A: f64 = 0.652_145_154_862_546_2;
-const W4B: f64 = 0.347_854_845_137_453_85;
-
-/// 1-D Gauss–Legendre points and weights on [−1, 1] with 1 to 4 points.
-pub fn gauss_1d(n: usize) -> &'static [(f64, f64)] {
-    match n {
-        1 => &[(0.0, 2.0)],
-        2 => &[(-G2, 1.0), (G2, 1.0)],
-        3 => &[(-G3, W3A), (0.0, W3B), (G3, W3A)],
-        _ => &[(-G4B, W4B), (-G4A, W4A), (G4A, W4A), (G4B, W4B)],
-    }
-}
-
-const TRI1: [([f64; 2], f64); 1] = [([1.0 / 3.0, 1.0 / 3.0], 0.5)];
-const TRI3: [([f64; 2], f64); 3] = [
-    ([1.0 / 6.0, 1.0 / 6.0], 1.0 / 6.0),
-    ([2.0 / 3.0, 1.0 / 6.0], 1.0 / 6.0),
-    ([1.0 / 6.0, 2.0 / 3.0], 1.0 / 6.0),
-];
-// Dunavant degree 4 (6 points) and degree 5 (7 points); weights for the area 1/2.
-const DA: f64 = 0.445_948_490_915_965;
-const DB: f64 = 0.091_576_213_509_771;
-const DWA: f64 = 0.223_381_589_678_011 / 2.0;
-const DWB: f64 = 0.109_951_743_655_322 / 2.0;
-const TRI6: [([f64; 2], f64); 6] = [
-    ([DA, DA], DWA),
-    ([1.0 - 2.0 * DA, DA], DWA),
-    ([DA, 1.0 - 2.0 * DA], DWA),
-    ([DB, DB], DWB),
-    ([1.0 - 2.0 * DB, DB], DWB),
-    ([DB, 1.0 - 2.0 * DB], DWB),
-];
-const E1A: f64 = 0.470_142_064_105_115;
-const E1B: f64 = 0.059_715_871_789_770;
-const E2A: f64 = 0.101_286_507_323_456;
-const E2B: f64 = 0.797_426_985_353_087;
-const EW1: f64 = 0.132_394_152_788_506 / 2.0;
-const EW2: f64 = 0.125_939_180_544_827 / 2.0;
-const TRI7: [([f64; 2], f64); 7] = [
-    ([1.0 / 3.0, 1.0 / 3.0], 0.225 / 2.0),
-    ([E1A, E1A], EW1),
-    ([E1B, E1A], EW1),
-    ([E1A, E1B], EW1),
-    ([E2A, E2A], EW2),
-    ([E2B, E2A], EW2),
-    ([E2A, E2B], EW2),
-];
-
-/// Quadrature points `(ξ, w)` of a rule on a cell, written into `out`; returns the count.
-///
-/// Triangles: 1 point (Tri3 stiffness), 3 points (degree 2: Tri3 mass, Tri6 stiffness),
-/// 6 points (degree 4: Tri6 mass), 7 points (degree 5: `Accurate`). Quadrilaterals: Gauss
-/// 2×2 (Quad4), 3×3 (Quad8/9), 4×4 (`Accurate`).
+/// Quadrature points `(ξ, w)` of a rule on a cell ([`quadrature::points_2d`]), written into
+/// `out`; returns the count.
 ///
 /// # Panics
 /// If `kind` is not a 2-D cell.
 pub fn quadrature(kind: CellKind, rule: Rule, out: &mut Vec<([f64; 2], f64)>) -> usize {
     out.clear();
-    let tri: &[([f64; 2], f64)] = match (kind, rule) {
-        (CellKind::Tri3, Rule::Stiffness) => &TRI1,
-        (CellKind::Tri3, Rule::Mass) | (CellKind::Tri6, Rule::Stiffness) => &TRI3,
-        (CellKind::Tri6, Rule::Mass) => &TRI6,
-        (CellKind::Tri3 | CellKind::Tri6, Rule::Accurate) => &TRI7,
-        _ => &[],
-    };
-    if !tri.is_empty() {
-        out.extend_from_slice(tri);
-        return out.len();
-    }
-    let n = match (kind, rule) {
-        (CellKind::Quad4, Rule::Stiffness | Rule::Mass) => 2,
-        (CellKind::Quad8 | CellKind::Quad9, Rule::Stiffness | Rule::Mass) => 3,
-        (CellKind::Quad4 | CellKind::Quad8 | CellKind::Quad9, Rule::Accurate) => 4,
-        _ => panic!("{} is not a 2-D cell", kind.name()),
-    };
-    for &(a, wa) in gauss_1d(n) {
-        for &(b, wb) in gauss_1d(n) {
-            out.push(([a, b], wa * wb));
-        }
-    }
+    out.extend_from_slice(quadrature::points_2d(kind, rule));
     out.len()
 }
 

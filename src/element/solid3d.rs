@@ -15,6 +15,9 @@
 //!
 //! Kernels fill caller buffers and do not check the Jacobian ([`det_j_range`] does).
 
+pub use super::quadrature::Rule;
+
+use super::quadrature;
 use crate::mesh::CellKind;
 
 /// Largest number of nodes of a tetrahedron.
@@ -59,64 +62,12 @@ pub fn von_mises(s: [f64; 6]) -> f64 {
         .sqrt()
 }
 
-const A4: f64 = 0.138_196_601_125_010_5;
-const B4: f64 = 0.585_410_196_624_968_5;
-const TET1: [([f64; 3], f64); 1] = [([0.25, 0.25, 0.25], 1.0 / 6.0)];
-const TET4: [([f64; 3], f64); 4] = [
-    ([A4, A4, A4], 1.0 / 24.0),
-    ([B4, A4, A4], 1.0 / 24.0),
-    ([A4, B4, A4], 1.0 / 24.0),
-    ([A4, A4, B4], 1.0 / 24.0),
-];
-const WA: f64 = 0.092_735_250_310_891_2;
-const WWA: f64 = 0.012_248_840_519_393_66;
-const WB: f64 = 0.310_885_919_263_300_6;
-const WWB: f64 = 0.018_781_320_953_002_64;
-const WC: f64 = 0.454_496_295_874_350_4;
-const WD: f64 = 0.5 - WC;
-const WWC: f64 = 0.007_091_003_462_846_911;
-const TET14: [([f64; 3], f64); 14] = [
-    ([WA, WA, WA], WWA),
-    ([1.0 - 3.0 * WA, WA, WA], WWA),
-    ([WA, 1.0 - 3.0 * WA, WA], WWA),
-    ([WA, WA, 1.0 - 3.0 * WA], WWA),
-    ([WB, WB, WB], WWB),
-    ([1.0 - 3.0 * WB, WB, WB], WWB),
-    ([WB, 1.0 - 3.0 * WB, WB], WWB),
-    ([WB, WB, 1.0 - 3.0 * WB], WWB),
-    // (ξ, η, ζ) of the six points with two barycentric coordinates WC and two WD.
-    ([WC, WD, WD], WWC),
-    ([WD, WC, WD], WWC),
-    ([WD, WD, WC], WWC),
-    ([WC, WC, WD], WWC),
-    ([WC, WD, WC], WWC),
-    ([WD, WC, WC], WWC),
-];
-
-/// Which integrand a rule must integrate exactly.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rule {
-    /// Stiffness of an undistorted cell.
-    Stiffness,
-    /// Consistent mass of an undistorted cell.
-    Mass,
-    /// Degree 5, for error norms.
-    Accurate,
-}
-
-/// Quadrature points `(ξ, w)` of a tetrahedron.
+/// Quadrature points `(ξ, w)` of a tetrahedron ([`quadrature::points_3d`]).
 ///
 /// # Panics
 /// If `kind` is not a tetrahedron.
 pub fn quadrature(kind: CellKind, rule: Rule) -> &'static [([f64; 3], f64)] {
-    match (kind, rule) {
-        (CellKind::Tet4, Rule::Stiffness) => &TET1,
-        (CellKind::Tet4, Rule::Mass) | (CellKind::Tet10, Rule::Stiffness) => &TET4,
-        (CellKind::Tet10, Rule::Mass) | (CellKind::Tet4 | CellKind::Tet10, Rule::Accurate) => {
-            &TET14
-        }
-        _ => panic!("{} is not a tetrahedron", kind.name()),
-    }
+    quadrature::points_3d(kind, rule)
 }
 
 /// Reference coordinates of the nodes.
@@ -401,11 +352,9 @@ pub fn face_load(
     assert!(matches!(kind, CellKind::Tri3 | CellKind::Tri6));
     let nn = kind.nodes();
     f[..3 * nn].fill(0.0);
-    let mut q = Vec::new();
-    solid2d::quadrature(CellKind::Tri6, solid2d::Rule::Mass, &mut q);
     let mut n = [0.0; 6];
     let mut dn = [[0.0; 2]; 6];
-    for &(xi, w) in &q {
+    for &(xi, w) in quadrature::points_2d(CellKind::Tri6, Rule::Mass) {
         solid2d::shape(kind, xi, &mut n, &mut dn);
         let mut p = [0.0; 3];
         let mut t1 = [0.0; 3];
