@@ -3,6 +3,7 @@
 
 pub mod frame;
 pub mod quadrature;
+mod solid;
 pub mod solid2d;
 pub mod solid3d;
 pub mod timoshenko;

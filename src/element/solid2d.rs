@@ -16,10 +16,15 @@
 //!
 //! Kernels are pure functions of the cell's coordinates filling caller buffers; they do not
 //! check the Jacobian (call [`det_j_range`] first) and panic on a buffer of the wrong size.
+//! This module holds what is particular to 2-D: the material law, the shape functions and the
+//! edge loads; the isoparametric kernels are shared with the tetrahedra of
+//! [`crate::element::solid3d`] (module `element::solid`), the rules are those of
+//! [`crate::element::quadrature`].
 
 pub use super::quadrature::{gauss_1d, Rule};
 
 use super::quadrature;
+use super::solid::Solid;
 use crate::mesh::CellKind;
 
 /// Largest number of nodes of a 2-D cell.
@@ -217,39 +222,34 @@ pub fn shape(kind: CellKind, xi: [f64; 2], n: &mut [f64], dn: &mut [[f64; 2]]) {
     }
 }
 
-/// Physical derivatives `[∂N/∂x, ∂N/∂y]` at `xi` into `dx`; returns det J (m²/reference area).
-fn gradients(
-    kind: CellKind,
-    x: &[[f64; 2]],
-    xi: [f64; 2],
-    n: &mut [f64],
-    dx: &mut [[f64; 2]],
-) -> f64 {
-    let nn = kind.nodes();
-    let mut dn = [[0.0; 2]; MAX_NODES];
-    shape(kind, xi, n, &mut dn);
-    // J = [∂x/∂ξ ∂x/∂η; ∂y/∂ξ ∂y/∂η]
-    let mut j = [[0.0; 2]; 2];
-    for a in 0..nn {
-        for r in 0..2 {
-            for c in 0..2 {
-                j[r][c] += x[a][r] * dn[a][c];
-            }
-        }
+/// The 2-D cells for the shared kernels of `element::solid`: strain `[ε_xx, ε_yy, γ_xy]`.
+pub(crate) struct Section;
+
+impl Solid<2, 3> for Section {
+    // ε_xx = ∂u_x/∂x, ε_yy = ∂u_y/∂y, γ_xy = ∂u_x/∂y + ∂u_y/∂x.
+    const B: [[Option<usize>; 2]; 3] = [[Some(0), None], [None, Some(1)], [Some(1), Some(0)]];
+
+    fn quadrature(kind: CellKind, rule: Rule) -> &'static [([f64; 2], f64)] {
+        quadrature::points_2d(kind, rule)
     }
-    let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-    let inv = [
-        [j[1][1] / det, -j[0][1] / det],
-        [-j[1][0] / det, j[0][0] / det],
-    ];
-    // ∂N/∂x_k = Σ_c ∂N/∂ξ_c ∂ξ_c/∂x_k, with ∂ξ/∂x = J⁻¹.
-    for a in 0..nn {
-        dx[a] = [
-            dn[a][0] * inv[0][0] + dn[a][1] * inv[1][0],
-            dn[a][0] * inv[0][1] + dn[a][1] * inv[1][1],
+
+    fn node_xi(kind: CellKind) -> &'static [[f64; 2]] {
+        node_xi(kind)
+    }
+
+    fn shape(kind: CellKind, xi: [f64; 2], n: &mut [f64], dn: &mut [[f64; 2]]) {
+        shape(kind, xi, n, dn)
+    }
+
+    /// `J⁻¹ = [j₁₁ −j₀₁; −j₁₀ j₀₀] / det J`.
+    fn invert(j: &[[f64; 2]; 2]) -> (f64, [[f64; 2]; 2]) {
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        let inv = [
+            [j[1][1] / det, -j[0][1] / det],
+            [-j[1][0] / det, j[0][0] / det],
         ];
+        (det, inv)
     }
-    det
 }
 
 /// Smallest and largest det J over the stiffness quadrature points and the corners (a cell is
@@ -258,22 +258,7 @@ fn gradients(
 /// # Panics
 /// If `x` has fewer points than the cell's nodes.
 pub fn det_j_range(kind: CellKind, x: &[[f64; 2]]) -> (f64, f64) {
-    let mut q = Vec::with_capacity(16);
-    quadrature(kind, Rule::Stiffness, &mut q);
-    let mut n = [0.0; MAX_NODES];
-    let mut dx = [[0.0; 2]; MAX_NODES];
-    let pts = q
-        .iter()
-        .map(|p| p.0)
-        .chain(node_xi(kind)[..kind.corners()].iter().copied());
-    let mut lo = f64::INFINITY;
-    let mut hi = f64::NEG_INFINITY;
-    for xi in pts {
-        let d = gradients(kind, x, xi, &mut n, &mut dx);
-        lo = lo.min(d);
-        hi = hi.max(d);
-    }
-    (lo, hi)
+    Section::det_j_range(kind, x)
 }
 
 /// Element stiffness `K = ∫ Bᵀ D B t dA` into `ke` (row-major `2n × 2n`, N/m).
@@ -281,39 +266,7 @@ pub fn det_j_range(kind: CellKind, x: &[[f64; 2]]) -> (f64, f64) {
 /// # Panics
 /// If `ke.len() != (2n)²` or `x` is too short.
 pub fn stiffness(kind: CellKind, x: &[[f64; 2]], mat: &Elastic2, ke: &mut [f64]) {
-    let nn = kind.nodes();
-    let nd = 2 * nn;
-    assert_eq!(ke.len(), nd * nd, "stiffness buffer size");
-    ke.fill(0.0);
-    let d = mat.d();
-    let mut q = Vec::with_capacity(16);
-    quadrature(kind, Rule::Stiffness, &mut q);
-    let mut n = [0.0; MAX_NODES];
-    let mut g = [[0.0; 2]; MAX_NODES];
-    for &(xi, w) in &q {
-        let det = gradients(kind, x, xi, &mut n, &mut g);
-        let f = w * det * mat.thickness;
-        // DB columns per node: D · B_a with B_a = [gx 0; 0 gy; gy gx].
-        for a in 0..nn {
-            let [ax, ay] = g[a];
-            // D B_a (3×2)
-            let db = [
-                [d[0][0] * ax + d[0][2] * ay, d[0][1] * ay + d[0][2] * ax],
-                [d[1][0] * ax + d[1][2] * ay, d[1][1] * ay + d[1][2] * ax],
-                [d[2][0] * ax + d[2][2] * ay, d[2][1] * ay + d[2][2] * ax],
-            ];
-            for b in 0..nn {
-                let [bx, by] = g[b];
-                // B_bᵀ (2×3) · DB_a (3×2) → block (b, a)
-                for c in 0..2 {
-                    let kxx = bx * db[0][c] + by * db[2][c];
-                    let kyx = by * db[1][c] + bx * db[2][c];
-                    ke[(2 * b) * nd + 2 * a + c] += f * kxx;
-                    ke[(2 * b + 1) * nd + 2 * a + c] += f * kyx;
-                }
-            }
-        }
-    }
+    Section::stiffness(kind, x, &mat.d(), mat.thickness, ke);
 }
 
 /// Consistent mass `M = ∫ ρ t NᵀN dA` into `me` (row-major `2n × 2n`, kg); `rho_t` = ρ t
@@ -322,82 +275,24 @@ pub fn stiffness(kind: CellKind, x: &[[f64; 2]], mat: &Elastic2, ke: &mut [f64])
 /// # Panics
 /// If `me.len() != (2n)²`.
 pub fn mass_consistent(kind: CellKind, x: &[[f64; 2]], rho_t: f64, me: &mut [f64]) {
-    let nn = kind.nodes();
-    let nd = 2 * nn;
-    assert_eq!(me.len(), nd * nd, "mass buffer size");
-    me.fill(0.0);
-    let mut s = [0.0; MAX_NODES * MAX_NODES];
-    scalar_mass(kind, x, rho_t, &mut s);
-    for a in 0..nn {
-        for b in 0..nn {
-            let v = s[a * nn + b];
-            me[(2 * a) * nd + 2 * b] = v;
-            me[(2 * a + 1) * nd + 2 * b + 1] = v;
-        }
-    }
-}
-
-/// Scalar mass `∫ ρt N_a N_b dA` (n × n).
-fn scalar_mass(kind: CellKind, x: &[[f64; 2]], rho_t: f64, s: &mut [f64]) {
-    let nn = kind.nodes();
-    let mut q = Vec::with_capacity(16);
-    quadrature(kind, Rule::Mass, &mut q);
-    let mut n = [0.0; MAX_NODES];
-    let mut g = [[0.0; 2]; MAX_NODES];
-    s[..nn * nn].fill(0.0);
-    for &(xi, w) in &q {
-        let det = gradients(kind, x, xi, &mut n, &mut g);
-        let f = w * det * rho_t;
-        for a in 0..nn {
-            for b in 0..nn {
-                s[a * nn + b] += f * n[a] * n[b];
-            }
-        }
-    }
+    Section::mass_consistent(kind, x, rho_t, me);
 }
 
 /// HRZ lumped mass per node (kg) into `m[..n]`: the diagonal of the consistent mass scaled so
 /// the node masses sum to the element mass ρ t A. Every entry is positive.
 pub fn mass_lumped(kind: CellKind, x: &[[f64; 2]], rho_t: f64, m: &mut [f64]) {
-    let nn = kind.nodes();
-    let mut s = [0.0; MAX_NODES * MAX_NODES];
-    scalar_mass(kind, x, rho_t, &mut s);
-    let total: f64 = s[..nn * nn].iter().sum();
-    let diag: f64 = (0..nn).map(|a| s[a * nn + a]).sum();
-    for a in 0..nn {
-        m[a] = if diag > 0.0 {
-            s[a * nn + a] * total / diag
-        } else {
-            0.0
-        };
-    }
+    Section::mass_lumped(kind, x, rho_t, m);
 }
 
 /// Area of the cell (m²).
 pub fn area(kind: CellKind, x: &[[f64; 2]]) -> f64 {
-    let mut q = Vec::with_capacity(16);
-    quadrature(kind, Rule::Mass, &mut q);
-    let mut n = [0.0; MAX_NODES];
-    let mut g = [[0.0; 2]; MAX_NODES];
-    q.iter()
-        .map(|&(xi, w)| w * gradients(kind, x, xi, &mut n, &mut g))
-        .sum()
+    Section::measure(kind, x)
 }
 
 /// Engineering strain `[ε_xx, ε_yy, γ_xy]` at reference point `xi` for element displacements
 /// `u` (`[u_x0, u_y0, …]`, m).
 pub fn strain(kind: CellKind, x: &[[f64; 2]], u: &[f64], xi: [f64; 2]) -> [f64; 3] {
-    let mut n = [0.0; MAX_NODES];
-    let mut g = [[0.0; 2]; MAX_NODES];
-    gradients(kind, x, xi, &mut n, &mut g);
-    let mut e = [0.0; 3];
-    for a in 0..kind.nodes() {
-        let (ux, uy) = (u[2 * a], u[2 * a + 1]);
-        e[0] += g[a][0] * ux;
-        e[1] += g[a][1] * uy;
-        e[2] += g[a][1] * ux + g[a][0] * uy;
-    }
-    e
+    Section::strain(kind, x, u, xi)
 }
 
 /// Position and interpolated displacement at reference point `xi`, and det J (for error
@@ -408,18 +303,7 @@ pub fn interpolate(
     u: &[f64],
     xi: [f64; 2],
 ) -> ([f64; 2], [f64; 2], f64) {
-    let mut n = [0.0; MAX_NODES];
-    let mut g = [[0.0; 2]; MAX_NODES];
-    let det = gradients(kind, x, xi, &mut n, &mut g);
-    let mut p = [0.0; 2];
-    let mut v = [0.0; 2];
-    for a in 0..kind.nodes() {
-        for k in 0..2 {
-            p[k] += n[a] * x[a][k];
-            v[k] += n[a] * u[2 * a + k];
-        }
-    }
-    (p, v, det)
+    Section::interpolate(kind, x, u, xi)
 }
 
 /// Consistent nodal forces of a traction on an edge (`Line2` or `Line3`, gmsh order: ends then

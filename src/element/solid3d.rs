@@ -13,11 +13,16 @@
 //!   14 points degree 5 (Tet10 mass and error norms, Walkington's rule).
 //! * Consistent mass `∫ ρ NᵀN dV`; lumped by HRZ (positive for `Tet10`, whose row sums are not).
 //!
-//! Kernels fill caller buffers and do not check the Jacobian ([`det_j_range`] does).
+//! Kernels fill caller buffers and do not check the Jacobian ([`det_j_range`] does). This
+//! module holds what is particular to tetrahedra: the material law, the shape functions and
+//! the face loads; the isoparametric kernels are shared with the 2-D cells of
+//! [`crate::element::solid2d`] (module `element::solid`), the rules are those of
+//! [`crate::element::quadrature`].
 
 pub use super::quadrature::Rule;
 
 use super::quadrature;
+use super::solid::Solid;
 use crate::mesh::CellKind;
 
 /// Largest number of nodes of a tetrahedron.
@@ -132,70 +137,64 @@ pub fn shape(kind: CellKind, xi: [f64; 3], n: &mut [f64], dn: &mut [[f64; 3]]) {
     }
 }
 
-/// Physical gradients into `g`; returns det J.
-fn gradients(
-    kind: CellKind,
-    x: &[[f64; 3]],
-    xi: [f64; 3],
-    n: &mut [f64],
-    g: &mut [[f64; 3]],
-) -> f64 {
-    let nn = kind.nodes();
-    let mut dn = [[0.0; 3]; MAX_NODES];
-    shape(kind, xi, n, &mut dn);
-    let mut j = [[0.0; 3]; 3];
-    for a in 0..nn {
-        for r in 0..3 {
-            for c in 0..3 {
-                j[r][c] += x[a][r] * dn[a][c];
-            }
-        }
-    }
-    let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
-        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
-        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
-    // inv = adj(J)/det; ∂N/∂x_k = Σ_c ∂N/∂ξ_c (J⁻¹)_{c k}.
-    let inv = [
-        [
-            (j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det,
-            (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det,
-            (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det,
-        ],
-        [
-            (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det,
-            (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det,
-            (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det,
-        ],
-        [
-            (j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det,
-            (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det,
-            (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det,
-        ],
+/// Tetrahedra for the shared kernels of `element::solid`: Voigt strain
+/// `[ε_xx, ε_yy, ε_zz, γ_yz, γ_xz, γ_xy]`.
+pub(crate) struct Tetrahedron;
+
+impl Solid<3, 6> for Tetrahedron {
+    // Normal strains ∂u_i/∂x_i, then γ_yz = ∂u_y/∂z + ∂u_z/∂y, γ_xz = ∂u_x/∂z + ∂u_z/∂x,
+    // γ_xy = ∂u_x/∂y + ∂u_y/∂x.
+    const B: [[Option<usize>; 3]; 6] = [
+        [Some(0), None, None],
+        [None, Some(1), None],
+        [None, None, Some(2)],
+        [None, Some(2), Some(1)],
+        [Some(2), None, Some(0)],
+        [Some(1), Some(0), None],
     ];
-    for a in 0..nn {
-        for k in 0..3 {
-            g[a][k] = (0..3).map(|c| dn[a][c] * inv[c][k]).sum();
-        }
+
+    fn quadrature(kind: CellKind, rule: Rule) -> &'static [([f64; 3], f64)] {
+        quadrature::points_3d(kind, rule)
     }
-    det
+
+    fn node_xi(kind: CellKind) -> &'static [[f64; 3]] {
+        node_xi(kind)
+    }
+
+    fn shape(kind: CellKind, xi: [f64; 3], n: &mut [f64], dn: &mut [[f64; 3]]) {
+        shape(kind, xi, n, dn)
+    }
+
+    /// `J⁻¹ = adj(J) / det J`, det J by the first row.
+    fn invert(j: &[[f64; 3]; 3]) -> (f64, [[f64; 3]; 3]) {
+        let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+            - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+            + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+        let inv = [
+            [
+                (j[1][1] * j[2][2] - j[1][2] * j[2][1]) / det,
+                (j[0][2] * j[2][1] - j[0][1] * j[2][2]) / det,
+                (j[0][1] * j[1][2] - j[0][2] * j[1][1]) / det,
+            ],
+            [
+                (j[1][2] * j[2][0] - j[1][0] * j[2][2]) / det,
+                (j[0][0] * j[2][2] - j[0][2] * j[2][0]) / det,
+                (j[0][2] * j[1][0] - j[0][0] * j[1][2]) / det,
+            ],
+            [
+                (j[1][0] * j[2][1] - j[1][1] * j[2][0]) / det,
+                (j[0][1] * j[2][0] - j[0][0] * j[2][1]) / det,
+                (j[0][0] * j[1][1] - j[0][1] * j[1][0]) / det,
+            ],
+        ];
+        (det, inv)
+    }
 }
 
-/// Smallest and largest det J over the stiffness points and the corners.
+/// Smallest and largest det J over the stiffness points and the corners (a cell is valid when
+/// the smallest is positive: right-handed node order, not folded).
 pub fn det_j_range(kind: CellKind, x: &[[f64; 3]]) -> (f64, f64) {
-    let mut n = [0.0; MAX_NODES];
-    let mut g = [[0.0; 3]; MAX_NODES];
-    let mut lo = f64::INFINITY;
-    let mut hi = f64::NEG_INFINITY;
-    let pts = quadrature(kind, Rule::Stiffness)
-        .iter()
-        .map(|p| p.0)
-        .chain(node_xi(kind)[..4].iter().copied());
-    for xi in pts {
-        let d = gradients(kind, x, xi, &mut n, &mut g);
-        lo = lo.min(d);
-        hi = hi.max(d);
-    }
-    (lo, hi)
+    Tetrahedron::det_j_range(kind, x)
 }
 
 /// Element stiffness `∫ Bᵀ D B dV` into `ke` (row-major `3n × 3n`, N/m).
@@ -203,116 +202,26 @@ pub fn det_j_range(kind: CellKind, x: &[[f64; 3]]) -> (f64, f64) {
 /// # Panics
 /// If `ke.len() != (3n)²`.
 pub fn stiffness(kind: CellKind, x: &[[f64; 3]], mat: &Elastic3, ke: &mut [f64]) {
-    let nn = kind.nodes();
-    let nd = 3 * nn;
-    assert_eq!(ke.len(), nd * nd, "stiffness buffer size");
-    ke.fill(0.0);
-    let d = mat.d();
-    let mut n = [0.0; MAX_NODES];
-    let mut g = [[0.0; 3]; MAX_NODES];
-    // B_a (6×3) for gradient (gx, gy, gz).
-    let b_of = |v: [f64; 3]| -> [[f64; 3]; 6] {
-        [
-            [v[0], 0.0, 0.0],
-            [0.0, v[1], 0.0],
-            [0.0, 0.0, v[2]],
-            [0.0, v[2], v[1]],
-            [v[2], 0.0, v[0]],
-            [v[1], v[0], 0.0],
-        ]
-    };
-    for &(xi, w) in quadrature(kind, Rule::Stiffness) {
-        let f = w * gradients(kind, x, xi, &mut n, &mut g);
-        for a in 0..nn {
-            let ba = b_of(g[a]);
-            // D B_a (6×3)
-            let mut db = [[0.0; 3]; 6];
-            for r in 0..6 {
-                for c in 0..3 {
-                    db[r][c] = (0..6).map(|k| d[r][k] * ba[k][c]).sum();
-                }
-            }
-            for b in 0..nn {
-                let bb = b_of(g[b]);
-                for r in 0..3 {
-                    for c in 0..3 {
-                        let v: f64 = (0..6).map(|k| bb[k][r] * db[k][c]).sum();
-                        ke[(3 * b + r) * nd + 3 * a + c] += f * v;
-                    }
-                }
-            }
-        }
-    }
+    Tetrahedron::stiffness(kind, x, &mat.d(), 1.0, ke);
 }
 
-fn scalar_mass(kind: CellKind, x: &[[f64; 3]], rho: f64, s: &mut [f64]) {
-    let nn = kind.nodes();
-    let mut n = [0.0; MAX_NODES];
-    let mut g = [[0.0; 3]; MAX_NODES];
-    s[..nn * nn].fill(0.0);
-    for &(xi, w) in quadrature(kind, Rule::Mass) {
-        let f = w * gradients(kind, x, xi, &mut n, &mut g) * rho;
-        for a in 0..nn {
-            for b in 0..nn {
-                s[a * nn + b] += f * n[a] * n[b];
-            }
-        }
-    }
-}
-
-/// Consistent mass into `me` (row-major `3n × 3n`, kg); `rho` in kg/m³.
+/// Consistent mass `∫ ρ NᵀN dV` into `me` (row-major `3n × 3n`, kg); `rho` in kg/m³.
 ///
 /// # Panics
 /// If `me.len() != (3n)²`.
 pub fn mass_consistent(kind: CellKind, x: &[[f64; 3]], rho: f64, me: &mut [f64]) {
-    let nn = kind.nodes();
-    let nd = 3 * nn;
-    assert_eq!(me.len(), nd * nd, "mass buffer size");
-    me.fill(0.0);
-    let mut s = [0.0; MAX_NODES * MAX_NODES];
-    scalar_mass(kind, x, rho, &mut s);
-    for a in 0..nn {
-        for b in 0..nn {
-            for c in 0..3 {
-                me[(3 * a + c) * nd + 3 * b + c] = s[a * nn + b];
-            }
-        }
-    }
+    Tetrahedron::mass_consistent(kind, x, rho, me);
 }
 
-/// HRZ lumped mass per node (kg) into `m[..n]`.
+/// HRZ lumped mass per node (kg) into `m[..n]`: the diagonal of the consistent mass scaled so
+/// the node masses sum to the element mass ρ V.
 pub fn mass_lumped(kind: CellKind, x: &[[f64; 3]], rho: f64, m: &mut [f64]) {
-    let nn = kind.nodes();
-    let mut s = [0.0; MAX_NODES * MAX_NODES];
-    scalar_mass(kind, x, rho, &mut s);
-    let total: f64 = s[..nn * nn].iter().sum();
-    let diag: f64 = (0..nn).map(|a| s[a * nn + a]).sum();
-    for a in 0..nn {
-        m[a] = if diag > 0.0 {
-            s[a * nn + a] * total / diag
-        } else {
-            0.0
-        };
-    }
+    Tetrahedron::mass_lumped(kind, x, rho, m);
 }
 
-/// Voigt strain at `xi` for element displacements `u` (`[u_x0, u_y0, u_z0, …]`).
+/// Voigt strain at `xi` for element displacements `u` (`[u_x0, u_y0, u_z0, …]`, m).
 pub fn strain(kind: CellKind, x: &[[f64; 3]], u: &[f64], xi: [f64; 3]) -> [f64; 6] {
-    let mut n = [0.0; MAX_NODES];
-    let mut g = [[0.0; 3]; MAX_NODES];
-    gradients(kind, x, xi, &mut n, &mut g);
-    let mut e = [0.0; 6];
-    for a in 0..kind.nodes() {
-        let (ux, uy, uz) = (u[3 * a], u[3 * a + 1], u[3 * a + 2]);
-        let [gx, gy, gz] = g[a];
-        e[0] += gx * ux;
-        e[1] += gy * uy;
-        e[2] += gz * uz;
-        e[3] += gz * uy + gy * uz;
-        e[4] += gz * ux + gx * uz;
-        e[5] += gy * ux + gx * uy;
-    }
-    e
+    Tetrahedron::strain(kind, x, u, xi)
 }
 
 /// Position, displacement and det J at `xi` (for error norms).
@@ -322,18 +231,7 @@ pub fn interpolate(
     u: &[f64],
     xi: [f64; 3],
 ) -> ([f64; 3], [f64; 3], f64) {
-    let mut n = [0.0; MAX_NODES];
-    let mut g = [[0.0; 3]; MAX_NODES];
-    let det = gradients(kind, x, xi, &mut n, &mut g);
-    let mut p = [0.0; 3];
-    let mut v = [0.0; 3];
-    for a in 0..kind.nodes() {
-        for k in 0..3 {
-            p[k] += n[a] * x[a][k];
-            v[k] += n[a] * u[3 * a + k];
-        }
-    }
-    (p, v, det)
+    Tetrahedron::interpolate(kind, x, u, xi)
 }
 
 /// Consistent nodal forces of a traction on a triangular face (`Tri3` or `Tri6`, gmsh order)
