@@ -230,6 +230,13 @@ mod tests {
     }
 
     #[test]
+    fn scratch_can_move_to_a_worker_thread() {
+        fn send_sync<T: Send + Sync>() {}
+        send_sync::<CholeskyScratch>();
+        send_sync::<Cholesky>();
+    }
+
+    #[test]
     #[should_panic(expected = "scratch for 1")]
     fn scratch_too_small_panics() {
         let ch = Cholesky::new(&lap(4)).unwrap();
