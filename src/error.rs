@@ -132,6 +132,14 @@ pub enum LinalgError {
         /// a DOF number of the model).
         pivot: usize,
     },
+    /// A diagonal matrix (a lumped step matrix M̃) has an entry `≤ 0` (a non-positive mass).
+    #[error("{n}×{n} diagonal matrix has a non-positive entry at {index}")]
+    NonPositiveDiagonal {
+        /// Matrix size.
+        n: usize,
+        /// Index of the entry.
+        index: usize,
+    },
     /// The sparse LU found no non-zero pivot: the matrix is structurally or numerically
     /// singular.
     #[error("{n}×{n} matrix is singular: no pivot at elimination step {step} of the sparse LU")]
@@ -251,14 +259,15 @@ pub enum SolveError {
     },
     /// The step matrix of a body (M̃ = M/Δt² + C/(2Δt)) or the stiffness of a massless stator
     /// could not be factored before the loop.
-    #[error("{what}: cannot factor its step matrix (Δt = {dt:.3e} s): {detail}")]
+    #[error("{what}: cannot factor its step matrix (Δt = {dt:.3e} s): {source}")]
     Factorization {
         /// Which body (`rotor`, ``stator `name` ``).
         what: String,
         /// Time step (s).
         dt: f64,
-        /// Solver detail.
-        detail: String,
+        /// The factorisation's error.
+        #[source]
+        source: LinalgError,
     },
     /// The contact complementarity problem could not be solved.
     #[error("contact solve failed at step {step} (t = {time:.6e} s) with {pairs} candidate pairs: {message}")]

@@ -7,20 +7,25 @@ use rubsim::time::Scheme;
 use rubsim::time::{integrate, plan_steps, Initial};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
 
 thread_local! {
-    // Only the test's own thread is counted (the harness and other threads allocate too).
+    // Only the test's own thread is counted, in its own counter (the harness and the other
+    // tests, which run in parallel, allocate too).
     static COUNTING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    static ALLOCS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
 }
 
 fn count() {
     if COUNTING.with(|c| c.get()) {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        ALLOCS.with(|a| a.set(a.get() + 1));
     }
+}
+
+/// Allocations counted on this thread so far.
+fn allocs() -> usize {
+    ALLOCS.with(|a| a.get())
 }
 
 unsafe impl GlobalAlloc for Counting {
@@ -64,11 +69,11 @@ fn allocations_do_not_grow_with_steps() {
             let mut st = rubsim::analysis::RunSettings::from_run(&ls.scene.run, "y").step;
             st.integrator = kind;
             let plan = plan_steps(&case, &st).unwrap();
-            let before = ALLOCS.load(Ordering::Relaxed);
+            let before = allocs();
             COUNTING.with(|c| c.set(true));
             let (_rec, stats) = integrate(&case, kind, &plan, Initial::default()).unwrap();
             COUNTING.with(|c| c.set(false));
-            let n = ALLOCS.load(Ordering::Relaxed) - before;
+            let n = allocs() - before;
             assert!(stats.contact_steps > 0);
             counts.push((plan.steps, n));
         }
@@ -76,6 +81,110 @@ fn allocations_do_not_grow_with_steps() {
             counts[0].1, counts[1].1,
             "{kind:?} {extra}: allocations {} for {} steps vs {} for {} steps",
             counts[0].1, counts[0].0, counts[1].1, counts[1].0
+        );
+    }
+}
+
+/// A sink that reads every frame (rotor DOFs, each stator's displacement field, the pairs)
+/// without keeping anything, so any allocation counted is the loop's.
+struct ReadingSink {
+    every: usize,
+    stators: usize,
+    checksum: f64,
+    frames: usize,
+}
+
+impl rubsim::time::FrameSink for ReadingSink {
+    fn every(&self) -> usize {
+        self.every
+    }
+    fn frame(&mut self, f: &rubsim::time::Frame<'_>) -> rubsim::error::Result<()> {
+        self.checksum += f.rotor_u.iter().sum::<f64>();
+        for k in 0..self.stators {
+            self.checksum += f.stator_u(k).iter().sum::<f64>();
+        }
+        self.checksum += f.pairs.iter().map(|p| p.p).sum::<f64>();
+        self.frames += 1;
+        Ok(())
+    }
+}
+
+/// One case of [`steps_after_warm_up_allocate_nothing`].
+struct WarmCase {
+    scene: &'static str,
+    speed: f64,
+    warm_revs: usize,
+    count_revs: usize,
+    /// Frame interval of a [`ReadingSink`] (0: no sink).
+    every: usize,
+}
+
+/// Allocations made by the steps of `c.count_revs` revolutions after `c.warm_revs`, the
+/// steps counted and the frames read meanwhile.
+fn allocations_after_warm_up(c: &WarmCase) -> (usize, usize, usize) {
+    let ov = vec![
+        format!("run.revolutions={}", c.warm_revs + c.count_revs + 1),
+        "run.transient_revolutions=1".to_string(),
+        "run.error_estimate=false".to_string(),
+    ];
+    let ls = scene::load(Path::new(c.scene), &ov).unwrap();
+    let model = Model::from_scene(&ls).unwrap();
+    let case = model
+        .case(c.speed * model.rotor.natural_frequency())
+        .unwrap();
+    let st = rubsim::analysis::RunSettings::from_run(&ls.scene.run, "y").step;
+    let plan = plan_steps(&case, &st).unwrap();
+    let mut stepper =
+        rubsim::time::Stepper::new(&case, st.integrator, &plan, Initial::default()).unwrap();
+    let mut sink = ReadingSink {
+        every: c.every,
+        stators: case.stators.len(),
+        checksum: 0.0,
+        frames: 0,
+    };
+    let mut run_steps = |sink: &mut ReadingSink, steps: usize| {
+        let mut s: rubsim::time::Sink<'_> = if c.every > 0 { Some(sink) } else { None };
+        for _ in 0..steps {
+            assert!(stepper.step(&mut s).unwrap());
+        }
+    };
+    run_steps(&mut sink, c.warm_revs * plan.steps_per_rev);
+    let frames_before = sink.frames;
+    let steps = c.count_revs * plan.steps_per_rev;
+    let before = allocs();
+    COUNTING.with(|c| c.set(true));
+    run_steps(&mut sink, steps);
+    COUNTING.with(|c| c.set(false));
+    (allocs() - before, steps, sink.frames - frames_before)
+}
+
+/// Once the touched contact nodes of a meshed stator are known (its compliance columns are
+/// computed the first time a node touches), a step allocates nothing — for an FE rotor (sparse
+/// or block LU of M̃), a meshed massless stator, and with a frame sink reading every frame
+/// (which rebuilds the massless stators' whole displacement field).
+#[test]
+fn steps_after_warm_up_allocate_nothing() {
+    let fe = "scenes/fe/paper_rotor_rub.toml";
+    let annulus = "scenes/stators/annulus.toml";
+    let cases = [
+        (fe, 1.7, 40, 10, 0),
+        (fe, 1.7, 40, 10, 7),
+        (annulus, 1.2, 30, 3, 0),
+        (annulus, 1.2, 30, 3, 97),
+    ];
+    for (scene, speed, warm_revs, count_revs, every) in cases {
+        let c = WarmCase {
+            scene,
+            speed,
+            warm_revs,
+            count_revs,
+            every,
+        };
+        let (n, steps, frames) = allocations_after_warm_up(&c);
+        assert!(every == 0 || frames > 0, "{scene}: no frame read");
+        assert_eq!(
+            n, 0,
+            "{scene} with a sink every {every} steps: {n} allocations in {steps} steps after warm-up ({frames} frames)"
         );
     }
 }

@@ -6,7 +6,7 @@
 //! `A = 2M/Δt² − K`, `B = C/(2Δt) − M/Δt²`. M̃ is factored once per run.
 
 use super::compliance::Compliance;
-use crate::linalg::{BlockTridiag, Csc, LowRank, PairCsr, StepLu, WoodburyLu};
+use crate::linalg::{BlockTridiag, Csc, LinalgError, LowRank, PairCsr, StepLu, WoodburyLu};
 
 /// M̃⁻¹ of a body with mass.
 #[derive(Debug)]
@@ -69,7 +69,7 @@ impl DynBody {
         low: Option<&LowRank>,
         dt: f64,
         contact_dofs: &[usize],
-    ) -> Result<Self, String> {
+    ) -> Result<Self, LinalgError> {
         let n = m.nrows();
         let aop = Csc::lin_comb(2.0 / (dt * dt), m, -1.0, k);
         let bop = Csc::lin_comb(1.0 / (2.0 * dt), c, -1.0 / (dt * dt), m);
@@ -77,7 +77,7 @@ impl DynBody {
         let minv = if mt.is_diagonal() && low.is_none() {
             let d = mt.diagonal();
             if let Some(i) = d.iter().position(|v| *v <= 0.0) {
-                return Err(format!("M̃ has a non-positive diagonal entry at DOF {i}"));
+                return Err(LinalgError::NonPositiveDiagonal { n, index: i });
             }
             MInv::Diag(d.iter().map(|v| 1.0 / v).collect())
         } else {

@@ -1,5 +1,6 @@
 //! A massless stator in the loop (Eq. 49): the compliance `K⁻¹` of its contact DOFs.
 
+use crate::linalg::{Cholesky, CholeskyScratch, LinalgError};
 use crate::model::StatorModel;
 use std::sync::Arc;
 
@@ -18,7 +19,10 @@ pub const EAGER_DOFS: usize = 32;
 /// ([`Compliance::refresh`]).
 #[derive(Debug)]
 pub(crate) struct Compliance {
-    chol: Option<Arc<crate::linalg::Cholesky>>,
+    chol: Option<Arc<Cholesky>>,
+    /// Solve workspace of `chol` for one right-hand side (frames' field rebuilds), so a frame
+    /// allocates nothing.
+    scratch: Option<CholeskyScratch>,
     /// Contact DOFs, sorted.
     pub(crate) cd: Vec<usize>,
     /// Free DOF → index in `cd` (`usize::MAX` for interior DOFs).
@@ -36,7 +40,7 @@ pub(crate) struct Compliance {
 }
 
 impl Compliance {
-    pub(crate) fn new(s: &StatorModel) -> Result<Self, String> {
+    pub(crate) fn new(s: &StatorModel) -> Result<Self, LinalgError> {
         let n = s.ndof;
         let cd = s.contact_dofs();
         let mut slot = vec![usize::MAX; n];
@@ -48,11 +52,12 @@ impl Compliance {
         } else {
             Some(match &s.mesh {
                 Some(md) => md.factor(&s.k)?,
-                None => Arc::new(crate::linalg::Cholesky::new(&s.k)?),
+                None => Arc::new(Cholesky::new(&s.k)?),
             })
         };
         let ncd = cd.len();
         let mut c = Self {
+            scratch: chol.as_ref().map(|ch| ch.solve_scratch(1)),
             chol,
             col: vec![usize::MAX; ncd],
             cols: Vec::with_capacity(ncd * ncd.min(EAGER_DOFS.max(16))),
@@ -141,8 +146,8 @@ impl Compliance {
         for (&e, f) in self.cd.iter().zip(&self.f) {
             self.rhs[e] = *f;
         }
-        if let Some(ch) = &self.chol {
-            ch.solve_in_place(&mut self.rhs);
+        if let (Some(ch), Some(s)) = (&self.chol, &mut self.scratch) {
+            ch.solve_in_place_with(&mut self.rhs, s);
         }
         self.u.copy_from_slice(&self.rhs);
     }

@@ -9,7 +9,7 @@ use super::record::{Record, Recorder, RunStats};
 use super::select::{Pairs, Phase};
 use super::solve::Held;
 use super::workspace::{ForceSet, StepWorkspace};
-use crate::error::SolveError;
+use crate::error::{LinalgError, SolveError};
 use crate::math::V2;
 use crate::model::Case;
 use std::time::Instant;
@@ -77,10 +77,10 @@ impl<'a> Stepper<'a> {
     ) -> Result<Self, SolveError> {
         let dt = plan.dt;
         let factor_err = |what: String| {
-            move |detail: String| SolveError::Factorization {
+            move |source: LinalgError| SolveError::Factorization {
                 what: what.clone(),
                 dt,
-                detail,
+                source,
             }
         };
         let rotor = DynBody::new(

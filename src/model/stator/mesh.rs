@@ -171,12 +171,13 @@ pub fn from_mesh(
         factor: OnceLock::new(),
     };
     if let Err(e) = data.factor(&k) {
-        return Err(ModelError::Singular {
+        return Err(ModelError::Factorisation {
             what: format!("stator `{}` stiffness ({})", p.name, file.display()),
-            detail: format!(
-                "{e}; the stator has a free rigid-body or mechanism mode: check the groups in `fixed` ({}) and the springs",
+            hint: format!(
+                "the stator has a free rigid-body or mechanism mode, check the groups in `fixed` ({}) and the springs",
                 p.fixed.join(", ")
             ),
+            source: e,
         }
         .into());
     }

@@ -18,7 +18,7 @@ pub mod rod;
 use crate::assembly::scatter;
 use crate::contact::Target;
 use crate::error::ModelError;
-use crate::linalg::{Cholesky, Csc};
+use crate::linalg::{Cholesky, Csc, LinalgError};
 use crate::math::V2;
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
@@ -143,12 +143,12 @@ pub struct MeshStatorData {
     /// Contact stiffness bound (N/m), computed on first use (invariant under placement).
     pub contact_stiffness: OnceLock<f64>,
     /// Sparse Cholesky factor of K, computed on first use and shared by every run.
-    pub factor: OnceLock<Result<Arc<Cholesky>, String>>,
+    pub factor: OnceLock<Result<Arc<Cholesky>, LinalgError>>,
 }
 
 impl MeshStatorData {
     /// The Cholesky factor of `k` (the model's stiffness), factored once.
-    pub fn factor(&self, k: &Csc) -> Result<Arc<Cholesky>, String> {
+    pub fn factor(&self, k: &Csc) -> Result<Arc<Cholesky>, LinalgError> {
         self.factor
             .get_or_init(|| Cholesky::new(k).map(Arc::new))
             .clone()
@@ -381,11 +381,10 @@ impl Lumped<'_> {
             mesh: None,
         };
         if ndof > 0 {
-            Cholesky::new(&model.k).map_err(|e| ModelError::Singular {
+            Cholesky::new(&model.k).map_err(|e| ModelError::Factorisation {
                 what: format!("stator `{name}` stiffness"),
-                detail: format!(
-                    "{e}; the stator has a free rigid-body or mechanism mode: fix more DOFs"
-                ),
+                hint: "the stator has a free rigid-body or mechanism mode, fix more DOFs".into(),
+                source: e,
             })?;
         }
         Ok(model)
