@@ -22,7 +22,7 @@ pub(crate) struct Compliance {
     chol: Option<Arc<Cholesky>>,
     /// Solve workspace of `chol` for one right-hand side (frames' field rebuilds), so a frame
     /// allocates nothing.
-    scratch: Option<CholeskyScratch>,
+    scratch: Option<Box<CholeskyScratch>>,
     /// Contact DOFs, sorted.
     pub(crate) cd: Vec<usize>,
     /// Free DOF → index in `cd` (`usize::MAX` for interior DOFs).
@@ -57,7 +57,7 @@ impl Compliance {
         };
         let ncd = cd.len();
         let mut c = Self {
-            scratch: chol.as_ref().map(|ch| ch.solve_scratch(1)),
+            scratch: chol.as_ref().map(|ch| Box::new(ch.solve_scratch(1))),
             chol,
             col: vec![usize::MAX; ncd],
             cols: Vec::with_capacity(ncd * ncd.min(EAGER_DOFS.max(16))),
