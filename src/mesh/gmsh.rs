@@ -352,22 +352,7 @@ pub fn mesh(req: &MeshRequest, cache: &Path) -> Result<Meshed, MeshError> {
         });
     }
     let (text, hash_text, deps) = geo_text(req)?;
-    if !req.parameters.is_empty() {
-        let known = if is_cad(geo) {
-            vec![]
-        } else {
-            defined_parameters(&text)
-        };
-        for name in req.parameters.keys() {
-            if !known.contains(name) {
-                return Err(MeshError::UnknownParameter {
-                    geometry: geo.clone(),
-                    name: name.clone(),
-                    known,
-                });
-            }
-        }
-    }
+    check_parameters(req, &text)?;
     let key = key_of(req, &hash_text, &deps);
     let stem = geo
         .file_stem()
@@ -399,8 +384,57 @@ pub fn mesh(req: &MeshRequest, cache: &Path) -> Result<Meshed, MeshError> {
         (geo.clone(), None)
     };
     let program = gmsh_program();
-    let mut cmd = Command::new(&program);
-    cmd.arg(&input)
+    let result = gmsh_command(&program, req, &input, &tmp).output();
+    if let Some(w) = &wrapper {
+        let _ = std::fs::remove_file(w);
+    }
+    let output = result.map_err(|e| MeshError::GmshNotFound {
+        geometry: geo.clone(),
+        program: program.clone(),
+        message: e.to_string(),
+    })?;
+    check_gmsh_output(geo, &output, &tmp)?;
+    // Provenance beside the mesh: how it was made.
+    let _ = std::fs::write(out.with_extension("toml"), provenance(req, &key));
+    std::fs::rename(&tmp, &out).map_err(|e| MeshError::Io {
+        file: out.clone(),
+        source: e,
+    })?;
+    Ok(Meshed {
+        msh: out,
+        from_cache: false,
+        key,
+    })
+}
+
+/// Every `-setnumber` parameter of `req` must be declared by the geometry's `DefineConstant`
+/// (`text`: the geometry's source); CAD files declare none.
+fn check_parameters(req: &MeshRequest, text: &str) -> Result<(), MeshError> {
+    if req.parameters.is_empty() {
+        return Ok(());
+    }
+    let known = if is_cad(&req.geometry) {
+        vec![]
+    } else {
+        defined_parameters(text)
+    };
+    for name in req.parameters.keys() {
+        if !known.contains(name) {
+            return Err(MeshError::UnknownParameter {
+                geometry: req.geometry.clone(),
+                name: name.clone(),
+                known,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The gmsh command line that meshes `input` as `req` asks into `tmp` (MSH 4.1, binary, one
+/// thread).
+fn gmsh_command(program: &str, req: &MeshRequest, input: &Path, tmp: &Path) -> Command {
+    let mut cmd = Command::new(program);
+    cmd.arg(input)
         .args(["-3", "-format", "msh41", "-bin", "-v", "2", "-nt", "1"])
         .arg("-order")
         .arg(req.order.to_string());
@@ -416,16 +450,17 @@ pub fn mesh(req: &MeshRequest, cache: &Path) -> Result<Meshed, MeshError> {
     if req.size_factor != 1.0 {
         cmd.arg("-clscale").arg(format!("{:e}", req.size_factor));
     }
-    cmd.arg("-o").arg(&tmp);
-    let result = cmd.output();
-    if let Some(w) = &wrapper {
-        let _ = std::fs::remove_file(w);
-    }
-    let output = result.map_err(|e| MeshError::GmshNotFound {
-        geometry: geo.clone(),
-        program: program.clone(),
-        message: e.to_string(),
-    })?;
+    cmd.arg("-o").arg(tmp);
+    cmd
+}
+
+/// gmsh failed when it exited with an error status, printed `Error` lines or wrote no mesh to
+/// `tmp` (then removed): [`MeshError::GmshFailed`] with its error lines, or its last 20 lines.
+fn check_gmsh_output(
+    geo: &Path,
+    output: &std::process::Output,
+    tmp: &Path,
+) -> Result<(), MeshError> {
     let all = format!(
         "{}{}",
         String::from_utf8_lossy(&output.stdout),
@@ -435,31 +470,33 @@ pub fn mesh(req: &MeshRequest, cache: &Path) -> Result<Meshed, MeshError> {
         .lines()
         .filter(|l| l.trim_start().starts_with("Error"))
         .collect();
-    let produced = std::fs::metadata(&tmp)
-        .map(|m| m.len() > 0)
-        .unwrap_or(false);
-    if !output.status.success() || !errors.is_empty() || !produced {
-        let _ = std::fs::remove_file(&tmp);
-        let message = if errors.is_empty() {
-            let tail: Vec<&str> = all.lines().rev().take(20).collect();
-            tail.into_iter().rev().collect::<Vec<_>>().join("\n")
-        } else {
-            errors.join("\n")
-        };
-        return Err(MeshError::GmshFailed {
-            geometry: geo.clone(),
-            status: output.status.code(),
-            message: if message.trim().is_empty() {
-                "no mesh written and no message".into()
-            } else {
-                message
-            },
-        });
+    let produced = std::fs::metadata(tmp).map(|m| m.len() > 0).unwrap_or(false);
+    if output.status.success() && errors.is_empty() && produced {
+        return Ok(());
     }
-    // Provenance beside the mesh: how it was made.
+    let _ = std::fs::remove_file(tmp);
+    let message = if errors.is_empty() {
+        let tail: Vec<&str> = all.lines().rev().take(20).collect();
+        tail.into_iter().rev().collect::<Vec<_>>().join("\n")
+    } else {
+        errors.join("\n")
+    };
+    Err(MeshError::GmshFailed {
+        geometry: geo.to_path_buf(),
+        status: output.status.code(),
+        message: if message.trim().is_empty() {
+            "no mesh written and no message".into()
+        } else {
+            message
+        },
+    })
+}
+
+/// The provenance file written beside a cached mesh (TOML): geometry, key, options, parameters.
+fn provenance(req: &MeshRequest, key: &str) -> String {
     let mut info = format!(
         "geometry = {:?}\nkey = \"{key}\"\norder = {}\nrecombine = {}\nserendipity = {}\nsize_factor = {}\n[parameters]\n",
-        geo.display().to_string(),
+        req.geometry.display().to_string(),
         req.order,
         req.recombine,
         req.serendipity,
@@ -468,16 +505,7 @@ pub fn mesh(req: &MeshRequest, cache: &Path) -> Result<Meshed, MeshError> {
     for (k, v) in &req.parameters {
         info.push_str(&format!("{k} = {v:e}\n"));
     }
-    let _ = std::fs::write(out.with_extension("toml"), info);
-    std::fs::rename(&tmp, &out).map_err(|e| MeshError::Io {
-        file: out.clone(),
-        source: e,
-    })?;
-    Ok(Meshed {
-        msh: out,
-        from_cache: false,
-        key,
-    })
+    info
 }
 
 /// Meshes (or takes from the cache) and reads the mesh.
