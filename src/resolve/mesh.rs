@@ -7,7 +7,7 @@
 //! ([`resolve_path`]). The groups that carry supports, springs, frames and contact are looked
 //! up when the model is assembled ([`crate::model::stator::mesh`]).
 
-use super::stator::Clearance;
+use super::Clearance;
 use crate::element::solid2d::Plane;
 use crate::element::{solid2d, solid3d};
 use crate::error::{Error, MeshError, ModelError};

@@ -7,7 +7,7 @@
 //! * names into indices: the station each stator faces, the further stations of a 3-D meshed
 //!   stator;
 //! * alternative keys and names into enums: a clearance in metres or times |Z0(ω)|
-//!   ([`stator::Clearance`]), a stiffness as ε k_r or from the material ([`stator::RodStiffness`],
+//!   ([`Clearance`]), a stiffness as ε k_r or from the material ([`stator::RodStiffness`],
 //!   [`stator::RingStiffness`]), Jeffcott mass, stiffness and damping from whichever keys are
 //!   given, a mesh's plane stress or strain;
 //! * FE rotor specs into element, disk and bearing data ([`rotor::FeRotorData`]);
@@ -30,11 +30,11 @@ pub mod stator;
 pub use mesh::{MeshStatorInput, MeshStatorParams, Placement};
 pub use rotor::{FeRotorData, FeRotorInput, JeffcottData, RotorInput};
 pub use stator::{
-    Clearance, FeElement, FeStatorInput, RingInput, RingStiffness, RodInput, RodStiffness,
-    StatorInput,
+    FeElement, FeStatorInput, RingInput, RingStiffness, RodInput, RodStiffness, StatorInput,
 };
 
 use crate::error::Error;
+use crate::scene::validate::OneOf;
 use crate::scene::{validate, LoadedScene, StationSpec};
 
 /// A contact station: a radially rigid circular rotor section.
@@ -91,4 +91,41 @@ pub fn resolve(ls: &LoadedScene) -> Result<Resolved, Error> {
         stators,
         observed_node: s.output.node,
     })
+}
+
+/// A radial clearance δ between the rotor surface and a stator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Clearance {
+    /// δ in metres (`clearance`).
+    Metres(f64),
+    /// δ = δ_nd |Z0(ω)| (`clearance_nd`), |Z0| the steady unbalance response without stator at
+    /// the speed run, at the station's node: changes along a sweep.
+    TimesZ0(f64),
+}
+
+impl Clearance {
+    /// δ (m) at a speed where the unbalance response at the station is `z0()` (m), computed
+    /// only when δ is relative to it; `None` when |Z0| is not positive (no unbalance).
+    ///
+    /// # Errors
+    /// Those of `z0`.
+    pub fn at<E>(self, z0: impl FnOnce() -> Result<f64, E>) -> Result<Option<f64>, E> {
+        Ok(match self {
+            Clearance::Metres(c) => Some(c),
+            Clearance::TimesZ0(nd) => {
+                let z = z0()?;
+                (z > 0.0).then_some(nd * z)
+            }
+        })
+    }
+}
+
+impl From<OneOf<f64, f64>> for Clearance {
+    /// `clearance` (m) or `clearance_nd`, as the scene chose.
+    fn from(c: OneOf<f64, f64>) -> Self {
+        match c {
+            OneOf::First(m) => Clearance::Metres(m),
+            OneOf::Second(nd) => Clearance::TimesZ0(nd),
+        }
+    }
 }

@@ -3,37 +3,11 @@
 //! their mesh read ([`super::mesh`]).
 
 use super::mesh::{self, MeshStatorInput};
+use super::Clearance;
 use crate::error::Error;
 use crate::math::V2;
 use crate::scene::validate::{one_of, station_index, OneOf};
 use crate::scene::{FeElementSpec, FeStatorSpec, LoadedScene, RingSpec, RodSpec, StatorSpec};
-
-/// A radial clearance δ between the rotor surface and a stator.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Clearance {
-    /// δ in metres (`clearance`).
-    Metres(f64),
-    /// δ = δ_nd |Z0(ω)| (`clearance_nd`), |Z0| the steady unbalance response without stator at
-    /// the speed run, at the station's node: changes along a sweep.
-    TimesZ0(f64),
-}
-
-impl Clearance {
-    /// δ (m) at a speed where the unbalance response at the station is `z0()` (m), computed
-    /// only when δ is relative to it; `None` when |Z0| is not positive (no unbalance).
-    ///
-    /// # Errors
-    /// Those of `z0`.
-    pub fn at<E>(self, z0: impl FnOnce() -> Result<f64, E>) -> Result<Option<f64>, E> {
-        Ok(match self {
-            Clearance::Metres(c) => Some(c),
-            Clearance::TimesZ0(nd) => {
-                let z = z0()?;
-                (z > 0.0).then_some(nd * z)
-            }
-        })
-    }
-}
 
 /// A rod's axial stiffness k_s.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -207,16 +181,6 @@ pub fn resolve(ls: &LoadedScene, i: usize, spec: &StatorSpec) -> Result<StatorIn
         StatorSpec::Fe(f) => StatorInput::Fe(fe(f, station)),
         StatorSpec::Mesh(m) => StatorInput::Mesh(Box::new(mesh::resolve(ls, i, station, m)?)),
     })
-}
-
-impl From<OneOf<f64, f64>> for Clearance {
-    /// `clearance` (m) or `clearance_nd`, as the scene chose.
-    fn from(c: OneOf<f64, f64>) -> Self {
-        match c {
-            OneOf::First(m) => Clearance::Metres(m),
-            OneOf::Second(nd) => Clearance::TimesZ0(nd),
-        }
-    }
 }
 
 /// The clearance of stator `i`: `clearance` or `clearance_nd`, exactly one.
