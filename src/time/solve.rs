@@ -11,21 +11,10 @@
 use super::body::StatorDyn;
 use super::frame::PairForce;
 use super::stepper::Stepper;
-use super::workspace::ForceSet;
+use super::workspace::{ForceSet, Held};
 use crate::contact::{lcp, target_disp};
 use crate::error::SolveError;
 use crate::model::Target;
-
-/// Who takes part in a contact solve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Held {
-    /// The rotor moves with the contact forces (forward increment): its flexibility `M̃⁻¹`
-    /// enters `W` and the forces correct its prediction.
-    No,
-    /// The rotor is held at uⁿ (collocated static solve of massless stators): only the
-    /// stators' compliance enters `W`; the forces load the rotor's next prediction.
-    Rotor,
-}
 
 impl Stepper<'_> {
     /// Assembles `W` (row-major) and the gaps of the selected pairs into the workspace.

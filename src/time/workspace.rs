@@ -53,6 +53,17 @@ pub(crate) enum ForceSet {
     WithMass,
 }
 
+/// Who takes part in a contact solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Held {
+    /// The rotor moves with the contact forces (forward increment): its flexibility `M̃⁻¹`
+    /// enters `W` and the forces correct its prediction.
+    No,
+    /// The rotor is held at uⁿ (collocated static solve of massless stators): only the
+    /// stators' compliance enters `W`; the forces load the rotor's next prediction.
+    Rotor,
+}
+
 /// Preallocated buffers of the stepper: selection, complementarity problem, forces, frames.
 #[derive(Debug)]
 pub(crate) struct StepWorkspace {
