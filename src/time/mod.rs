@@ -26,6 +26,17 @@
 //! touching for the first time (its compliance column, cached) and a contact problem larger
 //! than any before and than the first capacity of the dense buffers (256 pairs).
 //!
+//! # Where new physics goes
+//!
+//! * A speed that varies in time: Ω enters the step in three places only — the external load
+//!   of the prediction (`Stepper::predict`: the unbalance force at t), the bodies' step
+//!   operators (`M̃`, `A`, `B` of the rotor hold C + ΩG) and the tangent `a = Ω × n` of the pair
+//!   geometry (`select`). A speed profile replaces those three by functions of t; the loop
+//!   and its phases stay as they are.
+//! * Another contact law (stick–slip, wear): the law is the force direction per unit normal
+//!   force `b = n + μa` and the unknowns per pair in `solve` (assembly of `W`, correction); the
+//!   selection, the schemes and the recording do not change.
+//!
 //! Files: [`plan`] (Δt and steps), [`record`] (what a run keeps), `body` (central differences
 //! of a body with mass), [`compliance`] (massless stators), `select` (which pairs enter a
 //! contact problem), `solve` (the contact solve), `workspace` (buffers), `stepper` (the step),
