@@ -1,0 +1,117 @@
+//! The command-line runner: the real `rubsim` binary in a chosen working directory, success
+//! and clean-failure checks, and what a command left on disk.
+
+use super::read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// `rubsim` with `cwd` as working directory, to be given arguments (and environment).
+pub fn command(cwd: &Path) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_rubsim"));
+    c.current_dir(cwd);
+    c
+}
+
+/// Runs `rubsim args…` with `cwd` as working directory (so a default `out/` lands there).
+pub fn rubsim(cwd: &Path, args: &[&str]) -> Output {
+    command(cwd)
+        .args(args)
+        .output()
+        .expect("run the rubsim binary")
+}
+
+/// Runs `rubsim args…` in the repository (paths relative to it): (success, stdout, stderr).
+pub fn in_repo(args: &[&str]) -> (bool, String, String) {
+    let out = rubsim(&super::repo(""), args);
+    (out.status.success(), text(&out.stdout), text(&out.stderr))
+}
+
+/// Bytes as text (invalid UTF-8 replaced).
+pub fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Asserts success and returns stdout.
+pub fn ok(cwd: &Path, args: &[&str]) -> String {
+    let o = rubsim(cwd, args);
+    assert!(
+        o.status.success(),
+        "rubsim {args:?} failed ({}):\n{}",
+        o.status,
+        text(&o.stderr)
+    );
+    text(&o.stdout)
+}
+
+/// Asserts a clean failure (non-zero exit, an `error:` message, no panic) and returns stderr.
+pub fn fails(cwd: &Path, args: &[&str]) -> String {
+    let o = rubsim(cwd, args);
+    let err = text(&o.stderr);
+    assert!(
+        !o.status.success(),
+        "rubsim {args:?} should fail, got success:\n{}",
+        text(&o.stdout)
+    );
+    assert_ne!(
+        o.status.code(),
+        Some(101),
+        "rubsim {args:?} panicked:\n{err}"
+    );
+    assert!(
+        err.contains("error:"),
+        "no error message for {args:?}:\n{err}"
+    );
+    assert!(
+        !err.contains("panicked"),
+        "rubsim {args:?} panicked:\n{err}"
+    );
+    assert!(
+        !text(&o.stdout).contains("results in"),
+        "rubsim {args:?} claims results:\n{}",
+        text(&o.stdout)
+    );
+    err
+}
+
+/// Every file and directory below `dir` (relative paths).
+pub fn tree(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        let Ok(rd) = std::fs::read_dir(&d) else {
+            continue;
+        };
+        for e in rd {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                todo.push(p.clone());
+            }
+            out.push(p.strip_prefix(dir).unwrap().to_path_buf());
+        }
+    }
+    out.sort();
+    out
+}
+
+/// After a failed command: the output directory (if created at all) holds nothing that looks
+/// complete and no staging folder.
+pub fn assert_nothing_written(out: &Path) {
+    for p in tree(out) {
+        let name = p.file_name().unwrap().to_string_lossy().to_string();
+        assert!(
+            name != "summary.json" && !name.starts_with(".rubsim-partial-"),
+            "failed run left {} in {}: {:?}",
+            p.display(),
+            out.display(),
+            tree(out)
+        );
+    }
+}
+
+pub fn json(p: &Path) -> serde_json::Value {
+    serde_json::from_str(&read(p)).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+pub fn is_png(p: &Path) -> bool {
+    std::fs::read(p).is_ok_and(|b| b.len() > 8 && b.starts_with(b"\x89PNG\r\n\x1a\n"))
+}

@@ -1,0 +1,171 @@
+//! Results written by a run, read back: one speed through the output directory as the CLI
+//! writes it, the `.vtu` frames and `.pvd` index with `vtkio`, the HDF5 datasets with
+//! `hdf5-metno`.
+
+use super::{data, file_model, settings};
+use rubsim::analysis::{Keep, SpeedResults};
+use rubsim::output::OutDir;
+use rubsim::results;
+use std::path::{Path, PathBuf};
+use vtkio::model::{Attribute, CellType, DataSet, IOBuffer, Piece, VertexNumbers, Vtk};
+
+/// Runs one speed with the scene's time series into `dir` (through the output directory's
+/// staging folder and commit, as the CLI does).
+pub fn run(name: &str, sets: &[&str], dir: &Path) -> (SpeedResults, Vec<PathBuf>) {
+    run_scene(&data(name), sets, None, dir)
+}
+
+/// [`run`] of the scene file `path` at ω/ω_n = `speed` (default: the scene's `run.speed_ratio`;
+/// give it for a sweep scene, as `rubsim run --speed` does).
+pub fn run_scene(
+    path: &Path,
+    sets: &[&str],
+    speed: Option<f64>,
+    dir: &Path,
+) -> (SpeedResults, Vec<PathBuf>) {
+    let (ls, model) = file_model(path, sets);
+    let s = settings(&ls);
+    let mut out = OutDir::prepare(dir).expect("prepare");
+    let staging = out.staging_dir().to_path_buf();
+    let (r, names) = results::run_speed(
+        &model,
+        &s,
+        speed.unwrap_or_else(|| ls.scene.run.speed_ratio.expect("single speed")),
+        Keep {
+            orbit: true,
+            ..Keep::default()
+        },
+        &ls.scene.output,
+        &serde_json::to_string(&ls.scene).unwrap(),
+        &staging,
+        "",
+    )
+    .expect("run");
+    for n in &names {
+        out.adopt(n).expect("adopt");
+    }
+    (r, out.commit().expect("commit"))
+}
+
+/// The first piece of a `.vtu` file.
+pub fn vtu(path: &Path) -> vtkio::model::UnstructuredGridPiece {
+    let vtk = Vtk::import(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    match vtk.data {
+        DataSet::UnstructuredGrid { pieces, .. } => match pieces.into_iter().next() {
+            Some(Piece::Inline(p)) => *p,
+            _ => panic!("no inline piece"),
+        },
+        _ => panic!("not an unstructured grid"),
+    }
+}
+
+/// The values of an `f64` buffer.
+pub fn f64s(b: &IOBuffer) -> Vec<f64> {
+    match b {
+        IOBuffer::F64(v) => v.clone(),
+        other => panic!("not f64: {other:?}"),
+    }
+}
+
+/// True when a piece's data hold an array `name`.
+pub fn has_array(attrs: &[Attribute], name: &str) -> bool {
+    attrs
+        .iter()
+        .any(|a| matches!(a, Attribute::DataArray(d) if d.name == name))
+}
+
+/// The `f64` array `name` of a piece's data.
+pub fn array(attrs: &[Attribute], name: &str) -> Vec<f64> {
+    for a in attrs {
+        if let Attribute::DataArray(d) = a {
+            if d.name == name {
+                return f64s(&d.data);
+            }
+        }
+    }
+    panic!("no array `{name}`")
+}
+
+/// An integer array (`part`, `stator`, `index`) of a piece's data.
+pub fn ints(attrs: &[Attribute], name: &str) -> Vec<i64> {
+    for a in attrs {
+        if let Attribute::DataArray(d) = a {
+            if d.name == name {
+                return match &d.data {
+                    IOBuffer::U8(v) => v.iter().map(|x| *x as i64).collect(),
+                    IOBuffer::I32(v) => v.iter().map(|x| *x as i64).collect(),
+                    IOBuffer::I64(v) => v.clone(),
+                    other => panic!("`{name}` is not an integer array: {other:?}"),
+                };
+            }
+        }
+    }
+    panic!("no array `{name}`")
+}
+
+/// Points `[x, y, z]` of a `.vtu` piece.
+pub fn points(g: &vtkio::model::UnstructuredGridPiece) -> Vec<[f64; 3]> {
+    f64s(&g.points)
+        .chunks(3)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect()
+}
+
+/// Cells `(type, point indices)` of a `.vtu` piece.
+pub fn cells(g: &vtkio::model::UnstructuredGridPiece) -> Vec<(CellType, Vec<usize>)> {
+    let VertexNumbers::XML {
+        connectivity,
+        offsets,
+    } = &g.cells.cell_verts
+    else {
+        panic!("legacy cell numbering in an XML file")
+    };
+    let mut start = 0;
+    g.cells
+        .types
+        .iter()
+        .zip(offsets)
+        .map(|(t, end)| {
+            let ids = connectivity[start..*end as usize]
+                .iter()
+                .map(|i| *i as usize)
+                .collect();
+            start = *end as usize;
+            (*t, ids)
+        })
+        .collect()
+}
+
+/// A `[f64; 3]` vector array of a piece's point or cell data.
+pub fn vectors3(attrs: &[Attribute], name: &str) -> Vec<[f64; 3]> {
+    array(attrs, name)
+        .chunks(3)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect()
+}
+
+/// `(time, file)` of every `DataSet` line of a `.pvd`.
+pub fn pvd(path: &Path) -> Vec<(f64, String)> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| l.contains("<DataSet"))
+        .map(|l| {
+            let field = |k: &str| {
+                let a = l.find(&format!("{k}=\"")).unwrap() + k.len() + 2;
+                let b = a + l[a..].find('"').unwrap();
+                l[a..b].to_string()
+            };
+            (field("timestep").parse().unwrap(), field("file"))
+        })
+        .collect()
+}
+
+/// A whole dataset of an HDF5 file.
+#[cfg(feature = "hdf5")]
+pub fn read<T: hdf5_metno::H5Type + Clone>(f: &hdf5_metno::File, name: &str) -> Vec<T> {
+    f.dataset(name)
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .read_raw::<T>()
+        .unwrap()
+}
