@@ -2,77 +2,15 @@
 //!
 //! Requirement under test: bad input gets a clear error that names the file, key or line and
 //! what is wrong, a non-zero exit, and nothing lost or half-written. Plus the happy paths of
-//! `check`, `run` and `sweep`.
+//! `check`, `run` and `sweep`, and the other commands (`modal`, `mesh`, `stress`, `refine`).
 
+mod common;
+
+use common::cli::{assert_nothing_written, fails, in_repo, is_png, json, ok, rubsim, tree};
+use common::meshes::need_gmsh;
+use common::{data, read, repo};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use tempfile::TempDir;
-
-/// A small scene file shipped with the tests.
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/scenes")
-        .join(name)
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-/// Runs `rubsim args…` with `cwd` as working directory (so a default `out/` lands there).
-fn rubsim(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rubsim"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run the rubsim binary")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-/// Asserts success and returns stdout.
-fn ok(cwd: &Path, args: &[&str]) -> String {
-    let o = rubsim(cwd, args);
-    assert!(
-        o.status.success(),
-        "rubsim {args:?} failed ({}):\n{}",
-        o.status,
-        text(&o.stderr)
-    );
-    text(&o.stdout)
-}
-
-/// Asserts a clean failure (non-zero exit, an `error:` message, no panic) and returns stderr.
-fn fails(cwd: &Path, args: &[&str]) -> String {
-    let o = rubsim(cwd, args);
-    let err = text(&o.stderr);
-    assert!(
-        !o.status.success(),
-        "rubsim {args:?} should fail, got success:\n{}",
-        text(&o.stdout)
-    );
-    assert_ne!(
-        o.status.code(),
-        Some(101),
-        "rubsim {args:?} panicked:\n{err}"
-    );
-    assert!(
-        err.contains("error:"),
-        "no error message for {args:?}:\n{err}"
-    );
-    assert!(
-        !err.contains("panicked"),
-        "rubsim {args:?} panicked:\n{err}"
-    );
-    assert!(
-        !text(&o.stdout).contains("results in"),
-        "rubsim {args:?} claims results:\n{}",
-        text(&o.stdout)
-    );
-    err
-}
 
 /// Writes a copy of a test scene with `from` replaced by `to` (which must occur) into `dir`.
 fn variant(dir: &Path, base: &str, name: &str, from: &str, to: &str) -> PathBuf {
@@ -90,41 +28,6 @@ fn line_of(p: &Path, needle: &str) -> usize {
         .position(|l| l.contains(needle))
         .unwrap_or_else(|| panic!("`{needle}` not in {}", p.display()))
         + 1
-}
-
-/// Every file and directory below `dir` (relative paths).
-fn tree(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut todo = vec![dir.to_path_buf()];
-    while let Some(d) = todo.pop() {
-        let Ok(rd) = std::fs::read_dir(&d) else {
-            continue;
-        };
-        for e in rd {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                todo.push(p.clone());
-            }
-            out.push(p.strip_prefix(dir).unwrap().to_path_buf());
-        }
-    }
-    out.sort();
-    out
-}
-
-/// After a failed command: the output directory (if created at all) holds nothing that looks
-/// complete and no staging folder.
-fn assert_nothing_written(out: &Path) {
-    for p in tree(out) {
-        let name = p.file_name().unwrap().to_string_lossy().to_string();
-        assert!(
-            name != "summary.json" && !name.starts_with(".rubsim-partial-"),
-            "failed run left {} in {}: {:?}",
-            p.display(),
-            out.display(),
-            tree(out)
-        );
-    }
 }
 
 /// Fails `check`, `run` and `sweep` on `scene` (with extra args), the latter two into a fresh
@@ -147,14 +50,6 @@ fn fails_everywhere(tmp: &Path, scene: &Path, extra: &[&str]) -> String {
         }
     }
     run_err.unwrap()
-}
-
-fn json(p: &Path) -> serde_json::Value {
-    serde_json::from_str(&read(p)).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-fn is_png(p: &Path) -> bool {
-    std::fs::read(p).is_ok_and(|b| b.len() > 8 && b.starts_with(b"\x89PNG\r\n\x1a\n"))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -476,13 +371,60 @@ fn failed_rerun_keeps_previous_results() {
     assert!(before == after, "a failed rerun changed {}", out.display());
 }
 
+#[test]
+fn faults_are_reported_before_the_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cli = |args: &[&str]| {
+        let o = rubsim(tmp.path(), args);
+        assert!(!o.status.success(), "should fail: {args:?}");
+        String::from_utf8_lossy(&o.stderr).to_string()
+    };
+    let scene = data("single.toml");
+    let scene = scene.to_str().unwrap();
+    // The output path is a file.
+    std::fs::write(tmp.path().join("file"), "x").unwrap();
+    let e = cli(&["run", scene, "--out", "file", "--set", "output.vtk={}"]);
+    assert!(e.contains("not a directory"), "{e}");
+    // Bad keys name themselves.
+    let e = cli(&["run", scene, "--set", "output.vtk={ every = 0 }"]);
+    assert!(e.contains("output.vtk.every"), "{e}");
+    let e = cli(&[
+        "run",
+        scene,
+        "--set",
+        "output.hdf5={ fields = [\"pressure\"] }",
+    ]);
+    assert!(e.contains("pressure"), "{e}");
+    let e = cli(&["run", scene, "--set", "output.per_speed=true"]);
+    assert!(e.contains("output.per_speed"), "{e}");
+    let e = cli(&[
+        "sweep",
+        data("sweep.toml").to_str().unwrap(),
+        "--set",
+        "output.hdf5={}",
+        "--set",
+        "output.per_speed=[1.55]",
+    ]);
+    assert!(e.contains("output.per_speed") && e.contains("1.55"), "{e}");
+    // A read-only output directory (unless running as root, who may write anyway).
+    let ro = tmp.path().join("ro");
+    std::fs::create_dir(&ro).unwrap();
+    let mut perm = std::fs::metadata(&ro).unwrap().permissions();
+    perm.set_readonly(true);
+    std::fs::set_permissions(&ro, perm).unwrap();
+    if std::fs::write(ro.join("probe"), "x").is_err() {
+        let e = cli(&["run", scene, "--out", "ro", "--set", "output.vtk={}"]);
+        assert!(e.contains("not writable"), "{e}");
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Happy paths
 
 #[test]
 fn check_prints_the_resolved_model() {
     let tmp = TempDir::new().unwrap();
-    let paper = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/paper/partial_rub.toml");
+    let paper = repo("scenes/paper/partial_rub.toml");
     let stdout = ok(tmp.path(), &["check", paper.to_str().unwrap()]);
     for w in [
         "massless",
@@ -666,7 +608,7 @@ fn orbits_and_spectra_at_a_chosen_rotor_node() {
     // circle of radius |Z0(node)| from the frequency-domain unbalance response, so the
     // non-dimensional extents are ±1 at each node, while |Z0| differs from node to node.
     let tmp = TempDir::new().unwrap();
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/fe/two_disk_two_stations.toml");
+    let scene = repo("scenes/fe/two_disk_two_stations.toml");
     let scene = scene.to_str().unwrap();
     let free = [
         "run.revolutions=60",
@@ -737,6 +679,153 @@ fn orbits_and_spectra_at_a_chosen_rotor_node() {
     );
     assert!(
         err.contains("output.node") && err.contains("Jeffcott"),
+        "{err}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Other commands
+
+/// The scene with torsion as the CLI sees it: `rubsim modal` lists the torsional mode in its
+/// table and CSV.
+#[test]
+fn cli_modal_reports_the_torsional_mode() {
+    let tmp = TempDir::new().unwrap();
+    let dir = tmp.path().join("modal");
+    let out = rubsim(
+        &repo(""),
+        &[
+            "modal",
+            "scenes/fe/paper_rotor_rub_torsion.toml",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("modes.csv")).unwrap();
+    let tors: Vec<&str> = csv.lines().filter(|l| l.contains(",torsional,")).collect();
+    assert!(!tors.is_empty(), "{csv}");
+    // First torsional mode: disk I_p on the shaft half (G J/0.2 m) in series with the
+    // 1000 N·m/rad coupling, ≈ √(274/0.00476) ≈ 240 rad/s minus the shaft's inertia share.
+    let w: f64 = tors[0].split(',').nth(1).unwrap().parse().unwrap();
+    assert!(w > 225.0 && w < 245.0, "{w}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("torsional"));
+}
+
+#[test]
+fn cli_mesh_check_stress_and_refine() {
+    if !need_gmsh() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let (ok, out, err) = in_repo(&[
+        "mesh",
+        "geometry/diaphragm.geo",
+        "--set",
+        "h=0.008",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("group `joint`")
+            && out.contains("conforming")
+            && out.contains("face the axis"),
+        "{out}"
+    );
+    let (ok, out, _) = in_repo(&[
+        "mesh",
+        "geometry/diaphragm.geo",
+        "--set",
+        "h=0.008",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert!(ok && out.contains("up to date, gmsh not run"), "{out}");
+    for scene in [
+        "rod2d",
+        "annulus",
+        "diaphragm",
+        "segmented_casing",
+        "segmented_casing_beams",
+        "labyrinth_seal",
+        "labyrinth_seal_step",
+        "bench_annulus",
+    ] {
+        let (ok, out, err) = in_repo(&["check", &format!("scenes/stators/{scene}.toml")]);
+        assert!(ok, "{scene}: {err}");
+        assert!(
+            out.contains("meshed stator (gmsh)") && !out.contains("mesher (no meshed stator)"),
+            "{scene}: {out}"
+        );
+    }
+    // Quadratic mesh with frames on 3-node lines (straight between their ends).
+    let (ok, out, err) = in_repo(&[
+        "check",
+        "scenes/stators/segmented_casing_beams.toml",
+        "--set",
+        "stator.0.order=2",
+    ]);
+    assert!(ok && out.contains("meshed stator"), "{err}");
+    let o = dir.path().join("stress");
+    let (ok, out, err) = in_repo(&[
+        "stress",
+        "scenes/stators/rod2d.toml",
+        "--speed",
+        "1.7",
+        "--set",
+        "run.revolutions=30",
+        "--set",
+        "run.transient_revolutions=10",
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("largest |stress|"), "{out}");
+    for f in [
+        "stress.csv",
+        "stress.png",
+        "strain.png",
+        "summary.json",
+        "stress_field_rod_1.7.png",
+    ] {
+        assert!(o.join(f).is_file(), "{f} missing");
+    }
+    let o = dir.path().join("refine");
+    let (ok, out, err) = in_repo(&[
+        "refine",
+        "scenes/stators/rod2d.toml",
+        "--key",
+        "stator.0.parameters.nx",
+        "--values",
+        "1,4",
+        "--set",
+        "run.revolutions=30",
+        "--set",
+        "run.transient_revolutions=10",
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("2 contact nodes") && out.contains("5 contact nodes"),
+        "{out}"
+    );
+    assert!(o.join("refine.csv").is_file() && o.join("refine_force.png").is_file());
+    // A misnamed group, through the command line: file and group named.
+    let (ok, _, err) = in_repo(&[
+        "check",
+        "scenes/stators/rod2d.toml",
+        "--set",
+        "stator.0.contact_group=\"tip\"",
+    ]);
+    assert!(
+        !ok && err.contains("rod-") && err.contains(".msh") && err.contains("`tip`"),
         "{err}"
     );
 }

@@ -1020,33 +1020,6 @@ fn modal_and_campbell_label_axial_and_torsional_modes() {
     }
 }
 
-/// The scene with torsion as the CLI sees it: `rubsim modal` lists the torsional mode in its
-/// table and CSV.
-#[test]
-fn cli_modal_reports_the_torsional_mode() {
-    let dir = std::env::temp_dir().join(format!("rubsim-torsion-modal-{}", std::process::id()));
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rubsim"))
-        .args(["modal", "scenes/fe/paper_rotor_rub_torsion.toml", "--out"])
-        .arg(&dir)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let csv = std::fs::read_to_string(dir.join("modes.csv")).unwrap();
-    let tors: Vec<&str> = csv.lines().filter(|l| l.contains(",torsional,")).collect();
-    assert!(!tors.is_empty(), "{csv}");
-    // First torsional mode: disk I_p on the shaft half (G J/0.2 m) in series with the
-    // 1000 N·m/rad coupling, ≈ √(274/0.00476) ≈ 240 rad/s minus the shaft's inertia share.
-    let w: f64 = tors[0].split(',').nth(1).unwrap().parse().unwrap();
-    assert!(w > 225.0 && w < 245.0, "{w}");
-    assert!(String::from_utf8_lossy(&out.stdout).contains("torsional"));
-    let _ = std::fs::remove_dir_all(&dir);
-}
-
 const PAPER_TORSION: &str = include_str!("../scenes/fe/paper_rotor_rub_torsion.toml");
 
 /// Frames every step: time, θ_z at the drive (node 0) and station (node 4), Σ p.

@@ -429,57 +429,6 @@ fn rerun_replaces_series_and_sweep_writes_chosen_speeds() {
     assert_eq!(pvd(&tmp.path().join("sw/speed_1.5/results.pvd")).len(), 65);
 }
 
-#[test]
-fn faults_are_reported_before_the_run() {
-    let tmp = tempfile::tempdir().unwrap();
-    let cli = |args: &[&str]| {
-        let o = Command::new(env!("CARGO_BIN_EXE_rubsim"))
-            .args(args)
-            .current_dir(tmp.path())
-            .output()
-            .unwrap();
-        assert!(!o.status.success(), "should fail: {args:?}");
-        String::from_utf8_lossy(&o.stderr).to_string()
-    };
-    let scene = data("single.toml");
-    let scene = scene.to_str().unwrap();
-    // The output path is a file.
-    std::fs::write(tmp.path().join("file"), "x").unwrap();
-    let e = cli(&["run", scene, "--out", "file", "--set", "output.vtk={}"]);
-    assert!(e.contains("not a directory"), "{e}");
-    // Bad keys name themselves.
-    let e = cli(&["run", scene, "--set", "output.vtk={ every = 0 }"]);
-    assert!(e.contains("output.vtk.every"), "{e}");
-    let e = cli(&[
-        "run",
-        scene,
-        "--set",
-        "output.hdf5={ fields = [\"pressure\"] }",
-    ]);
-    assert!(e.contains("pressure"), "{e}");
-    let e = cli(&["run", scene, "--set", "output.per_speed=true"]);
-    assert!(e.contains("output.per_speed"), "{e}");
-    let e = cli(&[
-        "sweep",
-        data("sweep.toml").to_str().unwrap(),
-        "--set",
-        "output.hdf5={}",
-        "--set",
-        "output.per_speed=[1.55]",
-    ]);
-    assert!(e.contains("output.per_speed") && e.contains("1.55"), "{e}");
-    // A read-only output directory (unless running as root, who may write anyway).
-    let ro = tmp.path().join("ro");
-    std::fs::create_dir(&ro).unwrap();
-    let mut perm = std::fs::metadata(&ro).unwrap().permissions();
-    perm.set_readonly(true);
-    std::fs::set_permissions(&ro, perm).unwrap();
-    if std::fs::write(ro.join("probe"), "x").is_err() {
-        let e = cli(&["run", scene, "--out", "ro", "--set", "output.vtk={}"]);
-        assert!(e.contains("not writable"), "{e}");
-    }
-}
-
 /// A ring stator is drawn as its contact circle, moved by the ring's displacement, and its pair
 /// line ends on the ring where it faces the section centre.
 #[test]
