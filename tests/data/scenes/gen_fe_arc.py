@@ -5,7 +5,7 @@
 
 N inner nodes (default 150) on an arc above the rotor, from 45° to 135°, at radius r + δ; N
 outer nodes (fixed) 10 mm further out; radial, circumferential and diagonal bars. Every inner
-node is a contact node. Used by the results tests (tests/results.rs, tests/post/) and the
+node is a contact node. Used by the output tests (tests/io.rs, tests/post/) and the
 output-overhead measurement in docs/PERFORMANCE.md.
 """
 import math

@@ -1,194 +1,26 @@
-//! VTK and HDF5 time series (issue 5): frame counts, values read back with `vtkio` and
-//! `hdf5-metno` against the run's own numbers, physical consistency of the stress recovery,
-//! streaming into the staging folder, reruns, per-speed sweeps and faults.
+//! VTK and HDF5 time series (issue 5): frame plans and the grid layout, frame counts, values
+//! read back with `vtkio` and `hdf5-metno` against the run's own numbers, physical consistency
+//! of the stress recovery, streaming into the staging folder, reruns, per-speed sweeps, the
+//! free-space check. (Faults in the output settings on the command line: `cli.rs`.)
 
-use rubsim::analysis::{Keep, RunSettings};
-use rubsim::model::Model;
-use rubsim::output::{OutDir, MANIFEST};
-use rubsim::results::{self, FramePlan, Layout};
-use rubsim::scene::{self, LoadedScene};
+mod common;
+
+use common::cli::command;
+use common::meshes::gmsh_wanted;
+use common::output::{array, cells, has_array, ints, points, pvd, run, run_scene, vectors3, vtu};
+use common::{data, file_model, repo, settings, NO_SETS};
+use rubsim::output::MANIFEST;
+use rubsim::results::{FramePlan, Layout};
 use rubsim::time::plan_steps;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-use vtkio::model::{Attribute, CellType, DataSet, IOBuffer, Piece, VertexNumbers, Vtk};
+use vtkio::model::CellType;
 
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/scenes")
-        .join(name)
-}
-
-fn load(name: &str, sets: &[&str]) -> (LoadedScene, Model) {
-    let ov: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let ls = scene::load(&data(name), &ov).expect("scene");
-    let model = Model::from_scene(&ls).expect("model");
-    (ls, model)
-}
-
-/// Runs one speed with the scene's time series into `dir` (through the output directory's
-/// staging folder and commit, as the CLI does).
-fn run(name: &str, sets: &[&str], dir: &Path) -> (rubsim::analysis::SpeedResults, Vec<PathBuf>) {
-    run_scene(&data(name), sets, None, dir)
-}
-
-/// [`run`] of the scene file `path` at ω/ω_n = `speed` (default: the scene's `run.speed_ratio`;
-/// give it for a sweep scene, as `rubsim run --speed` does).
-fn run_scene(
-    path: &Path,
-    sets: &[&str],
-    speed: Option<f64>,
-    dir: &Path,
-) -> (rubsim::analysis::SpeedResults, Vec<PathBuf>) {
-    let ov: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let ls = scene::load(path, &ov).expect("scene");
-    let model = Model::from_scene(&ls).expect("model");
-    let s = RunSettings::from_run(&ls.scene.run, "y");
-    let mut out = OutDir::prepare(dir).expect("prepare");
-    let staging = out.staging_dir().to_path_buf();
-    let speed = speed.unwrap_or_else(|| ls.scene.run.speed_ratio.expect("single speed"));
-    let prep = rubsim::analysis::prepare(&model, &s, speed).expect("prepare");
-    let mut sink = results::ResultsSink::for_output(
-        &model,
-        &prep,
-        &ls.scene.output,
-        &serde_json::to_string(&ls.scene).unwrap(),
-        &staging,
-        "",
-    )
-    .expect("run");
-    let mut sinks: Vec<&mut dyn rubsim::time::FrameSink> =
-        sink.iter_mut().map(|w| w as _).collect();
-    let r = prep
-        .run(
-            Keep {
-                orbit: true,
-                ..Keep::default()
-            },
-            &mut sinks,
-        )
-        .expect("run");
-    let names = sink.map_or(Ok(Vec::new()), |w| w.finish()).expect("run");
-    for n in &names {
-        out.adopt(n).expect("adopt");
-    }
-    (r, out.commit().expect("commit"))
-}
-
-fn vtu(path: &Path) -> vtkio::model::UnstructuredGridPiece {
-    let vtk = Vtk::import(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    match vtk.data {
-        DataSet::UnstructuredGrid { pieces, .. } => match pieces.into_iter().next() {
-            Some(Piece::Inline(p)) => *p,
-            _ => panic!("no inline piece"),
-        },
-        _ => panic!("not an unstructured grid"),
-    }
-}
-
-fn f64s(b: &IOBuffer) -> Vec<f64> {
-    match b {
-        IOBuffer::F64(v) => v.clone(),
-        other => panic!("not f64: {other:?}"),
-    }
-}
-
-/// True when a piece's data hold an array `name`.
-fn has_array(attrs: &[Attribute], name: &str) -> bool {
-    attrs
-        .iter()
-        .any(|a| matches!(a, Attribute::DataArray(d) if d.name == name))
-}
-
-fn array(attrs: &[Attribute], name: &str) -> Vec<f64> {
-    for a in attrs {
-        if let Attribute::DataArray(d) = a {
-            if d.name == name {
-                return f64s(&d.data);
-            }
-        }
-    }
-    panic!("no array `{name}`")
-}
-
-/// An integer array (`part`, `stator`, `index`) of a piece's data.
-fn ints(attrs: &[Attribute], name: &str) -> Vec<i64> {
-    for a in attrs {
-        if let Attribute::DataArray(d) = a {
-            if d.name == name {
-                return match &d.data {
-                    IOBuffer::U8(v) => v.iter().map(|x| *x as i64).collect(),
-                    IOBuffer::I32(v) => v.iter().map(|x| *x as i64).collect(),
-                    IOBuffer::I64(v) => v.clone(),
-                    other => panic!("`{name}` is not an integer array: {other:?}"),
-                };
-            }
-        }
-    }
-    panic!("no array `{name}`")
-}
-
-/// Points `[x, y, z]` of a `.vtu` piece.
-fn points(g: &vtkio::model::UnstructuredGridPiece) -> Vec<[f64; 3]> {
-    f64s(&g.points)
-        .chunks(3)
-        .map(|p| [p[0], p[1], p[2]])
-        .collect()
-}
-
-/// Cells `(type, point indices)` of a `.vtu` piece.
-fn cells(g: &vtkio::model::UnstructuredGridPiece) -> Vec<(CellType, Vec<usize>)> {
-    let VertexNumbers::XML {
-        connectivity,
-        offsets,
-    } = &g.cells.cell_verts
-    else {
-        panic!("legacy cell numbering in an XML file")
-    };
-    let mut start = 0;
-    g.cells
-        .types
-        .iter()
-        .zip(offsets)
-        .map(|(t, end)| {
-            let ids = connectivity[start..*end as usize]
-                .iter()
-                .map(|i| *i as usize)
-                .collect();
-            start = *end as usize;
-            (*t, ids)
-        })
-        .collect()
-}
-
-/// A `[f64; 3]` vector array of a piece's point or cell data.
-fn vectors3(attrs: &[Attribute], name: &str) -> Vec<[f64; 3]> {
-    array(attrs, name)
-        .chunks(3)
-        .map(|p| [p[0], p[1], p[2]])
-        .collect()
-}
-
-/// `(time, file)` of every `DataSet` line of a `.pvd`.
-fn pvd(path: &Path) -> Vec<(f64, String)> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .filter(|l| l.contains("<DataSet"))
-        .map(|l| {
-            let field = |k: &str| {
-                let a = l.find(&format!("{k}=\"")).unwrap() + k.len() + 2;
-                let b = a + l[a..].find('"').unwrap();
-                l[a..b].to_string()
-            };
-            (field("timestep").parse().unwrap(), field("file"))
-        })
-        .collect()
-}
+// ---------------------------------------------------------------------------------------------
+// Frame plan and layout.
 
 #[test]
 fn frame_plan_counts_and_window() {
-    let (ls, model) = load("single.toml", &[]);
-    let s = RunSettings::from_run(&ls.scene.run, "y");
+    let (ls, model) = file_model(&data("single.toml"), NO_SETS);
+    let s = settings(&ls);
     let case = model.case(1.7 * model.rotor.natural_frequency()).unwrap();
     let plan = plan_steps(&case, &s.step).unwrap();
     let spec = |every: Option<usize>, from: f64, to: Option<f64>| rubsim::scene::SeriesSpec {
@@ -212,7 +44,7 @@ fn frame_plan_counts_and_window() {
 
 #[test]
 fn layout_maps_every_element_and_pair() {
-    let (_, model) = load("fe_arc.toml", &[]);
+    let (_, model) = file_model(&data("fe_arc.toml"), NO_SETS);
     let case = model.case(1.7 * model.rotor.natural_frequency()).unwrap();
     let l = Layout::new(&model, &case);
     let s = &case.stators[0];
@@ -237,47 +69,7 @@ fn layout_places_3d_stators_at_their_axial_position() {
     if !gmsh_wanted() {
         return;
     }
-    let text = r#"
-[rotor]
-kind = "fe"
-[[rotor.shaft]]
-length = 1.5
-outer_diameter = 0.05
-elements = 6
-material = "steel"
-[[rotor.bearing]]
-node = 0
-stiffness = 1.0e6
-[[rotor.bearing]]
-node = 6
-stiffness = 1.0e6
-[[rotor.unbalance]]
-node = 2
-mass = 0.001
-radius = 0.05
-[[station]]
-name = "a"
-node = 2
-radius = 0.06
-[[station]]
-name = "b"
-node = 3
-radius = 0.06
-[[stator]]
-kind = "mesh"
-name = "seal"
-station = "a"
-stations = ["b"]
-axial_origin = 0.625
-geometry = "geometry/labyrinth_seal.geo"
-parameters = { teeth = 2, pitch = 0.25, tooth = 0.005, margin = 0.005, h = 0.012, ht = 0.006 }
-youngs_modulus = 70e9
-poisson_ratio = 0.33
-[run]
-speed_ratio = 1.0
-"#;
-    let ls = scene::parse(&data("two_station_seal.toml"), text, &[]).unwrap();
-    let model = Model::from_scene(&ls).unwrap();
+    let (_, model) = file_model(&data("two_station_seal.toml"), NO_SETS);
     let case = model.case(model.rotor.natural_frequency()).unwrap();
     let l = Layout::new(&model, &case);
     let s = &case.stators[0];
@@ -303,6 +95,9 @@ speed_ratio = 1.0
     }
     assert!(seen[0] > 0 && seen[1] > 0, "{seen:?}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// VTK frames.
 
 /// The rod: every written frame's bar axial force balances the contact force on the tip
 /// (massless stator in static equilibrium), the `.pvd` lists the frames with increasing times,
@@ -400,7 +195,7 @@ fn rerun_replaces_series_and_sweep_writes_chosen_speeds() {
         .starts_with(".rubsim-partial")));
 
     // A sweep writes only the speeds asked for, into sub-folders.
-    let sweep = Command::new(env!("CARGO_BIN_EXE_rubsim"))
+    let sweep = command(&repo(""))
         .args(["sweep", data("sweep.toml").to_str().unwrap(), "--out"])
         .arg(tmp.path().join("sw"))
         .args([
@@ -439,7 +234,7 @@ fn ring_stator_is_drawn_as_its_contact_circle() {
     let sets: &[&str] = &["output.vtk={ every = 16 }", "output.hdf5={}"];
     #[cfg(not(feature = "hdf5"))]
     let sets = &sets[..1];
-    let (_, model) = load("ring.toml", sets);
+    let (_, model) = file_model(&data("ring.toml"), sets);
     let case = model.case(1.7 * model.rotor.natural_frequency()).unwrap();
     let rubsim::model::Target::Ring {
         center0,
@@ -566,16 +361,6 @@ fn ring_stator_is_drawn_as_its_contact_circle() {
     }
 }
 
-/// Skips a test that may need gmsh when `RUBSIM_SKIP_GMSH` is set (as tests/mesh.rs does);
-/// otherwise the mesh comes from the cache in `meshes/` or gmsh.
-fn gmsh_wanted() -> bool {
-    if std::env::var("RUBSIM_SKIP_GMSH").is_ok() {
-        eprintln!("RUBSIM_SKIP_GMSH set: skipping a test with a meshed stator");
-        return false;
-    }
-    true
-}
-
 /// VTK's edges of the 10-node tetrahedron, mid-edge nodes 4…9 (`VTK_QUADRATIC_TETRA`).
 const VTK_TET10_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
 
@@ -609,7 +394,7 @@ fn tetrahedral_stator_cells_in_vtk_and_hdf5() {
         #[cfg(not(feature = "hdf5"))]
         sets.pop();
         sets.extend(extra);
-        let (_, model) = load("seal3d.toml", &sets);
+        let (_, model) = file_model(&data("seal3d.toml"), &sets);
         let case = model.case(model.rotor.natural_frequency()).unwrap();
         let s = &case.stators[0];
         let md = s.mesh.as_ref().unwrap();
@@ -749,17 +534,14 @@ fn tetrahedral_stator_cells_in_vtk_and_hdf5() {
     }
 }
 
+// ---------------------------------------------------------------------------------------------
+// HDF5 series.
+
 #[cfg(feature = "hdf5")]
 mod hdf5_file {
     use super::*;
+    use crate::common::output::read;
     use hdf5_metno as h5;
-
-    fn read<T: h5::H5Type + Clone>(f: &h5::File, name: &str) -> Vec<T> {
-        f.dataset(name)
-            .unwrap_or_else(|e| panic!("{name}: {e}"))
-            .read_raw::<T>()
-            .unwrap()
-    }
 
     /// The complete time series of the meshed arc: rotor DOFs equal the analysed orbit, the
     /// VTKHDF steps address every frame, the arc's nodes are in equilibrium with the bar forces
@@ -879,8 +661,7 @@ mod hdf5_file {
         use rubsim::results::{THETA_Z, U_Z};
         let tmp = tempfile::tempdir().unwrap();
         let dir = tmp.path().join("out");
-        let scene =
-            Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/fe/paper_rotor_rub_torsion.toml");
+        let scene = repo("scenes/fe/paper_rotor_rub_torsion.toml");
         let sets = [
             "run.revolutions=20",
             "run.transient_revolutions=10",
@@ -889,9 +670,7 @@ mod hdf5_file {
             "output.hdf5={ every = 1, from_revolution = 10 }",
         ];
         let speed = 1.7;
-        let ov: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-        let ls = scene::load(&scene, &ov).unwrap();
-        let model = Model::from_scene(&ls).unwrap();
+        let (_, model) = file_model(&scene, &sets);
         let case = model.case(speed * model.rotor.natural_frequency()).unwrap();
         let layout = Layout::new(&model, &case);
         run_scene(&scene, &sets, Some(speed), &dir);
