@@ -328,34 +328,6 @@ fn paper_regimes_at_pinned_speeds_and_no_penetration() {
 }
 
 #[test]
-fn observed_orders_are_one_and_two() {
-    let text = PAPER.replace("[run.sweep]\nfrom = 0.5\nto = 6.0\nstep = 0.1", "");
-    let (ls, model) = load(
-        &text,
-        &[
-            "run.speed_ratio=1.7",
-            "run.revolutions=60",
-            "run.transient_revolutions=30",
-        ],
-    );
-    let s = settings(&ls);
-    let c = analysis::convergence(&model, &s, 1.7, &[0, 1, 2, 3, 4], 9, 6).unwrap();
-    let order = |n: &str| c.orders.iter().find(|o| o.0 == n).unwrap().1;
-    let fi = order("forward_increment");
-    let co = order("collocated");
-    assert!((fi - 1.0).abs() < 0.15, "forward increment order {fi}");
-    assert!((co - 2.0).abs() < 0.3, "collocated order {co}");
-    // Absolute bound on the finest level (scikit-fem style).
-    let finest = c
-        .points
-        .iter()
-        .filter(|p| p.integrator == "collocated")
-        .map(|p| p.orbit_err)
-        .fold(f64::INFINITY, f64::min);
-    assert!(finest < 1e-3, "collocated finest error {finest}");
-}
-
-#[test]
 fn extreme_cases_run_to_the_end() {
     let text = PAPER.replace("[run.sweep]\nfrom = 0.5\nto = 6.0\nstep = 0.1", "");
     for ov in [
