@@ -296,38 +296,6 @@ fn energy_balance_closes() {
 }
 
 #[test]
-fn paper_regimes_at_pinned_speeds_and_no_penetration() {
-    let (_, model) = load(PAPER, &[]);
-    for kind in ["collocated", "forward_increment"] {
-        let (ls2, _) = load(PAPER, &[&format!("run.integrator=\"{kind}\"")]);
-        let mut s = settings(&ls2);
-        s.error_estimate = false;
-        if kind == "forward_increment" {
-            s.step.harmonics = 16.0;
-        }
-        for (nu, period) in [
-            (1.0, 1),
-            (1.7, 1),
-            (2.0, 1),
-            (2.8, 2),
-            (3.5, 2),
-            (4.5, 3),
-            (5.5, 3),
-        ] {
-            let r = analysis::run_speed(&model, &s, nu, Keep::default()).unwrap();
-            assert_eq!(r.period, period, "{kind} ν = {nu}");
-            let clearance = r.clearances[0];
-            assert!(
-                r.stats.min_gap >= -1e-9 * clearance,
-                "{kind} ν = {nu}: penetration {:e} m (clearance {clearance:e})",
-                r.stats.min_gap
-            );
-            assert!(r.stats.contact_steps > 0);
-        }
-    }
-}
-
-#[test]
 fn extreme_cases_run_to_the_end() {
     let text = PAPER.replace("[run.sweep]\nfrom = 0.5\nto = 6.0\nstep = 0.1", "");
     for ov in [
