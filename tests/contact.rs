@@ -1,29 +1,23 @@
-//! The stator seams: general FE stators, stators with mass, several nodes in contact at once.
+//! Runs with contact beyond the closed forms: every kind of stator (the rod, the rod written as
+//! a general FE stator, a rod and a ring with mass, an arc of nodes several of which touch at
+//! once) with both integrators keeps the gap closed and agrees with its equivalent; the paper's
+//! case under extreme parameters runs to the end; a step above the stability limit is refused.
 
-use rubsim::analysis::{self, Keep, RunSettings};
-use rubsim::model::Model;
-use rubsim::scene;
-use std::path::Path;
+mod common;
 
-const PAPER: &str = include_str!("../scenes/paper/partial_rub.toml");
+use common::scenes::{paper_single, paper_single_si, paper_with_stator};
+use common::{run_speed, scene_model, settings};
+use rubsim::analysis::{self, Keep, SpeedResults};
 
-fn base() -> String {
-    PAPER.replace("[run.sweep]\nfrom = 0.5\nto = 6.0\nstep = 0.1", "")
-}
+// ---------------------------------------------------------------------------------------------
+// Stators.
 
-/// The base scene with the rod's clearance given in metres.
-fn base_si() -> String {
-    base().replace("clearance_nd = 0.6 ", "clearance = 1.2e-4")
-}
-
-fn run(text: &str, ov: &[&str], nu: f64) -> analysis::SpeedResults {
+/// One speed ω/ω_n = `nu` of `text` with the overrides `ov`, without the 2Δt companion run.
+fn run(text: &str, ov: &[&str], nu: f64) -> SpeedResults {
     let mut o: Vec<String> = ov.iter().map(|s| s.to_string()).collect();
     o.push("run.error_estimate=false".into());
     o.push(format!("run.speed_ratio={nu}"));
-    let ls = scene::parse(Path::new("t.toml"), text, &o).expect("scene");
-    let model = Model::from_scene(&ls).expect("model");
-    let s = RunSettings::from_run(&ls.scene.run, "y");
-    analysis::run_speed(&model, &s, nu, Keep::default()).expect("run")
+    run_speed(text, &o, nu)
 }
 
 /// The paper's rod written as a general FE stator: 3 bar elements, base fixed, lateral DOFs
@@ -43,15 +37,12 @@ fn fe_rod(clearance: f64, density: f64) -> String {
         nodes.join(", "),
         els.join(", ")
     );
-    let t = base();
-    let a = t.find("[[stator]]").unwrap();
-    let b = t.find("[run]").unwrap();
-    format!("{}{}\n{}", &t[..a], stator, &t[b..])
+    paper_with_stator(&stator)
 }
 
 #[test]
 fn fe_stator_reproduces_the_rod() {
-    let rod = run(&base_si(), &["stator.0.elements=3"], 1.7);
+    let rod = run(&paper_single_si(), &["stator.0.elements=3"], 1.7);
     let fe = run(&fe_rod(1.2e-4, 0.0), &[], 1.7);
     for i in 0..4 {
         assert!(
@@ -70,12 +61,12 @@ fn light_stator_with_mass_approaches_the_massless_one() {
     // the massless rod (its axial modes are far above the rotor's).
     let fi = "run.integrator=\"forward_increment\"";
     let massless = run(
-        &base_si(),
+        &paper_single_si(),
         &["stator.0.elements=3", fi, "run.harmonics=16"],
         1.7,
     );
     let massive = run(
-        &base_si(),
+        &paper_single_si(),
         &[
             "stator.0.elements=3",
             "stator.0.density=20.0",
@@ -98,11 +89,8 @@ fn light_stator_with_mass_approaches_the_massless_one() {
 
 #[test]
 fn ring_with_mass_runs_and_does_not_penetrate() {
-    let t = base();
-    let a = t.find("[[stator]]").unwrap();
-    let b = t.find("[run]").unwrap();
     let ring = "[[stator]]\nkind = \"ring\"\nname = \"ring\"\nstation = \"disk\"\nclearance_nd = 0.8\nstiffness_ratio = 25.0\nmass = 0.5\ndamping = 50.0\n";
-    let text = format!("{}{}\n{}", &t[..a], ring, &t[b..]);
+    let text = paper_with_stator(ring);
     let r = run(&text, &["run.integrator=\"forward_increment\""], 1.2);
     assert!(r.stats.contact_steps > 0);
     assert!(
@@ -139,10 +127,7 @@ fn several_nodes_in_contact_at_once() {
         els.join(", "),
         contact.join(", ")
     );
-    let t = base();
-    let a = t.find("[[stator]]").unwrap();
-    let b = t.find("[run]").unwrap();
-    let text = format!("{}{}\n{}", &t[..a], stator, &t[b..]);
+    let text = paper_with_stator(&stator);
     for kind in ["collocated", "forward_increment"] {
         let r = run(&text, &[&format!("run.integrator=\"{kind}\"")], 1.7);
         assert!(
@@ -169,8 +154,8 @@ fn collocated_run_records_the_forces_of_a_stator_with_mass() {
     col.push("run.integrator=\"collocated\"");
     let mut fi = massive.to_vec();
     fi.push("run.integrator=\"forward_increment\"");
-    let c = run(&base_si(), &col, 1.7);
-    let f = run(&base_si(), &fi, 1.7);
+    let c = run(&paper_single_si(), &col, 1.7);
+    let f = run(&paper_single_si(), &fi, 1.7);
     assert!(c.stats.contact_steps > 0);
     assert!(c.contact_force_max_nd > 0.0, "{}", c.contact_force_max_nd);
     assert_eq!(c.extents_nd, f.extents_nd);
@@ -182,4 +167,60 @@ fn collocated_run_records_the_forces_of_a_stator_with_mass() {
     );
     assert_eq!(c.contact_fraction, f.contact_fraction);
     assert_eq!(c.stats.contact_steps, f.stats.contact_steps);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The paper's case at the limits.
+
+#[test]
+fn extreme_cases_run_to_the_end() {
+    let text = paper_single();
+    for ov in [
+        vec!["stator.0.stiffness_ratio=1e4", "run.speed_ratio=1.7"],
+        vec!["stator.0.clearance_nd=0.05", "run.speed_ratio=1.7"],
+        vec!["station.0.friction=0.5", "run.speed_ratio=1.7"],
+        vec!["rotor.damping_ratio=0.01", "run.speed_ratio=1.7"],
+        vec!["run.speed_ratio=10.0"],
+    ] {
+        for kind in ["collocated", "forward_increment"] {
+            let mut o = ov.clone();
+            let k = format!("run.integrator=\"{kind}\"");
+            o.push(&k);
+            o.push("run.error_estimate=false");
+            let (ls, model) = scene_model(&text, &o);
+            let s = settings(&ls);
+            let r = analysis::run_speed(
+                &model,
+                &s,
+                ls.scene.run.speed_ratio.unwrap(),
+                Keep::default(),
+            )
+            .unwrap_or_else(|e| panic!("{ov:?} {kind}: {e}"));
+            let clearance = r.clearances[0];
+            assert!(
+                r.extents_nd
+                    .iter()
+                    .all(|v| v.is_finite() && v.abs() < 100.0),
+                "{ov:?} {kind}: {:?}",
+                r.extents_nd
+            );
+            assert!(
+                r.stats.min_gap >= -1e-8 * clearance,
+                "{ov:?} {kind}: gap {:e}",
+                r.stats.min_gap
+            );
+            assert!(r.amp_1x_nd.is_finite());
+        }
+    }
+}
+
+#[test]
+fn unstable_step_is_refused_with_the_limit() {
+    let text = paper_single();
+    let (ls, model) = scene_model(&text, &["run.speed_ratio=1.7", "run.dt=1e-2"]);
+    let s = settings(&ls);
+    let e = analysis::run_speed(&model, &s, 1.7, Keep::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("stability limit"), "{e}");
 }
