@@ -11,8 +11,8 @@ mod common;
 use common::fe::{block_frequencies, fe};
 use common::scenes::{full_rotor, FRISWELL, GOLDEN_ROTOR, PAPER_FE, PAPER_TORSION};
 use common::{model, parse, run_speed, NO_SETS, SHORT_RUN};
-use rubsim::model::Rotor;
 use rubsim::analysis::rotordyn::{self, Whirl};
+use rubsim::model::Rotor;
 use rubsim::scene;
 use std::path::Path;
 

@@ -7,6 +7,7 @@ mod common;
 
 use common::scenes::paper_single;
 use common::{case_and_plan, file_model, repo, scene_model, settings};
+use rubsim::linalg::{Cholesky, Csc};
 use rubsim::time::Scheme;
 use rubsim::time::{integrate, Initial};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -125,15 +126,10 @@ fn allocations_after_warm_up(c: &WarmCase) -> (usize, usize, usize) {
         "run.transient_revolutions=1".to_string(),
         "run.error_estimate=false".to_string(),
     ];
-    let ls = scene::load(Path::new(c.scene), &ov).unwrap();
-    let model = Model::from_scene(&ls).unwrap();
-    let case = model
-        .case(c.speed * model.rotor.natural_frequency())
-        .unwrap();
-    let st = rubsim::analysis::RunSettings::from_run(&ls.scene.run, "y").step;
-    let plan = plan_steps(&case, &st).unwrap();
-    let mut stepper =
-        rubsim::time::Stepper::new(&case, st.integrator, &plan, Initial::default()).unwrap();
+    let (ls, model) = file_model(&repo(c.scene), &ov);
+    let scheme = settings(&ls).step.integrator;
+    let (case, plan) = case_and_plan(&ls, &model, c.speed, scheme);
+    let mut stepper = rubsim::time::Stepper::new(&case, scheme, &plan, Initial::default()).unwrap();
     let mut sink = ReadingSink {
         every: c.every,
         stators: case.stators.len(),
@@ -185,4 +181,48 @@ fn steps_after_warm_up_allocate_nothing() {
             "{scene} with a sink every {every} steps: {n} allocations in {steps} steps after warm-up ({frames} frames)"
         );
     }
+}
+
+/// Allocations made on this thread by `f`.
+fn allocations(f: impl FnOnce()) -> usize {
+    let before = allocs();
+    COUNTING.with(|c| c.set(true));
+    f();
+    COUNTING.with(|c| c.set(false));
+    allocs() - before
+}
+
+/// Repeated Cholesky solves with caller-owned scratch allocate nothing (the massless-stator
+/// compliance solves them inside the time loop), where the one-off solve does.
+#[test]
+fn cholesky_solves_with_scratch_do_not_allocate() {
+    // A 2-D grid Laplacian plus identity: symmetric positive definite with fill-in.
+    let (w, h) = (12, 10);
+    let n = w * h;
+    let mut t = Vec::new();
+    for j in 0..h {
+        for i in 0..w {
+            let p = j * w + i;
+            t.push((p, p, 5.0));
+            if i + 1 < w {
+                t.extend([(p, p + 1, -1.0), (p + 1, p, -1.0)]);
+            }
+            if j + 1 < h {
+                t.extend([(p, p + w, -1.0), (p + w, p, -1.0)]);
+            }
+        }
+    }
+    let ch = Cholesky::new(&Csc::from_triplets(n, n, &t)).unwrap();
+    let mut scratch = ch.solve_scratch(4);
+    let mut b: Vec<f64> = (0..4 * n).map(|i| (i as f64 * 0.7).sin()).collect();
+    let mut one: Vec<f64> = b[..n].to_vec();
+    let a = allocations(|| {
+        for _ in 0..50 {
+            ch.solve_in_place_with(&mut b, &mut scratch);
+            ch.solve_in_place_with(&mut one, &mut scratch);
+        }
+    });
+    assert_eq!(a, 0, "{a} allocations in 100 solves");
+    // The one-off solve does allocate (its scratch): the counter sees faer's buffers.
+    assert!(allocations(|| ch.solve_in_place(&mut one)) > 0);
 }

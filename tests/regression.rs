@@ -8,8 +8,8 @@ mod common;
 use common::fe::{fe, sub};
 use common::scenes::{full_rotor, GOLDEN_ROTOR, PAPER, PAPER_FE};
 use common::{model, repo, run_speed, scene_model, settings, NO_SETS, SHORT_RUN};
+use rubsim::analysis::rotordyn;
 use rubsim::analysis::{self, Keep};
-use rubsim::rotordyn;
 use std::f64::consts::PI;
 
 /// The golden file of the assembled lateral matrices.

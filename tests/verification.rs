@@ -16,12 +16,12 @@ use common::scenes::{
     unit_rotor_in_ring, FRISWELL, PAPER_TORSION,
 };
 use common::{case_and_plan, model, run_speed, scene_model, settings, NO_SETS, SHORT_RUN};
+use rubsim::analysis::rotordyn::{self, Whirl};
 use rubsim::analysis::{self, Keep};
 use rubsim::element::solid2d::{self, Elastic2, Plane};
 use rubsim::linalg::Csc;
 use rubsim::mesh::{CellKind, Mesh};
 use rubsim::model::{Model, Rotor};
-use rubsim::rotordyn::{self, Whirl};
 use rubsim::scene::LoadedScene;
 use rubsim::time::{integrate, Initial, Record, Scheme, StepPlan};
 use std::f64::consts::PI;

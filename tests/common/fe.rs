@@ -1,10 +1,10 @@
 //! FE rotor helpers: the FE model inside a rotor, sub-blocks of sparse matrices and their
 //! natural frequencies.
 
+use rubsim::analysis::rotordyn;
 use rubsim::linalg::Csc;
 use rubsim::model::fe_rotor::FeRotor;
 use rubsim::model::{FeModel, Rotor};
-use rubsim::rotordyn;
 
 /// The FE model of an FE rotor (panics for a Jeffcott rotor).
 pub fn fe(r: &Rotor) -> &FeModel {

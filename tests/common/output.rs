@@ -27,20 +27,29 @@ pub fn run_scene(
     let s = settings(&ls);
     let mut out = OutDir::prepare(dir).expect("prepare");
     let staging = out.staging_dir().to_path_buf();
-    let (r, names) = results::run_speed(
+    let speed = speed.unwrap_or_else(|| ls.scene.run.speed_ratio.expect("single speed"));
+    let prep = rubsim::analysis::prepare(&model, &s, speed).expect("prepare");
+    let mut sink = results::ResultsSink::for_output(
         &model,
-        &s,
-        speed.unwrap_or_else(|| ls.scene.run.speed_ratio.expect("single speed")),
-        Keep {
-            orbit: true,
-            ..Keep::default()
-        },
+        &prep,
         &ls.scene.output,
         &serde_json::to_string(&ls.scene).unwrap(),
         &staging,
         "",
     )
     .expect("run");
+    let mut sinks: Vec<&mut dyn rubsim::time::FrameSink> =
+        sink.iter_mut().map(|w| w as _).collect();
+    let r = prep
+        .run(
+            Keep {
+                orbit: true,
+                ..Keep::default()
+            },
+            &mut sinks,
+        )
+        .expect("run");
+    let names = sink.map_or(Ok(Vec::new()), |w| w.finish()).expect("run");
     for n in &names {
         out.adopt(n).expect("adopt");
     }
