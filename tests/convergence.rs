@@ -53,7 +53,7 @@ fn observed_orders_are_one_and_two() {
 // ---------------------------------------------------------------------------------------------
 // Shaft elements.
 
-/// Closed form of a simply supported Timoshenko beam (ORACLES.md):
+/// Closed form of a simply supported Timoshenko beam (docs/ORACLES.md §8):
 /// Ω_n = ρAL⁴ω²/(EI) = [(g+j)λ² + 1 − √((g−j)²λ⁴ + 2(g+j)λ² + 1)] / (2gj), λ = nπ.
 fn ss_closed_form(mode: usize, shear: bool) -> f64 {
     let (l, d, e, nu, rho) = (2.0_f64, 0.2_f64, 2.1e11, 0.3_f64, 7800.0);

@@ -1,4 +1,4 @@
-//! Verification against independent references: closed-form solutions (ORACLES.md) and
+//! Verification against independent references: closed-form solutions (docs/ORACLES.md) and
 //! published numbers. The Jeffcott rotor with contact (unbalance response, full annular rub,
 //! dry-whip threshold, energy balance), the Timoshenko FE rotor (matrices, Friswell's example,
 //! the Jeffcott limit, torsion, mass and inertia, friction torque, modal damping) and the 2-D
@@ -28,7 +28,7 @@ use std::f64::consts::PI;
 use std::path::Path;
 
 // ---------------------------------------------------------------------------------------------
-// Jeffcott rotor with contact (ORACLES.md).
+// Jeffcott rotor with contact (docs/ORACLES.md §2–4).
 
 #[test]
 fn no_contact_response_matches_z0() {

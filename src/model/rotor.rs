@@ -44,7 +44,7 @@ pub struct RotorBody {
     /// R loads it with the torque `τ_z = R (n × F)_z = −R μ p (n × a)_z` (`−R μ p` for Ω > 0).
     /// Uncoupled from the lateral DOFs in M, C (including Ω G) and K. The twist does not turn
     /// the friction force: the contact keeps slipping along `a` because the sliding speed
-    /// `Ω R + R θ̇_z` stays ≈ `Ω R` (|θ̇_z| ≪ Ω; 2e-3 Ω measured in `tests/fe_rotor.rs`).
+    /// `Ω R + R θ̇_z` stays ≈ `Ω R` (|θ̇_z| ≪ Ω; 2e-3 Ω measured in `tests/verification.rs`).
     pub node_torsion: Vec<Option<usize>>,
     /// Axial position z of each node (m); the Jeffcott rotor's single node is at 0.
     pub node_z: Vec<f64>,
@@ -180,7 +180,7 @@ mod tests {
         assert!((j.stiffness - 73631.0).abs() < 1.0, "{}", j.stiffness);
         assert!((j.mass - 2.6465).abs() < 1e-3, "{}", j.mass);
         assert!((j.damping_ratio() - 0.2).abs() < 1e-12);
-        // |Z0|/e peak for ξ = 0.2 is 2.5516 at ν = 1.0426 (ORACLES.md).
+        // |Z0|/e peak for ξ = 0.2 is 2.5516 at ν = 1.0426 (docs/ORACLES.md §1).
         let e = 0.008 * 0.045 / j.mass;
         let wn = j.natural_frequency();
         let peak = j.z0(1.0426 * wn) / e;
