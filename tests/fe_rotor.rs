@@ -129,13 +129,13 @@ fn bad_axial_torsion_input_names_the_item() {
     }
     // The model layer refuses the same on its own (library users who skip the scene).
     use rubsim::model::fe_rotor::{FeRotor, GroundSpring};
-    use rubsim::resolve::rotor::data_from_spec;
+    use rubsim::resolve::rotor::fe_rotor;
     let ls = parse(&full_rotor(true, true), NO_SETS);
     let spec = match &ls.scene.rotor {
         rubsim::scene::RotorSpec::Fe(f) => f.clone(),
         _ => unreachable!(),
     };
-    let good = data_from_spec(&spec);
+    let good = fe_rotor(&ls, &spec).unwrap();
     assert!(FeRotor::build(&good).is_ok());
     let mut d = good.clone();
     d.torsional_supports.clear();

@@ -51,7 +51,7 @@ pub fn resolve(ls: &LoadedScene) -> Result<RotorInput, SceneError> {
     Ok(match &s.rotor {
         RotorSpec::Jeffcott(j) => RotorInput::Jeffcott(jeffcott(ls, j)?),
         RotorSpec::Fe(f) => RotorInput::Fe(Box::new(FeRotorInput {
-            data: data_from_spec(f),
+            data: fe_rotor(ls, f)?,
             gyroscopic: f.gyroscopic,
             reference_node: s
                 .stations
@@ -233,30 +233,48 @@ pub struct FeRotorData {
 
 /// The data of an FE rotor spec: shaft segments cut into equal elements (material by name,
 /// overridden by the given values), disks from their inertias or geometry, bearing tables row
-/// by row, unbalances as `m_u e` (kg·m) and phase (rad). The spec is taken as checked by
-/// [`crate::scene::validate()`] (a segment without a material and without `youngs_modulus`
-/// or `density` gets NaN there, which the FE rotor's element checks do not catch).
-pub fn data_from_spec(s: &FeRotorSpec) -> FeRotorData {
+/// by row, unbalances as `m_u e` (kg·m) and phase (rad).
+///
+/// # Errors
+/// A shaft segment whose material is unknown, or that has neither a material nor both
+/// `youngs_modulus` and `density` (what [`crate::scene::validate()`] refuses too, with the
+/// same key and line).
+pub fn fe_rotor(ls: &LoadedScene, s: &FeRotorSpec) -> Result<FeRotorData, SceneError> {
     let mut elements = Vec::new();
-    for seg in &s.shaft {
-        let named = seg.material.as_deref().and_then(material);
-        let (e0, nu0, rho0) = named.unwrap_or((f64::NAN, 0.3, f64::NAN));
+    for (i, seg) in s.shaft.iter().enumerate() {
+        let named = match seg.material.as_deref() {
+            Some(m) => Some(material(m).ok_or_else(|| {
+                ls.invalid(
+                    &format!("rotor.shaft.{i}.material"),
+                    format!("unknown material `{m}` (known: steel, aluminium, titanium; or give youngs_modulus, poisson, density)"),
+                )
+            })?),
+            None => None,
+        };
+        let (Some(youngs_modulus), Some(density)) = (
+            seg.youngs_modulus.or(named.map(|m| m.0)),
+            seg.density.or(named.map(|m| m.2)),
+        ) else {
+            return Err(ls.invalid(
+                &format!("rotor.shaft.{i}"),
+                "give `material` or `youngs_modulus` and `density`",
+            ));
+        };
         let section = ShaftSection {
             length: seg.length / seg.elements as f64,
             outer_diameter: seg.outer_diameter,
             inner_diameter: seg.inner_diameter,
-            youngs_modulus: seg.youngs_modulus.unwrap_or(e0),
-            poisson: seg.poisson.unwrap_or(nu0),
-            density: seg.density.unwrap_or(rho0),
+            youngs_modulus,
+            poisson: seg.poisson.or(named.map(|m| m.1)).unwrap_or(0.3),
+            density,
             shear: s.shear,
             rotary_inertia: s.rotary_inertia,
         };
         elements.extend(std::iter::repeat_n(section, seg.elements));
     }
-    let disks = s
-        .disk
-        .iter()
-        .map(|d| match d.mass {
+    let mut disks = Vec::with_capacity(s.disk.len());
+    for (i, d) in s.disk.iter().enumerate() {
+        disks.push(match d.mass {
             Some(m) => Disk {
                 node: d.node,
                 mass: m,
@@ -266,18 +284,17 @@ pub fn data_from_spec(s: &FeRotorSpec) -> FeRotorData {
             None => {
                 let rho = d
                     .density
-                    .or_else(|| d.material.as_deref().and_then(material).map(|m| m.2))
-                    .unwrap_or(0.0);
-                Disk::from_geometry(
-                    d.node,
-                    d.outer_diameter.unwrap_or(0.0),
-                    d.bore,
-                    d.width.unwrap_or(0.0),
-                    rho,
-                )
+                    .or_else(|| d.material.as_deref().and_then(material).map(|m| m.2));
+                let (Some(od), Some(w), Some(rho)) = (d.outer_diameter, d.width, rho) else {
+                    return Err(ls.invalid(
+                        &format!("rotor.disk.{i}"),
+                        "geometry needs `outer_diameter`, `width` and `density` or `material`",
+                    ));
+                };
+                Disk::from_geometry(d.node, od, d.bore, w, rho)
             }
-        })
-        .collect();
+        });
+    }
     let bearings = s.bearing.iter().map(bearing).collect();
     let springs = |v: &[GroundSpringSpec]| -> Vec<GroundSpring> {
         v.iter()
@@ -288,7 +305,7 @@ pub fn data_from_spec(s: &FeRotorSpec) -> FeRotorData {
             })
             .collect()
     };
-    FeRotorData {
+    Ok(FeRotorData {
         axial: s.axial,
         torsion: s.torsion,
         axial_supports: springs(&s.axial_support),
@@ -308,7 +325,7 @@ pub fn data_from_spec(s: &FeRotorSpec) -> FeRotorData {
             max_frequency: m.max_frequency.unwrap_or(f64::INFINITY),
             modes: m.modes.unwrap_or(usize::MAX),
         }),
-    }
+    })
 }
 
 /// A bearing's coefficient tables, row by row: `kxx`/`kyy` (`cxx`/`cyy`) where given, else the
