@@ -95,65 +95,27 @@ pub fn mesh(a: &MeshArgs) -> Result<()> {
 
 /// Prints nodes, cells per kind, groups, and checks conformity and the contact boundary.
 fn report(m: &Mesh) -> Result<()> {
-    let mut kinds: BTreeMap<&str, usize> = BTreeMap::new();
-    for b in &m.blocks {
-        *kinds.entry(b.kind.name()).or_default() += b.len();
-    }
-    let (lo, hi) = m.nodes.iter().fold(
-        ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-        |(mut lo, mut hi), p| {
-            for i in 0..3 {
-                lo[i] = lo[i].min(p[i]);
-                hi[i] = hi[i].max(p[i]);
-            }
-            (lo, hi)
-        },
-    );
+    let s = m.summary();
+    let [lo, hi] = s.bounds;
     println!(
         "  {}-D mesh, {} nodes, bounding box [{:.4e}, {:.4e}] × [{:.4e}, {:.4e}] × [{:.4e}, {:.4e}] m",
-        m.dim(),
-        m.nodes.len(),
-        lo[0],
-        hi[0],
-        lo[1],
-        hi[1],
-        lo[2],
-        hi[2]
+        s.dim, s.nodes, lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
     );
-    for (k, n) in &kinds {
+    for (k, n) in &s.cells {
         println!("  {n} × {k}");
     }
-    for g in &m.groups {
-        let nodes = m.group_nodes(&g.name).map(|v| v.len()).unwrap_or(0);
-        let cells: usize = m.group_blocks(g).map(|b| b.len()).sum();
+    for g in &s.groups {
         println!(
             "  group `{}` (dim {}, tag {}): {} entities, {} elements, {} nodes",
-            g.name,
-            g.dim,
-            g.tag,
-            g.entities.len(),
-            cells,
-            nodes
+            g.name, g.dim, g.tag, g.entities, g.elements, g.nodes
         );
     }
     m.check_conforming()?;
     println!("  conforming: no coincident or hanging nodes");
-    if m.groups.iter().any(|g| g.name == "stator_contact") {
-        let n = m.boundary_normals("stator_contact")?;
-        let rho: Vec<f64> = n
-            .iter()
-            .map(|(i, _)| m.nodes[*i][0].hypot(m.nodes[*i][1]))
-            .collect();
-        let inward = n
-            .iter()
-            .filter(|(i, v)| v[0] * m.nodes[*i][0] + v[1] * m.nodes[*i][1] < 0.0)
-            .count();
+    if let Some(b) = m.boundary_summary("stator_contact")? {
         println!(
             "  stator_contact: {} nodes at radius {:.6e} … {:.6e} m from the axis; {} of them face the axis (outward normal pointing inward)",
-            n.len(),
-            rho.iter().cloned().fold(f64::INFINITY, f64::min),
-            rho.iter().cloned().fold(0.0, f64::max),
-            inward
+            b.nodes, b.radius[0], b.radius[1], b.facing_axis
         );
     }
     Ok(())

@@ -19,11 +19,15 @@
 //! which `mshio` does not parse.
 //!
 //! The reader lives in `msh`, the topology (group nodes, facets, outward normals, the
-//! conformity check) in `topology`; both add methods to [`Mesh`].
+//! conformity check) in `topology`, the report of a mesh ([`Mesh::summary`]) in `summary`;
+//! they add methods to [`Mesh`].
 
 pub mod gmsh;
 mod msh;
+mod summary;
 mod topology;
+
+pub use summary::{BoundarySummary, GroupSummary, MeshSummary};
 
 use crate::error::MeshError;
 use std::path::PathBuf;
