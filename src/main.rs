@@ -3,12 +3,9 @@
 mod cli;
 
 fn main() {
-    // Die quietly on a closed pipe (`rubsim … | head`) instead of panicking in println!.
-    // SAFETY: restoring the default disposition of SIGPIPE before any thread is started.
-    #[cfg(unix)]
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
-    }
+    // SIGPIPE stays ignored (Rust's default): a closed stdout (`rubsim sweep … | head -1`)
+    // must not kill a run before it commits its results; the command line's `println!`
+    // ignores the EPIPE instead (see `cli`).
     if let Err(e) = cli::run() {
         // `{e:#}` would repeat a cause its parent already quotes (e.g. the I/O error of
         // "cannot read scene file: …"); append only causes not already shown.

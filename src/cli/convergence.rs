@@ -3,7 +3,7 @@
 use super::{default_out, finish, load, settings, Common};
 use anyhow::Result;
 use rubsim::analysis::{self, convergence::COMPARE_REVOLUTIONS, ConvergenceResults};
-use rubsim::output::{csv, figures, summary, OutDir};
+use rubsim::output::{csv, figures, summary};
 use std::path::PathBuf;
 
 /// Runs the study at each speed (default: the scene's, or 1.7, 3.1, 4.9) with levels
@@ -19,7 +19,7 @@ pub fn convergence(
     let (ls, model) = load(c)?;
     let speeds = analysis::study_speeds(&ls.scene.run, &model, speeds);
     let mut outd =
-        OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene).join("convergence")))?;
+        super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("convergence")))?;
     let mut s = settings(&ls);
     s.error_estimate = false;
     let lv: Vec<u32> = (0..=levels).collect();

@@ -2,6 +2,17 @@
 //! [`load_scene`]), call one analysis, attach the frame sinks a command wants, hand the
 //! results to [`rubsim::output`] and print a short report. No domain logic lives here.
 
+/// `println!` for the whole command line, shadowing std's (textual scope: every command module
+/// below): a closed standard output — `rubsim sweep … | head -1`, where writes fail with EPIPE
+/// since Rust ignores SIGPIPE — must not stop a run before its results are committed, so
+/// errors writing the report to stdout are ignored instead of panicking.
+macro_rules! println {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 mod bench;
 mod check;
 mod convergence;
@@ -254,6 +265,16 @@ impl Series<'_> {
             }
         }
     }
+}
+
+/// Prepares (and locks) the output directory `dir`; prints its notes (a recovered commit,
+/// ignored manifest entries) as warnings on stderr.
+pub fn open_out(dir: &Path) -> Result<rubsim::output::OutDir> {
+    let out = rubsim::output::OutDir::prepare(dir)?;
+    for n in out.notes() {
+        eprintln!("warning: {n}");
+    }
+    Ok(out)
 }
 
 /// Writes `summary.json`, commits the output directory and says where the results are.

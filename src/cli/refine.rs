@@ -3,7 +3,7 @@
 use super::{default_out, finish, load_scene, settings};
 use anyhow::Result;
 use rubsim::analysis::refine::refine_point;
-use rubsim::output::{csv, figures, summary, OutDir};
+use rubsim::output::{csv, figures, summary};
 use std::path::PathBuf;
 
 /// Options of `rubsim refine`.
@@ -38,7 +38,7 @@ pub fn refine(a: &RefineArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| default_out(&a.scene).join("refine"));
-    let mut outd = OutDir::prepare(&dir)?;
+    let mut outd = super::open_out(&dir)?;
     let mut points = Vec::new();
     for v in &a.values {
         let mut set = a.set.clone();

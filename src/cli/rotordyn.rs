@@ -4,7 +4,7 @@
 use super::{default_out, finish, load, Common};
 use anyhow::{Context, Result};
 use rubsim::analysis::rotordyn;
-use rubsim::output::{csv, figures, summary, OutDir};
+use rubsim::output::{csv, figures, summary};
 use std::path::PathBuf;
 
 /// Modes at one speed (ω/ω_n, default 0) and the static deflection under gravity.
@@ -16,7 +16,7 @@ pub fn modal(
     out: Option<PathBuf>,
 ) -> Result<()> {
     let (ls, model) = load(c)?;
-    let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene).join("modal")))?;
+    let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("modal")))?;
     let wn = model.rotor.natural_frequency();
     let omega = speed * wn;
     let res = rotordyn::modal(&model.rotor, omega, nmodes)?;
@@ -59,7 +59,7 @@ pub fn campbell(
     out: Option<PathBuf>,
 ) -> Result<()> {
     let (ls, model) = load(c)?;
-    let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene).join("campbell")))?;
+    let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("campbell")))?;
     let wn = model.rotor.natural_frequency();
     let speeds: Vec<f64> = rotordyn::speed_list(from * wn, to * wn, points);
     let res = rotordyn::campbell(&model.rotor, &speeds, nmodes)?;
@@ -101,7 +101,7 @@ pub fn unbalance(
 ) -> Result<()> {
     let (ls, model) = load(c)?;
     let mut outd =
-        OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene).join("unbalance")))?;
+        super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("unbalance")))?;
     let wn = model.rotor.natural_frequency();
     let nodes: Vec<usize> = if nodes.is_empty() {
         rotordyn::default_response_nodes(&model)

@@ -3,7 +3,7 @@
 use super::{default_out, load, settings, Common, Series};
 use anyhow::{Context, Result};
 use rubsim::analysis::{self, Keep};
-use rubsim::output::{figures, summary, OutDir};
+use rubsim::output::{figures, summary};
 use std::path::PathBuf;
 
 /// Runs the scene at `speed` (default: its own single speed) and writes `summary.json`,
@@ -23,7 +23,7 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
                 c.scene.display()
             )
         })?;
-    let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene)))?;
+    let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene)))?;
     let s = settings(&ls);
     let keep = Keep::single_run(&ls.scene.output, v);
     let t0 = std::time::Instant::now();

@@ -4,7 +4,7 @@ use super::{default_out, finish, load_scene, settings};
 use anyhow::{bail, Result};
 use rubsim::analysis::{self, StressProbe, StressResults, StressTrace};
 use rubsim::error::Error;
-use rubsim::output::{csv, figures, summary, OutDir};
+use rubsim::output::{csv, figures, summary};
 use std::path::PathBuf;
 
 /// Options of `rubsim stress`.
@@ -46,7 +46,7 @@ pub fn stress(a: &StressArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| default_out(&a.scene).join("stress"));
-    let mut outd = OutDir::prepare(&dir)?;
+    let mut outd = super::open_out(&dir)?;
     let png = ls.scene.output.png;
     let mut runs = Vec::new();
     let mut records = Vec::new();

@@ -21,7 +21,7 @@ pub fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
             c.scene.display()
         )
     })?;
-    let mut outd = OutDir::prepare(&out.unwrap_or_else(|| default_out(&c.scene)))?;
+    let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene)))?;
     let speeds = analysis::sweep_speeds(spec.from, spec.to, spec.step);
     let t0 = std::time::Instant::now();
     let mut records = Vec::new();

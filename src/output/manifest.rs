@@ -1,0 +1,132 @@
+//! The manifest `.rubsim-files`: the files of the last completed run in an output directory,
+//! one path per line, relative to the directory. The next run removes the files it lists that
+//! the new run does not produce, so the manifest is trusted only as far as
+//! [`parse_manifest`] confines it: a path that could name a file outside the directory (or a
+//! file of the output protocol itself) is refused, never followed.
+
+/// Name of the manifest listing the files of the last completed run in a directory.
+pub const MANIFEST: &str = ".rubsim-files";
+
+/// Prefix of every file and folder of the output protocol (manifest, lock, commit journal,
+/// staging folders); no result file may start with it.
+pub const PROTOCOL_PREFIX: &str = ".rubsim-";
+
+/// Longest accepted entry, in bytes (Linux `PATH_MAX`).
+const MAX_LEN: usize = 4096;
+
+/// A manifest read from text: the confined entries and the lines refused.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Manifest {
+    /// Accepted paths, in the order of the text, each once.
+    pub entries: Vec<String>,
+    /// Lines that were not confined to the directory; they are ignored (never deleted).
+    pub rejected: Vec<Rejected>,
+}
+
+/// A manifest line that was refused.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Rejected {
+    /// 1-based line number in the manifest.
+    pub line: usize,
+    /// The line as written (lossless; may hold control characters).
+    pub entry: String,
+    /// Why it was refused.
+    pub reason: &'static str,
+}
+
+/// Reads a manifest's text: every non-empty line is an entry, accepted when
+/// [`check_relative`] confines it, refused with its line number otherwise. Pure and total —
+/// no input panics or touches the file system (a fuzz target calls it). Whether a confined
+/// path crosses a symbolic link on disk is checked where it is used, not here.
+pub fn parse_manifest(text: &str) -> Manifest {
+    let mut m = Manifest::default();
+    for (i, line) in text.split('\n').enumerate() {
+        if line.is_empty() {
+            continue;
+        }
+        match check_relative(line) {
+            Ok(()) => {
+                if !m.entries.iter().any(|e| e == line) {
+                    m.entries.push(line.to_string());
+                }
+            }
+            Err(reason) => m.rejected.push(Rejected {
+                line: i + 1,
+                entry: line.to_string(),
+                reason,
+            }),
+        }
+    }
+    m
+}
+
+/// Accepts only a normalised relative path below a directory: `/`-separated, non-empty
+/// components, none `.` or `..`, no leading `/`, no backslash or control character (NUL
+/// included), at most 4096 bytes, and not a file of the output protocol (its first
+/// component does not start with `.rubsim-`). Returns why `name` is refused otherwise.
+pub fn check_relative(name: &str) -> Result<(), &'static str> {
+    if name.is_empty() {
+        return Err("is empty");
+    }
+    if name.len() > MAX_LEN {
+        return Err("is longer than 4096 bytes");
+    }
+    if name.contains('\0') {
+        return Err("contains a NUL byte");
+    }
+    if name.chars().any(char::is_control) {
+        return Err("contains a control character");
+    }
+    if name.contains('\\') {
+        return Err("contains a backslash");
+    }
+    if name.starts_with('/') {
+        return Err("is an absolute path");
+    }
+    for part in name.split('/') {
+        match part {
+            "" => return Err("has an empty component (`//` or a trailing `/`)"),
+            "." | ".." => return Err("has a `.` or `..` component"),
+            _ => {}
+        }
+    }
+    if name.starts_with(PROTOCOL_PREFIX) {
+        return Err("names a file of the output protocol");
+    }
+    // Belt and braces for platforms with other path syntax (drive prefixes).
+    if !std::path::Path::new(name)
+        .components()
+        .all(|c| matches!(c, std::path::Component::Normal(_)))
+    {
+        return Err("is not a plain relative path");
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn confined_entries_are_kept_and_escapes_refused_with_their_line() {
+        let text = "summary.json\nvtk/frame_000001.vtu\n/etc/passwd\n../x\nvtk/../../y\n\
+                    a//b\n./a\nvtk/\n.rubsim-lock\nwin\\x\nnul\0x\ncr\r\n\nsummary.json\n";
+        let m = parse_manifest(text);
+        assert_eq!(m.entries, vec!["summary.json", "vtk/frame_000001.vtu"]);
+        let lines: Vec<usize> = m.rejected.iter().map(|r| r.line).collect();
+        assert_eq!(lines, vec![3, 4, 5, 6, 7, 8, 9, 10, 11, 12]);
+        assert_eq!(m.rejected[0].reason, "is an absolute path");
+        assert_eq!(m.rejected[1].reason, "has a `.` or `..` component");
+        assert_eq!(m.rejected[7].reason, "contains a backslash");
+        assert_eq!(m.rejected[8].reason, "contains a NUL byte");
+        assert_eq!(m.rejected[9].reason, "contains a control character");
+    }
+
+    #[test]
+    fn empty_and_odd_texts_do_not_panic() {
+        assert_eq!(parse_manifest(""), Manifest::default());
+        assert!(parse_manifest("\n\n\n").entries.is_empty());
+        assert_eq!(parse_manifest(&"a".repeat(5000)).rejected.len(), 1);
+        assert_eq!(parse_manifest("é/ü.csv").entries, vec!["é/ü.csv"]);
+    }
+}
