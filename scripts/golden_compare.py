@@ -137,7 +137,8 @@ def main():
             rel = os.path.relpath(pa, a.before)
             pb = os.path.join(a.after, rel)
             ext = os.path.splitext(f)[1]
-            if ext == ".log":
+            if ext == ".log" or f.startswith(".rubsim-"):
+                # Logs, and the output directory's own files (lock, manifest): not results.
                 continue
             if not os.path.exists(pb):
                 errs.append(f"{rel}: missing after")
@@ -157,7 +158,9 @@ def main():
     for root, _, files in os.walk(a.after, followlinks=True):
         for f in files:
             rel = os.path.relpath(os.path.join(root, f), a.after)
-            if not rel.endswith(".log") and not os.path.exists(os.path.join(a.before, rel)):
+            if rel.endswith(".log") or f.startswith(".rubsim-"):
+                continue
+            if not os.path.exists(os.path.join(a.before, rel)):
                 errs.append(f"{rel}: new file after")
     for n in notes:
         print("note:", n)

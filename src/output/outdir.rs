@@ -5,7 +5,7 @@
 //! files its manifest lists, all from that run, and none of an earlier run.
 //!
 //! **Files of the protocol** (all start with `.rubsim-`, none is ever a result):
-//! - `.rubsim-lock`: every run holds an exclusive lock on it (`flock`) from
+//! - `.rubsim-lock`: every run holds an exclusive lock on it (`flock(2)`) from
 //!   [`OutDir::prepare`] to the end of [`OutDir::commit`] (or its drop). A second run into the
 //!   same directory fails at once. Since only the lock holder writes, anything else of the
 //!   protocol found by the lock holder belongs to a dead run — whatever its PID namespace.
@@ -266,9 +266,9 @@ fn acquire_lock(dir: &Path) -> Result<File> {
                     format!("output directory is not writable (its lock file {LOCK}): {e}"),
                 )
             })?;
-        match f.try_lock() {
-            Ok(()) => {}
-            Err(fs::TryLockError::WouldBlock) => {
+        match try_lock(&f) {
+            Ok(true) => {}
+            Ok(false) => {
                 return Err(Error::output(
                     dir,
                     format!(
@@ -277,7 +277,7 @@ fn acquire_lock(dir: &Path) -> Result<File> {
                     ),
                 ))
             }
-            Err(fs::TryLockError::Error(e)) => {
+            Err(e) => {
                 return Err(Error::output(
                     &path,
                     format!("cannot lock the output directory: {e}"),
@@ -292,6 +292,30 @@ fn acquire_lock(dir: &Path) -> Result<File> {
         &path,
         "cannot lock the output directory: its lock file keeps being replaced",
     ))
+}
+
+/// Takes an exclusive advisory lock on `f` without waiting (`flock(LOCK_EX | LOCK_NB)`, held
+/// until the file is closed; std's `File::try_lock` needs a Rust above the crate's MSRV).
+/// `Ok(false)`: another process holds it.
+#[cfg(unix)]
+fn try_lock(f: &File) -> std::io::Result<bool> {
+    use std::os::unix::io::AsRawFd;
+    // SAFETY: flock(2) on a file descriptor that `f` owns and keeps open.
+    if unsafe { libc::flock(f.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0 {
+        return Ok(true);
+    }
+    let e = std::io::Error::last_os_error();
+    if e.kind() == ErrorKind::WouldBlock {
+        Ok(false)
+    } else {
+        Err(e)
+    }
+}
+
+/// Elsewhere (rubsim is built and tested on Linux) the directory is not locked.
+#[cfg(not(unix))]
+fn try_lock(_: &File) -> std::io::Result<bool> {
+    Ok(true)
 }
 
 /// True when the open file `f` is the file at `path` (same device and inode).
