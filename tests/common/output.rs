@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 use vtkio::model::{Attribute, CellType, DataSet, IOBuffer, Piece, VertexNumbers, Vtk};
 
 /// Runs one speed with the scene's time series into `dir` (through the output directory's
-/// staging folder and commit, as the CLI does).
+/// staging folder and commit, as the CLI does, with a stand-in `summary.json`); returns the
+/// committed series files (the summary left out).
 pub fn run(name: &str, sets: &[&str], dir: &Path) -> (SpeedResults, Vec<PathBuf>) {
     run_scene(&data(name), sets, None, dir)
 }
@@ -53,7 +54,16 @@ pub fn run_scene(
     for n in &names {
         out.adopt(n).expect("adopt");
     }
-    (r, out.commit().expect("commit"))
+    // The run's marker: a directory's results are complete only with a `summary.json`.
+    out.write("summary.json", b"{}").expect("summary");
+    let files = out.commit().expect("commit");
+    (
+        r,
+        files
+            .into_iter()
+            .filter(|p| !p.ends_with("summary.json"))
+            .collect(),
+    )
 }
 
 /// The first piece of a `.vtu` file.
