@@ -664,6 +664,41 @@ mod tests {
     }
 
     #[test]
+    fn journal_of_an_incomplete_or_foreign_staging_is_discarded() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        let mut o = OutDir::prepare(dir).unwrap();
+        o.write("a.csv", b"old").unwrap();
+        o.write(MARKER, b"{}").unwrap();
+        o.commit().unwrap();
+        let outside = tmp.path().join("..").join("victim-dir");
+        for (staging, lists_missing) in [(".rubsim-partial-1", true), ("../victim-dir", false)] {
+            // A dead run's journal; its staging folder lacks a file its manifest lists.
+            if lists_missing {
+                let s = dir.join(staging);
+                fs::create_dir_all(&s).unwrap();
+                fs::write(s.join(MANIFEST), "a.csv\nb.csv\nsummary.json\n").unwrap();
+                fs::write(s.join("a.csv"), b"new").unwrap();
+                fs::write(s.join(MARKER), b"{}").unwrap();
+            }
+            fs::write(dir.join(JOURNAL), format!("{staging}\n")).unwrap();
+            let o = OutDir::prepare(dir).unwrap();
+            assert!(
+                o.notes()
+                    .iter()
+                    .any(|n| n.contains("discarded")
+                        && n.contains("the previous results are intact")),
+                "{:?}",
+                o.notes()
+            );
+            drop(o);
+            assert_eq!(fs::read(dir.join("a.csv")).unwrap(), b"old");
+            assert_eq!(names(dir), [MANIFEST, LOCK, "a.csv", MARKER]);
+        }
+        assert!(!outside.exists());
+    }
+
+    #[test]
     fn commit_without_summary_is_refused() {
         let tmp = tempfile::tempdir().unwrap();
         let mut o = OutDir::prepare(tmp.path()).unwrap();
