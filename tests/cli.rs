@@ -441,6 +441,53 @@ fn check_prints_the_resolved_model() {
 }
 
 #[test]
+fn brief_stiff_impacts_count_in_peak_force_and_contact_fraction() {
+    // Issue 13, item 4: with ε = 10⁶ the rod is touched for a few steps per revolution, between
+    // the recorded samples; the summary said `contact_force_max_nd = 0` and
+    // `contact_fraction = 0` while 14 081 steps were in contact. They are counted at every step.
+    let tmp = TempDir::new().unwrap();
+    let out = tmp.path().join("stiff");
+    let scene = repo("scenes/paper/partial_rub.toml");
+    ok(
+        tmp.path(),
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--speed",
+            "1.7",
+            "--set",
+            "stator.0.stiffness_ratio=1e6",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let r = &json(&out.join("summary.json"))["result"];
+    let (stats, plan) = (&r["stats"], &r["plan"]);
+    let u = |v: &serde_json::Value| v.as_u64().unwrap_or_else(|| panic!("{v}")) as usize;
+    let f = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{v}"));
+    let (steady, whole) = (&stats["steady"], &stats["whole"]);
+    // 100 of the 220 revolutions are the transient: the window is the other 120, every step.
+    assert_eq!(u(&plan["steady_from"]), 100 * u(&plan["steps_per_rev"]));
+    assert_eq!(u(&steady["instants"]), 120 * u(&plan["steps_per_rev"]));
+    assert_eq!(u(&whole["instants"]), u(&stats["steps"]) + 1);
+    let in_contact = u(&steady["contact_instants"]);
+    assert!(in_contact > 0 && in_contact <= u(&whole["contact_instants"]));
+    assert_eq!(u(&whole["contact_instants"]), u(&stats["contact_steps"]));
+    assert!(u(&stats["contact_steps"]) > 10_000, "{stats}");
+    assert_eq!(
+        f(&r["contact_fraction"]),
+        in_contact as f64 / u(&steady["instants"]) as f64
+    );
+    let peak = f(&r["contact_force_max_nd"]);
+    assert!(peak > 1.0, "peak contact force {peak} × |U|ω²");
+    assert_eq!(peak, f(&steady["force_max"]) / f(&r["unbalance_force"]));
+    // The penetration of the exact post-correction gaps, over every step.
+    let pen = f(&r["penetration_max_m"]);
+    assert!((0.0..1e-12).contains(&pen), "penetration {pen} m");
+    assert_eq!(pen, f(&whole["penetration_max"]));
+}
+
+#[test]
 fn run_writes_summary_and_pictures() {
     let tmp = TempDir::new().unwrap();
     let out = tmp.path().join("single");

@@ -5,7 +5,7 @@ use super::body::{DynBody, StatorDyn};
 use super::compliance::Compliance;
 use super::frame::{Frame, FrameSink};
 use super::plan::{Scheme, StepPlan};
-use super::record::{Record, Recorder, RunStats};
+use super::record::{ContactStats, Record, Recorder, RunStats};
 use super::select::{Pairs, Phase};
 use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::error::{LinalgError, SolveError};
@@ -57,6 +57,16 @@ pub struct Stepper<'a> {
     energy: f64,
     /// Pairs carrying force in the current step.
     active: usize,
+    /// Smallest post-correction gap of the pairs solved for the instant the next
+    /// [`Stepper::observe`] counts (m; +∞ when none).
+    instant_gap: f64,
+    /// Contact statistics of the open window of instants: the transient, then the steady
+    /// window, then the final instant; closed into `stats` at `boundary`.
+    segment: ContactStats,
+    /// The instant that closes the open window.
+    boundary: usize,
+    /// Windows closed so far (0: the transient is open, 1: the steady window, 2: the end).
+    closed: u8,
     /// Index of the next step.
     n: usize,
 }
@@ -140,6 +150,10 @@ impl<'a> Stepper<'a> {
             bound: divergence_bound(case, init),
             energy: 0.0,
             active: 0,
+            instant_gap: f64::INFINITY,
+            segment: ContactStats::starting_at(0),
+            boundary: plan.steady_from,
+            closed: 0,
             n: 0,
         };
         st.set_initial(init, node0);
@@ -183,10 +197,13 @@ impl<'a> Stepper<'a> {
         if self.scheme == Scheme::ForwardIncrement {
             // The initial state: nothing in contact yet.
             self.record(0.0, ForceSet::Main, 0);
+            self.observe(0, ForceSet::Main, 0);
             self.emit(&mut sink, 0, 0.0)?;
         }
         while self.step(&mut sink)? {}
         let mut stats = self.stats;
+        // The transient window (held in `whole` until now), the steady one, the final instant.
+        stats.whole = stats.whole.merge(stats.steady).merge(self.segment);
         stats.wall_s = start.elapsed().as_secs_f64();
         if stats.min_gap == f64::INFINITY {
             stats.min_gap = f64::NAN;
@@ -219,6 +236,7 @@ impl<'a> Stepper<'a> {
         self.guard(n + 1, t + dt)?;
         self.advance();
         if self.scheme == Scheme::ForwardIncrement {
+            self.observe(n + 1, ForceSet::Main, self.active);
             if (n + 1) % self.plan.record_every == 0 {
                 self.record(t + dt, ForceSet::Main, self.active);
             }
@@ -259,12 +277,12 @@ impl<'a> Stepper<'a> {
         self.active = self.ws.active();
         self.energy = self.stator_energy();
         self.collect_pairs(ForceSet::Main);
-        self.stats.min_gap = self.pairs.min_gap(
+        self.instant_gap = self.pairs.min_gap(
             self.case,
             &self.ws.sel,
             &self.rotor.u,
             &self.stators,
-            self.stats.min_gap,
+            self.instant_gap,
         );
         Ok(())
     }
@@ -285,6 +303,7 @@ impl<'a> Stepper<'a> {
             }
         }
         let active = self.active + ws.with_mass_active;
+        self.observe(n, ForceSet::WithMass, active);
         if n % self.plan.record_every == 0 {
             self.record(t, ForceSet::WithMass, active);
         }
@@ -359,12 +378,13 @@ impl<'a> Stepper<'a> {
             self.active = act;
             self.energy = self.stator_energy();
         }
-        self.stats.min_gap = self.pairs.min_gap(
+        // The gaps of the instant tₙ₊₁ this solve ends at.
+        self.instant_gap = self.pairs.min_gap(
             self.case,
             &self.ws.sel,
             &self.rotor.u_next,
             &self.stators,
-            self.stats.min_gap,
+            self.instant_gap,
         );
         Ok(())
     }
@@ -432,6 +452,44 @@ impl<'a> Stepper<'a> {
         };
         self.recorder
             .sample(t, &self.rotor.u, &f.total, &f.normal, self.energy, active);
+    }
+
+    /// Counts instant tₖ, `k` = `n`, in the contact statistics (the whole run and, for
+    /// `plan.steady_from ≤ k < plan.steps`, the analysed steady window): the station forces
+    /// of `forces` (what [`Stepper::record`] would record at tₖ), the pairs carrying force and
+    /// the smallest gap solved for tₖ, which it resets.
+    #[inline]
+    fn observe(&mut self, n: usize, forces: ForceSet, active: usize) {
+        if n == self.boundary {
+            self.close_window(n);
+        }
+        let f = match forces {
+            ForceSet::Main => &self.ws.main,
+            ForceSet::WithMass => &self.ws.recorded,
+        };
+        let force = f.total.first().copied().unwrap_or_default();
+        let gap = self.instant_gap;
+        self.instant_gap = f64::INFINITY;
+        self.stats.min_gap = self.stats.min_gap.min(gap);
+        self.segment.observe(n, self.plan.dt, force, active, gap);
+    }
+
+    /// Closes the open window of contact statistics at instant `n`: the transient (kept in
+    /// `stats.whole` until [`Stepper::run`] merges the windows) at `plan.steady_from`, the
+    /// steady window at `plan.steps` — both at once when they coincide.
+    #[cold]
+    fn close_window(&mut self, n: usize) {
+        while n == self.boundary {
+            let done = std::mem::replace(&mut self.segment, ContactStats::starting_at(n));
+            self.closed += 1;
+            if self.closed == 1 {
+                self.stats.whole = done;
+                self.boundary = self.plan.steps;
+            } else {
+                self.stats.steady = done;
+                self.boundary = usize::MAX;
+            }
+        }
     }
 
     /// Hands the state at step `n` to the sink when its interval asks for it.
