@@ -219,16 +219,21 @@ pub enum SolveError {
         /// Stability limit (s).
         limit: f64,
     },
-    /// The response grew beyond any physical bound.
-    #[error("response diverged at step {step} (t = {time:.6e} s): |u| = {magnitude:.3e} m exceeds {bound:.3e} m (Δt = {dt:.3e} s, stability limit {limit:.3e} s)")]
+    /// The response grew beyond any physical bound: a rotor DOF exceeded 10⁴ times the run's
+    /// scale for it (its forced response, the clearances, the initial displacement).
+    #[error("response diverged at step {step} (t = {time:.6e} s): |{dof}| = {magnitude:.3e} {unit} exceeds {bound:.3e} {unit}, 10⁴ × the run's largest forced response, clearance or initial displacement (Δt = {dt:.3e} s, stability limit {limit:.3e} s)")]
     Diverged {
         /// Step index.
         step: usize,
         /// Time (s).
         time: f64,
-        /// Offending displacement magnitude (m).
+        /// The DOF, e.g. `u_y of rotor node 4`.
+        dof: String,
+        /// Its unit, `m` or `rad`.
+        unit: &'static str,
+        /// Offending magnitude (m or rad).
         magnitude: f64,
-        /// Bound (m).
+        /// Bound (m or rad).
         bound: f64,
         /// Time step (s).
         dt: f64,

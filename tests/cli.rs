@@ -488,6 +488,48 @@ fn brief_stiff_impacts_count_in_peak_force_and_contact_fraction() {
 }
 
 #[test]
+fn station_away_from_the_analysed_response_is_no_false_divergence() {
+    // Issue 13, item 8: `station.0.node=0` puts the station (and the analysed node) on a
+    // bearing, where |Z0| is 10⁴ times smaller than at the disk; the divergence bound was
+    // scaled from that node and applied to every DOF, so the disk's ordinary response stopped
+    // the run at step 3339 as "response diverged". The bound now takes the largest |Z0| over
+    // the rotor.
+    let tmp = TempDir::new().unwrap();
+    let scene = repo("scenes/fe/paper_rotor_rub.toml");
+    for (integrator, revs) in [("forward_increment", "220"), ("collocated", "20")] {
+        let out = tmp.path().join(integrator);
+        let (i, r) = (
+            format!("run.integrator=\"{integrator}\""),
+            format!("run.revolutions={revs}"),
+        );
+        ok(
+            tmp.path(),
+            &[
+                "run",
+                scene.to_str().unwrap(),
+                "--speed",
+                "1.7",
+                "--set",
+                "station.0.node=0",
+                "--set",
+                &i,
+                "--set",
+                &r,
+                "--set",
+                "run.transient_revolutions=10",
+                "--set",
+                "output.png=false",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        let res = &json(&out.join("summary.json"))["result"];
+        assert_eq!(res["node"].as_u64(), Some(0));
+        assert!(res["extents_nd"][1].as_f64().unwrap() < 2.0, "{res}");
+    }
+}
+
+#[test]
 fn run_writes_summary_and_pictures() {
     let tmp = TempDir::new().unwrap();
     let out = tmp.path().join("single");

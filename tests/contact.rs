@@ -312,3 +312,46 @@ fn unstable_step_is_refused_with_the_limit() {
         .to_string();
     assert!(e.contains("stability limit"), "{e}");
 }
+
+#[test]
+fn a_step_beyond_the_stability_limit_is_stopped_as_diverged() {
+    // Issue 13, item 8: the divergence bound is per DOF (displacements against the largest
+    // |Z0| over the rotor, rotations against the largest forced tilt), so a true instability
+    // is still caught: Δt forced to 3 × 2/ω_max of the free rotor (the plan refuses it, so it
+    // is set by hand) stops within a few hundred steps as `Diverged`, naming the DOF, before
+    // any value overflows to a non-finite one.
+    use common::scenes::{PAPER, PAPER_FE};
+    use rubsim::error::SolveError;
+    use rubsim::time::{integrate, plan_steps, Scheme};
+    for (text, units) in [(PAPER, "m"), (PAPER_FE, "m rad")] {
+        let (ls, model) = scene_model(
+            text,
+            &["run.revolutions=20", "run.transient_revolutions=10"],
+        );
+        let case = model.case(1.7 * model.rotor.natural_frequency()).unwrap();
+        for scheme in [Scheme::Collocated, Scheme::ForwardIncrement] {
+            let mut st = settings(&ls).step;
+            st.integrator = scheme;
+            let mut plan = plan_steps(&case, &st).unwrap();
+            integrate(&case, scheme, &plan, Default::default())
+                .unwrap_or_else(|e| panic!("{scheme:?} at the planned step: {e}"));
+            plan.dt = 3.0 * 2.0 / case.rotor_omega_max;
+            match integrate(&case, scheme, &plan, Default::default()) {
+                Err(SolveError::Diverged {
+                    step,
+                    dof,
+                    unit,
+                    magnitude,
+                    bound,
+                    ..
+                }) => {
+                    assert!(step < 2000, "{scheme:?}: caught late, step {step}");
+                    assert!(magnitude > bound && units.contains(unit), "{dof} {unit}");
+                    assert!(dof.contains("of rotor node"), "{dof}");
+                }
+                Err(e) => panic!("{scheme:?}: expected Diverged, got {e}"),
+                Ok((_, stats)) => panic!("{scheme:?}: ran to the end, {} steps", stats.steps),
+            }
+        }
+    }
+}

@@ -71,11 +71,25 @@ impl Rotor {
     /// [`ModelError`] when the dynamic stiffness `K − ω²M + iω(C + ωG)` of an FE rotor is
     /// singular at ω (an undamped rotor exactly at a critical speed): |Z0| is not defined there.
     pub fn z0(&self, node: usize, omega: f64) -> Result<f64, ModelError> {
+        Ok(self.forced_ellipses(omega)?[node][0])
+    }
+    /// The steady unbalance response without stator at ω, per rotor node: the major
+    /// semi-axes of the forced ellipses of the displacement `[u_x, u_y]` (m, |Z0| at the node)
+    /// and of the rotation `[θ_x, θ_y]` (rad; 0 for the Jeffcott rotor).
+    ///
+    /// # Errors
+    /// As [`Rotor::z0`].
+    pub fn forced_ellipses(&self, omega: f64) -> Result<Vec<[f64; 2]>, ModelError> {
         match self {
-            Rotor::Jeffcott(j) => Ok(j.z0(omega)),
+            Rotor::Jeffcott(j) => Ok(vec![[j.z0(omega), 0.0]]),
             Rotor::Fe(f) => {
                 let q = f.rotor.unbalance_response(omega)?;
-                Ok(fe_rotor::ellipse_major(q[4 * node], q[4 * node + 1]))
+                Ok((0..f.rotor.nodes())
+                    .map(|i| {
+                        let e = |k: usize| fe_rotor::ellipse_major(q[4 * i + k], q[4 * i + k + 1]);
+                        [e(0), e(2)]
+                    })
+                    .collect())
             }
         }
     }
@@ -318,6 +332,12 @@ pub struct Case {
     pub observed_node: usize,
     /// |Z0(ω)| at the observed node (m): the unit of the non-dimensional orbits.
     pub z0: f64,
+    /// Largest |Z0(ω)| over every rotor node (m): the length scale of the response wherever
+    /// the stations and the observed node are.
+    pub z0_max: f64,
+    /// Largest amplitude of the forced rotation `[θ_x, θ_y]` over every rotor node (rad; 0 for
+    /// the Jeffcott rotor).
+    pub tilt0_max: f64,
     /// Unbalance force magnitude |Σ m_u e e^{iφ}| ω² (N).
     pub unbalance_force: f64,
 }
@@ -452,14 +472,16 @@ impl Model {
         let observed_node = self
             .observed_node
             .unwrap_or_else(|| self.stations.first().map_or(0, |s| s.node));
-        let z0 = self.rotor.z0(observed_node, omega)?;
+        // One forced response for |Z0| at the observed node, at the stations and everywhere.
+        let forced = self.rotor.forced_ellipses(omega)?;
+        let z0 = forced[observed_node][0];
         let body = self.rotor.body(omega)?;
         let u = body.unbalance_resultant();
         let kr = self.rotor.reference_stiffness();
         let stators = self
             .stators
             .iter()
-            .map(|plan| self.stator_at(plan, omega, kr))
+            .map(|plan| self.stator_at(plan, omega, kr, &forced))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Case {
             omega,
@@ -478,17 +500,25 @@ impl Model {
             stators,
             observed_node,
             z0,
+            z0_max: forced.iter().map(|e| e[0]).fold(0.0, f64::max),
+            tilt0_max: forced.iter().map(|e| e[1]).fold(0.0, f64::max),
             unbalance_force: u[0].hypot(u[1]) * omega * omega,
         })
     }
 
     /// One stator at speed ω, placed at its clearance, for a rotor of reference stiffness
-    /// `kr` (N/m).
-    fn stator_at(&self, plan: &StatorPlan, omega: f64, kr: f64) -> Result<StatorModel, ModelError> {
+    /// `kr` (N/m) whose forced response per node is `forced` ([`Rotor::forced_ellipses`]).
+    fn stator_at(
+        &self,
+        plan: &StatorPlan,
+        omega: f64,
+        kr: f64,
+        forced: &[[f64; 2]],
+    ) -> Result<StatorModel, ModelError> {
         let si = plan.station();
         let st = &self.stations[si];
         let clearance = |c: Clearance| {
-            c.at(|| self.rotor.z0(st.node, omega))?
+            c.at(|| Ok::<_, ModelError>(forced[st.node][0]))?
                 .ok_or_else(|| ModelError::Inconsistent {
                     what: format!("stator `{}`", plan.name()),
                     message: "clearance_nd needs a non-zero unbalance response |Z0|; give `clearance` in metres".into(),

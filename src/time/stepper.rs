@@ -51,8 +51,8 @@ pub struct Stepper<'a> {
     pub(crate) ws: StepWorkspace,
     recorder: Recorder,
     stats: RunStats,
-    /// Divergence bound on the rotor displacement (m).
-    bound: f64,
+    /// Divergence bound of each rotor DOF (m or rad, [`divergence_bounds`]).
+    bound: Vec<f64>,
     /// Elastic energy in the massless stators after the last solve (J).
     energy: f64,
     /// Pairs carrying force in the current step.
@@ -147,7 +147,7 @@ impl<'a> Stepper<'a> {
                 min_gap: f64::INFINITY,
                 ..Default::default()
             },
-            bound: divergence_bound(case, init),
+            bound: divergence_bounds(case, init),
             energy: 0.0,
             active: 0,
             instant_gap: f64::INFINITY,
@@ -389,18 +389,21 @@ impl<'a> Stepper<'a> {
         Ok(())
     }
 
-    /// Stops a run that went unstable: a NaN or a rotor displacement beyond the divergence
-    /// bound, or a non-finite stator value, at step `n` (time `t`).
+    /// Stops a run that went unstable: a NaN or a rotor DOF beyond its divergence bound, or a
+    /// non-finite stator value, at step `n` (time `t`).
     fn guard(&self, n: usize, t: f64) -> Result<(), SolveError> {
-        let (dt, limit, bound) = (self.plan.dt, self.plan.limit, self.bound);
-        for (i, v) in self.rotor.u_next.iter().enumerate() {
-            if v.is_nan() || v.abs() > bound {
+        let (dt, limit) = (self.plan.dt, self.plan.limit);
+        for (i, (v, bound)) in self.rotor.u_next.iter().zip(&self.bound).enumerate() {
+            if v.is_nan() || v.abs() > *bound {
                 return Err(if v.is_finite() {
+                    let (dof, unit) = dof_name(self.case, i);
                     SolveError::Diverged {
                         step: n,
                         time: t,
+                        dof,
+                        unit,
                         magnitude: v.abs(),
-                        bound,
+                        bound: *bound,
                         dt,
                         limit,
                     }
@@ -543,11 +546,21 @@ fn rotor_contact_dofs(case: &Case) -> Vec<usize> {
     cd
 }
 
-/// A rotor displacement beyond 10⁴ times the run's length scale (|Z0|, the largest finite
-/// clearance, the initial displacement) means the run diverged (m).
-fn divergence_bound(case: &Case, init: Initial) -> f64 {
-    let scale = case
-        .z0
+/// Factor between a DOF's divergence bound and the run's scale for it.
+const DIVERGENCE_FACTOR: f64 = 1e4;
+
+/// The divergence bound of every rotor DOF: 10⁴ times the run's scale for it, so that a
+/// response that grows past it can only be an instability, wherever the stations and the
+/// observed node are.
+///
+/// * displacements (`u_x`, `u_y`, `u_z`, pedestals; m): the length scale `L`, the largest of |Z0(ω)| over
+///   every rotor node, the finite clearances and the initial displacement (at least 1 nm);
+/// * rotations (`θ_x`, `θ_y`, `θ_z`; rad): the largest forced tilt over every node, and at
+///   least `L / ℓ`, ℓ the shortest distance between two rotor nodes (a relative displacement
+///   `L` across the shortest element; `L` per metre for a rotor of one node).
+fn divergence_bounds(case: &Case, init: Initial) -> Vec<f64> {
+    let length = case
+        .z0_max
         .max(
             case.stators
                 .iter()
@@ -557,5 +570,49 @@ fn divergence_bound(case: &Case, init: Initial) -> f64 {
         )
         .max(init.u[0].hypot(init.u[1]))
         .max(1e-9);
-    1e4 * scale
+    let z = &case.rotor.node_z;
+    let spacing = z
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let per_metre = if spacing.is_finite() { spacing } else { 1.0 };
+    let tilt = case.tilt0_max.max(length / per_metre);
+    let r = &case.rotor;
+    let mut bound = vec![DIVERGENCE_FACTOR * length; r.ndof];
+    let rotations = r
+        .node_tilt
+        .iter()
+        .flatten()
+        .flatten()
+        .chain(r.node_torsion.iter().flatten());
+    for &i in rotations {
+        bound[i] = DIVERGENCE_FACTOR * tilt;
+    }
+    bound
+}
+
+/// The name of rotor DOF `i` (`u_y of rotor node 4`) and its unit (`m` or `rad`).
+fn dof_name(case: &Case, i: usize) -> (String, &'static str) {
+    let r = &case.rotor;
+    let find = |list: &[Option<usize>]| list.iter().position(|d| *d == Some(i));
+    let pair = |n: usize, d: [usize; 2]| d.iter().position(|x| *x == i).map(|c| (n, c));
+    if let Some((n, c)) = r
+        .node_dofs
+        .iter()
+        .enumerate()
+        .find_map(|(n, d)| pair(n, *d))
+    {
+        (format!("u_{} of rotor node {n}", ["x", "y"][c]), "m")
+    } else if let Some((n, c)) =
+        (r.node_tilt.iter().enumerate()).find_map(|(n, d)| d.and_then(|d| pair(n, d)))
+    {
+        (format!("θ_{} of rotor node {n}", ["x", "y"][c]), "rad")
+    } else if let Some(n) = find(&r.node_axial) {
+        (format!("u_z of rotor node {n}"), "m")
+    } else if let Some(n) = find(&r.node_torsion) {
+        (format!("θ_z of rotor node {n}"), "rad")
+    } else {
+        (format!("rotor DOF {i} (a pedestal)"), "m")
+    }
 }
