@@ -71,6 +71,20 @@ pub enum ModelError {
         #[source]
         source: LinalgError,
     },
+    /// A clearance given as `clearance_nd` (× |Z0(ω)|) cannot be placed because |Z0(ω)| is
+    /// not a positive finite length; `cause` names the input responsible and the remedy.
+    #[error("{what}: clearance_nd is relative to |Z0(ω)| at ω = {omega:.6e} rad/s, {cause}")]
+    ClearanceScale {
+        /// Which stator.
+        what: String,
+        /// Speed ω (rad/s).
+        omega: f64,
+        /// Why |Z0| is unusable there, naming the key to change.
+        cause: String,
+        /// True when only this speed is affected (an undamped rotor at a critical speed):
+        /// other speeds of the same model are fine.
+        at_this_speed_only: bool,
+    },
     /// Inconsistent model data (e.g. an element referencing a missing node).
     #[error("{what}: {message}")]
     Inconsistent {

@@ -530,6 +530,110 @@ fn station_away_from_the_analysed_response_is_no_false_divergence() {
 }
 
 #[test]
+fn undamped_rotor_runs_off_its_critical_speed_and_says_why_not_at_it() {
+    // Issue 13, item 8: `rotor.damping_ratio=0` is legal, but the model was checked at ω_n
+    // where |Z0| is infinite, and the rod placed at an infinite clearance failed as "stator rod
+    // stiffness: … fix more DOFs". Off ω_n it runs; at ω_n the error says what is infinite and
+    // what to change.
+    let tmp = TempDir::new().unwrap();
+    let scene = repo("scenes/paper/partial_rub.toml");
+    let base = [
+        "run",
+        scene.to_str().unwrap(),
+        "--set",
+        "rotor.damping_ratio=0",
+        "--set",
+        "run.revolutions=20",
+        "--set",
+        "run.transient_revolutions=10",
+        "--set",
+        "run.error_estimate=false",
+        "--set",
+        "output.png=false",
+    ];
+    let out = tmp.path().join("off");
+    let mut args = base.to_vec();
+    args.extend(["--speed", "1.7", "--out", out.to_str().unwrap()]);
+    ok(tmp.path(), &args);
+    assert!(
+        json(&out.join("summary.json"))["result"]["z0"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    let out = tmp.path().join("at");
+    let mut args = base.to_vec();
+    args.extend(["--speed", "1", "--out", out.to_str().unwrap()]);
+    let err = fails(tmp.path(), &args);
+    for want in [
+        "clearance_nd",
+        "infinite",
+        "critical speed",
+        "`clearance`",
+        "rotor.damping_ratio",
+    ] {
+        assert!(err.contains(want), "`{want}` not in: {err}");
+    }
+    assert!(!err.contains("fix more DOFs"), "{err}");
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn a_clearance_relative_to_z0_names_why_z0_is_unusable() {
+    // Issue 13, item 8: mutants blamed "clearance_nd needs a non-zero |Z0|" (or a singular
+    // stator) whatever made |Z0| unusable; the error names the input responsible.
+    let tmp = TempDir::new().unwrap();
+    let scene = repo("scenes/paper/partial_rub.toml");
+    for (set, speed, wants) in [
+        ("rotor.unbalance.0.phase_deg=nan", "1.7", &["phase_deg"][..]),
+        (
+            "rotor.unbalance.0.mass=0.0",
+            "1.7",
+            &["no net unbalance", "rotor.unbalance"],
+        ),
+        (
+            "rotor.damping_ratio=1e308",
+            "1.7",
+            &["damping", "rotor.damping_ratio"],
+        ),
+        ("rotor.disk.diameter=1e300", "1.7", &["mass", "rotor.disk"]),
+        (
+            "rotor.shaft.youngs_modulus=1e308",
+            "1.7",
+            &["stiffness", "rotor.shaft"],
+        ),
+        (
+            "rotor.shaft.length=1e300",
+            "1.7",
+            &["stiffness", "rotor.shaft"],
+        ),
+        ("title=\"huge speed\"", "1e308", &["speed", "--speed"]),
+    ] {
+        let out = tmp.path().join("out");
+        let err = fails(
+            tmp.path(),
+            &[
+                "run",
+                scene.to_str().unwrap(),
+                "--speed",
+                speed,
+                "--set",
+                set,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        for want in wants {
+            assert!(err.contains(want), "{set}: `{want}` not in: {err}");
+        }
+        for blame in ["needs a non-zero", "fix more DOFs", "singular"] {
+            assert!(!err.contains(blame), "{set}: blames `{blame}`: {err}");
+        }
+        assert_nothing_written(&out);
+    }
+}
+
+#[test]
 fn run_writes_summary_and_pictures() {
     let tmp = TempDir::new().unwrap();
     let out = tmp.path().join("single");

@@ -343,6 +343,91 @@ pub struct Case {
 }
 
 impl Rotor {
+    /// Why |Z0(ω)| = `z0` cannot scale a `clearance_nd`, naming the input responsible and the
+    /// remedy, and whether only this speed is affected; `None` when `z0` is a usable positive
+    /// finite length. In order: the rotor's mass, stiffness or damping is not finite (or the
+    /// Jeffcott mass or stiffness not positive); ω ≤ 0 or ω² overflows; the unbalance is not
+    /// finite or sums to zero; an undamped rotor at its critical speed (|Z0| infinite:
+    /// `|k − mω²| ≤ 10⁻⁹ k` for the Jeffcott rotor); |Z0| zero or not finite for any other
+    /// reason (a stiffness or damping so large the rotor does not move).
+    pub fn z0_trouble(&self, omega: f64, z0: f64) -> Option<(String, bool)> {
+        const METRES: &str = "give `clearance` in metres instead";
+        let trouble = |cause: String| Some((format!("{cause}: {METRES}"), false));
+        let finite = |a: &crate::linalg::Csc| a.values().iter().all(|v| v.is_finite());
+        let resonance = match self {
+            Rotor::Jeffcott(j) => {
+                for (what, v, keys) in [
+                    ("mass", j.mass, "`rotor.mass` or `rotor.disk`"),
+                    (
+                        "stiffness",
+                        j.stiffness,
+                        "`rotor.stiffness` or `rotor.shaft`",
+                    ),
+                    (
+                        "damping",
+                        j.damping,
+                        "`rotor.damping` or `rotor.damping_ratio`",
+                    ),
+                ] {
+                    if !v.is_finite() || (what != "damping" && v <= 0.0) {
+                        return trouble(format!("and the rotor {what} is {v:e} (from {keys})"));
+                    }
+                }
+                j.damping == 0.0
+                    && (j.stiffness - j.mass * omega * omega).abs() <= 1e-9 * j.stiffness
+            }
+            Rotor::Fe(f) => {
+                if !finite(&f.rotor.m) || !finite(&f.rotor.k(omega)) {
+                    return trouble("and the rotor's mass or stiffness matrix is not finite (a `rotor.shaft`, `rotor.disk`, `rotor.mass` or `rotor.bearing` value overflows)".into());
+                }
+                false
+            }
+        };
+        if !(omega * omega).is_finite() || omega <= 0.0 {
+            return trouble(format!(
+                "a speed out of range (lower or raise `--speed`, `run.speed_ratio`, `run.speed` or `run.sweep`; ω_n = {:e} rad/s)",
+                self.natural_frequency()
+            ));
+        }
+        let loads = match self {
+            Rotor::Jeffcott(j) => &j.unbalance,
+            Rotor::Fe(f) => &f.rotor.unbalance,
+        };
+        let u = loads.iter().fold([0.0_f64, 0.0], |a, l| {
+            [a[0] + l.me * l.phase.cos(), a[1] + l.me * l.phase.sin()]
+        });
+        let key = "`rotor.unbalance` (mass, radius, phase_deg)";
+        if !(u[0].is_finite() && u[1].is_finite()) {
+            return trouble(format!(
+                "and the unbalance Σ m_u e e^(iφ) is not finite: check {key}"
+            ));
+        }
+        if u[0] == 0.0 && u[1] == 0.0 {
+            return trouble(format!(
+                "which is 0: the rotor has no net unbalance (none, zero masses or masses that cancel in {key})"
+            ));
+        }
+        if resonance || z0.is_infinite() {
+            let damping = match self {
+                Rotor::Jeffcott(_) => "`rotor.damping_ratio` or `rotor.damping`",
+                Rotor::Fe(_) => "`rotor.rayleigh`, `rotor.modal_damping` or bearing `damping`",
+            };
+            return Some((
+                format!(
+                    "which is infinite: the undamped rotor is at its critical speed (ω/ω_n = {:.6}); {METRES}, add damping ({damping}) or run another speed",
+                    omega / self.natural_frequency()
+                ),
+                true,
+            ));
+        }
+        if z0.is_finite() && z0 > 0.0 {
+            return None;
+        }
+        trouble(format!(
+            "which is {z0:e}: the rotor's stiffness or damping is so large that it does not respond (check `rotor.damping_ratio`, `rotor.stiffness`, `rotor.shaft`, the bearings)"
+        ))
+    }
+
     /// Builds the rotor of resolved data: an FE rotor is assembled and its ω_n (first lateral
     /// mode), ω_max, reference stiffness k_r and `(M⁻¹)_xx` per node are computed.
     pub fn build(input: &RotorInput) -> Result<Self, ModelError> {
@@ -451,8 +536,16 @@ impl Model {
             stators,
             observed_node: r.observed_node,
         };
-        m.case(m.rotor.natural_frequency())?;
-        Ok(m)
+        // An undamped rotor has no |Z0| at ω_n itself: that speed's runs say so; the model is
+        // fine.
+        match m.case(m.rotor.natural_frequency()) {
+            Err(ModelError::ClearanceScale {
+                at_this_speed_only: true,
+                ..
+            })
+            | Ok(_) => Ok(m),
+            Err(e) => Err(e.into()),
+        }
     }
 
     /// Resolves a loaded scene ([`crate::resolve::resolve`]: checks, meshes) and builds its
@@ -517,12 +610,20 @@ impl Model {
     ) -> Result<StatorModel, ModelError> {
         let si = plan.station();
         let st = &self.stations[si];
-        let clearance = |c: Clearance| {
-            c.at(|| Ok::<_, ModelError>(forced[st.node][0]))?
-                .ok_or_else(|| ModelError::Inconsistent {
-                    what: format!("stator `{}`", plan.name()),
-                    message: "clearance_nd needs a non-zero unbalance response |Z0|; give `clearance` in metres".into(),
-                })
+        let clearance = |c: Clearance| match c {
+            Clearance::Metres(m) => Ok(m),
+            Clearance::TimesZ0(nd) => {
+                let z0 = forced[st.node][0];
+                match self.rotor.z0_trouble(omega, z0) {
+                    None => Ok(nd * z0),
+                    Some((cause, at_this_speed_only)) => Err(ModelError::ClearanceScale {
+                        what: format!("stator `{}`", plan.name()),
+                        omega,
+                        cause,
+                        at_this_speed_only,
+                    }),
+                }
+            }
         };
         Ok(match plan {
             StatorPlan::Rod(r) => {
