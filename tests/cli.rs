@@ -634,6 +634,65 @@ fn a_clearance_relative_to_z0_names_why_z0_is_unusable() {
 }
 
 #[test]
+fn check_labels_each_frequency_for_what_it_is() {
+    // Issue 13, item 10: `check` printed the free rotor's highest mode and the frequency with
+    // the contact stiffness, two different numbers, both as "ω_max".
+    let (okay, out, err) = in_repo(&["check", "scenes/fe/paper_rotor_rub.toml"]);
+    assert!(okay, "{err}");
+    assert!(out.contains("ω_max,rotor = "), "{out}");
+    assert!(out.contains("ω_max,contact = "), "{out}");
+    let labels: Vec<&str> = out.matches("ω_max").collect();
+    assert_eq!(
+        out.matches("ω_max ").count() + out.matches("ω_max=").count(),
+        0,
+        "{out}"
+    );
+    assert!(labels.len() >= 2, "{out}");
+}
+
+#[cfg(all(feature = "hdf5", target_os = "linux"))]
+#[test]
+fn hdf5_write_failure_names_the_frames_it_lost() {
+    // Issue 13, item 10: a VTK write failure names its step and time (every frame is written
+    // as it comes); HDF5 buffers frames, so a failure at the end of the run said only
+    // "writing HDF5: …". With the file size limited (SIGXFSZ ignored, so the write fails with
+    // EFBIG), the error names the buffered frames' first step and time, and nothing is
+    // committed.
+    let tmp = TempDir::new().unwrap();
+    let out = tmp.path().join("out");
+    let o = std::process::Command::new("sh")
+        .current_dir(tmp.path())
+        .args([
+            "-c",
+            "trap '' XFSZ; ulimit -f 400; exec \"$0\" \"$@\"",
+            env!("CARGO_BIN_EXE_rubsim"),
+            "run",
+            data("single.toml").to_str().unwrap(),
+            "--set",
+            "output.hdf5={}",
+            "--set",
+            "output.png=false",
+            "--set",
+            "run.error_estimate=false",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && o.status.code() != Some(101), "{err}");
+    for want in [
+        "results.vtkhdf",
+        "writing HDF5",
+        "since step 0 (t = ",
+        "File too large",
+    ] {
+        assert!(err.contains(want), "`{want}` not in: {err}");
+    }
+    assert_nothing_written(&out);
+}
+
+#[test]
 fn run_writes_summary_and_pictures() {
     let tmp = TempDir::new().unwrap();
     let out = tmp.path().join("single");

@@ -210,7 +210,7 @@ impl Rotor {
                 j.natural_frequency() / (2.0 * std::f64::consts::PI)
             ),
             Rotor::Fe(f) => format!(
-                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF ({}), {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; damping: {}; ω_n = {:.4} rad/s ({:.4} Hz, first lateral mode), ω_max = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
+                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF ({}), {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; damping: {}; ω_n = {:.4} rad/s ({:.4} Hz, first lateral mode), highest free-rotor mode ω_max,rotor = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
                 f.rotor.nodes(),
                 f.rotor.nodes() - 1,
                 f.rotor.ndof,
