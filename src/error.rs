@@ -71,6 +71,20 @@ pub enum ModelError {
         #[source]
         source: LinalgError,
     },
+    /// A clearance given as `clearance_nd` (× |Z0(ω)|) cannot be placed because |Z0(ω)| is
+    /// not a positive finite length; `cause` names the input responsible and the remedy.
+    #[error("{what}: clearance_nd is relative to |Z0(ω)| at ω = {omega:.6e} rad/s, {cause}")]
+    ClearanceScale {
+        /// Which stator.
+        what: String,
+        /// Speed ω (rad/s).
+        omega: f64,
+        /// Why |Z0| is unusable there, naming the key to change.
+        cause: String,
+        /// True when only this speed is affected (an undamped rotor at a critical speed):
+        /// other speeds of the same model are fine.
+        at_this_speed_only: bool,
+    },
     /// Inconsistent model data (e.g. an element referencing a missing node).
     #[error("{what}: {message}")]
     Inconsistent {
@@ -219,16 +233,21 @@ pub enum SolveError {
         /// Stability limit (s).
         limit: f64,
     },
-    /// The response grew beyond any physical bound.
-    #[error("response diverged at step {step} (t = {time:.6e} s): |u| = {magnitude:.3e} m exceeds {bound:.3e} m (Δt = {dt:.3e} s, stability limit {limit:.3e} s)")]
+    /// The response grew beyond any physical bound: a rotor DOF exceeded 10⁴ times the run's
+    /// scale for it (its forced response, the clearances, the initial displacement).
+    #[error("response diverged at step {step} (t = {time:.6e} s): |{dof}| = {magnitude:.3e} {unit} exceeds {bound:.3e} {unit}, 10⁴ × the run's largest forced response, clearance or initial displacement (Δt = {dt:.3e} s, stability limit {limit:.3e} s)")]
     Diverged {
         /// Step index.
         step: usize,
         /// Time (s).
         time: f64,
-        /// Offending displacement magnitude (m).
+        /// The DOF, e.g. `u_y of rotor node 4`.
+        dof: String,
+        /// Its unit, `m` or `rad`.
+        unit: &'static str,
+        /// Offending magnitude (m or rad).
         magnitude: f64,
-        /// Bound (m).
+        /// Bound (m or rad).
         bound: f64,
         /// Time step (s).
         dt: f64,

@@ -441,6 +441,258 @@ fn check_prints_the_resolved_model() {
 }
 
 #[test]
+fn brief_stiff_impacts_count_in_peak_force_and_contact_fraction() {
+    // Issue 13, item 4: with ε = 10⁶ the rod is touched for a few steps per revolution, between
+    // the recorded samples; the summary said `contact_force_max_nd = 0` and
+    // `contact_fraction = 0` while 14 081 steps were in contact. They are counted at every step.
+    let tmp = TempDir::new().unwrap();
+    let out = tmp.path().join("stiff");
+    let scene = repo("scenes/paper/partial_rub.toml");
+    ok(
+        tmp.path(),
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--speed",
+            "1.7",
+            "--set",
+            "stator.0.stiffness_ratio=1e6",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let r = &json(&out.join("summary.json"))["result"];
+    let (stats, plan) = (&r["stats"], &r["plan"]);
+    let u = |v: &serde_json::Value| v.as_u64().unwrap_or_else(|| panic!("{v}")) as usize;
+    let f = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{v}"));
+    let (steady, whole) = (&stats["steady"], &stats["whole"]);
+    // 100 of the 220 revolutions are the transient: the window is the other 120, every step.
+    assert_eq!(u(&plan["steady_from"]), 100 * u(&plan["steps_per_rev"]));
+    assert_eq!(u(&steady["instants"]), 120 * u(&plan["steps_per_rev"]));
+    assert_eq!(u(&whole["instants"]), u(&stats["steps"]) + 1);
+    let in_contact = u(&steady["contact_instants"]);
+    assert!(in_contact > 0 && in_contact <= u(&whole["contact_instants"]));
+    assert_eq!(u(&whole["contact_instants"]), u(&stats["contact_steps"]));
+    assert!(u(&stats["contact_steps"]) > 10_000, "{stats}");
+    assert_eq!(
+        f(&r["contact_fraction"]),
+        in_contact as f64 / u(&steady["instants"]) as f64
+    );
+    let peak = f(&r["contact_force_max_nd"]);
+    assert!(peak > 1.0, "peak contact force {peak} × |U|ω²");
+    assert_eq!(peak, f(&steady["force_max"]) / f(&r["unbalance_force"]));
+    // The penetration of the exact post-correction gaps, over every step.
+    let pen = f(&r["penetration_max_m"]);
+    assert!((0.0..1e-12).contains(&pen), "penetration {pen} m");
+    assert_eq!(pen, f(&whole["penetration_max"]));
+}
+
+#[test]
+fn station_away_from_the_analysed_response_is_no_false_divergence() {
+    // Issue 13, item 8: `station.0.node=0` puts the station (and the analysed node) on a
+    // bearing, where |Z0| is 10⁴ times smaller than at the disk; the divergence bound was
+    // scaled from that node and applied to every DOF, so the disk's ordinary response stopped
+    // the run at step 3339 as "response diverged". The bound now takes the largest |Z0| over
+    // the rotor.
+    let tmp = TempDir::new().unwrap();
+    let scene = repo("scenes/fe/paper_rotor_rub.toml");
+    for (integrator, revs) in [("forward_increment", "220"), ("collocated", "20")] {
+        let out = tmp.path().join(integrator);
+        let (i, r) = (
+            format!("run.integrator=\"{integrator}\""),
+            format!("run.revolutions={revs}"),
+        );
+        ok(
+            tmp.path(),
+            &[
+                "run",
+                scene.to_str().unwrap(),
+                "--speed",
+                "1.7",
+                "--set",
+                "station.0.node=0",
+                "--set",
+                &i,
+                "--set",
+                &r,
+                "--set",
+                "run.transient_revolutions=10",
+                "--set",
+                "output.png=false",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        let res = &json(&out.join("summary.json"))["result"];
+        assert_eq!(res["node"].as_u64(), Some(0));
+        assert!(res["extents_nd"][1].as_f64().unwrap() < 2.0, "{res}");
+    }
+}
+
+#[test]
+fn undamped_rotor_runs_off_its_critical_speed_and_says_why_not_at_it() {
+    // Issue 13, item 8: `rotor.damping_ratio=0` is legal, but the model was checked at ω_n
+    // where |Z0| is infinite, and the rod placed at an infinite clearance failed as "stator rod
+    // stiffness: … fix more DOFs". Off ω_n it runs; at ω_n the error says what is infinite and
+    // what to change.
+    let tmp = TempDir::new().unwrap();
+    let scene = repo("scenes/paper/partial_rub.toml");
+    let base = [
+        "run",
+        scene.to_str().unwrap(),
+        "--set",
+        "rotor.damping_ratio=0",
+        "--set",
+        "run.revolutions=20",
+        "--set",
+        "run.transient_revolutions=10",
+        "--set",
+        "run.error_estimate=false",
+        "--set",
+        "output.png=false",
+    ];
+    let out = tmp.path().join("off");
+    let mut args = base.to_vec();
+    args.extend(["--speed", "1.7", "--out", out.to_str().unwrap()]);
+    ok(tmp.path(), &args);
+    assert!(
+        json(&out.join("summary.json"))["result"]["z0"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    let out = tmp.path().join("at");
+    let mut args = base.to_vec();
+    args.extend(["--speed", "1", "--out", out.to_str().unwrap()]);
+    let err = fails(tmp.path(), &args);
+    for want in [
+        "clearance_nd",
+        "infinite",
+        "critical speed",
+        "`clearance`",
+        "rotor.damping_ratio",
+    ] {
+        assert!(err.contains(want), "`{want}` not in: {err}");
+    }
+    assert!(!err.contains("fix more DOFs"), "{err}");
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn a_clearance_relative_to_z0_names_why_z0_is_unusable() {
+    // Issue 13, item 8: mutants blamed "clearance_nd needs a non-zero |Z0|" (or a singular
+    // stator) whatever made |Z0| unusable; the error names the input responsible.
+    let tmp = TempDir::new().unwrap();
+    let scene = repo("scenes/paper/partial_rub.toml");
+    for (set, speed, wants) in [
+        ("rotor.unbalance.0.phase_deg=nan", "1.7", &["phase_deg"][..]),
+        (
+            "rotor.unbalance.0.mass=0.0",
+            "1.7",
+            &["no net unbalance", "rotor.unbalance"],
+        ),
+        (
+            "rotor.damping_ratio=1e308",
+            "1.7",
+            &["damping", "rotor.damping_ratio"],
+        ),
+        ("rotor.disk.diameter=1e300", "1.7", &["mass", "rotor.disk"]),
+        (
+            "rotor.shaft.youngs_modulus=1e308",
+            "1.7",
+            &["stiffness", "rotor.shaft"],
+        ),
+        (
+            "rotor.shaft.length=1e300",
+            "1.7",
+            &["stiffness", "rotor.shaft"],
+        ),
+        ("title=\"huge speed\"", "1e308", &["speed", "--speed"]),
+    ] {
+        let out = tmp.path().join("out");
+        let err = fails(
+            tmp.path(),
+            &[
+                "run",
+                scene.to_str().unwrap(),
+                "--speed",
+                speed,
+                "--set",
+                set,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        for want in wants {
+            assert!(err.contains(want), "{set}: `{want}` not in: {err}");
+        }
+        for blame in ["needs a non-zero", "fix more DOFs", "singular"] {
+            assert!(!err.contains(blame), "{set}: blames `{blame}`: {err}");
+        }
+        assert_nothing_written(&out);
+    }
+}
+
+#[test]
+fn check_labels_each_frequency_for_what_it_is() {
+    // Issue 13, item 10: `check` printed the free rotor's highest mode and the frequency with
+    // the contact stiffness, two different numbers, both as "ω_max".
+    let (okay, out, err) = in_repo(&["check", "scenes/fe/paper_rotor_rub.toml"]);
+    assert!(okay, "{err}");
+    assert!(out.contains("ω_max,rotor = "), "{out}");
+    assert!(out.contains("ω_max,contact = "), "{out}");
+    let labels: Vec<&str> = out.matches("ω_max").collect();
+    assert_eq!(
+        out.matches("ω_max ").count() + out.matches("ω_max=").count(),
+        0,
+        "{out}"
+    );
+    assert!(labels.len() >= 2, "{out}");
+}
+
+#[cfg(all(feature = "hdf5", target_os = "linux"))]
+#[test]
+fn hdf5_write_failure_names_the_frames_it_lost() {
+    // Issue 13, item 10: a VTK write failure names its step and time (every frame is written
+    // as it comes); HDF5 buffers frames, so a failure at the end of the run said only
+    // "writing HDF5: …". With the file size limited (SIGXFSZ ignored, so the write fails with
+    // EFBIG), the error names the buffered frames' first step and time, and nothing is
+    // committed.
+    let tmp = TempDir::new().unwrap();
+    let out = tmp.path().join("out");
+    let o = std::process::Command::new("sh")
+        .current_dir(tmp.path())
+        .args([
+            "-c",
+            "trap '' XFSZ; ulimit -f 400; exec \"$0\" \"$@\"",
+            env!("CARGO_BIN_EXE_rubsim"),
+            "run",
+            data("single.toml").to_str().unwrap(),
+            "--set",
+            "output.hdf5={}",
+            "--set",
+            "output.png=false",
+            "--set",
+            "run.error_estimate=false",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && o.status.code() != Some(101), "{err}");
+    for want in [
+        "results.vtkhdf",
+        "writing HDF5",
+        "since step 0 (t = ",
+        "File too large",
+    ] {
+        assert!(err.contains(want), "`{want}` not in: {err}");
+    }
+    assert_nothing_written(&out);
+}
+
+#[test]
 fn run_writes_summary_and_pictures() {
     let tmp = TempDir::new().unwrap();
     let out = tmp.path().join("single");

@@ -169,6 +169,94 @@ fn collocated_run_records_the_forces_of_a_stator_with_mass() {
     assert_eq!(c.stats.contact_steps, f.stats.contact_steps);
 }
 
+/// Contact statistics over `[first, last)` of a record: (largest |F| on station 0, samples with
+/// an active pair).
+fn recorded_contact(rec: &rubsim::time::Record, first: usize, last: usize) -> (f64, usize) {
+    (first..last).fold((0.0_f64, 0), |(f, n), i| {
+        let v = rec.force_at(i, 0);
+        (f.max(v[0].hypot(v[1])), n + usize::from(rec.active[i] > 0))
+    })
+}
+
+#[test]
+fn contact_statistics_count_every_step() {
+    // Issue 13, item 4: the peak force, the contact fraction and the penetration are taken at
+    // every step, not from the recorded samples. Recording every step, they must equal what the
+    // record shows over the analysed window; recording one step in many, they can only be
+    // larger than the record's, and the whole run holds the steady window.
+    use rubsim::analysis::{analyse, prepare};
+    let massive = ["stator.0.elements=3", "stator.0.density=20.0"];
+    for (integrator, stator) in [
+        ("collocated", &[][..]),
+        ("forward_increment", &[][..]),
+        ("collocated", &massive[..]),
+        ("forward_increment", &massive[..]),
+    ] {
+        let mut ov = vec![
+            format!("run.integrator=\"{integrator}\""),
+            "run.revolutions=16".into(),
+            "run.transient_revolutions=8".into(),
+            "run.error_estimate=false".into(),
+            "run.speed_ratio=1.7".into(),
+        ];
+        ov.extend(stator.iter().map(|s| s.to_string()));
+        let (ls, model) = scene_model(&paper_single_si(), &ov);
+        let mut st = settings(&ls);
+        let coarse = prepare(&model, &st, 1.7).unwrap();
+        assert!(
+            coarse.plan.record_every > 1,
+            "{integrator}: {:?}",
+            coarse.plan
+        );
+        st.step.samples_per_rev = coarse.plan.steps_per_rev;
+        let every = prepare(&model, &st, 1.7).unwrap();
+        assert_eq!(every.plan.record_every, 1);
+        assert_eq!(every.plan.steps, coarse.plan.steps, "{integrator}");
+        let what = format!("{integrator}, stator {stator:?}");
+        for p in [&every, &coarse] {
+            let (rec, stats) = p.integrate(&mut []).unwrap();
+            let (plan, spr) = (&p.plan, p.settings.step.samples_per_rev);
+            let (first, last) = (8 * spr, 16 * spr);
+            assert_eq!(plan.steady_from, 8 * plan.steps_per_rev, "{what}");
+            let (s, w) = (stats.steady, stats.whole);
+            assert_eq!(s.from_step, plan.steady_from, "{what}");
+            assert_eq!(s.instants, plan.steps - plan.steady_from, "{what}");
+            assert_eq!(w.instants, plan.steps + 1, "{what}");
+            assert!(s.contact_instants > 0, "{what}: no contact in the window");
+            assert!(w.contact_instants >= s.contact_instants, "{what}");
+            assert!(w.force_max >= s.force_max && s.force_max > 0.0, "{what}");
+            assert!(w.penetration_max >= s.penetration_max, "{what}");
+            assert_eq!(w.penetration_max, (-stats.min_gap).max(0.0), "{what}");
+            let (fmax, ncontact) = recorded_contact(&rec, first, last);
+            if plan.record_every == 1 {
+                assert_eq!(last - first, s.instants, "{what}");
+                assert_eq!(ncontact, s.contact_instants, "{what}");
+                assert!(
+                    (fmax - s.force_max).abs() <= 1e-12 * fmax,
+                    "{what}: {fmax} vs {}",
+                    s.force_max
+                );
+            } else {
+                assert!(
+                    ncontact <= s.contact_instants && fmax <= s.force_max,
+                    "{what}"
+                );
+            }
+            let r = analyse(&p.case, &p.settings, plan, &rec, stats, Keep::default());
+            assert_eq!(
+                r.contact_force_max_nd,
+                s.force_max / p.case.unbalance_force,
+                "{what}"
+            );
+            assert_eq!(
+                r.contact_fraction,
+                s.contact_instants as f64 / s.instants as f64
+            );
+            assert_eq!(r.penetration_max_m, w.penetration_max, "{what}");
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // The paper's case at the limits.
 
@@ -223,4 +311,47 @@ fn unstable_step_is_refused_with_the_limit() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("stability limit"), "{e}");
+}
+
+#[test]
+fn a_step_beyond_the_stability_limit_is_stopped_as_diverged() {
+    // Issue 13, item 8: the divergence bound is per DOF (displacements against the largest
+    // |Z0| over the rotor, rotations against the largest forced tilt), so a true instability
+    // is still caught: Δt forced to 3 × 2/ω_max of the free rotor (the plan refuses it, so it
+    // is set by hand) stops within a few hundred steps as `Diverged`, naming the DOF, before
+    // any value overflows to a non-finite one.
+    use common::scenes::{PAPER, PAPER_FE};
+    use rubsim::error::SolveError;
+    use rubsim::time::{integrate, plan_steps, Scheme};
+    for (text, units) in [(PAPER, "m"), (PAPER_FE, "m rad")] {
+        let (ls, model) = scene_model(
+            text,
+            &["run.revolutions=20", "run.transient_revolutions=10"],
+        );
+        let case = model.case(1.7 * model.rotor.natural_frequency()).unwrap();
+        for scheme in [Scheme::Collocated, Scheme::ForwardIncrement] {
+            let mut st = settings(&ls).step;
+            st.integrator = scheme;
+            let mut plan = plan_steps(&case, &st).unwrap();
+            integrate(&case, scheme, &plan, Default::default())
+                .unwrap_or_else(|e| panic!("{scheme:?} at the planned step: {e}"));
+            plan.dt = 3.0 * 2.0 / case.rotor_omega_max;
+            match integrate(&case, scheme, &plan, Default::default()) {
+                Err(SolveError::Diverged {
+                    step,
+                    dof,
+                    unit,
+                    magnitude,
+                    bound,
+                    ..
+                }) => {
+                    assert!(step < 2000, "{scheme:?}: caught late, step {step}");
+                    assert!(magnitude > bound && units.contains(unit), "{dof} {unit}");
+                    assert!(dof.contains("of rotor node"), "{dof}");
+                }
+                Err(e) => panic!("{scheme:?}: expected Diverged, got {e}"),
+                Ok((_, stats)) => panic!("{scheme:?}: ran to the end, {} steps", stats.steps),
+            }
+        }
+    }
 }

@@ -393,7 +393,7 @@ fn three_d_contact_nodes_face_the_station_at_their_axial_position() {
     // It runs: both stations can rub their tooth.
     let mut st = settings(&ls);
     st.step.revolutions = 6;
-    st.transient_revolutions = 3;
+    st.step.transient_revolutions = 3;
     st.error_estimate = false;
     st.initial.u = [0.0, 3e-4];
     let r = rubsim::analysis::run_speed(&model, &st, 1.0, Default::default()).unwrap();

@@ -60,8 +60,6 @@ pub const PERIOD_TOL: f64 = 2e-3;
 pub struct RunSettings {
     /// Integrator and step choices.
     pub step: StepParams,
-    /// Revolutions cut as transient.
-    pub transient_revolutions: usize,
     /// Companion run at 2Δt for an error estimate.
     pub error_estimate: bool,
     /// Initial rotor state.
@@ -80,9 +78,9 @@ impl RunSettings {
                 dt: run.dt,
                 harmonics: run.harmonics,
                 revolutions: run.revolutions,
+                transient_revolutions: run.transient_revolutions,
                 samples_per_rev: run.samples_per_rev,
             },
-            transient_revolutions: run.transient_revolutions,
             error_estimate: run.error_estimate,
             initial: Initial {
                 u: run.initial_displacement,

@@ -52,10 +52,15 @@ pub struct SpeedResults {
     pub amp_half_nd: f64,
     /// 1/3× amplitude / |Z0|.
     pub amp_third_nd: f64,
-    /// Largest contact-force magnitude on station 0 in the analysis window / |U|ω².
+    /// Largest contact-force magnitude on station 0 over every step of the analysed steady
+    /// window (after the transient) / |U|ω² ([`RunStats::steady`]).
     pub contact_force_max_nd: f64,
-    /// Fraction of recorded samples in the analysis window with contact.
+    /// Fraction of the steps of the analysed steady window with at least one pair carrying
+    /// force ([`RunStats::steady`]).
     pub contact_fraction: f64,
+    /// Largest penetration over every step of the whole run (m), `max(0, −g)` of the exact
+    /// post-correction gaps ([`RunStats::whole`]); the steady window's is in `stats.steady`.
+    pub penetration_max_m: f64,
     /// Step plan.
     pub plan: StepPlan,
     /// Loop counters.
@@ -264,7 +269,13 @@ pub fn extents_error(x: &[f64; 4], reference: &[f64; 4], scale: ExtentsScale) ->
     }
 }
 
-/// Analysis of a record: transient cut, Poincaré section, extents, spectrum, contact forces.
+/// Analysis of a record: transient cut, Poincaré section, extents, spectrum; the contact
+/// figures come from the loop's counters `stats`, taken at every step (the record keeps one
+/// step in `record_every`).
+///
+/// The analysed window is the steady part of the run, the samples at the instants
+/// `plan.steady_from ≤ k < plan.steps` (k the step index); its contact figures are
+/// [`RunStats::steady`]'s over the same instants.
 pub fn analyse(
     case: &Case,
     s: &RunSettings,
@@ -280,7 +291,7 @@ pub fn analyse(
     } else {
         1.0
     };
-    let first = s.transient_revolutions * spr;
+    let first = plan.steady_from / plan.record_every;
     let last = (s.step.revolutions * spr).min(rec.len().saturating_sub(1));
     let window: Vec<V2> = (first..last)
         .map(|i| {
@@ -302,16 +313,6 @@ pub fn analyse(
     let spec = hann_spectrum(&comp);
     let nrev = (last - first) as f64 / spr as f64;
     let amp = |order: f64| line_amplitude(&spec, order * nrev);
-    let mut fmax = 0.0_f64;
-    let mut ncontact = 0usize;
-    for i in first..last {
-        let f = rec.force_at(i, 0);
-        let m = f[0].hypot(f[1]);
-        fmax = fmax.max(m);
-        if rec.active[i] > 0 {
-            ncontact += 1;
-        }
-    }
     let spectrum = match keep.spectrum_up_to {
         Some(fm) => spec
             .iter()
@@ -334,12 +335,9 @@ pub fn analyse(
         amp_1x_nd: amp(1.0),
         amp_half_nd: amp(0.5),
         amp_third_nd: amp(1.0 / 3.0),
-        contact_force_max_nd: fmax / fu,
-        contact_fraction: if last > first {
-            ncontact as f64 / (last - first) as f64
-        } else {
-            0.0
-        },
+        contact_force_max_nd: stats.steady.force_max / fu,
+        contact_fraction: stats.steady.fraction(),
+        penetration_max_m: stats.whole.penetration_max,
         plan: *plan,
         stats,
         error: None,

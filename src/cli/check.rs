@@ -93,7 +93,7 @@ fn print_stators(s: &Scene, case: &Case) {
             );
         } else {
             println!(
-                "  with mass: lumped, integrated explicitly; ω_max ≤ {:.4e} rad/s",
+                "  with mass: lumped, integrated explicitly; its highest mode ω_max,stator ≤ {:.4e} rad/s",
                 m.omega_max_sq_bound().sqrt()
             );
         }
@@ -142,7 +142,7 @@ fn print_run(s: &Scene, case: &Case, plan: &StepPlan) {
         if s.run.error_estimate { "by a companion run at 2Δt" } else { "off" }
     );
     println!(
-        "  Δt at ω/ωn = {:.2}: {:.4e} s ({} steps/rev); paper rule (n = {}) {:.4e} s; stability limit {:.4e} s; ω_max {:.4e} rad/s",
+        "  Δt at ω/ωn = {:.2}: {:.4e} s ({} steps/rev); paper rule (n = {}) {:.4e} s; stability limit {:.4e} s; highest frequency with the contact stiffness and stator modes ω_max,contact = {:.4e} rad/s",
         case.speed_ratio, plan.dt, plan.steps_per_rev, s.run.harmonics, plan.rule_dt, plan.limit, plan.omega_max
     );
 }

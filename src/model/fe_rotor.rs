@@ -396,6 +396,9 @@ impl FeRotor {
             c,
             k: self.k(omega),
             node_dofs: (0..self.nodes()).map(|i| [4 * i, 4 * i + 1]).collect(),
+            node_tilt: (0..self.nodes())
+                .map(|i| Some([4 * i + 2, 4 * i + 3]))
+                .collect(),
             node_axial: self.node_axial.clone(),
             node_torsion: self.node_torsion.clone(),
             node_z: self.z.clone(),

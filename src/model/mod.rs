@@ -71,11 +71,25 @@ impl Rotor {
     /// [`ModelError`] when the dynamic stiffness `K − ω²M + iω(C + ωG)` of an FE rotor is
     /// singular at ω (an undamped rotor exactly at a critical speed): |Z0| is not defined there.
     pub fn z0(&self, node: usize, omega: f64) -> Result<f64, ModelError> {
+        Ok(self.forced_ellipses(omega)?[node][0])
+    }
+    /// The steady unbalance response without stator at ω, per rotor node: the major
+    /// semi-axes of the forced ellipses of the displacement `[u_x, u_y]` (m, |Z0| at the node)
+    /// and of the rotation `[θ_x, θ_y]` (rad; 0 for the Jeffcott rotor).
+    ///
+    /// # Errors
+    /// As [`Rotor::z0`].
+    pub fn forced_ellipses(&self, omega: f64) -> Result<Vec<[f64; 2]>, ModelError> {
         match self {
-            Rotor::Jeffcott(j) => Ok(j.z0(omega)),
+            Rotor::Jeffcott(j) => Ok(vec![[j.z0(omega), 0.0]]),
             Rotor::Fe(f) => {
                 let q = f.rotor.unbalance_response(omega)?;
-                Ok(fe_rotor::ellipse_major(q[4 * node], q[4 * node + 1]))
+                Ok((0..f.rotor.nodes())
+                    .map(|i| {
+                        let e = |k: usize| fe_rotor::ellipse_major(q[4 * i + k], q[4 * i + k + 1]);
+                        [e(0), e(2)]
+                    })
+                    .collect())
             }
         }
     }
@@ -196,7 +210,7 @@ impl Rotor {
                 j.natural_frequency() / (2.0 * std::f64::consts::PI)
             ),
             Rotor::Fe(f) => format!(
-                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF ({}), {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; damping: {}; ω_n = {:.4} rad/s ({:.4} Hz, first lateral mode), ω_max = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
+                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF ({}), {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; damping: {}; ω_n = {:.4} rad/s ({:.4} Hz, first lateral mode), highest free-rotor mode ω_max,rotor = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
                 f.rotor.nodes(),
                 f.rotor.nodes() - 1,
                 f.rotor.ndof,
@@ -318,11 +332,102 @@ pub struct Case {
     pub observed_node: usize,
     /// |Z0(ω)| at the observed node (m): the unit of the non-dimensional orbits.
     pub z0: f64,
+    /// Largest |Z0(ω)| over every rotor node (m): the length scale of the response wherever
+    /// the stations and the observed node are.
+    pub z0_max: f64,
+    /// Largest amplitude of the forced rotation `[θ_x, θ_y]` over every rotor node (rad; 0 for
+    /// the Jeffcott rotor).
+    pub tilt0_max: f64,
     /// Unbalance force magnitude |Σ m_u e e^{iφ}| ω² (N).
     pub unbalance_force: f64,
 }
 
 impl Rotor {
+    /// Why |Z0(ω)| = `z0` cannot scale a `clearance_nd`, naming the input responsible and the
+    /// remedy, and whether only this speed is affected; `None` when `z0` is a usable positive
+    /// finite length. In order: the rotor's mass, stiffness or damping is not finite (or the
+    /// Jeffcott mass or stiffness not positive); ω ≤ 0 or ω² overflows; the unbalance is not
+    /// finite or sums to zero; an undamped rotor at its critical speed (|Z0| infinite:
+    /// `|k − mω²| ≤ 10⁻⁹ k` for the Jeffcott rotor); |Z0| zero or not finite for any other
+    /// reason (a stiffness or damping so large the rotor does not move).
+    pub fn z0_trouble(&self, omega: f64, z0: f64) -> Option<(String, bool)> {
+        const METRES: &str = "give `clearance` in metres instead";
+        let trouble = |cause: String| Some((format!("{cause}: {METRES}"), false));
+        let finite = |a: &crate::linalg::Csc| a.values().iter().all(|v| v.is_finite());
+        let resonance = match self {
+            Rotor::Jeffcott(j) => {
+                for (what, v, keys) in [
+                    ("mass", j.mass, "`rotor.mass` or `rotor.disk`"),
+                    (
+                        "stiffness",
+                        j.stiffness,
+                        "`rotor.stiffness` or `rotor.shaft`",
+                    ),
+                    (
+                        "damping",
+                        j.damping,
+                        "`rotor.damping` or `rotor.damping_ratio`",
+                    ),
+                ] {
+                    if !v.is_finite() || (what != "damping" && v <= 0.0) {
+                        return trouble(format!("and the rotor {what} is {v:e} (from {keys})"));
+                    }
+                }
+                j.damping == 0.0
+                    && (j.stiffness - j.mass * omega * omega).abs() <= 1e-9 * j.stiffness
+            }
+            Rotor::Fe(f) => {
+                if !finite(&f.rotor.m) || !finite(&f.rotor.k(omega)) {
+                    return trouble("and the rotor's mass or stiffness matrix is not finite (a `rotor.shaft`, `rotor.disk`, `rotor.mass` or `rotor.bearing` value overflows)".into());
+                }
+                false
+            }
+        };
+        if !(omega * omega).is_finite() || omega <= 0.0 {
+            return trouble(format!(
+                "a speed out of range (lower or raise `--speed`, `run.speed_ratio`, `run.speed` or `run.sweep`; ω_n = {:e} rad/s)",
+                self.natural_frequency()
+            ));
+        }
+        let loads = match self {
+            Rotor::Jeffcott(j) => &j.unbalance,
+            Rotor::Fe(f) => &f.rotor.unbalance,
+        };
+        let u = loads.iter().fold([0.0_f64, 0.0], |a, l| {
+            [a[0] + l.me * l.phase.cos(), a[1] + l.me * l.phase.sin()]
+        });
+        let key = "`rotor.unbalance` (mass, radius, phase_deg)";
+        if !(u[0].is_finite() && u[1].is_finite()) {
+            return trouble(format!(
+                "and the unbalance Σ m_u e e^(iφ) is not finite: check {key}"
+            ));
+        }
+        if u[0] == 0.0 && u[1] == 0.0 {
+            return trouble(format!(
+                "which is 0: the rotor has no net unbalance (none, zero masses or masses that cancel in {key})"
+            ));
+        }
+        if resonance || z0.is_infinite() {
+            let damping = match self {
+                Rotor::Jeffcott(_) => "`rotor.damping_ratio` or `rotor.damping`",
+                Rotor::Fe(_) => "`rotor.rayleigh`, `rotor.modal_damping` or bearing `damping`",
+            };
+            return Some((
+                format!(
+                    "which is infinite: the undamped rotor is at its critical speed (ω/ω_n = {:.6}); {METRES}, add damping ({damping}) or run another speed",
+                    omega / self.natural_frequency()
+                ),
+                true,
+            ));
+        }
+        if z0.is_finite() && z0 > 0.0 {
+            return None;
+        }
+        trouble(format!(
+            "which is {z0:e}: the rotor's stiffness or damping is so large that it does not respond (check `rotor.damping_ratio`, `rotor.stiffness`, `rotor.shaft`, the bearings)"
+        ))
+    }
+
     /// Builds the rotor of resolved data: an FE rotor is assembled and its ω_n (first lateral
     /// mode), ω_max, reference stiffness k_r and `(M⁻¹)_xx` per node are computed.
     pub fn build(input: &RotorInput) -> Result<Self, ModelError> {
@@ -431,8 +536,16 @@ impl Model {
             stators,
             observed_node: r.observed_node,
         };
-        m.case(m.rotor.natural_frequency())?;
-        Ok(m)
+        // An undamped rotor has no |Z0| at ω_n itself: that speed's runs say so; the model is
+        // fine.
+        match m.case(m.rotor.natural_frequency()) {
+            Err(ModelError::ClearanceScale {
+                at_this_speed_only: true,
+                ..
+            })
+            | Ok(_) => Ok(m),
+            Err(e) => Err(e.into()),
+        }
     }
 
     /// Resolves a loaded scene ([`crate::resolve::resolve`]: checks, meshes) and builds its
@@ -452,14 +565,16 @@ impl Model {
         let observed_node = self
             .observed_node
             .unwrap_or_else(|| self.stations.first().map_or(0, |s| s.node));
-        let z0 = self.rotor.z0(observed_node, omega)?;
+        // One forced response for |Z0| at the observed node, at the stations and everywhere.
+        let forced = self.rotor.forced_ellipses(omega)?;
+        let z0 = forced[observed_node][0];
         let body = self.rotor.body(omega)?;
         let u = body.unbalance_resultant();
         let kr = self.rotor.reference_stiffness();
         let stators = self
             .stators
             .iter()
-            .map(|plan| self.stator_at(plan, omega, kr))
+            .map(|plan| self.stator_at(plan, omega, kr, &forced))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Case {
             omega,
@@ -478,21 +593,37 @@ impl Model {
             stators,
             observed_node,
             z0,
+            z0_max: forced.iter().map(|e| e[0]).fold(0.0, f64::max),
+            tilt0_max: forced.iter().map(|e| e[1]).fold(0.0, f64::max),
             unbalance_force: u[0].hypot(u[1]) * omega * omega,
         })
     }
 
     /// One stator at speed ω, placed at its clearance, for a rotor of reference stiffness
-    /// `kr` (N/m).
-    fn stator_at(&self, plan: &StatorPlan, omega: f64, kr: f64) -> Result<StatorModel, ModelError> {
+    /// `kr` (N/m) whose forced response per node is `forced` ([`Rotor::forced_ellipses`]).
+    fn stator_at(
+        &self,
+        plan: &StatorPlan,
+        omega: f64,
+        kr: f64,
+        forced: &[[f64; 2]],
+    ) -> Result<StatorModel, ModelError> {
         let si = plan.station();
         let st = &self.stations[si];
-        let clearance = |c: Clearance| {
-            c.at(|| self.rotor.z0(st.node, omega))?
-                .ok_or_else(|| ModelError::Inconsistent {
-                    what: format!("stator `{}`", plan.name()),
-                    message: "clearance_nd needs a non-zero unbalance response |Z0|; give `clearance` in metres".into(),
-                })
+        let clearance = |c: Clearance| match c {
+            Clearance::Metres(m) => Ok(m),
+            Clearance::TimesZ0(nd) => {
+                let z0 = forced[st.node][0];
+                match self.rotor.z0_trouble(omega, z0) {
+                    None => Ok(nd * z0),
+                    Some((cause, at_this_speed_only)) => Err(ModelError::ClearanceScale {
+                        what: format!("stator `{}`", plan.name()),
+                        omega,
+                        cause,
+                        at_this_speed_only,
+                    }),
+                }
+            }
         };
         Ok(match plan {
             StatorPlan::Rod(r) => {

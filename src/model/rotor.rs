@@ -36,6 +36,9 @@ pub struct RotorBody {
     pub k: Csc,
     /// `[u_x, u_y]` DOFs of each node (index = rotor node).
     pub node_dofs: Vec<[usize; 2]>,
+    /// Rotation DOFs `[θ_x, θ_y]` of each node (rad; θ_y = ∂u_x/∂z, θ_x = −∂u_y/∂z), `None`
+    /// when the rotor has none (Jeffcott).
+    pub node_tilt: Vec<Option<[usize; 2]>>,
     /// Axial DOF `u_z` of each node (m, along +z), `None` when the rotor has none (Jeffcott,
     /// FE rotors without `axial`). Uncoupled from the lateral DOFs in M, C and K.
     pub node_axial: Vec<Option<usize>>,
@@ -135,6 +138,7 @@ impl Jeffcott {
             c_low: None,
             k: diag(self.stiffness),
             node_dofs: vec![[0, 1]],
+            node_tilt: vec![None],
             node_axial: vec![None],
             node_torsion: vec![None],
             node_z: vec![0.0],

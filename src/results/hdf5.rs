@@ -402,8 +402,20 @@ impl Hdf5Series {
     /// # Errors
     /// [`Error::Output`] naming the file.
     pub fn finish(mut self) -> Result<Vec<String>> {
-        self.finish_h5()
-            .map_err(|e| Error::output(&self.path, format!("writing HDF5: {e}")))?;
+        // The frames still buffered, for the error: the time column buffers the most frames.
+        let pending = match (self.cols.step.buf.first(), self.cols.time.buf.first()) {
+            (Some(step), Some(t)) => format!(
+                "the frames buffered since step {step} (t = {t:.6e} s), {} of {} frames",
+                self.cols.time.buffered, self.frames
+            ),
+            _ => format!("{} frames", self.frames),
+        };
+        self.finish_h5().map_err(|e| {
+            Error::output(
+                &self.path,
+                format!("writing HDF5 at the end of the run ({pending}): {e}"),
+            )
+        })?;
         let name = self.name.clone();
         drop(self);
         Ok(vec![name])

@@ -55,7 +55,7 @@ mod workspace;
 pub use compliance::EAGER_DOFS;
 pub use frame::{Frame, FrameSink, PairForce};
 pub use plan::{plan_steps, Scheme, StepParams, StepPlan};
-pub use record::{Record, RunStats};
+pub use record::{ContactStats, Record, RunStats};
 pub use stepper::{Initial, Sink, Stepper};
 
 use crate::error::SolveError;

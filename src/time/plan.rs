@@ -50,6 +50,9 @@ pub struct StepPlan {
     pub steps: usize,
     /// Record every this many steps.
     pub record_every: usize,
+    /// First step of the analysed steady window, `transient_revolutions × steps_per_rev`
+    /// (at most `steps`): the window covers the instants `steady_from ≤ k < steps`.
+    pub steady_from: usize,
     /// Explicit stability limit (s).
     pub limit: f64,
     /// The paper's rule Δt = min(T_min/(32n), 2π/(32nω)) (s).
@@ -69,6 +72,8 @@ pub struct StepParams {
     pub harmonics: f64,
     /// Total revolutions.
     pub revolutions: usize,
+    /// Revolutions cut as transient before the analysed steady window.
+    pub transient_revolutions: usize,
     /// Recorded samples per revolution.
     pub samples_per_rev: usize,
 }
@@ -175,6 +180,7 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
         steps_per_rev,
         steps: steps_per_rev * p.revolutions,
         record_every: per_sample,
+        steady_from: steps_per_rev * p.transient_revolutions.min(p.revolutions),
         limit,
         rule_dt,
         omega_max,

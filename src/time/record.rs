@@ -63,7 +63,8 @@ pub struct RunStats {
     pub steps: usize,
     /// Wall time of the loop (s).
     pub wall_s: f64,
-    /// Most negative gap after correction over the run (m); ≥ 0 means no penetration.
+    /// Most negative gap after correction over the run (m); ≥ 0 means no penetration, NaN when
+    /// no contact problem was ever solved.
     pub min_gap: f64,
     /// Largest number of simultaneously active pairs.
     pub max_active: usize,
@@ -71,6 +72,94 @@ pub struct RunStats {
     pub contact_steps: usize,
     /// Total principal pivots of the complementarity solves.
     pub pivots: usize,
+    /// Contact over every instant tₖ = kΔt of the whole run, k = 0 … `steps`.
+    pub whole: ContactStats,
+    /// Contact over every instant of the analysed steady window, k = `plan.steady_from` …
+    /// `steps − 1` — the instants whose samples the analysis reads after the transient.
+    pub steady: ContactStats,
+}
+
+/// Contact statistics of a window of instants tₖ = kΔt, taken at every step (not from the
+/// recorded samples, which keep one step in `record_every`).
+///
+/// An instant's contact state is what a sample taken at tₖ would record: forward increment,
+/// the forces after the correction of the step that ends at tₖ; collocated, the massless
+/// stators' static forces at tₖ plus the forces of the stators with mass from the step that
+/// ends at tₖ. Its gaps are the exact post-correction gaps of the pairs solved for tₖ.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct ContactStats {
+    /// First instant index of the window (tₖ = kΔt).
+    pub from_step: usize,
+    /// Instants observed.
+    pub instants: usize,
+    /// Instants with at least one pair carrying force.
+    pub contact_instants: usize,
+    /// Largest magnitude of the contact force on station 0 (N), 0 without contact.
+    pub force_max: f64,
+    /// Time of `force_max` (s); 0 without contact.
+    pub force_max_time: f64,
+    /// Largest penetration `max(0, −g)` over the post-correction gaps of every pair solved (m).
+    pub penetration_max: f64,
+    /// Largest number of pairs carrying force at one instant.
+    pub active_max: usize,
+}
+
+impl ContactStats {
+    /// An empty window starting at instant `from_step`.
+    pub fn starting_at(from_step: usize) -> Self {
+        Self {
+            from_step,
+            ..Self::default()
+        }
+    }
+
+    /// Fraction of the window's instants in contact (0 for an empty window).
+    pub fn fraction(&self) -> f64 {
+        if self.instants == 0 {
+            0.0
+        } else {
+            self.contact_instants as f64 / self.instants as f64
+        }
+    }
+
+    /// The statistics of this window followed by the adjacent window `later`.
+    pub fn merge(self, later: Self) -> Self {
+        let (force_max, force_max_time) = if later.force_max > self.force_max {
+            (later.force_max, later.force_max_time)
+        } else {
+            (self.force_max, self.force_max_time)
+        };
+        Self {
+            from_step: self.from_step,
+            instants: self.instants + later.instants,
+            contact_instants: self.contact_instants + later.contact_instants,
+            force_max,
+            force_max_time,
+            penetration_max: self.penetration_max.max(later.penetration_max),
+            active_max: self.active_max.max(later.active_max),
+        }
+    }
+
+    /// Adds instant tₖ = kΔt, `k` = `n`, `dt` = Δt (s): the force on station 0 `[Fx, Fy]` (N),
+    /// the pairs carrying force and the smallest post-correction gap of the instant (m; +∞
+    /// when no pair was solved).
+    #[inline]
+    pub(crate) fn observe(&mut self, n: usize, dt: f64, force: V2, active: usize, gap: f64) {
+        self.instants += 1;
+        if active > 0 {
+            self.contact_instants += 1;
+            self.active_max = self.active_max.max(active);
+        }
+        // Squares: no square root on the instants that set no new peak.
+        let f2 = force[0] * force[0] + force[1] * force[1];
+        if f2 > self.force_max * self.force_max {
+            self.force_max = f2.sqrt();
+            self.force_max_time = n as f64 * dt;
+        }
+        if -gap > self.penetration_max {
+            self.penetration_max = -gap;
+        }
+    }
 }
 
 /// Fills a [`Record`] sized for the whole run up front, so recording never allocates.

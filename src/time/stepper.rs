@@ -5,7 +5,7 @@ use super::body::{DynBody, StatorDyn};
 use super::compliance::Compliance;
 use super::frame::{Frame, FrameSink};
 use super::plan::{Scheme, StepPlan};
-use super::record::{Record, Recorder, RunStats};
+use super::record::{ContactStats, Record, Recorder, RunStats};
 use super::select::{Pairs, Phase};
 use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::error::{LinalgError, SolveError};
@@ -51,12 +51,22 @@ pub struct Stepper<'a> {
     pub(crate) ws: StepWorkspace,
     recorder: Recorder,
     stats: RunStats,
-    /// Divergence bound on the rotor displacement (m).
-    bound: f64,
+    /// Divergence bound of each rotor DOF (m or rad, [`divergence_bounds`]).
+    bound: Vec<f64>,
     /// Elastic energy in the massless stators after the last solve (J).
     energy: f64,
     /// Pairs carrying force in the current step.
     active: usize,
+    /// Smallest post-correction gap of the pairs solved for the instant the next
+    /// [`Stepper::observe`] counts (m; +∞ when none).
+    instant_gap: f64,
+    /// Contact statistics of the open window of instants: the transient, then the steady
+    /// window, then the final instant; closed into `stats` at `boundary`.
+    segment: ContactStats,
+    /// The instant that closes the open window.
+    boundary: usize,
+    /// Windows closed so far (0: the transient is open, 1: the steady window, 2: the end).
+    closed: u8,
     /// Index of the next step.
     n: usize,
 }
@@ -137,9 +147,13 @@ impl<'a> Stepper<'a> {
                 min_gap: f64::INFINITY,
                 ..Default::default()
             },
-            bound: divergence_bound(case, init),
+            bound: divergence_bounds(case, init),
             energy: 0.0,
             active: 0,
+            instant_gap: f64::INFINITY,
+            segment: ContactStats::starting_at(0),
+            boundary: plan.steady_from,
+            closed: 0,
             n: 0,
         };
         st.set_initial(init, node0);
@@ -183,10 +197,13 @@ impl<'a> Stepper<'a> {
         if self.scheme == Scheme::ForwardIncrement {
             // The initial state: nothing in contact yet.
             self.record(0.0, ForceSet::Main, 0);
+            self.observe(0, ForceSet::Main, 0);
             self.emit(&mut sink, 0, 0.0)?;
         }
         while self.step(&mut sink)? {}
         let mut stats = self.stats;
+        // The transient window (held in `whole` until now), the steady one, the final instant.
+        stats.whole = stats.whole.merge(stats.steady).merge(self.segment);
         stats.wall_s = start.elapsed().as_secs_f64();
         if stats.min_gap == f64::INFINITY {
             stats.min_gap = f64::NAN;
@@ -219,6 +236,7 @@ impl<'a> Stepper<'a> {
         self.guard(n + 1, t + dt)?;
         self.advance();
         if self.scheme == Scheme::ForwardIncrement {
+            self.observe(n + 1, ForceSet::Main, self.active);
             if (n + 1) % self.plan.record_every == 0 {
                 self.record(t + dt, ForceSet::Main, self.active);
             }
@@ -259,12 +277,12 @@ impl<'a> Stepper<'a> {
         self.active = self.ws.active();
         self.energy = self.stator_energy();
         self.collect_pairs(ForceSet::Main);
-        self.stats.min_gap = self.pairs.min_gap(
+        self.instant_gap = self.pairs.min_gap(
             self.case,
             &self.ws.sel,
             &self.rotor.u,
             &self.stators,
-            self.stats.min_gap,
+            self.instant_gap,
         );
         Ok(())
     }
@@ -285,6 +303,7 @@ impl<'a> Stepper<'a> {
             }
         }
         let active = self.active + ws.with_mass_active;
+        self.observe(n, ForceSet::WithMass, active);
         if n % self.plan.record_every == 0 {
             self.record(t, ForceSet::WithMass, active);
         }
@@ -359,28 +378,32 @@ impl<'a> Stepper<'a> {
             self.active = act;
             self.energy = self.stator_energy();
         }
-        self.stats.min_gap = self.pairs.min_gap(
+        // The gaps of the instant tₙ₊₁ this solve ends at.
+        self.instant_gap = self.pairs.min_gap(
             self.case,
             &self.ws.sel,
             &self.rotor.u_next,
             &self.stators,
-            self.stats.min_gap,
+            self.instant_gap,
         );
         Ok(())
     }
 
-    /// Stops a run that went unstable: a NaN or a rotor displacement beyond the divergence
-    /// bound, or a non-finite stator value, at step `n` (time `t`).
+    /// Stops a run that went unstable: a NaN or a rotor DOF beyond its divergence bound, or a
+    /// non-finite stator value, at step `n` (time `t`).
     fn guard(&self, n: usize, t: f64) -> Result<(), SolveError> {
-        let (dt, limit, bound) = (self.plan.dt, self.plan.limit, self.bound);
-        for (i, v) in self.rotor.u_next.iter().enumerate() {
-            if v.is_nan() || v.abs() > bound {
+        let (dt, limit) = (self.plan.dt, self.plan.limit);
+        for (i, (v, bound)) in self.rotor.u_next.iter().zip(&self.bound).enumerate() {
+            if v.is_nan() || v.abs() > *bound {
                 return Err(if v.is_finite() {
+                    let (dof, unit) = dof_name(self.case, i);
                     SolveError::Diverged {
                         step: n,
                         time: t,
+                        dof,
+                        unit,
                         magnitude: v.abs(),
-                        bound,
+                        bound: *bound,
                         dt,
                         limit,
                     }
@@ -434,6 +457,44 @@ impl<'a> Stepper<'a> {
             .sample(t, &self.rotor.u, &f.total, &f.normal, self.energy, active);
     }
 
+    /// Counts instant tₖ, `k` = `n`, in the contact statistics (the whole run and, for
+    /// `plan.steady_from ≤ k < plan.steps`, the analysed steady window): the station forces
+    /// of `forces` (what [`Stepper::record`] would record at tₖ), the pairs carrying force and
+    /// the smallest gap solved for tₖ, which it resets.
+    #[inline]
+    fn observe(&mut self, n: usize, forces: ForceSet, active: usize) {
+        if n == self.boundary {
+            self.close_window(n);
+        }
+        let f = match forces {
+            ForceSet::Main => &self.ws.main,
+            ForceSet::WithMass => &self.ws.recorded,
+        };
+        let force = f.total.first().copied().unwrap_or_default();
+        let gap = self.instant_gap;
+        self.instant_gap = f64::INFINITY;
+        self.stats.min_gap = self.stats.min_gap.min(gap);
+        self.segment.observe(n, self.plan.dt, force, active, gap);
+    }
+
+    /// Closes the open window of contact statistics at instant `n`: the transient (kept in
+    /// `stats.whole` until [`Stepper::run`] merges the windows) at `plan.steady_from`, the
+    /// steady window at `plan.steps` — both at once when they coincide.
+    #[cold]
+    fn close_window(&mut self, n: usize) {
+        while n == self.boundary {
+            let done = std::mem::replace(&mut self.segment, ContactStats::starting_at(n));
+            self.closed += 1;
+            if self.closed == 1 {
+                self.stats.whole = done;
+                self.boundary = self.plan.steps;
+            } else {
+                self.stats.steady = done;
+                self.boundary = usize::MAX;
+            }
+        }
+    }
+
     /// Hands the state at step `n` to the sink when its interval asks for it.
     #[inline]
     fn emit(&mut self, sink: &mut Sink<'_>, n: usize, t: f64) -> Result<(), SolveError> {
@@ -485,11 +546,21 @@ fn rotor_contact_dofs(case: &Case) -> Vec<usize> {
     cd
 }
 
-/// A rotor displacement beyond 10⁴ times the run's length scale (|Z0|, the largest finite
-/// clearance, the initial displacement) means the run diverged (m).
-fn divergence_bound(case: &Case, init: Initial) -> f64 {
-    let scale = case
-        .z0
+/// Factor between a DOF's divergence bound and the run's scale for it.
+const DIVERGENCE_FACTOR: f64 = 1e4;
+
+/// The divergence bound of every rotor DOF: 10⁴ times the run's scale for it, so that a
+/// response that grows past it can only be an instability, wherever the stations and the
+/// observed node are.
+///
+/// * displacements (`u_x`, `u_y`, `u_z`, pedestals; m): the length scale `L`, the largest of |Z0(ω)| over
+///   every rotor node, the finite clearances and the initial displacement (at least 1 nm);
+/// * rotations (`θ_x`, `θ_y`, `θ_z`; rad): the largest forced tilt over every node, and at
+///   least `L / ℓ`, ℓ the shortest distance between two rotor nodes (a relative displacement
+///   `L` across the shortest element; `L` per metre for a rotor of one node).
+fn divergence_bounds(case: &Case, init: Initial) -> Vec<f64> {
+    let length = case
+        .z0_max
         .max(
             case.stators
                 .iter()
@@ -499,5 +570,49 @@ fn divergence_bound(case: &Case, init: Initial) -> f64 {
         )
         .max(init.u[0].hypot(init.u[1]))
         .max(1e-9);
-    1e4 * scale
+    let z = &case.rotor.node_z;
+    let spacing = z
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let per_metre = if spacing.is_finite() { spacing } else { 1.0 };
+    let tilt = case.tilt0_max.max(length / per_metre);
+    let r = &case.rotor;
+    let mut bound = vec![DIVERGENCE_FACTOR * length; r.ndof];
+    let rotations = r
+        .node_tilt
+        .iter()
+        .flatten()
+        .flatten()
+        .chain(r.node_torsion.iter().flatten());
+    for &i in rotations {
+        bound[i] = DIVERGENCE_FACTOR * tilt;
+    }
+    bound
+}
+
+/// The name of rotor DOF `i` (`u_y of rotor node 4`) and its unit (`m` or `rad`).
+fn dof_name(case: &Case, i: usize) -> (String, &'static str) {
+    let r = &case.rotor;
+    let find = |list: &[Option<usize>]| list.iter().position(|d| *d == Some(i));
+    let pair = |n: usize, d: [usize; 2]| d.iter().position(|x| *x == i).map(|c| (n, c));
+    if let Some((n, c)) = r
+        .node_dofs
+        .iter()
+        .enumerate()
+        .find_map(|(n, d)| pair(n, *d))
+    {
+        (format!("u_{} of rotor node {n}", ["x", "y"][c]), "m")
+    } else if let Some((n, c)) =
+        (r.node_tilt.iter().enumerate()).find_map(|(n, d)| d.and_then(|d| pair(n, d)))
+    {
+        (format!("θ_{} of rotor node {n}", ["x", "y"][c]), "rad")
+    } else if let Some(n) = find(&r.node_axial) {
+        (format!("u_z of rotor node {n}"), "m")
+    } else if let Some(n) = find(&r.node_torsion) {
+        (format!("θ_z of rotor node {n}"), "rad")
+    } else {
+        (format!("rotor DOF {i} (a pedestal)"), "m")
+    }
 }

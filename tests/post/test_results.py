@@ -62,8 +62,15 @@ def test_hdf5_reproduces_the_summary(arc):
     xy = s.station_disp(0)[a:b] / res["z0"]
     ext = [xy[:, 0].min(), xy[:, 0].max(), xy[:, 1].min(), xy[:, 1].max()]
     np.testing.assert_allclose(ext, res["extents_nd"], rtol=1e-12, atol=1e-12)
+    # The summary's peak is taken at every step of the window (issue 13), the file holds one
+    # step in `record_every`: the recorded peak is at most the summary's, and here below it.
     fmax = np.linalg.norm(s.station_force[a:b, 0], axis=1).max() / res["unbalance_force"]
-    assert fmax == pytest.approx(res["contact_force_max_nd"], rel=1e-12)
+    assert int(s.attrs["steps_per_rev"]) > s.frames_per_rev()
+    assert 0.5 * res["contact_force_max_nd"] < fmax <= res["contact_force_max_nd"] * (1 + 1e-12)
+    steady = res["stats"]["steady"]
+    assert steady["force_max"] / res["unbalance_force"] == pytest.approx(
+        res["contact_force_max_nd"], rel=1e-15)
+    assert res["contact_fraction"] == steady["contact_instants"] / steady["instants"]
     amp = orbit_cascade.lines(s)
     assert amp[1.0] / res["z0"] == pytest.approx(res["amp_1x_nd"], rel=1e-9)
     assert amp[0.5] / res["z0"] == pytest.approx(res["amp_half_nd"], rel=1e-9, abs=1e-12)
