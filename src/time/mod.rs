@@ -54,7 +54,7 @@ mod workspace;
 
 pub use compliance::EAGER_DOFS;
 pub use frame::{Frame, FrameSink, PairForce};
-pub use plan::{plan_steps, Scheme, StepParams, StepPlan};
+pub use plan::{plan_duration, plan_steps, Scheme, StepParams, StepPlan};
 pub use record::{Record, RunStats};
 pub use stepper::{Initial, Sink, Stepper};
 
