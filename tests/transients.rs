@@ -5,7 +5,7 @@
 mod common;
 
 use common::scenes::PAPER;
-use common::{parse, scene_model, settings};
+use common::{scene_model, settings};
 use rubsim::analysis::{prepare_transient, TransientResults};
 use rubsim::math::loglog_slope;
 use std::f64::consts::PI;
@@ -61,4 +61,136 @@ fn slow_ramp_reproduces_the_steady_unbalance_response() {
     // The peak of the tracked 1× near the steady peak ν = 1/√(1 − 2ξ²) = 1.0426 (ξ = 0.2).
     let nu = r.peak_1x.1 / r.omega_n;
     assert!((nu - 1.0426).abs() < 0.01, "peak at ν = {nu}");
+}
+
+/// Fitted order of the transient scheme: runs at Δt = T/N for N = n0·2^k, every step recorded
+/// (`samples_per_rev` large), errors against the finest run at the coarse run's instants.
+fn fitted_order(text: &str, integrator: &str, n0: usize, duration: f64) -> (f64, Vec<f64>, usize) {
+    let levels = [1usize, 2, 4, 8];
+    let finest = 32usize;
+    let go = |mult: usize| {
+        let dt = format!("run.dt={:e}", duration / (n0 * mult) as f64);
+        let integ = format!("run.integrator=\"{integrator}\"");
+        run(
+            text,
+            &[dt.as_str(), integ.as_str(), "run.samples_per_rev=1000000"],
+        )
+    };
+    let reference = go(finest);
+    let mut errs = Vec::new();
+    let mut contact = 0;
+    for &m in &levels {
+        let r = go(m);
+        assert_eq!(r.plan.steps, n0 * m, "steps");
+        assert_eq!(r.plan.record_every, 1);
+        contact = contact.max(r.stats.contact_steps);
+        let stride = finest / m;
+        let e = r
+            .response
+            .iter()
+            .enumerate()
+            .map(|(i, u)| {
+                let v = reference.response[i * stride];
+                (u[0] - v[0]).hypot(u[1] - v[1])
+            })
+            .fold(0.0, f64::max);
+        errs.push(e);
+    }
+    let h: Vec<f64> = levels.iter().map(|m| 1.0 / *m as f64).collect();
+    (loglog_slope(&h, &errs), errs, contact)
+}
+
+#[test]
+fn transient_scheme_keeps_its_order_without_and_with_contact() {
+    // A fast ramp through the resonance: 0.8 → 2 ω_n in 0.5 s (≈ 18 revolutions).
+    let ramp = "[run.speed_profile]\nkind = \"ramp\"\nunit = \"speed_ratio\"\nfrom = 0.8\nto = 2.0\nduration = 0.5";
+    let free = paper_profile(ramp, false);
+    let (p, e, _) = fitted_order(&free, "collocated", 2500, 0.5);
+    eprintln!("free: order {p:.3}, errors {e:?}");
+    assert!((p - 2.0).abs() < 0.1, "free rotor: order {p}");
+    let rub = paper_profile(ramp, true);
+    let (p, e, c) = fitted_order(&rub, "collocated", 2500, 0.5);
+    eprintln!("rub, collocated: order {p:.3}, errors {e:?}, contact steps {c}");
+    assert!(c > 100, "the run must rub: {c} contact steps");
+    assert!((p - 2.0).abs() < 0.3, "collocated with rub: order {p}");
+    let (p, e, c) = fitted_order(&rub, "forward_increment", 2500, 0.5);
+    eprintln!("rub, forward increment: order {p:.3}, errors {e:?}, contact steps {c}");
+    assert!(c > 100, "the run must rub: {c} contact steps");
+    assert!(
+        (p - 1.0).abs() < 0.15,
+        "forward increment with rub: order {p}"
+    );
+}
+
+/// The error of the paper scene with `profile`, which must fail to load.
+fn profile_error(profile: &str) -> String {
+    let text = paper_profile(profile, false);
+    rubsim::scene::parse(std::path::Path::new("t.toml"), &text, &[])
+        .expect_err("a bad profile loads")
+        .to_string()
+}
+
+/// 1-based line of the first line of `text` that starts with `needle`.
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines().position(|l| l.starts_with(needle)).unwrap() + 1
+}
+
+#[test]
+fn bad_profiles_name_the_key_and_line() {
+    let cases: &[(&str, &str, &str, &str)] = &[
+        // (profile, key in the message, what it says, the line's start)
+        (
+            "[run.speed_profile]\nkind = \"ramp\"\nunit = \"rpm\"\nfrom = 3000.0\nto = -100.0\nduration = 2.0",
+            "run.speed_profile.to",
+            "reverse through zero speed",
+            "to = ",
+        ),
+        (
+            "[run.speed_profile]\nkind = \"table\"\nunit = \"rad_per_s\"\npoints = [\n  [0.0, 10.0],\n  [2.0, 20.0],\n  [1.0, 30.0],\n]",
+            "run.speed_profile.points.2",
+            "increase strictly",
+            "  [1.0, 30.0]",
+        ),
+        (
+            "[run.speed_profile]\nkind = \"table\"\nunit = \"rad_per_s\"\npoints = [\n  [-1.0, 10.0],\n  [2.0, 20.0],\n]",
+            "run.speed_profile.points.0",
+            "finite and ≥ 0",
+            "  [-1.0, 10.0]",
+        ),
+        (
+            "[run.speed_profile]\nkind = \"ramp\"\nunit = \"speed_ratio\"\nfrom = 0.5\nto = 6.0\nacceleration = -2.0",
+            "run.speed_profile.acceleration",
+            "sign of `to − from`",
+            "acceleration = ",
+        ),
+        (
+            "[run.speed_profile]\nkind = \"constant\"\nunit = \"speed_ratio\"\nspeed = 1.0\nduration = inf",
+            "run.speed_profile.duration",
+            "positive finite",
+            "duration = ",
+        ),
+        (
+            "[run.speed_profile]\nkind = \"constant\"\nunit = \"speed_ratio\"\nspeed = 1.0\nduration = 1.0\nfrom = 2.0",
+            "run.speed_profile.from",
+            "does not apply",
+            "from = ",
+        ),
+    ];
+    for (profile, key, what, line) in cases {
+        let e = profile_error(profile);
+        let text = paper_profile(profile, false);
+        let at = format!("t.toml:{}: key `{key}`", line_of(&text, line));
+        assert!(
+            e.contains(&at) && e.contains(what),
+            "expected `{at}` … `{what}`, got: {e}"
+        );
+    }
+    // The unit must be said.
+    let e = profile_error("[run.speed_profile]\nkind = \"constant\"\nspeed = 1.0\nduration = 1.0");
+    assert!(e.contains("unit"), "{e}");
+    // A profile and a single speed at once.
+    let e = profile_error(
+        "speed_ratio = 1.0\n[run.speed_profile]\nkind = \"constant\"\nunit = \"rpm\"\nspeed = 1.0\nduration = 1.0",
+    );
+    assert!(e.contains("exactly one of"), "{e}");
 }
