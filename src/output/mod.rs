@@ -1,5 +1,6 @@
 //! Writing results: the output directory ([`OutDir`]), `summary.json` ([`summary`]), every
-//! CSV table ([`csv`]) and the PNG pictures ([`figures`]). The VTK/HDF5 time series are
+//! CSV table ([`csv`]) and the PNG pictures ([`figures`]); a speed transient's tables and
+//! pictures ([`transient`]). The VTK/HDF5 time series are
 //! written by the frame sinks of [`crate::results`] into the same staging folder.
 //!
 //! Every file is first written into a staging folder inside the output directory and moved
@@ -10,6 +11,7 @@
 pub mod csv;
 pub mod figures;
 pub mod summary;
+pub mod transient;
 
 use crate::error::{Error, Result};
 use std::io::Write;
