@@ -97,6 +97,8 @@ pub struct OrderWindow {
     pub t: f64,
     /// Ω there (rad/s).
     pub omega: f64,
+    /// Ω̇ there (rad/s²): > 0 on a run-up, < 0 on a coast-down.
+    pub omega_dot: f64,
     /// `(amplitude m, phase rad)` per tracked order: `x ≈ A cos(k φ + ψ)` over the window.
     pub lines: Vec<(f64, f64)>,
     /// Steady unbalance response at Ω of the same component (amplitude m, phase rad), the
@@ -199,7 +201,8 @@ pub fn analyse_transient(
     let dof = p.rotor.node_dofs(p.case.observed_node)[comp];
     let mut windows = Vec::new();
     for (t, lines) in track_orders(&rec.t, &phi, &x, &p.orders, p.window_revolutions) {
-        let omega = p.profile.at(t).omega;
+        let spin = p.profile.at(t);
+        let omega = spin.omega;
         let q = if omega > 0.0 {
             p.rotor.unbalance_response(omega)?[dof]
         } else {
@@ -208,6 +211,7 @@ pub fn analyse_transient(
         windows.push(OrderWindow {
             t,
             omega,
+            omega_dot: spin.omega_dot,
             lines,
             steady_1x: (q.norm(), q.arg()),
         });

@@ -9,7 +9,7 @@
 //! integral of each piece, accumulated at the knots. Past the end the speed holds.
 
 use crate::error::ModelError;
-use crate::scene::{ProfileKind, SpeedProfileSpec};
+use crate::scene::{Interpolation, ProfileKind, SpeedProfileSpec};
 
 /// One cubic piece on `[t0, t1]`: end speeds `w0`, `w1` (rad/s), end slopes `d0`, `d1`
 /// (rad/s²), and the spin angle `phi0` at `t0` (rad).
@@ -152,16 +152,40 @@ impl SpeedProfile {
     /// [`ModelError::Inconsistent`] for fewer than two points, times not finite, not from 0 or
     /// not strictly increasing, speeds not finite or negative, a negative `hold`.
     pub fn table(points: &[(f64, f64)], hold: f64) -> Result<Self, ModelError> {
+        Self::table_with(points, hold, Interpolation::Pchip)
+    }
+
+    /// [`SpeedProfile::table`] joined by `how`: PCHIP, or straight lines (each piece a ramp
+    /// at its secant's Ω̇, which jumps at the points).
+    ///
+    /// # Errors
+    /// As [`SpeedProfile::table`].
+    pub fn table_with(
+        points: &[(f64, f64)],
+        hold: f64,
+        how: Interpolation,
+    ) -> Result<Self, ModelError> {
         if points.len() < 2 {
             return Err(bad("needs at least two points".into()));
         }
         if points[0].0 != 0.0 {
             return Err(bad(format!("must start at t = 0, got {}", points[0].0)));
         }
-        let d = pchip_slopes(points);
-        let mut ends: Vec<_> = (1..points.len())
-            .map(|i| (points[i].0, points[i].1, d[i - 1], d[i]))
-            .collect();
+        let mut ends: Vec<_> = match how {
+            Interpolation::Pchip => {
+                let d = pchip_slopes(points);
+                (1..points.len())
+                    .map(|i| (points[i].0, points[i].1, d[i - 1], d[i]))
+                    .collect()
+            }
+            Interpolation::Linear => (1..points.len())
+                .map(|i| {
+                    let (a, b) = (points[i - 1], points[i]);
+                    let m = (b.1 - a.1) / (b.0 - a.0);
+                    (b.0, b.1, m, m)
+                })
+                .collect(),
+        };
         push_hold(&mut ends, hold)?;
         Self::build(points[0].1, &ends)
     }
@@ -200,7 +224,7 @@ impl SpeedProfile {
                     .iter()
                     .map(|[t, w]| (*t, u * w))
                     .collect();
-                Self::table(&pts, p.hold)
+                Self::table_with(&pts, p.hold, p.interpolation)
             }
         }
     }

@@ -101,6 +101,43 @@ fn envelope(points: &[(f64, f64)], bins: usize) -> (Vec<(f64, f64)>, Vec<(f64, f
     (keep(mx), keep(mn))
 }
 
+/// The curve of `f` per window against Ω/ω_n, split into the run-up (Ω̇ ≥ 0) and the
+/// coast-down (Ω̇ < 0) — each present only when the profile has it; a break (NaN) where
+/// the direction changes, so a profile that goes up and down draws both branches of the
+/// hysteresis on one figure.
+fn by_direction(
+    r: &TransientResults,
+    what: &str,
+    f: impl Fn(&crate::analysis::OrderWindow) -> f64,
+) -> Vec<Curve> {
+    let mut up = Vec::new();
+    let mut down = Vec::new();
+    let mut last_up = None;
+    for w in &r.windows {
+        let is_up = w.omega_dot >= 0.0;
+        let (this, other) = if is_up {
+            (&mut up, &mut down)
+        } else {
+            (&mut down, &mut up)
+        };
+        if last_up == Some(!is_up) {
+            other.push((f64::NAN, f64::NAN));
+        }
+        this.push((w.omega / r.omega_n, f(w)));
+        last_up = Some(is_up);
+    }
+    let mut curves = Vec::new();
+    for (label, pts) in [("run-up", up), ("coast-down", down)] {
+        if pts.iter().any(|p| p.0.is_finite()) {
+            curves.push(Curve {
+                label: format!("{what}, {label}"),
+                points: pts,
+            });
+        }
+    }
+    curves
+}
+
 /// Draws the pictures of a transient (see the module); `component` names the analysed
 /// component (`"x"` or `"y"`).
 pub fn write_figures(
@@ -126,55 +163,37 @@ pub fn write_figures(
         "t (s)",
         "Ω / ωn",
     )?;
-    let tracked = |i: usize| -> Vec<(f64, f64)> {
-        r.windows
-            .iter()
-            .map(|w| (nu(w.omega), w.lines[i].0))
-            .collect()
-    };
     let p = out.stage("bode.png")?;
+    let mut curves = by_direction(r, "1×", |w| w.lines[0].0);
+    curves.push(Curve {
+        label: "steady unbalance response".into(),
+        points: r
+            .windows
+            .iter()
+            .map(|w| (nu(w.omega), w.steady_1x.0))
+            .collect(),
+    });
     plot::lines(
         &p,
-        &format!("{title} — run-up Bode: 1× of {component} against speed"),
-        &[
-            Curve {
-                label: "transient, tracked 1×".into(),
-                points: tracked(0),
-            },
-            Curve {
-                label: "steady unbalance response".into(),
-                points: r
-                    .windows
-                    .iter()
-                    .map(|w| (nu(w.omega), w.steady_1x.0))
-                    .collect(),
-            },
-        ],
+        &format!("{title} — Bode: tracked 1× of {component} against speed"),
+        &curves,
         "Ω / ωn",
         "1× amplitude (m)",
     )?;
     let p = out.stage("bode_phase.png")?;
+    let mut curves = by_direction(r, "1×", |w| w.lines[0].1.to_degrees());
+    curves.push(Curve {
+        label: "steady unbalance response".into(),
+        points: r
+            .windows
+            .iter()
+            .map(|w| (nu(w.omega), w.steady_1x.1.to_degrees()))
+            .collect(),
+    });
     plot::lines(
         &p,
-        &format!("{title} — run-up Bode: 1× phase of {component}"),
-        &[
-            Curve {
-                label: "transient, tracked 1×".into(),
-                points: r
-                    .windows
-                    .iter()
-                    .map(|w| (nu(w.omega), w.lines[0].1.to_degrees()))
-                    .collect(),
-            },
-            Curve {
-                label: "steady unbalance response".into(),
-                points: r
-                    .windows
-                    .iter()
-                    .map(|w| (nu(w.omega), w.steady_1x.1.to_degrees()))
-                    .collect(),
-            },
-        ],
+        &format!("{title} — Bode: 1× phase of {component}"),
+        &curves,
         "Ω / ωn",
         "phase (deg)",
     )?;
@@ -183,10 +202,7 @@ pub fn write_figures(
         .orders
         .iter()
         .enumerate()
-        .map(|(i, o)| Curve {
-            label: order_name(*o),
-            points: tracked(i),
-        })
+        .flat_map(|(i, o)| by_direction(r, &order_name(*o), move |w| w.lines[i].0))
         .collect();
     plot::lines(
         &p,

@@ -23,7 +23,7 @@ pub mod validate;
 
 pub use output::*;
 pub use overrides::{apply_override, locate_key};
-pub use profile::{ProfileKind, SpeedProfileSpec, SpeedUnit};
+pub use profile::{Interpolation, ProfileKind, SpeedProfileSpec, SpeedUnit};
 pub use rotor::*;
 pub use run::*;
 pub use stator::*;

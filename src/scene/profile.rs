@@ -20,6 +20,17 @@ pub enum ProfileKind {
     Table,
 }
 
+/// How a table's points are joined (`run.speed_profile.interpolation`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Interpolation {
+    /// The monotone cubic (PCHIP): C¹, no overshoot.
+    #[default]
+    Pchip,
+    /// Straight lines: piecewise constant Ω̇ (ramps joined at the points).
+    Linear,
+}
+
 /// The unit of a profile's speeds (`run.speed_profile.unit`; no default, it must be said).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -72,6 +83,9 @@ pub struct SpeedProfileSpec {
     pub acceleration: Option<f64>,
     /// Table: `[t, speed]` pairs.
     pub points: Option<Vec<[f64; 2]>>,
+    /// Table: how the points are joined (default `pchip`).
+    #[serde(default)]
+    pub interpolation: Interpolation,
     /// Seconds at the last speed after a ramp or table (default 0).
     #[serde(default)]
     pub hold: f64,
@@ -148,6 +162,7 @@ pub fn validate(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError
                     ("acceleration", p.acceleration.is_some()),
                     ("points", p.points.is_some()),
                     ("hold", p.hold != 0.0),
+                    ("interpolation", p.interpolation != Interpolation::Pchip),
                 ],
             )?;
             speed_ok(ls, &k("speed"), required(ls, "constant", "speed", p.speed)?)?;
