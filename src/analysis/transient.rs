@@ -33,8 +33,8 @@ pub struct TransientPrepared {
     pub window_revolutions: usize,
     /// ω_n (rad/s), the unit of the speed ratios reported.
     pub omega_n: f64,
-    /// Steady unbalance response `q` of the analysed DOF at Ω (m, complex: x = Re(q e^{iΩt})),
-    /// as a function evaluated per tracked window; kept as the model's rotor.
+    /// The rotor, for the steady unbalance response `q` at each tracked window's Ω
+    /// (`x = Re(q e^{iΩt})`, the run-up Bode's reference).
     rotor: crate::model::Rotor,
 }
 
@@ -251,7 +251,7 @@ fn friction(p: &TransientPrepared, rec: &Record, spin: &[[f64; 4]]) -> Vec<[f64;
     let mut out = Vec::with_capacity(n);
     let mut energy = 0.0;
     let mut prev_power = 0.0;
-    for i in 0..n {
+    for (i, sp) in spin.iter().enumerate() {
         let mut power = 0.0;
         for (s, st) in p.case.stations.iter().enumerate() {
             let k = i * rec.nstations + s;
@@ -267,7 +267,7 @@ fn friction(p: &TransientPrepared, rec: &Record, spin: &[[f64; 4]]) -> Vec<[f64;
             } else {
                 [0.0, 0.0]
             };
-            power += ft[0].hypot(ft[1]) * spin[i][1] * st.radius - (ft[0] * v[0] + ft[1] * v[1]);
+            power += ft[0].hypot(ft[1]) * sp[1] * st.radius - (ft[0] * v[0] + ft[1] * v[1]);
         }
         if i > 0 {
             energy += 0.5 * (power + prev_power) * (rec.t[i] - rec.t[i - 1]);
