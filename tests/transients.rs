@@ -194,3 +194,45 @@ fn bad_profiles_name_the_key_and_line() {
     );
     assert!(e.contains("exactly one of"), "{e}");
 }
+
+#[test]
+fn fe_rotor_ramp_follows_its_steady_response_and_gyroscopic_rotors_are_refused() {
+    use common::scenes::PAPER_FE;
+    // The paper's rotor as an 8-element Timoshenko model without gyroscopics (its matrices do
+    // not depend on Ω), free, 0.5 → 2 ω_n in 40 s (α/ω_n² = 2.2e-4).
+    let mut text = PAPER_FE
+        .replace("[rotor]\nkind = \"fe\"\n", "[rotor]\nkind = \"fe\"\ngyroscopic = false\n")
+        .replace(
+            "[run.sweep]\nfrom = 0.5\nto = 6.0\nstep = 0.1",
+            "[run.speed_profile]\nkind = \"ramp\"\nunit = \"speed_ratio\"\nfrom = 0.5\nto = 2.0\nduration = 40.0",
+        );
+    let a = text.find("[[stator]]").unwrap();
+    let b = text.find("[run]").unwrap();
+    text = format!("{}{}", &text[..a], &text[b..]);
+    assert!(text.contains("gyroscopic = false") && text.contains("[run.speed_profile]"));
+    let r = run(&text, &[]);
+    let (mut amp_err, mut ph_err) = (0.0_f64, 0.0_f64);
+    for w in r.windows.iter().filter(|w| w.t > 5.0) {
+        amp_err = amp_err.max((w.lines[0].0 - w.steady_1x.0).abs() / w.steady_1x.0);
+        ph_err = ph_err.max(dphase(w.lines[0].1, w.steady_1x.1));
+    }
+    eprintln!(
+        "FE ramp: {} windows, amplitude error {amp_err:.3e}, phase error {ph_err:.3e} rad",
+        r.windows.len()
+    );
+    assert!(amp_err < 0.01 && ph_err < 0.01, "{amp_err} {ph_err}");
+    // With gyroscopics its step operators would have to follow Ω(t): refused, saying so.
+    let gyro = text.replace("gyroscopic = false\n", "");
+    let (ls, model) = scene_model(&gyro, &[] as &[&str]);
+    let e = prepare_transient(
+        &model,
+        &settings(&ls),
+        ls.scene.run.speed_profile.as_ref().unwrap(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("run.speed_profile") && e.contains("gyroscopic"),
+        "{e}"
+    );
+}
