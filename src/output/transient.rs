@@ -290,8 +290,9 @@ mod tests {
         assert_eq!(order_name(1.0), "1x");
         assert_eq!(order_name(0.5), "0.5x");
         assert_eq!(order_name(1.0 / 3.0), "0.3333x");
-        let pts: Vec<(f64, f64)> = (0..1000)
-            .map(|i| (i as f64, (i as f64 * 0.7).sin()))
+        // 200 rad of a sine, 0.01 rad apart: every bin of 20 rad holds whole periods.
+        let pts: Vec<(f64, f64)> = (0..20_000)
+            .map(|i| (i as f64, (i as f64 * 0.01).sin()))
             .collect();
         let (hi, lo) = envelope(&pts, 10);
         assert_eq!(hi.len(), 10);
