@@ -1081,3 +1081,91 @@ fn cli_mesh_check_stress_and_refine() {
         "{err}"
     );
 }
+
+#[test]
+fn run_with_a_speed_profile_writes_the_transient_outputs() {
+    let tmp = TempDir::new().unwrap();
+    // The paper's run-up shortened to 2 s (0.5 → 2 ωn): through the rub around the critical.
+    let scene = tmp.path().join("runup.toml");
+    let text = read(&repo("scenes/transients/paper_runup.toml"))
+        .replace("to = 6.0", "to = 2.0")
+        .replace("duration = 30.0", "duration = 2.0");
+    std::fs::write(&scene, text).unwrap();
+    let out = tmp.path().join("o");
+    let so = ok(
+        tmp.path(),
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        so.contains("speed profile") && so.contains("peak 1×"),
+        "{so}"
+    );
+    for f in [
+        "speed_history.csv",
+        "response.csv",
+        "orders.csv",
+        "summary.json",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    for f in [
+        "bode.png",
+        "orders.png",
+        "response.png",
+        "contact_force.png",
+    ] {
+        assert!(is_png(&out.join(f)), "{f}");
+    }
+    let s = json(&out.join("summary.json"));
+    let tr = &s["transient"];
+    assert!(tr["stats"]["contact_steps"].as_u64().unwrap() > 0, "{tr}");
+    assert!(tr["friction_energy"].as_f64().unwrap() > 0.0, "{tr}");
+    let orders = read(&out.join("orders.csv"));
+    assert!(orders.starts_with("t_s,omega_rad_s,speed_ratio,amp_1x_m,phase_1x_rad,amp_0.5x_m"));
+    let hist = read(&out.join("speed_history.csv"));
+    let last: Vec<f64> = hist
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert!(
+        (last[2] - 2.0).abs() < 1e-3,
+        "final speed ratio {}",
+        last[2]
+    );
+    // Bad input names the key and its line; --speed does not apply.
+    let bad = tmp.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        read(&scene).replace("duration = 2.0", "acceleration = -1.0"),
+    )
+    .unwrap();
+    let err = fails(tmp.path(), &["check", bad.to_str().unwrap()]);
+    let line = line_of(&bad, "acceleration = -1.0");
+    assert!(
+        err.contains(&format!(
+            "bad.toml:{line}: key `run.speed_profile.acceleration`"
+        )),
+        "{err}"
+    );
+    let err = fails(
+        tmp.path(),
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--speed",
+            "1.0",
+            "--out",
+            tmp.path().join("o2").to_str().unwrap(),
+        ],
+    );
+    assert!(err.contains("--speed does not apply"), "{err}");
+    assert_nothing_written(&tmp.path().join("o2"));
+}

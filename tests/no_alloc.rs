@@ -226,3 +226,37 @@ fn cholesky_solves_with_scratch_do_not_allocate() {
     // The one-off solve does allocate (its scratch): the counter sees faer's buffers.
     assert!(allocations(|| ch.solve_in_place(&mut one)) > 0);
 }
+
+#[test]
+fn a_speed_profile_allocates_nothing_per_step() {
+    // The paper's case on a run-up with rub: the profile's Ω, Ω̇, φ are evaluated every step.
+    let text = paper_single();
+    let mut counts = Vec::new();
+    for duration in [0.2, 0.8] {
+        let (ls, model) = scene_model(&text, &["run.speed_ratio=1.0"]);
+        let s = settings(&ls);
+        let case = model.case(model.rotor.natural_frequency()).unwrap();
+        let wn = model.rotor.natural_frequency();
+        let profile = rubsim::model::SpeedProfile::ramp(0.8 * wn, 2.0 * wn, duration, 0.0).unwrap();
+        let plan = rubsim::time::plan_duration(&case, &s.step, 2.0 * wn, duration).unwrap();
+        let stepper = rubsim::time::Stepper::with_profile(
+            &case,
+            Scheme::Collocated,
+            &plan,
+            Initial::default(),
+            Some(&profile),
+        )
+        .unwrap();
+        let before = allocs();
+        COUNTING.with(|c| c.set(true));
+        let (_rec, stats) = stepper.run(None).unwrap();
+        COUNTING.with(|c| c.set(false));
+        assert!(stats.contact_steps > 0, "the run-up must rub");
+        counts.push((plan.steps, allocs() - before));
+    }
+    assert!(counts[1].0 > 3 * counts[0].0);
+    assert_eq!(
+        counts[0].1, counts[1].1,
+        "allocations grow with steps: {counts:?}"
+    );
+}

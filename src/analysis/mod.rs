@@ -36,6 +36,7 @@ pub mod rotordyn;
 pub mod speed;
 pub mod stress;
 pub mod sweep;
+pub mod transient;
 
 pub use convergence::{convergence, ConvergencePoint, ConvergenceResults};
 pub use regimes::{quasi_resonances, regime_name, regime_ranges, RegimeRange};
@@ -45,6 +46,7 @@ pub use speed::{
 };
 pub use stress::{StressProbe, StressResults, StressTrace};
 pub use sweep::{sweep, sweep_speeds, Sweep, SweepResults};
+pub use transient::{prepare_transient, OrderWindow, TransientPrepared, TransientResults};
 
 use crate::model::Model;
 use crate::scene::{Component, IntegratorKind, OutputSpec, RunSpec};

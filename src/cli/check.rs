@@ -23,6 +23,12 @@ pub fn check(c: &Common) -> Result<()> {
     let case = model.case(
         analysis::single_speed(&s.run, &model)
             .or_else(|| s.run.sweep.as_ref().map(|w| w.from))
+            .or_else(|| {
+                // A speed profile places the stators at its reference speed.
+                let wn = model.rotor.natural_frequency();
+                let p = s.run.speed_profile.as_ref()?;
+                p.reference.map(|r| r * p.unit.to_rad_per_s(wn) / wn)
+            })
             .unwrap_or(1.0)
             * model.rotor.natural_frequency(),
     )?;
@@ -42,6 +48,12 @@ pub fn check(c: &Common) -> Result<()> {
     }
     print_stators(s, &case);
     let st = settings(&ls);
+    if let Some(spec) = &s.run.speed_profile {
+        let p = analysis::prepare_transient(&model, &st, spec)?;
+        print_transient(s, &p);
+        print_built(s, &model, &p.case, &p.plan);
+        return Ok(());
+    }
     let plan = rubsim::time::plan_steps(&case, &st.step)?;
     print_run(s, &case, &plan);
     print_built(s, &model, &case, &plan);
@@ -105,8 +117,14 @@ fn print_stators(s: &Scene, case: &Case) {
         };
         match nd {
             Some(nd) => println!(
-                "  clearance δ = {nd} |Z0(ω)| (= {:.4e} m at ω/ωn = {:.2}; changes with speed)",
-                m.clearance, case.speed_ratio
+                "  clearance δ = {nd} |Z0(ω)| (= {:.4e} m at ω/ωn = {:.2}; {})",
+                m.clearance,
+                case.speed_ratio,
+                if s.run.speed_profile.is_some() {
+                    "fixed through the speed profile"
+                } else {
+                    "changes with speed"
+                }
             ),
             None => println!("  clearance δ = {:.4e} m", m.clearance),
         }
@@ -147,6 +165,40 @@ fn print_run(s: &Scene, case: &Case, plan: &StepPlan) {
     );
 }
 
+/// A transient run: the profile, its length and the step.
+fn print_transient(s: &Scene, p: &analysis::TransientPrepared) {
+    let wn = p.omega_n;
+    let spec = s.run.speed_profile.as_ref();
+    println!(
+        "run: speed profile ({}, unit {}): {:.4} s, {:.1} revolutions, Ω/ωn {:.4} → {:.4} (max {:.4}); stators placed at Ω_ref/ωn = {:.4}",
+        spec.map_or("", |x| match x.kind {
+            rubsim::scene::ProfileKind::Constant => "constant",
+            rubsim::scene::ProfileKind::Ramp => "ramp",
+            rubsim::scene::ProfileKind::Table => "table",
+        }),
+        spec.map_or("", |x| x.unit.name()),
+        p.profile.duration(),
+        p.profile.total_angle() / (2.0 * std::f64::consts::PI),
+        p.profile.start_speed() / wn,
+        p.profile.at(p.profile.duration()).omega / wn,
+        p.profile.max_speed() / wn,
+        p.case.speed_ratio
+    );
+    println!(
+        "  integrator {}; Δt {:.4e} s ({} steps, {} steps/rev at the top speed), a sample every {} steps; paper rule (n = {}) {:.4e} s; stability limit {:.4e} s; orders tracked {:?} over {} revolutions per window",
+        s.run.integrator.name(),
+        p.plan.dt,
+        p.plan.steps,
+        p.plan.steps_per_rev,
+        p.plan.record_every,
+        s.run.harmonics,
+        p.plan.rule_dt,
+        p.plan.limit,
+        p.orders,
+        p.window_revolutions
+    );
+}
+
 /// What is built, what is left out, which files a run writes.
 fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
     println!(
@@ -174,6 +226,17 @@ fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
         left.push("PNG pictures");
     }
     println!("left out: {}", left.join("; "));
+    if s.run.speed_profile.is_some() {
+        println!(
+            "outputs: summary.json, speed_history.csv, response.csv, orders.csv{}",
+            if s.output.png {
+                ", speed_history.png, bode.png, bode_phase.png, orders.png, response.png, contact_force.png, friction_energy.png"
+            } else {
+                ""
+            }
+        );
+        return;
+    }
     println!(
         "outputs: summary.json{}{}",
         if s.run.sweep.is_some() {

@@ -3,13 +3,16 @@
 use super::{default_out, load, settings, Common, Series};
 use anyhow::{Context, Result};
 use rubsim::analysis::{self, Keep};
-use rubsim::output::{figures, summary};
+use rubsim::output::{figures, summary, transient as transient_out};
 use std::path::PathBuf;
 
 /// Runs the scene at `speed` (default: its own single speed) and writes `summary.json`,
 /// `orbit.png`, `spectrum.png`, `contact_force.png` and the VTK/HDF5 series it asks for.
 pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
     let (ls, model) = load(c)?;
+    if ls.scene.run.speed_profile.is_some() {
+        return transient(c, &ls, &model, out, speed);
+    }
     if let Some(v) = speed {
         if !(v.is_finite() && v > 0.0) {
             anyhow::bail!("--speed must be a positive ω/ω_n, got {v}");
@@ -61,6 +64,70 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
         r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd,
         r.stats.steps, r.plan.dt, r.stats.wall_s,
         r.error.map(|e| format!("{:.1e}", e.extents_rel)).unwrap_or_else(|| "not estimated".into())
+    );
+    println!("results in {}", dir.display());
+    Ok(())
+}
+
+/// A scene with `[run.speed_profile]`: integrates the whole profile and writes
+/// `summary.json`, the speed history, the response, the order tracking (CSV) and their
+/// pictures (`rubsim::output::transient`).
+fn transient(
+    c: &Common,
+    ls: &rubsim::scene::LoadedScene,
+    model: &rubsim::model::Model,
+    out: Option<PathBuf>,
+    speed: Option<f64>,
+) -> Result<()> {
+    let spec = ls
+        .scene
+        .run
+        .speed_profile
+        .as_ref()
+        .context("no speed profile")?;
+    if speed.is_some() {
+        anyhow::bail!(
+            "{}: --speed does not apply to a scene with [run.speed_profile] (the profile sets the speed)",
+            c.scene.display()
+        );
+    }
+    if ls.scene.output.vtk.is_some() || ls.scene.output.hdf5.is_some() {
+        anyhow::bail!(
+            "{}: output.vtk / output.hdf5 time series are not written for speed transients yet; remove them from [output]",
+            c.scene.display()
+        );
+    }
+    let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene)))?;
+    let s = settings(ls);
+    let t0 = std::time::Instant::now();
+    let prep = analysis::prepare_transient(model, &s, spec)?;
+    println!(
+        "speed profile: {:.3} s, {:.1} revolutions, Ω ≤ {:.3} ωn; Δt = {:.3e} s, {} steps",
+        prep.profile.duration(),
+        prep.profile.total_angle() / (2.0 * std::f64::consts::PI),
+        prep.profile.max_speed() / prep.omega_n,
+        prep.plan.dt,
+        prep.plan.steps
+    );
+    let r = prep.run(&mut [])?;
+    transient_out::write_csv(&mut outd, &r)?;
+    if ls.scene.output.png {
+        transient_out::write_figures(&mut outd, &ls.scene.title, &r, &ls.scene.output.component)?;
+    }
+    let mut sum = summary::base(ls, model, "run");
+    sum["transient"] = serde_json::to_value(&r)?;
+    sum["wall_s"] = t0.elapsed().as_secs_f64().into();
+    let dir = summary::finish(outd, &sum)?;
+    println!(
+        "{} steps in {:.3} s ({:.1} ns/step) | peak 1× {:.4e} m at Ω/ωn = {:.3} | contact in {} steps, max |F| {:.3e} N | friction energy {:.4e} J",
+        r.stats.steps,
+        r.stats.wall_s,
+        1e9 * r.stats.wall_s / r.stats.steps.max(1) as f64,
+        r.peak_1x.0,
+        r.peak_1x.1 / r.omega_n,
+        r.stats.contact_steps,
+        r.contact_force_max,
+        r.friction_energy
     );
     println!("results in {}", dir.display());
     Ok(())

@@ -11,6 +11,7 @@
 
 pub mod fe_rotor;
 pub mod rotor;
+pub mod speed_profile;
 pub mod stator;
 
 use crate::error::{Error, ModelError};
@@ -20,6 +21,7 @@ use crate::resolve::{
 };
 use crate::scene::LoadedScene;
 pub use rotor::{Jeffcott, RotorBody, UnbalanceLoad};
+pub use speed_profile::{SpeedProfile, SpinState};
 pub use stator::StatorModel;
 use std::sync::Arc;
 
@@ -148,6 +150,19 @@ impl Rotor {
                 f.rotor.g.clone(),
             ),
         })
+    }
+    /// Whether the rotor's step matrices depend on the spin speed Ω: an FE rotor with
+    /// gyroscopics (C contains Ω G) or with a speed-tabulated bearing (K(Ω), C(Ω)). A transient
+    /// run of such a rotor would need its step operators to follow Ω(t) (and the Ω̇ K_st term
+    /// of the Timoshenko element), which is not implemented yet.
+    pub fn speed_dependent(&self) -> bool {
+        match self {
+            Rotor::Jeffcott(_) => false,
+            Rotor::Fe(f) => {
+                f.rotor.g.values().iter().any(|v| *v != 0.0)
+                    || f.rotor.bearings.iter().any(|b| b.speeds.len() >= 2)
+            }
+        }
     }
     /// Number of rotor nodes.
     pub fn node_count(&self) -> usize {

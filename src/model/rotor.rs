@@ -67,6 +67,27 @@ impl RotorBody {
         }
     }
 
+    /// Unbalance force vector of a varying speed, added into `f` (N): the spin angle φ (rad),
+    /// Ω = φ̇ (rad/s) and Ω̇ = φ̈ (rad/s²) of [`crate::model::SpinState`].
+    ///
+    /// An unbalance mass m_u at radius e and phase β sits at `e (cos θ, sin θ)` from the shaft
+    /// centre, θ = φ + β; its acceleration relative to the centre is
+    /// `e (−θ̇² (cos θ, sin θ) + θ̈ (−sin θ, cos θ))`, and the force it puts on the shaft is
+    /// minus its mass times that:
+    /// `f = m_u e (φ̇² (cos θ, sin θ) − φ̈ (−sin θ, cos θ))`
+    /// — the centrifugal term, plus a tangential term that pulls the shaft back (against the
+    /// spin) while the rotor speeds up and forward while it slows down. At Ω̇ = 0 and
+    /// φ = Ω t it is [`RotorBody::add_unbalance`].
+    #[inline]
+    pub fn add_unbalance_spin(&self, spin: crate::model::SpinState, f: &mut [f64]) {
+        let (w2, a) = (spin.omega * spin.omega, spin.omega_dot);
+        for u in &self.unbalance {
+            let (s, c) = (spin.phi + u.phase).sin_cos();
+            f[u.dofs[0]] += u.me * (w2 * c + a * s);
+            f[u.dofs[1]] += u.me * (w2 * s - a * c);
+        }
+    }
+
     /// Complex resultant `Σ m_u e e^{iφ}` (kg·m) as `[re, im]`.
     pub fn unbalance_resultant(&self) -> [f64; 2] {
         self.unbalance.iter().fold([0.0, 0.0], |acc, u| {

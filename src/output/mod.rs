@@ -1,7 +1,7 @@
 //! Writing results: the output directory ([`OutDir`]) and its manifest ([`manifest`]),
-//! `summary.json` ([`summary`]), every CSV table ([`csv`]) and the PNG pictures ([`figures`]).
-//! The VTK/HDF5 time series are written by the frame sinks of [`crate::results`] into the same
-//! staging folder.
+//! `summary.json` ([`summary`]), every CSV table ([`csv`]), the PNG pictures ([`figures`]) and a
+//! speed transient's tables and pictures ([`transient`]). The VTK/HDF5 time series are written by
+//! the frame sinks of [`crate::results`] into the same staging folder.
 //!
 //! Every file is first written into a staging folder inside the output directory and moved
 //! into place only when the whole command has succeeded, by a journaled commit that moves
@@ -16,6 +16,7 @@ pub mod figures;
 pub mod manifest;
 pub mod outdir;
 pub mod summary;
+pub mod transient;
 
 pub use manifest::{parse_manifest, Manifest, MANIFEST};
 pub use outdir::OutDir;

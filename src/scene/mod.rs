@@ -15,6 +15,7 @@
 
 mod output;
 mod overrides;
+pub mod profile;
 mod rotor;
 mod run;
 mod stator;
@@ -22,6 +23,7 @@ pub mod validate;
 
 pub use output::*;
 pub use overrides::{apply_override, locate_key};
+pub use profile::{Interpolation, ProfileKind, SpeedProfileSpec, SpeedUnit};
 pub use rotor::*;
 pub use run::*;
 pub use stator::*;

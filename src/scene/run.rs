@@ -45,6 +45,10 @@ pub struct RunSpec {
     pub speed: Option<f64>,
     /// Speed sweep over ω/ω_n.
     pub sweep: Option<SweepSpec>,
+    /// A speed that varies in time (run-up, coast-down, a tabulated history): the run
+    /// integrates the whole profile, whose length sets the run's; `revolutions` and
+    /// `transient_revolutions` do not apply.
+    pub speed_profile: Option<super::SpeedProfileSpec>,
     /// Total simulated revolutions.
     #[serde(default = "default_revs")]
     pub revolutions: usize,

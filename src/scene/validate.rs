@@ -114,14 +114,14 @@ pub fn output_component(ls: &LoadedScene) -> Result<Component, SceneError> {
         .ok_or_else(|| ls.invalid("output.component", "must be \"x\" or \"y\""))
 }
 
-fn positive(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
+pub(crate) fn positive(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
     if !(v.is_finite() && v > 0.0) {
         return Err(ls.invalid(key, format!("must be a positive finite number, got {v}")));
     }
     Ok(())
 }
 
-fn non_negative(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
+pub(crate) fn non_negative(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
     if !(v.is_finite() && v >= 0.0) {
         return Err(ls.invalid(key, format!("must be zero or positive, got {v}")));
     }
@@ -356,6 +356,7 @@ fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
         r.speed_ratio.is_some(),
         r.speed.is_some(),
         r.sweep.is_some(),
+        r.speed_profile.is_some(),
     ]
     .iter()
     .filter(|b| **b)
@@ -363,8 +364,11 @@ fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
     if n_speed != 1 {
         return Err(ls.invalid(
             "run",
-            "give exactly one of `speed_ratio`, `speed` or `[run.sweep]`",
+            "give exactly one of `speed_ratio`, `speed`, `[run.sweep]` or `[run.speed_profile]`",
         ));
+    }
+    if let Some(p) = &r.speed_profile {
+        super::profile::validate(ls, p)?;
     }
     if let Some(v) = r.speed_ratio {
         positive(ls, "run.speed_ratio", v)?;

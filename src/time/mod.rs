@@ -31,8 +31,11 @@
 //! * A speed that varies in time: Ω enters the step in three places only — the external load
 //!   of the prediction (`Stepper::predict`: the unbalance force at t), the bodies' step
 //!   operators (`M̃`, `A`, `B` of the rotor hold C + ΩG) and the tangent `a = Ω × n` of the pair
-//!   geometry (`select`). A speed profile replaces those three by functions of t; the loop
-//!   and its phases stay as they are.
+//!   geometry (`select`). [`Stepper::with_profile`] makes the load a function of t (φ, Ω, Ω̇ of
+//!   a [`crate::model::SpeedProfile`]); the tangent depends only on the sign of Ω, which a
+//!   profile keeps; step operators that follow Ω(t) (gyroscopic FE rotors, speed-tabulated
+//!   bearings, the Ω̇ K_st term) are the next step — such rotors are refused by
+//!   `analysis::prepare_transient` until then. The loop and its phases stay as they are.
 //! * Another contact law (stick–slip, wear): the law is the force direction per unit normal
 //!   force `b = n + μa` and the unknowns per pair in `solve` (assembly of `W`, correction); the
 //!   selection, the schemes and the recording do not change.
@@ -54,7 +57,7 @@ mod workspace;
 
 pub use compliance::EAGER_DOFS;
 pub use frame::{Frame, FrameSink, PairForce};
-pub use plan::{plan_steps, Scheme, StepParams, StepPlan};
+pub use plan::{plan_duration, plan_steps, Scheme, StepParams, StepPlan};
 pub use record::{ContactStats, Record, RunStats};
 pub use stepper::{Initial, Sink, Stepper};
 

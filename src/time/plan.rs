@@ -132,12 +132,9 @@ fn stability_limit(case: &Case, scheme: Scheme, w_stators: f64) -> (f64, String)
     (limit, reason)
 }
 
-/// Chooses Δt: the paper's rule (Sec. 3) with T_min = 2π/ω_c, ω_c the highest frequency of the
-/// rotor with every stator's contact stiffness added, capped by the explicit stability limit of
-/// what enters the loop with mass (and, for the collocated integrator, the massless stators'
-/// contact stiffness), or the user's override checked against that limit. Δt is then reduced
-/// so a revolution holds a whole number of recorded samples and steps.
-pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
+/// Δt before rounding, the stability limit, the paper rule's Δt and the highest frequency,
+/// for a run whose fastest spin is `omega` (rad/s): see [`plan_steps`].
+fn choose_dt(case: &Case, p: &StepParams, omega: f64) -> Result<(f64, f64, f64, f64), SolveError> {
     let m = case.rotor_mass;
     let kr = case.rotor_stiffness;
     // Contact frequency of the reference (Jeffcott-equivalent) system, √((k_r + k_s)/m_r):
@@ -156,7 +153,7 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
     // T_min of the paper's rule: the shortest period the response is made of — rotor modes and
     // the contact frequency. Internal modes of stators with mass only bound stability (above).
     let t_min = 2.0 * PI / w_contact;
-    let rule_dt = (t_min / (32.0 * p.harmonics)).min(2.0 * PI / (32.0 * p.harmonics * case.omega));
+    let rule_dt = (t_min / (32.0 * p.harmonics)).min(2.0 * PI / (32.0 * p.harmonics * omega));
     let dt0 = match p.dt {
         Some(dt) => {
             if dt > limit {
@@ -171,6 +168,16 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
         }
         None => rule_dt.min(0.8 * limit),
     };
+    Ok((dt0, limit, rule_dt, omega_max))
+}
+
+/// Chooses Δt: the paper's rule (Sec. 3) with T_min = 2π/ω_c, ω_c the highest frequency of the
+/// rotor with every stator's contact stiffness added, capped by the explicit stability limit of
+/// what enters the loop with mass (and, for the collocated integrator, the massless stators'
+/// contact stiffness), or the user's override checked against that limit. Δt is then reduced
+/// so a revolution holds a whole number of recorded samples and steps.
+pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
+    let (dt0, limit, rule_dt, omega_max) = choose_dt(case, p, case.omega)?;
     let t_rev = 2.0 * PI / case.omega;
     let spr = p.samples_per_rev;
     let per_sample = (t_rev / (dt0 * spr as f64) - 1e-9).ceil().max(1.0) as usize;
@@ -184,5 +191,40 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
         limit,
         rule_dt,
         omega_max,
+    })
+}
+
+/// The step plan of a transient run of `duration` (s) whose fastest spin is `omega_max`
+/// (rad/s): Δt as [`plan_steps`] chooses it at `omega_max` (the paper's rule, capped at 0.8×
+/// the stability limit, or the user's checked Δt), then shortened so `duration` holds a whole
+/// number of steps; a sample is recorded every `record_every` steps, so that a revolution at
+/// `omega_max` holds at least `samples_per_rev` samples (more at lower speeds).
+/// `steps_per_rev` is the number of steps of one revolution at `omega_max`, rounded down.
+///
+/// # Errors
+/// [`SolveError::StepTooLarge`] for a user Δt above the stability limit.
+pub fn plan_duration(
+    case: &Case,
+    p: &StepParams,
+    omega_max: f64,
+    duration: f64,
+) -> Result<StepPlan, SolveError> {
+    let (dt0, limit, rule_dt, w_max) = choose_dt(case, p, omega_max)?;
+    let steps = (duration / dt0 - 1e-9).ceil().max(1.0) as usize;
+    let dt = duration / steps as f64;
+    let t_rev = 2.0 * PI / omega_max;
+    let record_every = ((t_rev / (dt * p.samples_per_rev as f64)) + 1e-9)
+        .floor()
+        .max(1.0) as usize;
+    Ok(StepPlan {
+        dt,
+        steps_per_rev: (t_rev / dt + 1e-9).floor() as usize,
+        steps,
+        record_every,
+        // A transient has no steady part: its contact figures cover the whole run.
+        steady_from: 0,
+        limit,
+        rule_dt,
+        omega_max: w_max,
     })
 }

@@ -10,7 +10,7 @@ use super::select::{Pairs, Phase};
 use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::error::{LinalgError, SolveError};
 use crate::math::V2;
-use crate::model::Case;
+use crate::model::{Case, SpeedProfile};
 use std::time::Instant;
 
 /// Initial state of the rotor, on station 0's node (node 0 without stations).
@@ -39,6 +39,9 @@ pub type Sink<'s> = Option<&'s mut dyn FrameSink>;
 #[derive(Debug)]
 pub struct Stepper<'a> {
     pub(crate) case: &'a Case,
+    /// The speed of a transient run; `None`: the case's constant speed (the constant-speed
+    /// path, unchanged).
+    spin: Option<&'a SpeedProfile>,
     plan: StepPlan,
     scheme: Scheme,
     pub(crate) pairs: Pairs,
@@ -83,6 +86,26 @@ impl<'a> Stepper<'a> {
         scheme: Scheme,
         plan: &StepPlan,
         init: Initial,
+    ) -> Result<Self, SolveError> {
+        Self::with_profile(case, scheme, plan, init, None)
+    }
+
+    /// [`Stepper::new`] for a speed that follows `spin` (a transient run; `None`: the case's
+    /// constant speed). The profile sets the unbalance load of every step
+    /// ([`crate::model::RotorBody::add_unbalance_spin`]: φ(t), Ω(t), Ω̇(t)); the step
+    /// operators are the case's, which is exact when the rotor's matrices do not depend on Ω
+    /// (Jeffcott rotors, FE rotors without gyroscopics or speed-tabulated bearings: see
+    /// [`crate::model::Rotor::speed_dependent`]). The tangent `a = Ω × n` depends only on the
+    /// sign of Ω, which a profile keeps.
+    ///
+    /// # Errors
+    /// As [`Stepper::new`].
+    pub fn with_profile(
+        case: &'a Case,
+        scheme: Scheme,
+        plan: &StepPlan,
+        init: Initial,
+        spin: Option<&'a SpeedProfile>,
     ) -> Result<Self, SolveError> {
         let dt = plan.dt;
         let factor_err = |what: String| {
@@ -134,6 +157,7 @@ impl<'a> Stepper<'a> {
         );
         let mut st = Self {
             case,
+            spin,
             plan: *plan,
             scheme,
             ws: StepWorkspace::new(pairs.len(), case.stations.len()),
@@ -168,7 +192,10 @@ impl<'a> Stepper<'a> {
         let d0 = case.rotor.node_dofs[node];
         let mdiag = case.rotor.m.diagonal();
         let mut f0 = vec![0.0; n];
-        case.rotor.add_unbalance(case.omega, 0.0, &mut f0);
+        match self.spin {
+            Some(p) => case.rotor.add_unbalance_spin(p.at(0.0), &mut f0),
+            None => case.rotor.add_unbalance(case.omega, 0.0, &mut f0),
+        }
         let mut u0 = vec![0.0; n];
         let mut v0 = vec![0.0; n];
         for c in 0..2 {
@@ -326,9 +353,16 @@ impl<'a> Stepper<'a> {
     /// Predicts every body with mass with λ = 0 (Eqs. 35–36); forward increment: massless
     /// stators start undeformed (Eq. 49).
     fn predict(&mut self, t: f64) {
-        self.case
-            .rotor
-            .add_unbalance(self.case.omega, t, &mut self.rotor.rhs);
+        match self.spin {
+            Some(p) => self
+                .case
+                .rotor
+                .add_unbalance_spin(p.at(t), &mut self.rotor.rhs),
+            None => self
+                .case
+                .rotor
+                .add_unbalance(self.case.omega, t, &mut self.rotor.rhs),
+        }
         self.rotor.predict();
         let collocated = self.scheme == Scheme::Collocated;
         for st in self.stators.iter_mut() {

@@ -1,0 +1,376 @@
+//! A speed transient: prepare the case, the profile and the step plan once
+//! ([`prepare_transient`]), integrate the whole profile with any set of sinks
+//! ([`TransientPrepared::run`]) and analyse the record against time, spin angle and speed
+//! ([`analyse_transient`]): the speed history, the response and contact force, the friction
+//! energy, and order tracking — amplitude and phase of 1×, ½×, ⅓× and the scene's orders per
+//! window of whole revolutions in the angle domain — beside the steady unbalance response at
+//! the same speeds (the run-up Bode).
+
+use super::speed::Fanout;
+use super::RunSettings;
+use crate::error::{ModelError, Result};
+use crate::model::{Case, Model, SpeedProfile};
+use crate::scene::SpeedProfileSpec;
+use crate::time::{plan_duration, FrameSink, Record, RunStats, StepPlan, Stepper};
+use num_complex::Complex64;
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// A transient run ready to integrate.
+#[derive(Debug)]
+pub struct TransientPrepared {
+    /// Ω(t), Ω̇(t), φ(t).
+    pub profile: SpeedProfile,
+    /// The run's settings (its `revolutions` do not apply: the profile sets the length).
+    pub settings: RunSettings,
+    /// The case at the reference speed Ω_ref (clearance, stators, |Z0(Ω_ref)|).
+    pub case: Case,
+    /// The step plan over the profile's duration.
+    pub plan: StepPlan,
+    /// Orders tracked: 1, ½, ⅓ and the scene's.
+    pub orders: Vec<f64>,
+    /// Revolutions per order-tracking window.
+    pub window_revolutions: usize,
+    /// ω_n (rad/s), the unit of the speed ratios reported.
+    pub omega_n: f64,
+    /// The rotor, for the steady unbalance response `q` at each tracked window's Ω
+    /// (`x = Re(q e^{iΩt})`, the run-up Bode's reference).
+    rotor: crate::model::Rotor,
+}
+
+/// Prepares a transient run of `model` along `spec`: the profile in rad/s, the case at
+/// Ω_ref = `spec.reference` (default ω_n), the plan at the profile's top speed.
+///
+/// # Errors
+/// [`ModelError::Inconsistent`] for a rotor whose matrices depend on Ω
+/// ([`crate::model::Rotor::speed_dependent`]) or a profile that never spins; model and plan
+/// errors as [`super::prepare`].
+pub fn prepare_transient(
+    model: &Model,
+    settings: &RunSettings,
+    spec: &SpeedProfileSpec,
+) -> Result<TransientPrepared> {
+    if model.rotor.speed_dependent() {
+        return Err(ModelError::Inconsistent {
+            what: "run.speed_profile".into(),
+            message: "this rotor's matrices depend on the speed (gyroscopics Ω G or speed-tabulated bearings); speed transients of such rotors are not implemented yet — set `rotor.gyroscopic = false` and constant bearings, or run single speeds".into(),
+        }
+        .into());
+    }
+    let omega_n = model.rotor.natural_frequency();
+    let profile = SpeedProfile::from_spec(spec, omega_n)?;
+    let top = profile.max_speed();
+    if top <= 0.0 {
+        return Err(ModelError::Inconsistent {
+            what: "run.speed_profile".into(),
+            message: "the speed is zero throughout".into(),
+        }
+        .into());
+    }
+    let omega_ref = spec
+        .reference
+        .map_or(omega_n, |r| r * spec.unit.to_rad_per_s(omega_n));
+    let case = model.case(omega_ref)?;
+    let plan = plan_duration(&case, &settings.step, top, profile.duration())?;
+    let mut orders = vec![1.0, 0.5, 1.0 / 3.0];
+    for o in &spec.orders {
+        if !orders.iter().any(|k| (k - o).abs() < 1e-12) {
+            orders.push(*o);
+        }
+    }
+    Ok(TransientPrepared {
+        profile,
+        settings: *settings,
+        case,
+        plan,
+        orders,
+        window_revolutions: spec.window_revolutions,
+        omega_n,
+        rotor: model.rotor.clone(),
+    })
+}
+
+/// One order-tracking window: `window_revolutions` whole revolutions of the spin angle.
+#[derive(Debug, Clone, Serialize)]
+pub struct OrderWindow {
+    /// Time at the window's middle angle (s).
+    pub t: f64,
+    /// Ω there (rad/s).
+    pub omega: f64,
+    /// Ω̇ there (rad/s²): > 0 on a run-up, < 0 on a coast-down.
+    pub omega_dot: f64,
+    /// `(amplitude m, phase rad)` per tracked order: `x ≈ A cos(k φ + ψ)` over the window.
+    pub lines: Vec<(f64, f64)>,
+    /// Steady unbalance response at Ω of the same component (amplitude m, phase rad), the
+    /// frequency-domain reference of the 1× line.
+    pub steady_1x: (f64, f64),
+}
+
+/// What a transient run gives.
+#[derive(Debug, Clone, Serialize)]
+pub struct TransientResults {
+    /// ω_n (rad/s).
+    pub omega_n: f64,
+    /// Duration (s) and revolutions φ_end/2π of the profile.
+    pub duration: f64,
+    /// Revolutions over the run.
+    pub revolutions: f64,
+    /// Rotor node analysed.
+    pub node: usize,
+    /// Component analysed, 0 = x, 1 = y.
+    pub component: usize,
+    /// Orders tracked.
+    pub orders: Vec<f64>,
+    /// Step plan and loop counters.
+    pub plan: StepPlan,
+    /// Loop counters.
+    pub stats: RunStats,
+    /// Friction energy dissipated over the run (J).
+    pub friction_energy: f64,
+    /// Largest contact-force magnitude on station 0 (N).
+    pub contact_force_max: f64,
+    /// Peak 1× amplitude (m) and the speed where it occurs (rad/s).
+    pub peak_1x: (f64, f64),
+    /// Per recorded sample: t (s), Ω (rad/s), φ (rad), Ω̇ (rad/s²).
+    #[serde(skip)]
+    pub spin: Vec<[f64; 4]>,
+    /// Per recorded sample: the analysed node's `[x, y]` (m).
+    #[serde(skip)]
+    pub response: Vec<[f64; 2]>,
+    /// Per recorded sample: |F| on station 0 (N), friction power (W), friction energy so far (J).
+    #[serde(skip)]
+    pub contact: Vec<[f64; 3]>,
+    /// Order-tracking windows, one per revolution.
+    #[serde(skip)]
+    pub windows: Vec<OrderWindow>,
+}
+
+impl TransientPrepared {
+    /// Integrates the whole profile with `sinks` and analyses the record.
+    ///
+    /// # Errors
+    /// [`crate::error::SolveError`] of the loop, a sink's error included.
+    pub fn run(&self, sinks: &mut [&mut dyn FrameSink]) -> Result<TransientResults> {
+        let (rec, stats) = self.integrate(sinks)?;
+        analyse_transient(self, &rec, stats)
+    }
+
+    /// Integrates the whole profile with `sinks`; returns the record and counters.
+    ///
+    /// # Errors
+    /// As [`TransientPrepared::run`].
+    pub fn integrate(&self, sinks: &mut [&mut dyn FrameSink]) -> Result<(Record, RunStats)> {
+        let s = &self.settings;
+        let stepper = Stepper::with_profile(
+            &self.case,
+            s.step.integrator,
+            &self.plan,
+            s.initial,
+            Some(&self.profile),
+        )?;
+        Ok(match sinks {
+            [] => stepper.run(None)?,
+            [one] => stepper.run(Some(&mut **one))?,
+            many => stepper.run(Some(&mut Fanout::new(many)))?,
+        })
+    }
+}
+
+/// The analysis of a transient record (see the module).
+///
+/// # Errors
+/// [`ModelError`] when the steady response of the rotor cannot be computed at a window's speed
+/// (a singular dynamic stiffness).
+pub fn analyse_transient(
+    p: &TransientPrepared,
+    rec: &Record,
+    stats: RunStats,
+) -> Result<TransientResults> {
+    let spin: Vec<[f64; 4]> = rec
+        .t
+        .iter()
+        .map(|&t| {
+            let s = p.profile.at(t);
+            [t, s.omega, s.phi, s.omega_dot]
+        })
+        .collect();
+    let contact = friction(p, rec, &spin);
+    let comp = p.settings.component;
+    let x: Vec<f64> = rec.observed.iter().map(|d| d[comp]).collect();
+    let phi: Vec<f64> = spin.iter().map(|s| s[2]).collect();
+    let dof = p.rotor.node_dofs(p.case.observed_node)[comp];
+    let mut windows = Vec::new();
+    for (t, lines) in track_orders(&rec.t, &phi, &x, &p.orders, p.window_revolutions) {
+        let spin = p.profile.at(t);
+        let omega = spin.omega;
+        let q = if omega > 0.0 {
+            p.rotor.unbalance_response(omega)?[dof]
+        } else {
+            Complex64::new(0.0, 0.0)
+        };
+        windows.push(OrderWindow {
+            t,
+            omega,
+            omega_dot: spin.omega_dot,
+            lines,
+            steady_1x: (q.norm(), q.arg()),
+        });
+    }
+    let peak_1x = windows
+        .iter()
+        .map(|w| (w.lines[0].0, w.omega))
+        .fold((0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+    let duration = p.profile.duration();
+    Ok(TransientResults {
+        omega_n: p.omega_n,
+        duration,
+        revolutions: p.profile.total_angle() / (2.0 * PI),
+        node: p.case.observed_node,
+        component: comp,
+        orders: p.orders.clone(),
+        plan: p.plan,
+        stats,
+        friction_energy: contact.last().map_or(0.0, |c| c[2]),
+        contact_force_max: contact.iter().map(|c| c[0]).fold(0.0, f64::max),
+        peak_1x,
+        spin,
+        response: rec.observed.clone(),
+        contact,
+        windows,
+    })
+}
+
+/// Per sample: |F| on station 0 (N), the friction power summed over stations (W) and its
+/// integral (J, trapezoid). The friction force on a station is its contact force less the
+/// normal part, `F_t`; it acts at the contact point, whose velocity is the centre's `v` plus
+/// the surface speed Ω R along the spin tangent `a = −F_t/|F_t|` (friction opposes the
+/// sliding of a massless stator, at rest), so the power dissipated is
+/// `P = |F_t| Ω R − F_t · v`, v by central differences of the recorded displacement.
+fn friction(p: &TransientPrepared, rec: &Record, spin: &[[f64; 4]]) -> Vec<[f64; 3]> {
+    let n = rec.len();
+    let mut out = Vec::with_capacity(n);
+    let mut energy = 0.0;
+    let mut prev_power = 0.0;
+    for (i, sp) in spin.iter().enumerate() {
+        let mut power = 0.0;
+        for (s, st) in p.case.stations.iter().enumerate() {
+            let k = i * rec.nstations + s;
+            let ft = [
+                rec.force[k][0] - rec.force_normal[k][0],
+                rec.force[k][1] - rec.force_normal[k][1],
+            ];
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            let v = if b > a {
+                let (da, db) = (rec.disp_at(a, s), rec.disp_at(b, s));
+                let h = rec.t[b] - rec.t[a];
+                [(db[0] - da[0]) / h, (db[1] - da[1]) / h]
+            } else {
+                [0.0, 0.0]
+            };
+            power += ft[0].hypot(ft[1]) * sp[1] * st.radius - (ft[0] * v[0] + ft[1] * v[1]);
+        }
+        if i > 0 {
+            energy += 0.5 * (power + prev_power) * (rec.t[i] - rec.t[i - 1]);
+        }
+        prev_power = power;
+        let f = rec.force_at(i, 0);
+        out.push([f[0].hypot(f[1]), power, energy]);
+    }
+    out
+}
+
+/// Points of resampling per revolution in the angle domain.
+const PER_REV: usize = 64;
+
+/// Order tracking: the signal `x` at times `t` with spin angles `phi` (nondecreasing) is
+/// resampled at `PER_REV` equal angle steps per revolution (cubic Lagrange interpolation in
+/// φ through the four nearest samples; linear where φ stalls), and over each window of `w`
+/// whole revolutions starting at every whole revolution the DFT at each order k gives
+/// `X = (2/N) Σ x(φ_j) e^{−i k φ_j}`, `x ≈ Re(X e^{i k φ}) = |X| cos(kφ + arg X)`; orders that
+/// are multiples of 1/w are exact bins. Returns per window the time at its middle angle and
+/// `(|X|, arg X)` per order.
+pub fn track_orders(
+    t: &[f64],
+    phi: &[f64],
+    x: &[f64],
+    orders: &[f64],
+    w: usize,
+) -> Vec<(f64, Vec<(f64, f64)>)> {
+    let n = phi.len();
+    if n < 4 || w == 0 {
+        return Vec::new();
+    }
+    let revs = (phi[n - 1] / (2.0 * PI)).floor() as usize;
+    let mut out = Vec::new();
+    let mut cursor = 0usize;
+    let big_n = w * PER_REV;
+    let mut buf = vec![0.0; big_n];
+    for k in 0..(revs + 1).saturating_sub(w) {
+        let start = 2.0 * PI * k as f64;
+        let mut cur = cursor;
+        for (j, b) in buf.iter_mut().enumerate() {
+            let a = start + 2.0 * PI * j as f64 / PER_REV as f64;
+            while cur + 2 < n && phi[cur + 1] <= a {
+                cur += 1;
+            }
+            if j == 0 {
+                cursor = cur;
+            }
+            *b = interp(phi, x, cur, a);
+        }
+        let lines = orders
+            .iter()
+            .map(|&o| {
+                let s = buf
+                    .iter()
+                    .enumerate()
+                    .fold(Complex64::new(0.0, 0.0), |acc, (j, v)| {
+                        let a = o * 2.0 * PI * j as f64 / PER_REV as f64;
+                        acc + Complex64::from_polar(*v, -a)
+                    });
+                // Relative to the window's own start angle: shift by e^{−i k o start}.
+                let xk = s * 2.0 / big_n as f64 * Complex64::from_polar(1.0, -o * start);
+                (xk.norm(), xk.arg())
+            })
+            .collect();
+        let mid = start + PI * w as f64;
+        let i = phi.partition_point(|p| *p < mid).clamp(1, n - 1);
+        let dphi = phi[i] - phi[i - 1];
+        let f = if dphi > 0.0 {
+            (mid - phi[i - 1]) / dphi
+        } else {
+            0.0
+        };
+        out.push((t[i - 1] + f * (t[i] - t[i - 1]), lines));
+    }
+    out
+}
+
+/// x at angle `a` from the samples around index `i` (φ[i] ≤ a ≤ φ[i+1] where possible).
+fn interp(phi: &[f64], x: &[f64], i: usize, a: f64) -> f64 {
+    let n = phi.len();
+    let lo = i.saturating_sub(1).min(n - 4);
+    let p = &phi[lo..lo + 4];
+    let strictly = p.windows(2).all(|w| w[1] > w[0]);
+    if !strictly {
+        let j = i.min(n - 2);
+        let d = phi[j + 1] - phi[j];
+        let f = if d > 0.0 {
+            ((a - phi[j]) / d).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        return x[j] + f * (x[j + 1] - x[j]);
+    }
+    let mut v = 0.0;
+    for m in 0..4 {
+        let mut l = 1.0;
+        for q in 0..4 {
+            if q != m {
+                l *= (a - p[q]) / (p[m] - p[q]);
+            }
+        }
+        v += l * x[lo + m];
+    }
+    v
+}
