@@ -17,6 +17,18 @@ use rotor::*;
 use run::*;
 use stator::*;
 
+/// Most speeds a sweep may hold (`run.sweep`: (to − from)/step + 1).
+pub const MAX_SWEEP_SPEEDS: usize = 100_000;
+/// Most recorded samples per revolution (`run.samples_per_rev`).
+pub const MAX_SAMPLES_PER_REV: usize = 1 << 20;
+/// Most revolutions of a run (`run.revolutions`); the step budget (`run.max_steps`, see
+/// [`crate::time::plan`]) usually binds first.
+pub const MAX_REVOLUTIONS: usize = 100_000_000;
+/// Most nodes of an FE rotor's shaft (Σ `rotor.shaft.*.elements` + 1).
+pub const MAX_ROTOR_NODES: usize = 100_000;
+/// Most elements of a rod stator (`stator.*.elements`).
+pub const MAX_ROD_ELEMENTS: usize = 100_000;
+
 /// Which of two alternative keys a scene gives (e.g. `clearance` or `clearance_nd`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum OneOf<A, B> {
@@ -123,14 +135,44 @@ pub fn output_component(ls: &LoadedScene) -> Result<Component, SceneError> {
 
 pub(super) fn positive(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
     if !(v.is_finite() && v > 0.0) {
-        return Err(ls.invalid(key, format!("must be a positive finite number, got {v}")));
+        return Err(ls.invalid(
+            key,
+            format!("must be a positive finite number, got {}", show(v)),
+        ));
     }
     Ok(())
 }
 
 pub(super) fn non_negative(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
     if !(v.is_finite() && v >= 0.0) {
-        return Err(ls.invalid(key, format!("must be zero or positive, got {v}")));
+        return Err(ls.invalid(key, format!("must be zero or positive, got {}", show(v))));
+    }
+    Ok(())
+}
+
+/// A number for a message: plain when moderate, else in exponent form (`1e308`, not 309 digits).
+pub(super) fn show(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+pub(super) fn finite(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
+    if !v.is_finite() {
+        return Err(ls.invalid(key, format!("must be a finite number, got {}", show(v))));
+    }
+    Ok(())
+}
+
+/// An angle in degrees (`phase_deg`, `angle_deg`, `approach_deg`): finite and within ±360°.
+pub(super) fn degrees(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
+    if !(v.is_finite() && v.abs() <= 360.0) {
+        return Err(ls.invalid(
+            key,
+            format!("must be an angle in −360 … 360 degrees, got {}", show(v)),
+        ));
     }
     Ok(())
 }
@@ -139,7 +181,7 @@ pub(super) fn poisson(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneEr
     if v.is_finite() && v > -1.0 && v < 0.5 {
         Ok(())
     } else {
-        Err(ls.invalid(key, format!("must lie in (−1, 0.5), got {v}")))
+        Err(ls.invalid(key, format!("must lie in (−1, 0.5), got {}", show(v))))
     }
 }
 

@@ -47,6 +47,7 @@ pub(super) fn validate_jeffcott(ls: &LoadedScene, j: &JeffcottSpec) -> Result<()
     for (i, u) in j.unbalance.iter().enumerate() {
         non_negative(ls, &format!("rotor.unbalance.{i}.mass"), u.mass)?;
         non_negative(ls, &format!("rotor.unbalance.{i}.radius"), u.radius)?;
+        degrees(ls, &format!("rotor.unbalance.{i}.phase_deg"), u.phase_deg)?;
         if u.node != 0 {
             return Err(ls.invalid(
                 &format!("rotor.unbalance.{i}.node"),
@@ -75,7 +76,12 @@ pub(super) fn validate_stations(ls: &LoadedScene) -> Result<(), SceneError> {
 }
 
 /// `Err` naming `key` when rotor node `n` is not one of the `nodes` shaft nodes.
-pub(super) fn node_ok(ls: &LoadedScene, key: String, n: usize, nodes: usize) -> Result<(), SceneError> {
+pub(super) fn node_ok(
+    ls: &LoadedScene,
+    key: String,
+    n: usize,
+    nodes: usize,
+) -> Result<(), SceneError> {
     if n >= nodes {
         Err(ls.invalid(
             &key,
@@ -102,6 +108,7 @@ pub(super) fn validate_fe_rotor(ls: &LoadedScene, f: &FeRotorSpec) -> Result<(),
         node_ok(ls, format!("rotor.unbalance.{i}.node"), u.node, nodes)?;
         non_negative(ls, &format!("rotor.unbalance.{i}.mass"), u.mass)?;
         non_negative(ls, &format!("rotor.unbalance.{i}.radius"), u.radius)?;
+        degrees(ls, &format!("rotor.unbalance.{i}.phase_deg"), u.phase_deg)?;
     }
     for v in f.rayleigh {
         non_negative(ls, "rotor.rayleigh", v)?;
@@ -132,7 +139,7 @@ pub(super) fn validate_shaft(ls: &LoadedScene, f: &FeRotorSpec) -> Result<usize,
             "an FE rotor needs at least one [[rotor.shaft]] segment",
         ));
     }
-    let mut nodes = 1;
+    let mut nodes: usize = 1;
     for (i, seg) in f.shaft.iter().enumerate() {
         let k = |x: &str| format!("rotor.shaft.{i}.{x}");
         positive(ls, &k("length"), seg.length)?;
@@ -144,7 +151,16 @@ pub(super) fn validate_shaft(ls: &LoadedScene, f: &FeRotorSpec) -> Result<usize,
         if seg.elements == 0 {
             return Err(ls.invalid(&k("elements"), "must be at least 1"));
         }
-        nodes += seg.elements;
+        nodes = nodes.saturating_add(seg.elements);
+        if nodes > MAX_ROTOR_NODES {
+            return Err(ls.invalid(
+                &k("elements"),
+                format!(
+                    "{} elements make a shaft of more than {MAX_ROTOR_NODES} nodes",
+                    seg.elements
+                ),
+            ));
+        }
         let named = match &seg.material {
             Some(m) => Some(material(m).ok_or_else(|| {
                 ls.invalid(&k("material"), format!("unknown material `{m}` (known: steel, aluminium, titanium; or give youngs_modulus, poisson, density)"))
@@ -165,14 +181,21 @@ pub(super) fn validate_shaft(ls: &LoadedScene, f: &FeRotorSpec) -> Result<usize,
         }
         if let Some(nu) = seg.poisson {
             if !(nu > -1.0 && nu < 0.5) {
-                return Err(ls.invalid(&k("poisson"), format!("must lie in (−1, 0.5), got {nu}")));
+                return Err(ls.invalid(
+                    &k("poisson"),
+                    format!("must lie in (−1, 0.5), got {}", show(nu)),
+                ));
             }
         }
     }
     Ok(nodes)
 }
 
-pub(super) fn validate_disks(ls: &LoadedScene, f: &FeRotorSpec, nodes: usize) -> Result<(), SceneError> {
+pub(super) fn validate_disks(
+    ls: &LoadedScene,
+    f: &FeRotorSpec,
+    nodes: usize,
+) -> Result<(), SceneError> {
     for (i, d) in f.disk.iter().enumerate() {
         node_ok(ls, format!("rotor.disk.{i}.node"), d.node, nodes)?;
         let inertial = d.mass.is_some();
@@ -201,6 +224,16 @@ pub(super) fn validate_disks(ls: &LoadedScene, f: &FeRotorSpec, nodes: usize) ->
                 non_negative(ls, &format!("rotor.disk.{i}.{name}"), v)?;
             }
         }
+        if let Some(r) = d.density {
+            positive(ls, &format!("rotor.disk.{i}.density"), r)?;
+        }
+        non_negative(ls, &format!("rotor.disk.{i}.bore"), d.bore)?;
+        if d.outer_diameter.is_some_and(|od| d.bore >= od) {
+            return Err(ls.invalid(
+                &format!("rotor.disk.{i}.bore"),
+                "must be smaller than outer_diameter",
+            ));
+        }
         if let Some(m) = &d.material {
             if material(m).is_none() {
                 return Err(ls.invalid(
@@ -213,7 +246,11 @@ pub(super) fn validate_disks(ls: &LoadedScene, f: &FeRotorSpec, nodes: usize) ->
     Ok(())
 }
 
-pub(super) fn validate_bearings(ls: &LoadedScene, f: &FeRotorSpec, nodes: usize) -> Result<(), SceneError> {
+pub(super) fn validate_bearings(
+    ls: &LoadedScene,
+    f: &FeRotorSpec,
+    nodes: usize,
+) -> Result<(), SceneError> {
     if f.bearing.is_empty() {
         return Err(ls.invalid(
             "rotor",
@@ -223,6 +260,9 @@ pub(super) fn validate_bearings(ls: &LoadedScene, f: &FeRotorSpec, nodes: usize)
     for (i, b) in f.bearing.iter().enumerate() {
         node_ok(ls, format!("rotor.bearing.{i}.node"), b.node, nodes)?;
         let n = b.speeds.len();
+        for (j, w) in b.speeds.iter().enumerate() {
+            non_negative(ls, &format!("rotor.bearing.{i}.speeds.{j}"), *w)?;
+        }
         if b.speeds.windows(2).any(|w| w[1] <= w[0]) {
             return Err(ls.invalid(
                 &format!("rotor.bearing.{i}.speeds"),
@@ -242,12 +282,33 @@ pub(super) fn validate_bearings(ls: &LoadedScene, f: &FeRotorSpec, nodes: usize)
             ("cyy", &b.cyy),
         ];
         for (name, v) in all {
-            if let Some(ScalarOrTable::Table(t)) = v {
-                if t.len() != n {
-                    return Err(ls.invalid(
-                        &format!("rotor.bearing.{i}.{name}"),
-                        format!("table has {} values but `speeds` has {n}", t.len()),
-                    ));
+            let key = format!("rotor.bearing.{i}.{name}");
+            // Direct stiffness and damping resist motion (≥ 0); cross-coupled ones take any sign.
+            let direct = !matches!(name, "kxy" | "kyx" | "cxy" | "cyx");
+            let values: &[f64] = match v {
+                None => &[],
+                Some(ScalarOrTable::Scalar(x)) => std::slice::from_ref(x),
+                Some(ScalarOrTable::Table(t)) => {
+                    if n == 0 {
+                        return Err(ls.invalid(
+                            &key,
+                            "a table of values needs `speeds` (rad/s), one per value",
+                        ));
+                    }
+                    if t.len() != n {
+                        return Err(ls.invalid(
+                            &key,
+                            format!("table has {} values but `speeds` has {n}", t.len()),
+                        ));
+                    }
+                    t
+                }
+            };
+            for x in values {
+                if direct {
+                    non_negative(ls, &key, *x)?;
+                } else {
+                    finite(ls, &key, *x)?;
                 }
             }
         }
@@ -273,7 +334,11 @@ pub(super) fn validate_bearings(ls: &LoadedScene, f: &FeRotorSpec, nodes: usize)
     Ok(())
 }
 
-pub(super) fn validate_supports(ls: &LoadedScene, f: &FeRotorSpec, nodes: usize) -> Result<(), SceneError> {
+pub(super) fn validate_supports(
+    ls: &LoadedScene,
+    f: &FeRotorSpec,
+    nodes: usize,
+) -> Result<(), SceneError> {
     for (name, on, flag, mode, list) in [
         ("axial_support", f.axial, "axial", "axial", &f.axial_support),
         (

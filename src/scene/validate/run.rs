@@ -31,10 +31,25 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
         if sw.to < sw.from {
             return Err(ls.invalid("run.sweep.to", "must not be below `from`"));
         }
+        let n = (sw.to - sw.from) / sw.step + 1.0;
+        if !(n <= MAX_SWEEP_SPEEDS as f64) {
+            let key = if sw.to / sw.from > 1e3 {
+                "run.sweep.to"
+            } else {
+                "run.sweep.step"
+            };
+            return Err(ls.invalid(
+                key,
+                format!(
+                    "the sweep {} … {} step {} has {n:.3e} speeds; at most {MAX_SWEEP_SPEEDS} are allowed",
+                    show(sw.from),
+                    show(sw.to),
+                    show(sw.step)
+                ),
+            ));
+        }
         if let Some(v) = &sw.vary {
-            if v.values.is_empty() {
-                return Err(ls.invalid("run.sweep.vary.values", "no values"));
-            }
+            validate_vary(ls, v)?;
         }
     }
     if r.revolutions <= r.transient_revolutions {
@@ -50,8 +65,114 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
         positive(ls, "run.dt", dt)?;
     }
     positive(ls, "run.harmonics", r.harmonics)?;
-    if r.samples_per_rev < 8 {
-        return Err(ls.invalid("run.samples_per_rev", "must be at least 8"));
+    if !(8..=MAX_SAMPLES_PER_REV).contains(&r.samples_per_rev) {
+        return Err(ls.invalid(
+            "run.samples_per_rev",
+            format!(
+                "must lie in 8 ..= {MAX_SAMPLES_PER_REV}, got {}",
+                r.samples_per_rev
+            ),
+        ));
+    }
+    if r.revolutions > MAX_REVOLUTIONS {
+        return Err(ls.invalid(
+            "run.revolutions",
+            format!(
+                "at most {MAX_REVOLUTIONS} revolutions, got {}",
+                r.revolutions
+            ),
+        ));
+    }
+    if let Some(m) = r.max_steps {
+        if m == 0 {
+            return Err(ls.invalid("run.max_steps", "must be at least 1"));
+        }
+    }
+    validate_initial(ls)
+}
+
+/// `run.initial_displacement` and `run.initial_velocity`: finite, and the displacement within
+/// the radius of the first station (a rotor displaced by more than its own radius is outside
+/// the small-displacement model; the orbit would start far outside any clearance).
+fn validate_initial(ls: &LoadedScene) -> Result<(), SceneError> {
+    let r = &ls.scene.run;
+    for (name, v) in [
+        ("initial_displacement", r.initial_displacement),
+        ("initial_velocity", r.initial_velocity),
+    ] {
+        if !v.iter().all(|x| x.is_finite()) {
+            return Err(ls.invalid(&format!("run.{name}"), format!("must be finite, got {v:?}")));
+        }
+    }
+    let [x, y] = r.initial_displacement;
+    if let Some(st) = ls.scene.stations.first() {
+        if x.hypot(y) > st.radius {
+            return Err(ls.invalid(
+                "run.initial_displacement",
+                format!(
+                    "|u0| = {:.3e} m exceeds the radius of station `{}` ({} m): outside the small-displacement model and any clearance",
+                    x.hypot(y),
+                    st.name,
+                    st.radius
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `[run.sweep.vary]`: values finite and distinct, and the scene with `key = value` valid for
+/// every value (so a key that does not exist, or a value its rule refuses, is found by `check`,
+/// not in the middle of a sweep).
+fn validate_vary(ls: &LoadedScene, v: &VarySpec) -> Result<(), SceneError> {
+    let vk = "run.sweep.vary.values";
+    if v.values.is_empty() {
+        return Err(ls.invalid(vk, "no values"));
+    }
+    for (i, x) in v.values.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(ls.invalid(vk, format!("value {i} is {x}: must be finite")));
+        }
+        if v.values[..i].contains(x) {
+            return Err(ls.invalid(vk, format!("value {x} appears twice")));
+        }
+    }
+    for x in &v.values {
+        let mut value: toml::Value = toml::from_str(&ls.source)
+            .map_err(|e| ls.invalid("run.sweep.vary", e.message().to_string()))?;
+        let mut sets = ls.overrides.clone();
+        sets.push(format!("{}={x}", v.key));
+        let nested = sets.iter().try_for_each(|a| apply_override(&mut value, a));
+        let nested = nested.and_then(|()| {
+            if let Some(sw) = value
+                .get_mut("run")
+                .and_then(|r| r.get_mut("sweep"))
+                .and_then(|s| s.as_table_mut())
+            {
+                sw.remove("vary");
+            }
+            let scene = Scene::deserialize(value).map_err(|e| SceneError::Override {
+                assignment: format!("{}={x}", v.key),
+                message: e.message().to_string(),
+            })?;
+            validate(&LoadedScene {
+                scene,
+                file: ls.file.clone(),
+                source: ls.source.clone(),
+                overrides: sets,
+            })
+        });
+        if let Err(e) = nested {
+            let (key, msg) = match &e {
+                SceneError::Invalid { key, message, .. } if *key == v.key => (vk, message.clone()),
+                SceneError::Invalid { key, message, .. } => (vk, format!("{key}: {message}")),
+                other => ("run.sweep.vary.key", other.to_string()),
+            };
+            return Err(ls.invalid(
+                key,
+                format!("with `{} = {x}` the scene is invalid: {msg}", v.key),
+            ));
+        }
     }
     Ok(())
 }
@@ -86,6 +207,17 @@ pub(super) fn validate_series(ls: &LoadedScene) -> Result<(), SceneError> {
             "output.per_speed",
             "asks for per-speed time series, but neither `output.vtk` nor `output.hdf5` is given",
         ));
+    }
+    for (g, grid) in o.orbit_grids.iter().enumerate() {
+        for x in grid {
+            positive(ls, &format!("output.orbit_grids.{g}"), *x)?;
+        }
+    }
+    for x in &o.force_histories {
+        positive(ls, "output.force_histories", *x)?;
+    }
+    if let Some(f) = o.cascade_max_freq {
+        positive(ls, "output.cascade_max_freq", f)?;
     }
     if let PerSpeed::Speeds(v) = &o.per_speed {
         for x in v {

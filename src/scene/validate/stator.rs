@@ -20,9 +20,13 @@ pub(super) fn validate_rod(ls: &LoadedScene, i: usize, r: &RodSpec) -> Result<()
         positive(ls, &k("stiffness_ratio"), e)?;
     }
     non_negative(ls, &k("density"), r.density)?;
-    if r.elements == 0 {
-        return Err(ls.invalid(&k("elements"), "must be at least 1"));
+    if !(1..=MAX_ROD_ELEMENTS).contains(&r.elements) {
+        return Err(ls.invalid(
+            &k("elements"),
+            format!("must lie in 1 ..= {MAX_ROD_ELEMENTS}, got {}", r.elements),
+        ));
     }
+    degrees(ls, &k("angle_deg"), r.angle_deg)?;
     for v in r.rayleigh {
         non_negative(ls, &k("rayleigh"), v)?;
     }
@@ -46,14 +50,29 @@ pub(super) fn validate_ring(ls: &LoadedScene, i: usize, r: &RingSpec) -> Result<
     }
     non_negative(ls, &k("mass"), r.mass)?;
     non_negative(ls, &k("damping"), r.damping)?;
+    if r.mass == 0.0 && r.damping > 0.0 {
+        return Err(ls.invalid(
+            &k("damping"),
+            "a massless ring (mass = 0) has no support damping: give `mass` or leave `damping` out",
+        ));
+    }
     Ok(())
 }
 
-pub(super) fn validate_fe_stator(ls: &LoadedScene, i: usize, f: &FeStatorSpec) -> Result<(), SceneError> {
+pub(super) fn validate_fe_stator(
+    ls: &LoadedScene,
+    i: usize,
+    f: &FeStatorSpec,
+) -> Result<(), SceneError> {
     let k = |x: &str| format!("stator.{i}.{x}");
     let nn = f.nodes.len();
     if nn == 0 {
         return Err(ls.invalid(&k("nodes"), "a stator needs at least one node"));
+    }
+    for (n, xy) in f.nodes.iter().enumerate() {
+        for x in xy {
+            finite(ls, &k(&format!("nodes.{n}")), *x)?;
+        }
     }
     let missing = |key: String, n: usize| {
         ls.invalid(
@@ -83,12 +102,15 @@ pub(super) fn validate_fe_stator(ls: &LoadedScene, i: usize, f: &FeStatorSpec) -
                 non_negative(ls, &ek("density"), *density)?;
             }
             FeElementSpec::Spring {
-                node, stiffness, ..
+                node,
+                stiffness,
+                angle_deg,
             } => {
                 if *node >= nn {
                     return Err(missing(ek("node"), *node));
                 }
                 positive(ls, &ek("stiffness"), *stiffness)?;
+                degrees(ls, &ek("angle_deg"), *angle_deg)?;
             }
         }
     }
@@ -122,7 +144,11 @@ pub(super) fn validate_fe_stator(ls: &LoadedScene, i: usize, f: &FeStatorSpec) -
 }
 
 /// Admissibility of a meshed stator's values (what the mesh needs is checked when it is read).
-pub(super) fn validate_mesh_stator(ls: &LoadedScene, i: usize, m: &MeshStatorSpec) -> Result<(), SceneError> {
+pub(super) fn validate_mesh_stator(
+    ls: &LoadedScene,
+    i: usize,
+    m: &MeshStatorSpec,
+) -> Result<(), SceneError> {
     let k = |f: &str| format!("stator.{i}.{f}");
     if m.geometry.trim().is_empty() {
         return Err(ls.invalid(&k("geometry"), "empty path"));
@@ -184,6 +210,7 @@ pub(super) fn validate_mesh_stator(ls: &LoadedScene, i: usize, m: &MeshStatorSpe
     for (j, name) in m.stations.iter().enumerate() {
         extra_station_index(ls, i, j, name)?;
     }
+    degrees(ls, &k("approach_deg"), m.approach_deg)?;
     if !m.axial_origin.is_finite() {
         return Err(ls.invalid(&k("axial_origin"), "must be finite"));
     }
