@@ -81,6 +81,7 @@ impl RunSettings {
                 harmonics: run.harmonics,
                 revolutions: run.revolutions,
                 samples_per_rev: run.samples_per_rev,
+                max_steps: run.max_steps.unwrap_or(crate::time::plan::MAX_STEPS),
             },
             transient_revolutions: run.transient_revolutions,
             error_estimate: run.error_estimate,

@@ -91,9 +91,11 @@ pub fn apply_override(root: &mut toml::Value, assignment: &str) -> Result<(), Sc
             match idx.cmp(&len) {
                 std::cmp::Ordering::Less => a[idx] = value,
                 std::cmp::Ordering::Equal => a.push(value),
-                std::cmp::Ordering::Greater => return Err(err(&format!(
+                std::cmp::Ordering::Greater => {
+                    return Err(err(&format!(
                     "index {idx} out of range (array has {len} entries; index {len} appends one)"
-                ))),
+                )))
+                }
             }
         }
         _ => {

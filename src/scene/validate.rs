@@ -29,6 +29,10 @@ pub const MAX_ROTOR_NODES: usize = 100_000;
 /// Most elements of a rod stator (`stator.*.elements`).
 pub const MAX_ROD_ELEMENTS: usize = 100_000;
 
+/// Largest magnitude of any number in a scene: beyond it squares and fourth powers (areas,
+/// second moments, stiffnesses) overflow or lose every digit, and no physical value is near it.
+pub const MAX_MAGNITUDE: f64 = 1e100;
+
 /// Which of two alternative keys a scene gives (e.g. `clearance` or `clearance_nd`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum OneOf<A, B> {
@@ -140,14 +144,14 @@ pub(super) fn positive(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneE
             format!("must be a positive finite number, got {}", show(v)),
         ));
     }
-    Ok(())
+    bounded(ls, key, v)
 }
 
 pub(super) fn non_negative(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
     if !(v.is_finite() && v >= 0.0) {
         return Err(ls.invalid(key, format!("must be zero or positive, got {}", show(v))));
     }
-    Ok(())
+    bounded(ls, key, v)
 }
 
 /// A number for a message: plain when moderate, else in exponent form (`1e308`, not 309 digits).
@@ -162,6 +166,17 @@ pub(super) fn show(v: f64) -> String {
 pub(super) fn finite(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
     if !v.is_finite() {
         return Err(ls.invalid(key, format!("must be a finite number, got {}", show(v))));
+    }
+    bounded(ls, key, v)
+}
+
+/// `|v|` within [`MAX_MAGNITUDE`].
+fn bounded(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
+    if v.abs() > MAX_MAGNITUDE {
+        return Err(ls.invalid(
+            key,
+            format!("{} is beyond {MAX_MAGNITUDE:e} in magnitude: no physical value is, and the model's arithmetic overflows", show(v)),
+        ));
     }
     Ok(())
 }

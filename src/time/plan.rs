@@ -71,6 +71,28 @@ pub struct StepParams {
     pub revolutions: usize,
     /// Recorded samples per revolution.
     pub samples_per_rev: usize,
+    /// Most steps the run may take ([`MAX_STEPS`] unless `run.max_steps` says otherwise).
+    pub max_steps: u64,
+}
+
+/// Default of `run.max_steps`: the most integration steps one run may take. At the measured
+/// 0.1 µs per step of a Jeffcott rotor (docs/PERFORMANCE.md) that is about two minutes, at 3.4 µs
+/// (a 200-DOF FE rotor) about an hour; a plan that needs more is refused with its figures.
+pub const MAX_STEPS: u64 = 1_000_000_000;
+
+/// Most bytes the record of one run may take (the samples are held in memory for the
+/// analysis): 4 GiB.
+pub const MAX_RECORD_BYTES: f64 = 4.0 * 1024.0 * 1024.0 * 1024.0;
+
+/// Smallest mass of a stator with mass relative to the rotor's modal mass m_r: a lighter
+/// stator is integrated explicitly at a step set by its own (meaningless) frequency and its
+/// contact impulses are not resolved; it should be massless.
+pub const MIN_STATOR_MASS_RATIO: f64 = 1e-6;
+
+/// Bytes one recorded sample takes: time, observed displacement, stator energy, active pairs,
+/// and per station displacement, force and normal force.
+pub fn sample_bytes(nstations: usize) -> f64 {
+    (8 + 16 + 8 + 4 + nstations.max(1) * 48) as f64
 }
 
 /// Contact stiffness bound (N/m) per station, from massless (`massless = true`) or all stators.
@@ -133,6 +155,7 @@ fn stability_limit(case: &Case, scheme: Scheme, w_stators: f64) -> (f64, String)
 /// contact stiffness), or the user's override checked against that limit. Δt is then reduced
 /// so a revolution holds a whole number of recorded samples and steps.
 pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
+    check_stator_masses(case)?;
     let m = case.rotor_mass;
     let kr = case.rotor_stiffness;
     // Contact frequency of the reference (Jeffcott-equivalent) system, √((k_r + k_s)/m_r):
@@ -168,15 +191,102 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
     };
     let t_rev = 2.0 * PI / case.omega;
     let spr = p.samples_per_rev;
-    let per_sample = (t_rev / (dt0 * spr as f64) - 1e-9).ceil().max(1.0) as usize;
-    let steps_per_rev = per_sample * spr;
+    // In floating point first: an absurd plan (Δt → 0, a revolution of hours) is refused with
+    // its figures before any count is cast to an integer.
+    let per_sample = (t_rev / (dt0 * spr as f64) - 1e-9).ceil().max(1.0);
+    let steps_per_rev = per_sample * spr as f64;
+    let steps = steps_per_rev * p.revolutions as f64;
+    if !(steps <= p.max_steps as f64) {
+        let why = match p.dt {
+            Some(_) => "`run.dt`".to_string(),
+            None if 0.8 * limit < rule_dt => {
+                format!("0.8 × the stability limit {limit:.3e} s: {reason}")
+            }
+            None => format!(
+                "the paper's rule with n = {} (`run.harmonics`)",
+                p.harmonics
+            ),
+        };
+        return Err(SolveError::TooManySteps {
+            steps,
+            steps_per_rev,
+            revolutions: p.revolutions,
+            dt: dt0,
+            why,
+            max: p.max_steps,
+            advice: advice(case, p, t_rev, &reason),
+        });
+    }
+    let samples = spr as f64 * p.revolutions as f64 + 1.0;
+    let bytes = samples * sample_bytes(case.stations.len());
+    if bytes > MAX_RECORD_BYTES {
+        return Err(SolveError::RecordTooLarge {
+            bytes,
+            samples,
+            max: MAX_RECORD_BYTES,
+        });
+    }
+    let (per_sample, steps_per_rev) = (per_sample as usize, steps_per_rev as usize);
     Ok(StepPlan {
         dt: t_rev / steps_per_rev as f64,
         steps_per_rev,
-        steps: steps_per_rev * p.revolutions,
+        steps: steps as usize,
         record_every: per_sample,
         limit,
         rule_dt,
         omega_max,
     })
+}
+
+/// What to change when the plan needs too many steps: the keys that set Δt or the length of a
+/// revolution, and the budget itself.
+fn advice(case: &Case, p: &StepParams, t_rev: f64, reason: &str) -> String {
+    let mut a = Vec::new();
+    if p.dt.is_some() {
+        a.push("raise `run.dt` or leave it out".to_string());
+    }
+    if reason.starts_with("stator with mass") {
+        a.push(
+            "make the stiffest stator with mass massless (`density`/`mass` = 0) or coarser".into(),
+        );
+    } else if reason.starts_with("massless stator") {
+        a.push("lower the stators' `stiffness_ratio`/stiffness or use `run.integrator = \"forward_increment\"`".into());
+    }
+    let w_top = case.rotor_omega_max.max(1.0);
+    if case.omega * 1e4 < w_top {
+        a.push(format!(
+            "the speed ω = {:.3e} rad/s is tiny against the rotor's highest frequency {w_top:.3e} rad/s (a revolution lasts {t_rev:.3e} s): check the rotor's stiffness (bearings, shaft) and the speed keys",
+            case.omega
+        ));
+    }
+    a.push(format!(
+        "fewer `run.revolutions` ({}) or, for a run that is meant, a larger `run.max_steps`",
+        p.revolutions
+    ));
+    a.join("; ")
+}
+
+/// Refuses a stator with mass lighter than [`MIN_STATOR_MASS_RATIO`] × the rotor's modal mass.
+fn check_stator_masses(case: &Case) -> Result<(), SolveError> {
+    for (index, s) in case.stators.iter().enumerate() {
+        if s.massless() {
+            continue;
+        }
+        let dim = s.mesh.as_ref().map_or(2, |m| m.dim.max(2)) as f64;
+        let mass = s.m.diagonal().iter().sum::<f64>() / dim;
+        let ratio = mass / case.rotor_mass;
+        if !(ratio >= MIN_STATOR_MASS_RATIO) {
+            let key = if s.is_ring { "mass" } else { "density" };
+            return Err(SolveError::Meaningless {
+                index,
+                name: s.name.clone(),
+                message: format!(
+                    "its mass {mass:.3e} kg is {ratio:.1e} × the rotor's modal mass {:.3e} kg, below {MIN_STATOR_MASS_RATIO:e}: so light a stator is integrated at a step set by its own frequency ({:.3e} rad/s) and its contact impulses are not resolved; make it massless (`stator.{index}.{key} = 0`) or give it a real mass",
+                    case.rotor_mass,
+                    s.omega_max_sq_bound().sqrt()
+                ),
+            });
+        }
+    }
+    Ok(())
 }
