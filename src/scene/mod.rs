@@ -21,7 +21,7 @@ mod stator;
 pub mod validate;
 
 pub use output::*;
-pub use overrides::{apply_override, key_at_span, locate_key, ALTERNATIVE_KEYS};
+pub use overrides::{apply_override, key_at_span, locate_key, toml_number, ALTERNATIVE_KEYS};
 pub use rotor::*;
 pub use run::*;
 pub use stator::*;

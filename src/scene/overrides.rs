@@ -172,6 +172,21 @@ pub fn key_at_span(source: &str, span: std::ops::Range<usize>) -> Option<String>
     in_table(doc.as_table(), &span, &mut path).then(|| path.join("."))
 }
 
+/// `x` as a TOML number for a `--set` value: an integer when it is one of moderate size (so
+/// `elements = 4` stays an integer), else in Rust's shortest form (`0.9`, `1e308`, `NaN`
+/// written `nan`) — never the 309 digits `Display` gives 1e308.
+pub fn toml_number(x: f64) -> String {
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        format!("{x}")
+    } else if x.is_nan() {
+        "nan".into()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf" } else { "-inf" }.into()
+    } else {
+        format!("{x:?}")
+    }
+}
+
 /// 1-based line of a dotted key (`stator.0.clearance_nd`, `rotor.mass`) in TOML text, if
 /// present. Array indices count `[[name]]` headers. When the full key is absent, the line of its
 /// deepest present parent is returned (e.g. the `[[stator]]` header of a missing key).

@@ -220,5 +220,39 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
     validate_run(ls)?;
     output_component(ls)?;
     validate_series(ls)?;
+    validate_unbalance_for_clearance(ls)?;
+    // Last: every variant of a parameter study is the scene with one key changed, so the scene
+    // itself must be valid first (else its own error would be blamed on the study).
+    if let Some(v) = ls.scene.run.sweep.as_ref().and_then(|w| w.vary.as_ref()) {
+        validate_vary(ls, v)?;
+    }
     Ok(())
+}
+
+/// A clearance given as δ/|Z0| needs an unbalance response: Σ m_u e ≠ 0. Names the unbalance
+/// list when it is empty, else the first zero mass or radius.
+fn validate_unbalance_for_clearance(ls: &LoadedScene) -> Result<(), SceneError> {
+    let s = &ls.scene;
+    let nd = s.stators.iter().any(|st| match st {
+        StatorSpec::Rod(r) => r.clearance_nd.is_some(),
+        StatorSpec::Ring(r) => r.clearance_nd.is_some(),
+        StatorSpec::Mesh(m) => m.clearance_nd.is_some(),
+        StatorSpec::Fe(_) => false,
+    });
+    let unbalance = match &s.rotor {
+        RotorSpec::Jeffcott(j) => &j.unbalance,
+        RotorSpec::Fe(f) => &f.unbalance,
+    };
+    if !nd || unbalance.iter().any(|u| u.mass * u.radius != 0.0) {
+        return Ok(());
+    }
+    let why = "a stator's `clearance_nd` is a multiple of |Z0|, the unbalance response, which is 0 without an unbalance: give an unbalance or `clearance` in metres";
+    let key = unbalance
+        .first()
+        .map(|u| {
+            let f = if u.mass == 0.0 { "mass" } else { "radius" };
+            format!("rotor.unbalance.0.{f}")
+        })
+        .unwrap_or_else(|| "rotor.unbalance".into());
+    Err(ls.invalid(&key, why))
 }

@@ -60,9 +60,18 @@ pub(super) fn validate_jeffcott(ls: &LoadedScene, j: &JeffcottSpec) -> Result<()
 
 pub(super) fn validate_stations(ls: &LoadedScene) -> Result<(), SceneError> {
     let s = &ls.scene;
+    if s.stations.is_empty() && !s.stators.is_empty() {
+        return Err(ls.invalid(
+            "station",
+            "no [[station]]: every stator faces one (its `station` key)",
+        ));
+    }
     let mut names = std::collections::HashSet::new();
     for (i, st) in s.stations.iter().enumerate() {
         let k = |f: &str| format!("station.{i}.{f}");
+        if st.name.trim().is_empty() {
+            return Err(ls.invalid(&k("name"), "empty name: the stators refer to it"));
+        }
         positive(ls, &k("radius"), st.radius)?;
         non_negative(ls, &k("friction"), st.friction)?;
         if !names.insert(st.name.as_str()) {
@@ -177,7 +186,8 @@ pub(super) fn validate_shaft(ls: &LoadedScene, f: &FeRotorSpec) -> Result<usize,
             positive(ls, &k("youngs_modulus"), e)?;
         }
         if let Some(r) = seg.density {
-            non_negative(ls, &k("density"), r)?;
+            // A massless shaft leaves the nodes without disks massless: M is singular.
+            positive(ls, &k("density"), r)?;
         }
         if let Some(nu) = seg.poisson {
             if !(nu > -1.0 && nu < 0.5) {
@@ -202,6 +212,11 @@ pub(super) fn validate_disks(
         let geo = d.outer_diameter.is_some() || d.width.is_some();
         if inertial == geo {
             return Err(ls.invalid(&format!("rotor.disk.{i}"), "give `mass` (+ inertias) or the geometry `outer_diameter`, `width` (+ `bore`, `density`/`material`), not both"));
+        }
+        for (name, v) in [("outer_diameter", d.outer_diameter), ("width", d.width)] {
+            if let Some(v) = v {
+                positive(ls, &format!("rotor.disk.{i}.{name}"), v)?;
+            }
         }
         if geo
             && (d.outer_diameter.is_none()
@@ -253,7 +268,7 @@ pub(super) fn validate_bearings(
 ) -> Result<(), SceneError> {
     if f.bearing.is_empty() {
         return Err(ls.invalid(
-            "rotor",
+            "rotor.bearing",
             "an FE rotor needs at least one [[rotor.bearing]] (a free rotor has no equilibrium)",
         ));
     }
@@ -362,7 +377,7 @@ pub(super) fn validate_supports(
         }
         if on && list.is_empty() {
             return Err(ls.invalid(
-                &format!("rotor.{flag}"),
+                &format!("rotor.{name}"),
                 format!("`{flag} = true` needs at least one [[rotor.{name}]] (without one the rotor has a free rigid-body {mode} mode and no equilibrium)"),
             ));
         }

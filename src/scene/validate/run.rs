@@ -48,9 +48,6 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
                 ),
             ));
         }
-        if let Some(v) = &sw.vary {
-            validate_vary(ls, v)?;
-        }
     }
     if r.revolutions <= r.transient_revolutions {
         return Err(ls.invalid(
@@ -124,7 +121,7 @@ fn validate_initial(ls: &LoadedScene) -> Result<(), SceneError> {
 /// `[run.sweep.vary]`: values finite and distinct, and the scene with `key = value` valid for
 /// every value (so a key that does not exist, or a value its rule refuses, is found by `check`,
 /// not in the middle of a sweep).
-fn validate_vary(ls: &LoadedScene, v: &VarySpec) -> Result<(), SceneError> {
+pub(super) fn validate_vary(ls: &LoadedScene, v: &VarySpec) -> Result<(), SceneError> {
     let vk = "run.sweep.vary.values";
     if v.values.is_empty() {
         return Err(ls.invalid(vk, "no values"));
@@ -141,7 +138,7 @@ fn validate_vary(ls: &LoadedScene, v: &VarySpec) -> Result<(), SceneError> {
         let mut value: toml::Value = toml::from_str(&ls.source)
             .map_err(|e| ls.invalid("run.sweep.vary", e.message().to_string()))?;
         let mut sets = ls.overrides.clone();
-        sets.push(format!("{}={x}", v.key));
+        sets.push(format!("{}={}", v.key, toml_number(*x)));
         let nested = sets.iter().try_for_each(|a| apply_override(&mut value, a));
         let nested = nested.and_then(|()| {
             if let Some(sw) = value
@@ -152,7 +149,7 @@ fn validate_vary(ls: &LoadedScene, v: &VarySpec) -> Result<(), SceneError> {
                 sw.remove("vary");
             }
             let scene = Scene::deserialize(value).map_err(|e| SceneError::Override {
-                assignment: format!("{}={x}", v.key),
+                assignment: format!("{}={}", v.key, toml_number(*x)),
                 message: e.message().to_string(),
             })?;
             validate(&LoadedScene {

@@ -153,6 +153,35 @@ pub(super) fn validate_mesh_stator(
     if m.geometry.trim().is_empty() {
         return Err(ls.invalid(&k("geometry"), "empty path"));
     }
+    let groups = [
+        ("fixed", &m.fixed),
+        ("fixed_x", &m.fixed_x),
+        ("fixed_y", &m.fixed_y),
+        ("fixed_z", &m.fixed_z),
+    ];
+    for (name, list) in groups {
+        if let Some(j) = list.iter().position(|g| g.trim().is_empty()) {
+            return Err(ls.invalid(&k(&format!("{name}.{j}")), "empty group name"));
+        }
+    }
+    let named = [("contact_group", m.contact_group.as_str())]
+        .into_iter()
+        .chain(m.regions.iter().map(|r| ("regions", r.group.as_str())))
+        .chain(m.springs.iter().map(|r| ("springs", r.group.as_str())))
+        .chain(m.frames.iter().map(|r| ("frames", r.group.as_str())));
+    let mut seen = std::collections::HashMap::new();
+    for (name, g) in named {
+        let j = seen.entry(name).or_insert(0usize);
+        if g.trim().is_empty() {
+            let key = if name == "contact_group" {
+                k(name)
+            } else {
+                k(&format!("{name}.{j}.group"))
+            };
+            return Err(ls.invalid(&key, "empty group name"));
+        }
+        *j += 1;
+    }
     for (name, v) in &m.parameters {
         if !v.is_finite() {
             return Err(ls.invalid(&k(&format!("parameters.{name}")), "must be finite"));
@@ -217,7 +246,7 @@ pub(super) fn validate_mesh_stator(
     if m.fixed.is_empty() && m.fixed_x.is_empty() && m.fixed_y.is_empty() && m.springs.is_empty() {
         return Err(ls.invalid(
             &k("fixed"),
-            "the stator has no supports: name a fixed group or springs",
+            format!("the stator has no supports: name a fixed group (`stator.{i}.fixed`, `fixed_x`, `fixed_y`) or springs (`stator.{i}.springs`)"),
         ));
     }
     Ok(())
