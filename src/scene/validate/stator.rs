@@ -183,9 +183,7 @@ pub(super) fn validate_mesh_stator(
         *j += 1;
     }
     for (name, v) in &m.parameters {
-        if !v.is_finite() {
-            return Err(ls.invalid(&k(&format!("parameters.{name}")), "must be finite"));
-        }
+        finite(ls, &k(&format!("parameters.{name}")), *v)?;
     }
     if !(m.order == 1 || m.order == 2) {
         return Err(ls.invalid(&k("order"), format!("must be 1 or 2, got {}", m.order)));
