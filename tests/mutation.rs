@@ -323,7 +323,10 @@ fn every_mutant_of_every_scene_is_accepted_or_refused_naming_its_key() {
     for d in &derived {
         println!("  {d}");
     }
-    println!("accepted at 1e308 (sizes and indices refused elsewhere, values legal): {}", huge.len());
+    println!(
+        "accepted at 1e308 (sizes and indices refused elsewhere, values legal): {}",
+        huge.len()
+    );
     for h in &huge {
         println!("  {h}");
     }

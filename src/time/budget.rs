@@ -5,8 +5,8 @@
 //! check` and before `run`/`sweep`.
 //!
 //! The time is an *estimate* from a per-step cost model calibrated on the development machine
-//! (2 cores; docs/PERFORMANCE.md): `t_step ≈ NS_STEP + NS_ROTOR_DOF·n_rotor + NS_STATOR_DOF·n_mass
-//! + NS_CONTACT_DOF·n_contact`, with `n_rotor` the rotor's DOFs, `n_mass` the DOFs of stators
+//! (2 cores; docs/PERFORMANCE.md):
+//! `t_step ≈ NS_STEP + NS_ROTOR_DOF·n_rotor + NS_STATOR_DOF·n_mass + NS_CONTACT_DOF·n_contact`, with `n_rotor` the rotor's DOFs, `n_mass` the DOFs of stators
 //! with mass and `n_contact` the contact DOFs of massless stators (their compliance columns
 //! enter every contact problem). It ignores how often the rotor is in contact, so the true
 //! time may differ by a factor of a few either way.

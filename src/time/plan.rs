@@ -196,7 +196,7 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
     let per_sample = (t_rev / (dt0 * spr as f64) - 1e-9).ceil().max(1.0);
     let steps_per_rev = per_sample * spr as f64;
     let steps = steps_per_rev * p.revolutions as f64;
-    if !(steps <= p.max_steps as f64) {
+    if steps.is_nan() || steps > p.max_steps as f64 {
         let why = match p.dt {
             Some(_) => "`run.dt`".to_string(),
             None if 0.8 * limit < rule_dt => {
@@ -275,7 +275,7 @@ fn check_stator_masses(case: &Case) -> Result<(), SolveError> {
         let dim = s.mesh.as_ref().map_or(2, |m| m.dim.max(2)) as f64;
         let mass = s.m.diagonal().iter().sum::<f64>() / dim;
         let ratio = mass / case.rotor_mass;
-        if !(ratio >= MIN_STATOR_MASS_RATIO) {
+        if ratio.is_nan() || ratio < MIN_STATOR_MASS_RATIO {
             let key = if s.is_ring { "mass" } else { "density" };
             return Err(SolveError::Meaningless {
                 index,

@@ -32,7 +32,7 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
             return Err(ls.invalid("run.sweep.to", "must not be below `from`"));
         }
         let n = (sw.to - sw.from) / sw.step + 1.0;
-        if !(n <= MAX_SWEEP_SPEEDS as f64) {
+        if n.is_nan() || n > MAX_SWEEP_SPEEDS as f64 {
             let key = if sw.to / sw.from > 1e3 {
                 "run.sweep.to"
             } else {
