@@ -150,6 +150,10 @@ fn tagged_error(
     message: &str,
     after: &str,
 ) -> Option<SceneError> {
+    if message.starts_with("unknown field") {
+        // `parse_error` names an unknown key and its line already.
+        return None;
+    }
     fn inner<T: serde::de::DeserializeOwned>(
         table: &toml::Table,
     ) -> Option<(Option<String>, String)> {
