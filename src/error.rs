@@ -266,6 +266,44 @@ pub enum SolveError {
         /// What sets the limit.
         reason: String,
     },
+    /// The step plan needs more steps than one run may take (`run.max_steps`).
+    #[error("the run needs {steps:.3e} steps ({steps_per_rev:.3e} per revolution × {revolutions} revolutions; Δt = {dt:.3e} s, set by {why}), above the limit of {max} steps (`run.max_steps`): {advice}")]
+    TooManySteps {
+        /// Steps the plan needs.
+        steps: f64,
+        /// Steps per revolution.
+        steps_per_rev: f64,
+        /// Revolutions.
+        revolutions: usize,
+        /// Δt (s).
+        dt: f64,
+        /// What sets Δt.
+        why: String,
+        /// The limit.
+        max: u64,
+        /// Which keys to change.
+        advice: String,
+    },
+    /// The record of a run would not fit the memory limit.
+    #[error("the run's record needs {bytes:.3e} bytes ({samples:.3e} samples), above the limit of {max:.3e} bytes: lower `run.samples_per_rev` or `run.revolutions`")]
+    RecordTooLarge {
+        /// Bytes the record needs.
+        bytes: f64,
+        /// Samples recorded.
+        samples: f64,
+        /// The limit (bytes).
+        max: f64,
+    },
+    /// A stator's values make no physical sense for the explicit scheme.
+    #[error("stator `{name}` (`stator.{index}`): {message}")]
+    Meaningless {
+        /// Index of the stator (`[[stator]]` entry).
+        index: usize,
+        /// Its name.
+        name: String,
+        /// What is wrong, and the key to change.
+        message: String,
+    },
     /// A frame sink (VTK/HDF5 writer, stress probe) failed while the run was streaming.
     #[error("writing the frame of step {step} (t = {time:.6e} s) failed: {source}")]
     FrameOutput {

@@ -82,6 +82,7 @@ impl RunSettings {
                 revolutions: run.revolutions,
                 transient_revolutions: run.transient_revolutions,
                 samples_per_rev: run.samples_per_rev,
+                max_steps: run.max_steps.unwrap_or(crate::time::plan::MAX_STEPS),
             },
             error_estimate: run.error_estimate,
             initial: Initial {

@@ -131,7 +131,7 @@ pub fn variants(vary: Option<&VarySpec>) -> Vec<Variant> {
                 let name = v.key.rsplit('.').next().unwrap_or("value");
                 Variant {
                     prefix: format!("{name}_{x}/"),
-                    overrides: vec![format!("{}={}", v.key, x)],
+                    overrides: vec![format!("{}={}", v.key, crate::scene::toml_number(*x))],
                 }
             })
             .collect(),

@@ -56,6 +56,7 @@ pub fn check(c: &Common) -> Result<()> {
     }
     let plan = rubsim::time::plan_steps(&case, &st.step)?;
     print_run(s, &case, &plan);
+    print_budget(s, &model, &st, &case, &plan)?;
     print_built(s, &model, &case, &plan);
     Ok(())
 }
@@ -159,6 +160,12 @@ fn print_run(s: &Scene, case: &Case, plan: &StepPlan) {
         s.run.samples_per_rev,
         if s.run.error_estimate { "by a companion run at 2Δt" } else { "off" }
     );
+    if let Some(dt) = s.run.dt {
+        println!(
+            "  run.dt = {dt:.4e} s asked; rounded down to {:.4e} s so a revolution holds whole recorded samples",
+            plan.dt
+        );
+    }
     println!(
         "  Δt at ω/ωn = {:.2}: {:.4e} s ({} steps/rev); paper rule (n = {}) {:.4e} s; stability limit {:.4e} s; highest frequency with the contact stiffness and stator modes ω_max,contact = {:.4e} rad/s",
         case.speed_ratio, plan.dt, plan.steps_per_rev, s.run.harmonics, plan.rule_dt, plan.limit, plan.omega_max
@@ -197,6 +204,37 @@ fn print_transient(s: &Scene, p: &analysis::TransientPrepared) {
         p.orders,
         p.window_revolutions
     );
+}
+
+/// The up-front estimate: steps, memory, time of a run at the checked speed and, for a sweep,
+/// of the whole sweep (from its first and last speeds' plans).
+fn print_budget(
+    s: &Scene,
+    model: &Model,
+    st: &analysis::RunSettings,
+    case: &Case,
+    plan: &StepPlan,
+) -> Result<()> {
+    let b = rubsim::time::estimate(case, plan, st.error_estimate);
+    println!(
+        "  estimate at ω/ωn = {:.2}: {}",
+        case.speed_ratio,
+        b.describe()
+    );
+    if let Some(w) = &s.run.sweep {
+        let n = analysis::sweep_speeds(w.from, w.to, w.step).len();
+        let last = analysis::prepare(model, st, w.to)?;
+        let bl = rubsim::time::estimate(&last.case, &last.plan, st.error_estimate);
+        let variants = w.vary.as_ref().map_or(1, |v| v.values.len());
+        let runs = (n * variants) as f64;
+        println!(
+            "  estimate of the sweep ({} runs, from the first and last speeds): {:.3e} steps, ≈ {} on one core (estimate)",
+            runs,
+            runs * (b.steps + b.companion_steps + bl.steps + bl.companion_steps) / 2.0,
+            rubsim::time::budget::duration(runs * (b.wall_s + bl.wall_s) / 2.0)
+        );
+    }
+    Ok(())
 }
 
 /// What is built, what is left out, which files a run writes.

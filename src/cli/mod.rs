@@ -227,6 +227,80 @@ pub fn progress_bar(n: usize) -> ProgressBar {
     pb
 }
 
+/// Prints the up-front estimate of a prepared run to stderr (stdout stays the report).
+pub fn announce(prep: &Prepared) {
+    let b = rubsim::time::estimate(&prep.case, &prep.plan, prep.settings.error_estimate);
+    eprintln!(
+        "estimate at ω/ωn = {:.3}: {}",
+        prep.speed_ratio,
+        b.describe()
+    );
+}
+
+/// Prints the up-front estimate of a sweep of `runs` runs over `speeds` to stderr, from the
+/// plans of its first and last speeds. A speed whose plan is refused is reported by the sweep.
+pub fn announce_sweep(model: &Model, settings: &RunSettings, speeds: &[f64], runs: usize) {
+    let ends = [speeds.first(), speeds.last()];
+    let b: Vec<_> = ends
+        .into_iter()
+        .flatten()
+        .filter_map(|v| rubsim::analysis::prepare(model, settings, *v).ok())
+        .map(|p| rubsim::time::estimate(&p.case, &p.plan, settings.error_estimate))
+        .collect();
+    if b.is_empty() {
+        return;
+    }
+    let n = runs as f64 / b.len() as f64;
+    let steps: f64 = b.iter().map(|x| x.steps + x.companion_steps).sum::<f64>() * n;
+    let wall: f64 = b.iter().map(|x| x.wall_s).sum::<f64>() * n;
+    eprintln!(
+        "estimate of the sweep ({runs} runs): {steps:.3e} steps, ≈ {} on one core (estimate)",
+        rubsim::time::budget::duration(wall)
+    );
+}
+
+/// Estimated seconds above which a single run shows a progress bar on stderr.
+const PROGRESS_AFTER_S: f64 = 2.0;
+
+/// A frame sink that only moves a progress bar (about 200 updates over the run).
+struct Progress {
+    pb: ProgressBar,
+    every: usize,
+}
+
+impl rubsim::time::FrameSink for Progress {
+    fn every(&self) -> usize {
+        self.every
+    }
+    fn frame(&mut self, frame: &rubsim::time::Frame<'_>) -> rubsim::error::Result<()> {
+        self.pb.set_position(frame.step as u64);
+        Ok(())
+    }
+}
+
+impl Progress {
+    /// A progress bar over the main run of `prep` when it is estimated to take longer than
+    /// [`PROGRESS_AFTER_S`] and stderr is a terminal; `None` otherwise.
+    fn for_run(prep: &Prepared) -> Option<Self> {
+        use std::io::IsTerminal;
+        let b = rubsim::time::estimate(&prep.case, &prep.plan, false);
+        if b.wall_s < PROGRESS_AFTER_S || !std::io::stderr().is_terminal() {
+            return None;
+        }
+        let pb = ProgressBar::new(prep.plan.steps as u64);
+        pb.set_style(
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} steps, eta {eta}",
+            )
+            .expect("valid template"),
+        );
+        Some(Self {
+            pb,
+            every: (prep.plan.steps / 200).max(1),
+        })
+    }
+}
+
 /// Where a run's VTK/HDF5 time series go: the scene's `[output]` (as text for the files'
 /// metadata) and the staging folder plus sub-folder of the output directory.
 pub struct Series<'a> {
@@ -264,6 +338,38 @@ impl Series<'_> {
                 Ok((r, w.finish()?))
             }
         }
+    }
+
+    /// [`Series::run`] of a single run: its estimate on stderr first, and a progress bar on
+    /// stderr when it is long ([`PROGRESS_AFTER_S`]) and stderr is a terminal.
+    pub fn run_single(
+        &self,
+        model: &Model,
+        prep: &Prepared,
+        keep: Keep,
+        prefix: &str,
+    ) -> rubsim::error::Result<(SpeedResults, Vec<String>)> {
+        announce(prep);
+        let Some(mut progress) = Progress::for_run(prep) else {
+            return self.run(model, prep, keep, prefix);
+        };
+        let writer = ResultsSink::for_output(
+            model,
+            prep,
+            self.output,
+            self.scene_json,
+            self.staging,
+            prefix,
+        )?;
+        let out = match writer {
+            None => Ok((prep.run(keep, &mut [&mut progress])?, Vec::new())),
+            Some(mut w) => {
+                let r = prep.run(keep, &mut [&mut w, &mut progress])?;
+                Ok((r, w.finish()?))
+            }
+        };
+        progress.pb.finish_and_clear();
+        out
     }
 }
 

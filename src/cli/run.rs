@@ -38,7 +38,7 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
         scene_json: &scene_json,
         staging: outd.staging_dir(),
     };
-    let (r, written) = series.run(&model, &prep, keep, "")?;
+    let (r, written) = series.run_single(&model, &prep, keep, "")?;
     for name in &written {
         outd.adopt(name)?;
     }

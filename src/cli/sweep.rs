@@ -23,6 +23,8 @@ pub fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
     })?;
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene)))?;
     let speeds = analysis::sweep_speeds(spec.from, spec.to, spec.step);
+    let runs = speeds.len() * spec.vary.as_ref().map_or(1, |v| v.values.len());
+    super::announce_sweep(&model, &settings(&ls), &speeds, runs);
     let t0 = std::time::Instant::now();
     let mut records = Vec::new();
     for variant in sw::variants(spec.vary.as_ref()) {

@@ -22,7 +22,7 @@ mod stator;
 pub mod validate;
 
 pub use output::*;
-pub use overrides::{apply_override, locate_key};
+pub use overrides::{apply_override, key_at_span, locate_key, toml_number, ALTERNATIVE_KEYS};
 pub use profile::{Interpolation, ProfileKind, SpeedProfileSpec, SpeedUnit};
 pub use rotor::*;
 pub use run::*;
@@ -108,16 +108,27 @@ pub fn parse(path: &Path, source: &str, overrides: &[String]) -> Result<LoadedSc
         apply_override(&mut value, a)?;
     }
     let scene: Scene = if overrides.is_empty() {
-        toml::from_str(source).map_err(|e| parse_error(path, source, e))?
+        toml::from_str(source).map_err(|e| {
+            tagged_error(path, source, &value, e.message(), "")
+                .unwrap_or_else(|| parse_error(path, source, e))
+        })?
     } else {
         // No spans here (the lines of a re-serialised document would not be the file's): when
         // the file alone fails the same way, report that with its lines, else blame the --set.
-        Scene::deserialize(value).map_err(|e| match toml::from_str::<Scene>(source) {
-            Err(fe) if fe.message() == e.message() => parse_error(path, source, fe),
-            _ => SceneError::Override {
-                assignment: overrides.join(" --set "),
-                message: e.to_string().trim_end().replace('\n', " "),
-            },
+        Scene::deserialize(value.clone()).map_err(|e| match toml::from_str::<Scene>(source) {
+            Err(fe) if fe.message() == e.message() => {
+                tagged_error(path, source, &value, fe.message(), "")
+                    .unwrap_or_else(|| parse_error(path, source, fe))
+            }
+            _ => {
+                let after = format!(" (after --set {})", overrides.join(" --set "));
+                tagged_error(path, source, &value, e.message(), &after).unwrap_or_else(|| {
+                    SceneError::Override {
+                        assignment: overrides.join(" --set "),
+                        message: e.to_string().trim_end().replace('\n', " "),
+                    }
+                })
+            }
         })?
     };
     let loaded = LoadedScene {
@@ -128,6 +139,60 @@ pub fn parse(path: &Path, source: &str, overrides: &[String]) -> Result<LoadedSc
     };
     validate(&loaded)?;
     Ok(loaded)
+}
+
+/// A serde error inside a `kind`-tagged table (`[rotor]`, `[[stator]]`), which serde reports
+/// at the table without the key: the table is deserialised again as the struct its `kind`
+/// names, from its own text, and the key under the error's span is named (with its line in
+/// the file). `None` when no tagged table fails with `message`.
+fn tagged_error(
+    path: &Path,
+    source: &str,
+    value: &toml::Value,
+    message: &str,
+    after: &str,
+) -> Option<SceneError> {
+    if message.starts_with("unknown field") {
+        // `parse_error` names an unknown key and its line already.
+        return None;
+    }
+    fn inner<T: serde::de::DeserializeOwned>(
+        table: &toml::Table,
+    ) -> Option<(Option<String>, String)> {
+        let mut t = table.clone();
+        t.remove("kind");
+        let text = toml::to_string(&t).ok()?;
+        let e = toml::from_str::<T>(&text).err()?;
+        let key = e.span().and_then(|s| key_at_span(&text, s));
+        Some((key, e.message().to_string()))
+    }
+    let mut tables: Vec<(String, &toml::Table)> = Vec::new();
+    if let Some(r) = value.get("rotor").and_then(|v| v.as_table()) {
+        tables.push(("rotor".into(), r));
+    }
+    if let Some(a) = value.get("stator").and_then(|v| v.as_array()) {
+        for (i, t) in a.iter().enumerate() {
+            if let Some(t) = t.as_table() {
+                tables.push((format!("stator.{i}"), t));
+            }
+        }
+    }
+    tables.into_iter().find_map(|(at, t)| {
+        let kind = t.get("kind").and_then(|k| k.as_str())?;
+        let (key, m) = match (at.as_str(), kind) {
+            ("rotor", "fe") => inner::<FeRotorSpec>(t),
+            ("rotor", "jeffcott") => inner::<JeffcottSpec>(t),
+            (_, "rod") if at != "rotor" => inner::<RodSpec>(t),
+            (_, "ring") if at != "rotor" => inner::<RingSpec>(t),
+            (_, "fe") if at != "rotor" => inner::<FeStatorSpec>(t),
+            (_, "mesh") if at != "rotor" => inner::<MeshStatorSpec>(t),
+            _ => None,
+        }?;
+        (m == message).then(|| {
+            let key = key.map(|k| format!("{at}.{k}")).unwrap_or(at);
+            invalid_at(path, source, &key, format!("{m}{after}"))
+        })
+    })
 }
 
 /// A TOML/serde error in the file's own text. In a `kind`-tagged table (`[rotor]`,

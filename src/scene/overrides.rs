@@ -2,9 +2,24 @@
 
 use crate::error::SceneError;
 
+/// Keys that are alternatives of each other within one table (`validate::one_of`): setting one
+/// by `--set` removes the others of its group from that table, so `--set
+/// stator.0.clearance=1e-4` switches a stator given with `clearance_nd` to an absolute
+/// clearance.
+pub const ALTERNATIVE_KEYS: &[&[&str]] = &[
+    &["clearance", "clearance_nd"],
+    &["stiffness", "stiffness_ratio"],
+    &["youngs_modulus", "stiffness_ratio"],
+    &["damping", "damping_ratio"],
+    &["speed_ratio", "speed"],
+];
+
 /// Applies one `path.to.key=value` assignment; array elements are addressed by index
-/// (`stator.0.clearance_nd=0.5`). The value is parsed as TOML (number, bool, array, inline
-/// table, quoted string) and falls back to a bare string.
+/// (`stator.0.clearance_nd=0.5`), and an index equal to the array's length appends an entry
+/// (`rotor.unbalance.1.mass=0.01` adds a second unbalance; its other keys by further `--set`s).
+/// Setting a key removes its alternatives from the same table ([`ALTERNATIVE_KEYS`]). The value
+/// is parsed as TOML (number, bool, array, inline table, quoted string) and falls back to a bare
+/// string.
 pub fn apply_override(root: &mut toml::Value, assignment: &str) -> Result<(), SceneError> {
     let err = |m: &str| SceneError::Override {
         assignment: assignment.to_string(),
@@ -24,8 +39,12 @@ pub fn apply_override(root: &mut toml::Value, assignment: &str) -> Result<(), Sc
     }
     .unwrap_or_else(|| toml::Value::String(raw.to_string()));
     let parts: Vec<&str> = key.split('.').collect();
+    if parts.iter().any(|p| p.is_empty()) {
+        return Err(err("empty segment in the dotted key"));
+    }
+    let (last, path) = parts.split_last().ok_or_else(|| err("empty key"))?;
     let mut cur = root;
-    for (i, part) in parts.iter().enumerate() {
+    for (i, part) in path.iter().enumerate() {
         // Scene arrays of tables are named in the singular in TOML (`[[stator]]`); a missing
         // table on the way is created.
         cur = match cur {
@@ -37,9 +56,13 @@ pub fn apply_override(root: &mut toml::Value, assignment: &str) -> Result<(), Sc
                     .parse()
                     .map_err(|_| err(&format!("`{part}` is not an index into an array")))?;
                 let len = a.len();
+                if idx == len {
+                    // Append: a table for an array of tables, else what the next part makes.
+                    a.push(toml::Value::Table(toml::Table::new()));
+                }
                 a.get_mut(idx).ok_or_else(|| {
                     err(&format!(
-                        "index {idx} out of range (array has {len} entries)"
+                        "index {idx} out of range (array has {len} entries; index {len} appends one)"
                     ))
                 })?
             }
@@ -51,8 +74,117 @@ pub fn apply_override(root: &mut toml::Value, assignment: &str) -> Result<(), Sc
             }
         };
     }
-    *cur = value;
+    match cur {
+        toml::Value::Table(t) => {
+            for group in ALTERNATIVE_KEYS.iter().filter(|g| g.contains(last)) {
+                for other in group.iter().filter(|o| *o != last) {
+                    t.remove(*other);
+                }
+            }
+            t.insert(last.to_string(), value);
+        }
+        toml::Value::Array(a) => {
+            let idx: usize = last
+                .parse()
+                .map_err(|_| err(&format!("`{last}` is not an index into an array")))?;
+            let len = a.len();
+            match idx.cmp(&len) {
+                std::cmp::Ordering::Less => a[idx] = value,
+                std::cmp::Ordering::Equal => a.push(value),
+                std::cmp::Ordering::Greater => {
+                    return Err(err(&format!(
+                    "index {idx} out of range (array has {len} entries; index {len} appends one)"
+                )))
+                }
+            }
+        }
+        _ => {
+            return Err(err(&format!(
+                "`{}` is not a table or array",
+                path.join(".")
+            )))
+        }
+    }
     Ok(())
+}
+
+/// The dotted key (array entries by index) whose key or value spans the byte range `span` of
+/// the TOML text `source`: the deepest such key, or `None` when the text does not parse or no
+/// key covers the range.
+pub fn key_at_span(source: &str, span: std::ops::Range<usize>) -> Option<String> {
+    use toml_edit::{Item, Table, Value};
+    fn covers(s: Option<std::ops::Range<usize>>, span: &std::ops::Range<usize>) -> bool {
+        s.is_some_and(|s| s.start <= span.start && span.end <= s.end.max(s.start + 1))
+    }
+    fn in_value(v: &Value, span: &std::ops::Range<usize>, path: &mut Vec<String>) -> bool {
+        match v {
+            Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    if covers(x.span(), span) {
+                        path.push(i.to_string());
+                        in_value(x, span, path);
+                        return true;
+                    }
+                }
+                covers(v.span(), span)
+            }
+            Value::InlineTable(t) => {
+                for (k, x) in t.iter() {
+                    let key = t.key(k).and_then(|k| k.span());
+                    if covers(key, span) || covers(x.span(), span) {
+                        path.push(k.to_string());
+                        in_value(x, span, path);
+                        return true;
+                    }
+                }
+                covers(v.span(), span)
+            }
+            _ => covers(v.span(), span),
+        }
+    }
+    fn in_table(t: &Table, span: &std::ops::Range<usize>, path: &mut Vec<String>) -> bool {
+        for (k, item) in t.iter() {
+            let key_span = t.key(k).and_then(|k| k.span());
+            let at = path.len();
+            path.push(k.to_string());
+            let found = match item {
+                Item::Value(v) => covers(key_span, span) || in_value(v, span, path),
+                Item::Table(sub) => in_table(sub, span, path) || covers(sub.span(), span),
+                Item::ArrayOfTables(a) => a.iter().enumerate().any(|(i, sub)| {
+                    path.push(i.to_string());
+                    let f = in_table(sub, span, path) || covers(sub.span(), span);
+                    if !f {
+                        path.pop();
+                    }
+                    f
+                }),
+                Item::None => false,
+            };
+            if found {
+                return true;
+            }
+            path.truncate(at);
+        }
+        false
+    }
+    let doc: toml_edit::ImDocument<&str> = toml_edit::ImDocument::parse(source).ok()?;
+    let mut path = Vec::new();
+    in_table(doc.as_table(), &span, &mut path).then(|| path.join("."))
+}
+
+/// `x` as a TOML number for a `--set` value: an integer when it is one of moderate size (so
+/// `elements = 4` stays an integer), else in Rust's shortest form (`0.9`, `1e308`, `NaN`
+/// written `nan`) — never the 309 digits `Display` gives 1e308.
+pub fn toml_number(x: f64) -> String {
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        format!("{x}")
+    } else if x.is_nan() {
+        "nan".into()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf" } else { "-inf" }.into()
+    } else {
+        format!("{x:?}")
+    }
 }
 
 /// 1-based line of a dotted key (`stator.0.clearance_nd`, `rotor.mass`) in TOML text, if

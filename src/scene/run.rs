@@ -69,6 +69,10 @@ pub struct RunSpec {
     /// Estimate the discretisation error by a companion run at 2Δt.
     #[serde(default = "yes")]
     pub error_estimate: bool,
+    /// Most integration steps one run may take (default [`crate::time::MAX_STEPS`]): a run
+    /// whose plan needs more is refused before it starts, naming the figure. Raise it for a
+    /// long run that is meant.
+    pub max_steps: Option<u64>,
     /// Initial rotor station displacement `[x, y]` (m) at node 0.
     #[serde(default)]
     pub initial_displacement: [f64; 2],

@@ -40,12 +40,14 @@
 //!   force `b = n + μa` and the unknowns per pair in `solve` (assembly of `W`, correction); the
 //!   selection, the schemes and the recording do not change.
 //!
-//! Files: [`plan`] (Δt and steps), [`record`] (what a run keeps), `body` (central differences
+//! Files: [`plan`] (Δt and steps, the limits that refuse an absurd run), [`budget`] (steps,
+//! memory and time estimated up front), [`record`] (what a run keeps), `body` (central differences
 //! of a body with mass), [`compliance`] (massless stators), `select` (which pairs enter a
 //! contact problem), `solve` (the contact solve), `workspace` (buffers), `stepper` (the step),
 //! [`frame`] (frames for sinks).
 
 mod body;
+pub mod budget;
 pub mod compliance;
 pub mod frame;
 pub mod plan;
@@ -55,9 +57,10 @@ mod solve;
 mod stepper;
 mod workspace;
 
+pub use budget::{estimate, Budget};
 pub use compliance::EAGER_DOFS;
 pub use frame::{Frame, FrameSink, PairForce};
-pub use plan::{plan_duration, plan_steps, Scheme, StepParams, StepPlan};
+pub use plan::{plan_duration, plan_steps, Scheme, StepParams, StepPlan, MAX_STEPS};
 pub use record::{ContactStats, Record, RunStats};
 pub use stepper::{Initial, Sink, Stepper};
 

@@ -76,6 +76,28 @@ pub struct StepParams {
     pub transient_revolutions: usize,
     /// Recorded samples per revolution.
     pub samples_per_rev: usize,
+    /// Most steps the run may take ([`MAX_STEPS`] unless `run.max_steps` says otherwise).
+    pub max_steps: u64,
+}
+
+/// Default of `run.max_steps`: the most integration steps one run may take. At the measured
+/// 0.1 µs per step of a Jeffcott rotor (docs/PERFORMANCE.md) that is about two minutes, at 3.4 µs
+/// (a 200-DOF FE rotor) about an hour; a plan that needs more is refused with its figures.
+pub const MAX_STEPS: u64 = 1_000_000_000;
+
+/// Most bytes the record of one run may take (the samples are held in memory for the
+/// analysis): 4 GiB.
+pub const MAX_RECORD_BYTES: f64 = 4.0 * 1024.0 * 1024.0 * 1024.0;
+
+/// Smallest mass of a stator with mass relative to the rotor's modal mass m_r: a lighter
+/// stator is integrated explicitly at a step set by its own (meaningless) frequency and its
+/// contact impulses are not resolved; it should be massless.
+pub const MIN_STATOR_MASS_RATIO: f64 = 1e-6;
+
+/// Bytes one recorded sample takes: time, observed displacement, stator energy, active pairs,
+/// and per station displacement, force and normal force.
+pub fn sample_bytes(nstations: usize) -> f64 {
+    (8 + 16 + 8 + 4 + nstations.max(1) * 48) as f64
 }
 
 /// Contact stiffness bound (N/m) per station, from massless (`massless = true`) or all stators.
@@ -132,9 +154,28 @@ fn stability_limit(case: &Case, scheme: Scheme, w_stators: f64) -> (f64, String)
     (limit, reason)
 }
 
-/// Δt before rounding, the stability limit, the paper rule's Δt and the highest frequency,
-/// for a run whose fastest spin is `omega` (rad/s): see [`plan_steps`].
-fn choose_dt(case: &Case, p: &StepParams, omega: f64) -> Result<(f64, f64, f64, f64), SolveError> {
+/// Δt before rounding and what set it, for a run whose fastest spin is `omega` (rad/s): see
+/// [`plan_steps`].
+struct Chosen {
+    /// Δt before rounding (s).
+    dt: f64,
+    /// Explicit stability limit (s).
+    limit: f64,
+    /// What sets the stability limit.
+    reason: String,
+    /// The paper rule's Δt (s).
+    rule_dt: f64,
+    /// Highest frequency of the system including contact stiffness (rad/s).
+    omega_max: f64,
+}
+
+/// The paper's rule (Sec. 3) with T_min = 2π/ω_c, ω_c the highest frequency of the rotor with
+/// every stator's contact stiffness added, capped by the explicit stability limit of what
+/// enters the loop with mass (and, for the collocated integrator, the massless stators'
+/// contact stiffness), or the user's override checked against that limit; `omega` (rad/s) is
+/// the fastest spin of the run.
+fn choose_dt(case: &Case, p: &StepParams, omega: f64) -> Result<Chosen, SolveError> {
+    check_stator_masses(case)?;
     let m = case.rotor_mass;
     let kr = case.rotor_stiffness;
     // Contact frequency of the reference (Jeffcott-equivalent) system, √((k_r + k_s)/m_r):
@@ -154,7 +195,7 @@ fn choose_dt(case: &Case, p: &StepParams, omega: f64) -> Result<(f64, f64, f64, 
     // the contact frequency. Internal modes of stators with mass only bound stability (above).
     let t_min = 2.0 * PI / w_contact;
     let rule_dt = (t_min / (32.0 * p.harmonics)).min(2.0 * PI / (32.0 * p.harmonics * omega));
-    let dt0 = match p.dt {
+    let dt = match p.dt {
         Some(dt) => {
             if dt > limit {
                 return Err(SolveError::StepTooLarge {
@@ -168,29 +209,92 @@ fn choose_dt(case: &Case, p: &StepParams, omega: f64) -> Result<(f64, f64, f64, 
         }
         None => rule_dt.min(0.8 * limit),
     };
-    Ok((dt0, limit, rule_dt, omega_max))
+    Ok(Chosen {
+        dt,
+        limit,
+        reason,
+        rule_dt,
+        omega_max,
+    })
 }
 
-/// Chooses Δt: the paper's rule (Sec. 3) with T_min = 2π/ω_c, ω_c the highest frequency of the
-/// rotor with every stator's contact stiffness added, capped by the explicit stability limit of
-/// what enters the loop with mass (and, for the collocated integrator, the massless stators'
-/// contact stiffness), or the user's override checked against that limit. Δt is then reduced
-/// so a revolution holds a whole number of recorded samples and steps.
+/// Refuses a plan of more than `p.max_steps` steps (counted in floating point, before any cast
+/// to an integer) with its figures, what set Δt and the keys to change.
+fn check_steps(
+    case: &Case,
+    p: &StepParams,
+    c: &Chosen,
+    steps: f64,
+    steps_per_rev: f64,
+    revolutions: usize,
+    t_rev: f64,
+) -> Result<(), SolveError> {
+    if steps.is_nan() || steps > p.max_steps as f64 {
+        let why = match p.dt {
+            Some(_) => "`run.dt`".to_string(),
+            None if 0.8 * c.limit < c.rule_dt => {
+                format!("0.8 × the stability limit {:.3e} s: {}", c.limit, c.reason)
+            }
+            None => format!(
+                "the paper's rule with n = {} (`run.harmonics`)",
+                p.harmonics
+            ),
+        };
+        return Err(SolveError::TooManySteps {
+            steps,
+            steps_per_rev,
+            revolutions,
+            dt: c.dt,
+            why,
+            max: p.max_steps,
+            advice: advice(case, p, t_rev, &c.reason),
+        });
+    }
+    Ok(())
+}
+
+/// Refuses a record of `samples` samples above [`MAX_RECORD_BYTES`].
+fn check_record(case: &Case, samples: f64) -> Result<(), SolveError> {
+    let bytes = samples * sample_bytes(case.stations.len());
+    if bytes > MAX_RECORD_BYTES {
+        return Err(SolveError::RecordTooLarge {
+            bytes,
+            samples,
+            max: MAX_RECORD_BYTES,
+        });
+    }
+    Ok(())
+}
+
+/// Chooses Δt ([`choose_dt`]: the paper's rule capped by the stability limit, or the user's
+/// checked Δt), then reduces it so a revolution holds a whole number of recorded samples and
+/// steps.
+///
+/// # Errors
+/// [`SolveError::StepTooLarge`] for a user Δt above the stability limit,
+/// [`SolveError::TooManySteps`] and [`SolveError::RecordTooLarge`] for an absurd plan,
+/// [`SolveError::Meaningless`] for a stator with mass far lighter than the rotor.
 pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
-    let (dt0, limit, rule_dt, omega_max) = choose_dt(case, p, case.omega)?;
+    let c = choose_dt(case, p, case.omega)?;
     let t_rev = 2.0 * PI / case.omega;
     let spr = p.samples_per_rev;
-    let per_sample = (t_rev / (dt0 * spr as f64) - 1e-9).ceil().max(1.0) as usize;
-    let steps_per_rev = per_sample * spr;
+    // In floating point first: an absurd plan (Δt → 0, a revolution of hours) is refused with
+    // its figures before any count is cast to an integer.
+    let per_sample = (t_rev / (c.dt * spr as f64) - 1e-9).ceil().max(1.0);
+    let steps_per_rev = per_sample * spr as f64;
+    let steps = steps_per_rev * p.revolutions as f64;
+    check_steps(case, p, &c, steps, steps_per_rev, p.revolutions, t_rev)?;
+    check_record(case, spr as f64 * p.revolutions as f64 + 1.0)?;
+    let (per_sample, steps_per_rev) = (per_sample as usize, steps_per_rev as usize);
     Ok(StepPlan {
         dt: t_rev / steps_per_rev as f64,
         steps_per_rev,
-        steps: steps_per_rev * p.revolutions,
+        steps: steps as usize,
         record_every: per_sample,
         steady_from: steps_per_rev * p.transient_revolutions.min(p.revolutions),
-        limit,
-        rule_dt,
-        omega_max,
+        limit: c.limit,
+        rule_dt: c.rule_dt,
+        omega_max: c.omega_max,
     })
 }
 
@@ -202,20 +306,24 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
 /// `steps_per_rev` is the number of steps of one revolution at `omega_max`, rounded down.
 ///
 /// # Errors
-/// [`SolveError::StepTooLarge`] for a user Δt above the stability limit.
+/// As [`plan_steps`].
 pub fn plan_duration(
     case: &Case,
     p: &StepParams,
     omega_max: f64,
     duration: f64,
 ) -> Result<StepPlan, SolveError> {
-    let (dt0, limit, rule_dt, w_max) = choose_dt(case, p, omega_max)?;
-    let steps = (duration / dt0 - 1e-9).ceil().max(1.0) as usize;
-    let dt = duration / steps as f64;
+    let c = choose_dt(case, p, omega_max)?;
     let t_rev = 2.0 * PI / omega_max;
+    let steps_f = (duration / c.dt - 1e-9).ceil().max(1.0);
+    let revolutions = (duration / t_rev).ceil().min(u32::MAX as f64) as usize;
+    check_steps(case, p, &c, steps_f, t_rev / c.dt, revolutions, t_rev)?;
+    let steps = steps_f as usize;
+    let dt = duration / steps as f64;
     let record_every = ((t_rev / (dt * p.samples_per_rev as f64)) + 1e-9)
         .floor()
         .max(1.0) as usize;
+    check_record(case, (steps / record_every) as f64 + 2.0)?;
     Ok(StepPlan {
         dt,
         steps_per_rev: (t_rev / dt + 1e-9).floor() as usize,
@@ -223,8 +331,61 @@ pub fn plan_duration(
         record_every,
         // A transient has no steady part: its contact figures cover the whole run.
         steady_from: 0,
-        limit,
-        rule_dt,
-        omega_max: w_max,
+        limit: c.limit,
+        rule_dt: c.rule_dt,
+        omega_max: c.omega_max,
     })
+}
+
+/// What to change when the plan needs too many steps: the keys that set Δt or the length of a
+/// revolution, and the budget itself.
+fn advice(case: &Case, p: &StepParams, t_rev: f64, reason: &str) -> String {
+    let mut a = Vec::new();
+    if p.dt.is_some() {
+        a.push("raise `run.dt` or leave it out".to_string());
+    }
+    if reason.starts_with("stator with mass") {
+        a.push(
+            "make the stiffest stator with mass massless (`density`/`mass` = 0) or coarser".into(),
+        );
+    } else if reason.starts_with("massless stator") {
+        a.push("lower the stators' `stiffness_ratio`/stiffness or use `run.integrator = \"forward_increment\"`".into());
+    }
+    let w_top = case.rotor_omega_max.max(1.0);
+    if case.omega * 1e4 < w_top {
+        a.push(format!(
+            "the speed ω = {:.3e} rad/s is tiny against the rotor's highest frequency {w_top:.3e} rad/s (a revolution lasts {t_rev:.3e} s): check the rotor's stiffness (bearings, shaft) and the speed keys",
+            case.omega
+        ));
+    }
+    a.push(format!(
+        "fewer `run.revolutions` ({}) or, for a run that is meant, a larger `run.max_steps`",
+        p.revolutions
+    ));
+    a.join("; ")
+}
+
+/// Refuses a stator with mass lighter than [`MIN_STATOR_MASS_RATIO`] × the rotor's modal mass.
+fn check_stator_masses(case: &Case) -> Result<(), SolveError> {
+    for (index, s) in case.stators.iter().enumerate() {
+        if s.massless() {
+            continue;
+        }
+        let dim = s.mesh.as_ref().map_or(2, |m| m.dim.max(2)) as f64;
+        let mass = s.m.diagonal().iter().sum::<f64>() / dim;
+        let ratio = mass / case.rotor_mass;
+        if ratio.is_nan() || ratio < MIN_STATOR_MASS_RATIO {
+            let key = if s.is_ring { "mass" } else { "density" };
+            return Err(SolveError::Meaningless {
+                index,
+                name: s.name.clone(),
+                message: format!(
+                    "its mass {mass:.3e} kg is {ratio:.1e} × the rotor's modal mass {:.3e} kg, below {MIN_STATOR_MASS_RATIO:e}: so light a stator is integrated at a step set by its own frequency ({:.3e} rad/s) and its contact impulses are not resolved; make it massless (`stator.{index}.{key} = 0`) or give it a real mass",
+                    case.rotor_mass,
+                    s.omega_max_sq_bound().sqrt()
+                ),
+            });
+        }
+    }
+    Ok(())
 }

@@ -1,0 +1,229 @@
+//! Rules of `[run]` and of `[output]`'s time series.
+
+use super::*;
+
+pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
+    let r = &ls.scene.run;
+    let n_speed = [
+        r.speed_ratio.is_some(),
+        r.speed.is_some(),
+        r.sweep.is_some(),
+        r.speed_profile.is_some(),
+    ]
+    .iter()
+    .filter(|b| **b)
+    .count();
+    if n_speed != 1 {
+        return Err(ls.invalid(
+            "run",
+            "give exactly one of `speed_ratio`, `speed`, `[run.sweep]` or `[run.speed_profile]`",
+        ));
+    }
+    if let Some(p) = &r.speed_profile {
+        super::super::profile::validate(ls, p)?;
+    }
+    if let Some(v) = r.speed_ratio {
+        positive(ls, "run.speed_ratio", v)?;
+    }
+    if let Some(v) = r.speed {
+        positive(ls, "run.speed", v)?;
+    }
+    if let Some(sw) = &r.sweep {
+        positive(ls, "run.sweep.from", sw.from)?;
+        positive(ls, "run.sweep.to", sw.to)?;
+        positive(ls, "run.sweep.step", sw.step)?;
+        if sw.to < sw.from {
+            return Err(ls.invalid("run.sweep.to", "must not be below `from`"));
+        }
+        let n = (sw.to - sw.from) / sw.step + 1.0;
+        if n.is_nan() || n > MAX_SWEEP_SPEEDS as f64 {
+            let key = if sw.to / sw.from > 1e3 {
+                "run.sweep.to"
+            } else {
+                "run.sweep.step"
+            };
+            return Err(ls.invalid(
+                key,
+                format!(
+                    "the sweep {} … {} step {} has {n:.3e} speeds; at most {MAX_SWEEP_SPEEDS} are allowed",
+                    show(sw.from),
+                    show(sw.to),
+                    show(sw.step)
+                ),
+            ));
+        }
+    }
+    if r.revolutions <= r.transient_revolutions {
+        return Err(ls.invalid(
+            "run.revolutions",
+            format!(
+                "must exceed transient_revolutions ({}), got {}",
+                r.transient_revolutions, r.revolutions
+            ),
+        ));
+    }
+    if let Some(dt) = r.dt {
+        positive(ls, "run.dt", dt)?;
+    }
+    positive(ls, "run.harmonics", r.harmonics)?;
+    if !(8..=MAX_SAMPLES_PER_REV).contains(&r.samples_per_rev) {
+        return Err(ls.invalid(
+            "run.samples_per_rev",
+            format!(
+                "must lie in 8 ..= {MAX_SAMPLES_PER_REV}, got {}",
+                r.samples_per_rev
+            ),
+        ));
+    }
+    if r.revolutions > MAX_REVOLUTIONS {
+        return Err(ls.invalid(
+            "run.revolutions",
+            format!(
+                "at most {MAX_REVOLUTIONS} revolutions, got {}",
+                r.revolutions
+            ),
+        ));
+    }
+    if let Some(m) = r.max_steps {
+        if m == 0 {
+            return Err(ls.invalid("run.max_steps", "must be at least 1"));
+        }
+    }
+    validate_initial(ls)
+}
+
+/// `run.initial_displacement` and `run.initial_velocity`: finite, and the displacement within
+/// the radius of the first station (a rotor displaced by more than its own radius is outside
+/// the small-displacement model; the orbit would start far outside any clearance).
+fn validate_initial(ls: &LoadedScene) -> Result<(), SceneError> {
+    let r = &ls.scene.run;
+    for (name, v) in [
+        ("initial_displacement", r.initial_displacement),
+        ("initial_velocity", r.initial_velocity),
+    ] {
+        if !v.iter().all(|x| x.is_finite()) {
+            return Err(ls.invalid(&format!("run.{name}"), format!("must be finite, got {v:?}")));
+        }
+    }
+    let [x, y] = r.initial_displacement;
+    if let Some(st) = ls.scene.stations.first() {
+        if x.hypot(y) > st.radius {
+            return Err(ls.invalid(
+                "run.initial_displacement",
+                format!(
+                    "|u0| = {:.3e} m exceeds the radius of station `{}` ({} m): outside the small-displacement model and any clearance",
+                    x.hypot(y),
+                    st.name,
+                    st.radius
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `[run.sweep.vary]`: values finite and distinct, and the scene with `key = value` valid for
+/// every value (so a key that does not exist, or a value its rule refuses, is found by `check`,
+/// not in the middle of a sweep).
+pub(super) fn validate_vary(ls: &LoadedScene, v: &VarySpec) -> Result<(), SceneError> {
+    let vk = "run.sweep.vary.values";
+    if v.values.is_empty() {
+        return Err(ls.invalid(vk, "no values"));
+    }
+    for (i, x) in v.values.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(ls.invalid(vk, format!("value {i} is {x}: must be finite")));
+        }
+        if v.values[..i].contains(x) {
+            return Err(ls.invalid(vk, format!("value {x} appears twice")));
+        }
+    }
+    for x in &v.values {
+        let mut value: toml::Value = toml::from_str(&ls.source)
+            .map_err(|e| ls.invalid("run.sweep.vary", e.message().to_string()))?;
+        let mut sets = ls.overrides.clone();
+        sets.push(format!("{}={}", v.key, toml_number(*x)));
+        let nested = sets.iter().try_for_each(|a| apply_override(&mut value, a));
+        let nested = nested.and_then(|()| {
+            if let Some(sw) = value
+                .get_mut("run")
+                .and_then(|r| r.get_mut("sweep"))
+                .and_then(|s| s.as_table_mut())
+            {
+                sw.remove("vary");
+            }
+            let scene = Scene::deserialize(value).map_err(|e| SceneError::Override {
+                assignment: format!("{}={}", v.key, toml_number(*x)),
+                message: e.message().to_string(),
+            })?;
+            validate(&LoadedScene {
+                scene,
+                file: ls.file.clone(),
+                source: ls.source.clone(),
+                overrides: sets,
+            })
+        });
+        if let Err(e) = nested {
+            let (key, msg) = match &e {
+                SceneError::Invalid { key, message, .. } if *key == v.key => (vk, message.clone()),
+                SceneError::Invalid { key, message, .. } => (vk, format!("{key}: {message}")),
+                other => ("run.sweep.vary.key", other.to_string()),
+            };
+            return Err(ls.invalid(
+                key,
+                format!("with `{} = {x}` the scene is invalid: {msg}", v.key),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Checks `output.vtk`, `output.hdf5` and `output.per_speed`.
+pub(super) fn validate_series(ls: &LoadedScene) -> Result<(), SceneError> {
+    let o = &ls.scene.output;
+    let revs = ls.scene.run.revolutions as f64;
+    for (name, spec) in [("vtk", &o.vtk), ("hdf5", &o.hdf5)] {
+        let Some(sp) = spec else { continue };
+        let k = |f: &str| format!("output.{name}.{f}");
+        if sp.every == Some(0) {
+            return Err(ls.invalid(&k("every"), "must be at least 1 (steps between frames)"));
+        }
+        if sp.fields.is_empty() {
+            return Err(ls.invalid(&k("fields"), "no fields: leave the key out to write all"));
+        }
+        non_negative(ls, &k("from_revolution"), sp.from_revolution)?;
+        let to = sp.to_revolution.unwrap_or(revs);
+        if !(to.is_finite() && to >= sp.from_revolution && sp.from_revolution <= revs) {
+            return Err(ls.invalid(
+                &k("to_revolution"),
+                format!(
+                    "the window [{}, {to}] revolutions must be ordered and overlap the run (0 to {revs})",
+                    sp.from_revolution
+                ),
+            ));
+        }
+    }
+    if o.per_speed != PerSpeed::All(false) && o.vtk.is_none() && o.hdf5.is_none() {
+        return Err(ls.invalid(
+            "output.per_speed",
+            "asks for per-speed time series, but neither `output.vtk` nor `output.hdf5` is given",
+        ));
+    }
+    for (g, grid) in o.orbit_grids.iter().enumerate() {
+        for x in grid {
+            positive(ls, &format!("output.orbit_grids.{g}"), *x)?;
+        }
+    }
+    for x in &o.force_histories {
+        positive(ls, "output.force_histories", *x)?;
+    }
+    if let Some(f) = o.cascade_max_freq {
+        positive(ls, "output.cascade_max_freq", f)?;
+    }
+    if let PerSpeed::Speeds(v) = &o.per_speed {
+        for x in v {
+            positive(ls, "output.per_speed", *x)?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,121 @@
+//! What a run will cost, estimated before it starts: steps, memory and wall time.
+//!
+//! The refusals live in [`super::plan::plan_steps`] (steps above `run.max_steps`, a record
+//! above [`super::plan::MAX_RECORD_BYTES`]); this module only states the figures, for `rubsim
+//! check` and before `run`/`sweep`.
+//!
+//! The time is an *estimate* from a per-step cost model calibrated on the development machine
+//! (2 cores; docs/PERFORMANCE.md):
+//! `t_step ≈ NS_STEP + NS_ROTOR_DOF·n_rotor + NS_STATOR_DOF·n_mass + NS_CONTACT_DOF·n_contact`, with `n_rotor` the rotor's DOFs, `n_mass` the DOFs of stators
+//! with mass and `n_contact` the contact DOFs of massless stators (their compliance columns
+//! enter every contact problem). It ignores how often the rotor is in contact, so the true
+//! time may differ by a factor of a few either way.
+
+use super::plan::{sample_bytes, StepPlan};
+use crate::model::Case;
+use serde::Serialize;
+
+/// Fixed cost of a step (ns): the Jeffcott rotor with a massless rod, 0.1 µs per step.
+pub const NS_STEP: f64 = 100.0;
+/// Cost per rotor DOF and step (ns): a 204-DOF FE rotor steps in 3.4 µs.
+pub const NS_ROTOR_DOF: f64 = 17.0;
+/// Cost per DOF of a stator with mass and step (ns): 25–36 ns per DOF for meshed stators.
+pub const NS_STATOR_DOF: f64 = 30.0;
+/// Cost per contact DOF of a massless stator beyond the first [`super::EAGER_DOFS`] and step
+/// (ns): 50–65 µs per step for meshed stators of about 200 contact DOFs with cached columns;
+/// a few contact DOFs (a rod, a ring) are part of [`NS_STEP`].
+pub const NS_CONTACT_DOF: f64 = 300.0;
+
+/// Up-front estimate of one run at one speed.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Budget {
+    /// Steps of the main run.
+    pub steps: f64,
+    /// Steps of the error-estimate companion run (0 without it).
+    pub companion_steps: f64,
+    /// Bytes of the record (main run).
+    pub record_bytes: f64,
+    /// Bytes of the matrices and compliance columns the loop holds (an upper bound).
+    pub matrix_bytes: f64,
+    /// Estimated cost of one step (s).
+    pub step_s: f64,
+    /// Estimated wall time of the run, companion included (s), on one core.
+    pub wall_s: f64,
+}
+
+/// Estimates the cost of running `case` with `plan` (`companion`: with the error-estimate
+/// companion run at about 2Δt).
+pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
+    let n_rotor = case.rotor.ndof as f64;
+    let mut n_mass = 0.0;
+    let mut n_contact = 0.0;
+    // Sparse matrices: about 12 bytes per stored entry (value and row index), six of them per
+    // body (M, K, C and the step operators); compliance columns: 8 bytes × DOFs per contact DOF.
+    let mut matrix_bytes = 6.0 * 12.0 * 20.0 * n_rotor;
+    for s in &case.stators {
+        let nnz = (s.k.nnz() + s.m.nnz() + s.c.nnz()) as f64;
+        matrix_bytes += 2.0 * 12.0 * nnz;
+        if s.massless() {
+            let nc = s.contact_dofs().len() as f64;
+            n_contact += (nc - super::EAGER_DOFS as f64).max(0.0);
+            matrix_bytes += 8.0 * nc * s.ndof as f64;
+        } else {
+            n_mass += s.ndof as f64;
+        }
+    }
+    let step_s =
+        (NS_STEP + NS_ROTOR_DOF * n_rotor + NS_STATOR_DOF * n_mass + NS_CONTACT_DOF * n_contact)
+            * 1e-9;
+    let steps = plan.steps as f64;
+    let companion_steps = if companion { steps / 2.0 } else { 0.0 };
+    let samples = (plan.steps / plan.record_every.max(1)) as f64 + 1.0;
+    Budget {
+        steps,
+        companion_steps,
+        record_bytes: samples * sample_bytes(case.stations.len()),
+        matrix_bytes,
+        step_s,
+        wall_s: step_s * (steps + companion_steps),
+    }
+}
+
+impl Budget {
+    /// One line for the user: steps, memory and the time estimate.
+    pub fn describe(&self) -> String {
+        format!(
+            "{:.3e} steps{}, record {}, matrices ≤ {}, ≈ {} on one core (estimate: {:.2} µs/step from a cost model)",
+            self.steps,
+            if self.companion_steps > 0.0 {
+                format!(" (+ {:.3e} companion)", self.companion_steps)
+            } else {
+                String::new()
+            },
+            bytes(self.record_bytes),
+            bytes(self.matrix_bytes),
+            duration(self.wall_s),
+            self.step_s * 1e6
+        )
+    }
+}
+
+/// A byte count in kB, MB or GB.
+pub fn bytes(b: f64) -> String {
+    if b < 1e6 {
+        format!("{:.1} kB", b / 1e3)
+    } else if b < 1e9 {
+        format!("{:.1} MB", b / 1e6)
+    } else {
+        format!("{:.2} GB", b / 1e9)
+    }
+}
+
+/// A duration in s, min or h.
+pub fn duration(s: f64) -> String {
+    if s < 120.0 {
+        format!("{s:.2} s")
+    } else if s < 7200.0 {
+        format!("{:.1} min", s / 60.0)
+    } else {
+        format!("{:.1} h", s / 3600.0)
+    }
+}

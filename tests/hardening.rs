@@ -1,0 +1,256 @@
+//! The reproducers of issue 13 (hardening) items 5, 6, 8, 9 and 10 that concern input: each
+//! one a clean error naming its key (no panic, no abort, no hang), or the correct result.
+
+mod common;
+
+use common::cli::{fails, in_repo, ok};
+use common::repo;
+
+const PAPER: &str = "scenes/paper/partial_rub.toml";
+const FE: &str = "scenes/fe/paper_rotor_rub.toml";
+const STUDY: &str = "scenes/paper/sensitivity/fig11_clearance.toml";
+const TWO: &str = "scenes/fe/two_disk_two_stations.toml";
+
+/// `rubsim check scene --set set…` fails cleanly; its stderr names every one of `needles`.
+fn refused(scene: &str, sets: &[&str], needles: &[&str]) -> String {
+    let mut args = vec!["check", scene];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    let err = fails(&repo(""), &args);
+    for n in needles {
+        assert!(err.contains(n), "{args:?}: `{n}` not in:\n{err}");
+    }
+    err
+}
+
+#[test]
+fn panics_and_aborts_of_the_report_are_key_naming_errors() {
+    for (scene, set, key) in [
+        (
+            FE,
+            "rotor.bearing.0.stiffness=[]",
+            "`rotor.bearing.0.stiffness`",
+        ),
+        (PAPER, "run.sweep.to=1e308", "`run.sweep.to`"),
+        (PAPER, "run.sweep.step=1e-300", "`run.sweep.step`"),
+        (PAPER, "run.sweep.step=1e-12", "`run.sweep.step`"),
+        (
+            FE,
+            "rotor.shaft.0.elements=1000000000",
+            "`rotor.shaft.0.elements`",
+        ),
+        (PAPER, "run.revolutions=1000000000", "`run.revolutions`"),
+        (
+            PAPER,
+            "run.samples_per_rev=1000000000",
+            "`run.samples_per_rev`",
+        ),
+    ] {
+        let err = refused(scene, &[set], &[key]);
+        assert!(!err.contains("panicked"), "{set}: {err}");
+    }
+}
+
+#[test]
+fn invalid_input_of_the_report_is_refused_naming_the_key() {
+    for (scene, set, key) in [
+        (
+            PAPER,
+            "rotor.unbalance.0.phase_deg=nan",
+            "rotor.unbalance.0.phase_deg",
+        ),
+        (
+            PAPER,
+            "rotor.unbalance.0.phase_deg=inf",
+            "rotor.unbalance.0.phase_deg",
+        ),
+        (
+            PAPER,
+            "rotor.unbalance.0.phase_deg=1e308",
+            "rotor.unbalance.0.phase_deg",
+        ),
+        (
+            PAPER,
+            "run.initial_displacement=[nan, 0.0]",
+            "run.initial_displacement",
+        ),
+        (
+            PAPER,
+            "run.initial_displacement=[inf, 0.0]",
+            "run.initial_displacement",
+        ),
+        (
+            PAPER,
+            "run.initial_displacement=[1e200, 0.0]",
+            "run.initial_displacement",
+        ),
+        (PAPER, "output.orbit_grids.0.1=nan", "output.orbit_grids.0"),
+        (PAPER, "output.orbit_grids.0.1=-1.0", "output.orbit_grids.0"),
+        (
+            PAPER,
+            "output.force_histories.0=-1.7",
+            "output.force_histories",
+        ),
+        (
+            STUDY,
+            "run.sweep.vary.values=[0.5, nan]",
+            "run.sweep.vary.values",
+        ),
+        (
+            STUDY,
+            "run.sweep.vary.values=[0.5, -0.5]",
+            "run.sweep.vary.values",
+        ),
+        (
+            STUDY,
+            "run.sweep.vary.values=[0.5, 0.5]",
+            "run.sweep.vary.values",
+        ),
+        (
+            STUDY,
+            "run.sweep.vary.key=\"stator.0.nonsense\"",
+            "run.sweep.vary.key",
+        ),
+        (
+            FE,
+            "rotor.bearing.0.stiffness=-1e8",
+            "rotor.bearing.0.stiffness",
+        ),
+        (
+            FE,
+            "rotor.bearing.0.damping=-10.0",
+            "rotor.bearing.0.damping",
+        ),
+        (FE, "rotor.disk.0.density=-7800.0", "rotor.disk.0.density"),
+        (TWO, "stator.0.damping=10.0", "stator.0.damping"),
+        (PAPER, "stator.0.length=1e308", "stator.0.length"),
+    ] {
+        let err = refused(scene, &[set], &[&format!("`{key}`")]);
+        assert!(err.contains(".toml:"), "{set}: no file:line in {err}");
+    }
+}
+
+#[test]
+fn a_ring_far_lighter_than_the_rotor_is_refused_with_the_reason() {
+    refused(
+        TWO,
+        &["stator.0.mass=1e-6"],
+        &["`stator.0.mass = 0`", "modal mass"],
+    );
+}
+
+#[test]
+fn type_errors_inside_rotor_and_stator_entries_name_the_key_and_its_line() {
+    let err = refused(FE, &["rotor.shaft.0.elements=\"many\""], &[]);
+    assert!(
+        err.contains("paper_rotor_rub.toml:14: key `rotor.shaft.0.elements`"),
+        "{err}"
+    );
+    let err = refused(PAPER, &["stator.0.angle_deg=\"up\""], &[]);
+    assert!(
+        err.contains("partial_rub.toml:30: key `stator.0.angle_deg`"),
+        "{err}"
+    );
+}
+
+#[test]
+fn set_appends_an_array_entry_and_switches_alternative_keys() {
+    let out = ok(
+        &repo(""),
+        &[
+            "check",
+            FE,
+            "--set",
+            "rotor.unbalance.1.mass=0.01",
+            "--set",
+            "rotor.unbalance.1.radius=0.01",
+            "--set",
+            "rotor.unbalance.1.node=2",
+        ],
+    );
+    assert_eq!(out.matches("  unbalance m_u·e").count(), 2, "{out}");
+    assert!(
+        out.contains("1.0000e-4 kg·m at 0.0° on DOFs [8, 9]"),
+        "{out}"
+    );
+    let out = ok(
+        &repo(""),
+        &["check", PAPER, "--set", "stator.0.clearance=1e-4"],
+    );
+    assert!(out.contains("clearance δ = 1.0000e-4 m"), "{out}");
+    // Beyond the end by more than one: refused, saying how to append.
+    refused(
+        PAPER,
+        &["rotor.unbalance.2.mass=0.01"],
+        &["index 2 out of range", "index 1 appends one"],
+    );
+}
+
+#[test]
+fn absurd_plans_are_refused_with_the_figure_and_the_key() {
+    // A bearing of stiffness 0: ω_n collapses, a revolution lasts hours.
+    refused(
+        FE,
+        &["rotor.bearing.1.stiffness=0"],
+        &["steps", "`run.max_steps`", "bearings"],
+    );
+    refused(
+        PAPER,
+        &["run.dt=1e-9"],
+        &["1.657e10 steps", "set by `run.dt`", "`run.max_steps`"],
+    );
+    refused(
+        PAPER,
+        &["run.samples_per_rev=1000000"],
+        &["record", "`run.samples_per_rev`"],
+    );
+    // The same guard before `run` starts: refused at once, nothing computed.
+    let t = std::time::Instant::now();
+    let (success, _, err) = in_repo(&["run", PAPER, "--speed", "1.7", "--set", "run.dt=1e-9"]);
+    assert!(!success && err.contains("`run.max_steps`"), "{err}");
+    assert!(t.elapsed().as_secs() < 30, "took {:?}", t.elapsed());
+    // The budget is a key: a smaller one refuses the plain scene, a larger one accepts.
+    refused(
+        PAPER,
+        &["run.max_steps=1000"],
+        &["above the limit of 1000 steps"],
+    );
+    ok(
+        &repo(""),
+        &["check", PAPER, "--set", "run.max_steps=5000000000"],
+    );
+}
+
+#[test]
+fn check_prints_the_estimate_and_the_asked_step() {
+    let out = ok(&repo(""), &["check", PAPER, "--set", "run.dt=1e-5"]);
+    assert!(
+        out.contains("run.dt = 1.0000e-5 s asked; rounded down to 9.9759e-6 s"),
+        "{out}"
+    );
+    assert!(out.contains("estimate at ω/ωn = 0.50:"), "{out}");
+    assert!(out.contains("steps (+"), "{out}");
+    assert!(out.contains("estimate of the sweep (56 runs"), "{out}");
+}
+
+#[test]
+fn run_states_its_estimate_on_stderr_only() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("o");
+    let (success, stdout, stderr) = in_repo(&[
+        "run",
+        PAPER,
+        "--speed",
+        "1.7",
+        "--set",
+        "output.png=false",
+        "--set",
+        "run.revolutions=120",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(success, "{stderr}");
+    assert!(stderr.contains("estimate at ω/ωn = 1.700:"), "{stderr}");
+    assert!(!stdout.contains("estimate"), "{stdout}");
+}
