@@ -85,14 +85,14 @@ fn check_version(bytes: &[u8]) -> Result<(), String> {
         return Err("the file does not start with $MeshFormat (not a gmsh .msh file?)".into());
     }
     let header = String::from_utf8_lossy(&bytes[..bytes.len().min(64)]);
-    let version = header
-        .lines()
-        .nth(1)
-        .and_then(|l| l.split_whitespace().next());
+    let mut fields = header.lines().nth(1).unwrap_or_default().split_whitespace();
+    let version = fields.next();
+    let binary = fields.next() == Some("1");
     if version != Some("4.1") {
         return Err(format!(
-            "MSH format version {} (rubsim reads 4.1: mesh with `-format msh41`)",
-            version.unwrap_or("?")
+            "MSH format version {}{} (rubsim reads MSH 4.1, ASCII or binary: mesh with `-format msh41`, or convert with `gmsh FILE.msh -save -format msh41 -o NEW.msh`)",
+            version.unwrap_or("?"),
+            if binary { ", binary" } else { "" }
         ));
     }
     Ok(())
