@@ -135,7 +135,7 @@ impl OutDir {
         names.sort_by_key(|n| n.ends_with("summary.json"));
         let manifest = self.dir.join(MANIFEST);
         if let Ok(old) = std::fs::read_to_string(&manifest) {
-            for f in old.lines().filter(|l| !l.is_empty() && !l.contains("..")) {
+            for f in manifest_entries(&old) {
                 if !names.iter().any(|n| n == f) {
                     let _ = std::fs::remove_file(self.dir.join(f));
                 }
@@ -157,6 +157,14 @@ impl OutDir {
         self.committed = true;
         Ok(out)
     }
+}
+
+/// The file names a manifest's text lists, one per line: empty lines and names with `..` are
+/// skipped (a manifest never names anything outside its directory).
+pub fn manifest_entries(text: &str) -> Vec<&str> {
+    text.lines()
+        .filter(|l| !l.is_empty() && !l.contains(".."))
+        .collect()
 }
 
 impl Drop for OutDir {
