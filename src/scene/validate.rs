@@ -573,6 +573,12 @@ fn validate_bearings(ls: &LoadedScene, f: &FeRotorSpec, nodes: usize) -> Result<
         ];
         for (name, v) in all {
             if let Some(ScalarOrTable::Table(t)) = v {
+                if n == 0 {
+                    return Err(ls.invalid(
+                        &format!("rotor.bearing.{i}.{name}"),
+                        "a table of values needs `speeds` (one value per speed); give a number for a coefficient that does not vary",
+                    ));
+                }
                 if t.len() != n {
                     return Err(ls.invalid(
                         &format!("rotor.bearing.{i}.{name}"),
