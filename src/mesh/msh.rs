@@ -41,6 +41,9 @@ impl Mesh {
             message,
         };
         check_version(bytes).map_err(parse_err)?;
+        for section in ["$Nodes", "$Elements"] {
+            check_section_header(bytes, section).map_err(parse_err)?;
+        }
         let msh = parse_with_mshio(bytes).map_err(parse_err)?;
         let names = physical_names(bytes).map_err(parse_err)?;
         let (nodes, node_tags) = read_nodes(&msh);
@@ -105,6 +108,40 @@ fn check_version(bytes: &[u8]) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+/// Checks the counts that open `$Nodes` or `$Elements` (`numEntityBlocks num minTag maxTag`,
+/// text or 8-byte binary): at least one entry and `minTag ≤ maxTag` (`mshio` subtracts them
+/// unchecked; found by fuzzing).
+fn check_section_header(bytes: &[u8], section: &str) -> Result<(), String> {
+    let Some(start) = find(bytes, format!("{section}\n").as_bytes()) else {
+        return Ok(());
+    };
+    let body = &bytes[start + section.len() + 1..];
+    let binary = bytes
+        .get(..64)
+        .is_some_and(|h| find(h, b"4.1 1 8").is_some());
+    let v: Vec<u64> = if binary {
+        body.chunks_exact(8)
+            .take(4)
+            .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+            .collect()
+    } else {
+        let line = body.split(|&b| b == b'\n').next().unwrap_or_default();
+        String::from_utf8_lossy(line)
+            .split_whitespace()
+            .take(4)
+            .map_while(|t| t.parse().ok())
+            .collect()
+    };
+    match v.as_slice() {
+        [_, n, lo, hi] if *n >= 1 && lo <= hi => Ok(()),
+        [_, 0, _, _] => Err(format!("{section} holds no entries")),
+        [_, _, lo, hi] => Err(format!(
+            "{section}: smallest tag {lo} above the largest {hi}"
+        )),
+        _ => Err(format!("{section}: cannot read the section's counts")),
+    }
 }
 
 /// The file through `mshio`. The input is checked before (header, see [`check_version`]) for
@@ -337,6 +374,17 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("odd.msh") && e.contains("`4.1 1 9`"), "{e}");
+        // Found by fuzzing: a smallest node tag above the largest (mshio subtracts them).
+        let e = Mesh::parse(
+            Path::new("tags.msh"),
+            b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 5 1\n$EndNodes\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("tags.msh") && e.contains("$Nodes: smallest tag 5"),
+            "{e}"
+        );
         let e = Mesh::parse(Path::new("x.msh"), b"hello")
             .unwrap_err()
             .to_string();
