@@ -13,7 +13,17 @@
 //   stator_contact  the inner circle (curve): nodes the rotor can touch
 //   stator_fixed    the outer circle (curve): clamped
 SetFactory("OpenCASCADE");
-DefineConstant[ ri = 0.0601, ro = 0.08, h = 0.004, n = 0, ni = 0 ];
+DefineConstant[
+  ri = {0.0601, Min 0.0001, Name "Parameters/ri"},
+  ro = {0.08, Min 0.0001, Name "Parameters/ro"},
+  h = {0.004, Min 1e-05, Name "Parameters/h"},
+  n = {0, Min 0, Name "Parameters/n"},
+  ni = {0, Min 0, Name "Parameters/ni"}
+];
+If (ri >= ro)
+  Error("annulus.geo: the inner radius ri = %g must be below the outer radius ro = %g", ri, ro);
+  Abort;
+EndIf
 
 Disk(1) = {0, 0, 0, ro, ro};
 Disk(2) = {0, 0, 0, ri, ri};

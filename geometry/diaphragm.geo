@@ -21,8 +21,21 @@
 //   stator_fixed    the end faces of the lugs (curves): resting on the casing
 //   key             the bottom face of the key (curve): guided horizontally (fixed_x)
 SetFactory("OpenCASCADE");
-DefineConstant[ ri = 0.0602, ro = 0.11, tj = 0.002, wl = 0.012, hl = 0.016, wk = 0.01,
-                hk = 0.006, h = 0.004, hc = 0.0015 ];
+DefineConstant[
+  ri = {0.0602, Min 0.0001, Name "Parameters/ri"},
+  ro = {0.11, Min 0.0001, Name "Parameters/ro"},
+  tj = {0.002, Min 1e-05, Name "Parameters/tj"},
+  wl = {0.012, Min 1e-05, Name "Parameters/wl"},
+  hl = {0.016, Min 1e-05, Name "Parameters/hl"},
+  wk = {0.01, Min 1e-05, Name "Parameters/wk"},
+  hk = {0.006, Min 1e-05, Name "Parameters/hk"},
+  h = {0.004, Min 1e-05, Name "Parameters/h"},
+  hc = {0.0015, Min 1e-05, Name "Parameters/hc"}
+];
+If (ri >= ro)
+  Error("diaphragm.geo: the inner radius ri = %g must be below the outer radius ro = %g", ri, ro);
+  Abort;
+EndIf
 
 Disk(1) = {0, 0, 0, ro, ro};
 Disk(2) = {0, 0, 0, ri, ri};

@@ -18,8 +18,30 @@
 //   stator_contact  the tooth tips (cylindrical surfaces)
 //   stator_fixed    the outer cylinder and the end faces (surfaces)
 SetFactory("OpenCASCADE");
-DefineConstant[ rt = 0.0602, rc = 0.064, ro = 0.068, teeth = 3, pitch = 0.004,
-                tooth = 0.001, margin = 0.002, h = 0.003, ht = 0.0015 ];
+DefineConstant[
+  rt = {0.0602, Min 0.0001, Name "Parameters/rt"},
+  rc = {0.064, Min 0.0001, Name "Parameters/rc"},
+  ro = {0.068, Min 0.0001, Name "Parameters/ro"},
+  teeth = {3, Min 1, Name "Parameters/teeth"},
+  pitch = {0.004, Min 0.0001, Name "Parameters/pitch"},
+  tooth = {0.001, Min 1e-05, Name "Parameters/tooth"},
+  margin = {0.002, Min 0, Name "Parameters/margin"},
+  h = {0.003, Min 1e-05, Name "Parameters/h"},
+  ht = {0.0015, Min 1e-05, Name "Parameters/ht"}
+];
+// Refuse at once what the construction cannot build (gmsh would otherwise grind on it).
+If (teeth != Round(teeth))
+  Error("labyrinth_seal.geo: teeth = %g must be a whole number", teeth);
+  Abort;
+EndIf
+If (!(rt < rc && rc < ro))
+  Error("labyrinth_seal.geo: the radii must satisfy rt < rc < ro (rt = %g, rc = %g, ro = %g)", rt, rc, ro);
+  Abort;
+EndIf
+If (teeth > 1 && pitch <= tooth)
+  Error("labyrinth_seal.geo: pitch = %g must exceed the tooth thickness tooth = %g", pitch, tooth);
+  Abort;
+EndIf
 
 L = (teeth - 1) * pitch + tooth + 2 * margin;
 z0 = -L / 2;

@@ -10,7 +10,10 @@
 //
 // Physical groups: as labyrinth_seal.geo (stator, stator_contact, stator_fixed).
 SetFactory("OpenCASCADE");
-DefineConstant[ h = 0.003, ht = 0.0015 ];
+DefineConstant[
+  h = {0.003, Min 1e-05, Name "Parameters/h"},
+  ht = {0.0015, Min 1e-05, Name "Parameters/ht"}
+];
 // Dimensions of the part in the STEP file (m).
 rt = 0.0602; rc = 0.064; teeth = 3; pitch = 0.004; tooth = 0.001; margin = 0.002;
 

@@ -14,7 +14,13 @@
 //   stator_contact  the tip edge (curve)
 //   stator_fixed    the far edge (curve)
 SetFactory("OpenCASCADE");
-DefineConstant[ L = 0.04, w = 0.005, y0 = 0.0601, nx = 4, ny = 16 ];
+DefineConstant[
+  L = {0.04, Min 0.0001, Name "Parameters/L"},
+  w = {0.005, Min 1e-05, Name "Parameters/w"},
+  y0 = 0.0601,
+  nx = {4, Min 1, Name "Parameters/nx"},
+  ny = {16, Min 1, Name "Parameters/ny"}
+];
 
 Rectangle(1) = {-w/2, y0, 0, w, L};
 // OCC rectangle curves: 1 bottom (tip), 2 right, 3 top (clamped), 4 left.

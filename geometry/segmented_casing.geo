@@ -20,8 +20,20 @@
 //   stator_fixed    the beams' outer ends (points): clamped to the frame
 //   mount           the beams' roots on the segments (points)
 SetFactory("OpenCASCADE");
-DefineConstant[ n = 6, ri = 0.0602, ro = 0.075, gap = 4, lb = 0.03, phi0 = 90, h = 0.003,
-                hc = 0.0015 ];
+DefineConstant[
+  n = {6, Min 1, Name "Parameters/n"},
+  ri = {0.0602, Min 0.0001, Name "Parameters/ri"},
+  ro = {0.075, Min 0.0001, Name "Parameters/ro"},
+  gap = {4, Min 0, Name "Parameters/gap"},
+  lb = {0.03, Min 1e-05, Name "Parameters/lb"},
+  phi0 = 90,
+  h = {0.003, Min 1e-05, Name "Parameters/h"},
+  hc = {0.0015, Min 1e-05, Name "Parameters/hc"}
+];
+If (ri >= ro || n != Round(n))
+  Error("segmented_casing.geo: needs ri < ro (ri = %g, ro = %g) and a whole number of segments (n = %g)", ri, ro, n);
+  Abort;
+EndIf
 
 Disk(1) = {0, 0, 0, ro, ro};
 Disk(2) = {0, 0, 0, ri, ri};

@@ -383,6 +383,39 @@ pub enum MeshError {
         /// gmsh's error and warning lines.
         message: String,
     },
+    /// gmsh ran past its time limit and was killed.
+    #[error("{geometry}: gmsh did not finish within {limit_s} s and was stopped; the geometry or its parameters may be wrong (gmsh's last lines below), or the mesh too fine — allow more time with RUBSIM_GMSH_TIMEOUT=<seconds> (or `rubsim mesh --timeout`):\n{message}")]
+    GmshTimeout {
+        /// The geometry being meshed.
+        geometry: PathBuf,
+        /// The limit (s).
+        limit_s: f64,
+        /// gmsh's last lines.
+        message: String,
+    },
+    /// A file given as a geometry to mesh is not one (a mesh, a binary file).
+    #[error("{geometry}: not a geometry gmsh can mesh: {message}")]
+    NotAGeometry {
+        /// The file.
+        geometry: PathBuf,
+        /// What it is and what is expected.
+        message: String,
+    },
+    /// A parameter value outside the bounds the geometry declares (`Min`, `Max` of its
+    /// `DefineConstant`), or not finite.
+    #[error("{geometry}: parameter `{name}` = {value}: {}", range_message(*min, *max))]
+    ParameterOutOfRange {
+        /// The geometry.
+        geometry: PathBuf,
+        /// The parameter.
+        name: String,
+        /// The value given.
+        value: f64,
+        /// Its declared minimum.
+        min: Option<f64>,
+        /// Its declared maximum.
+        max: Option<f64>,
+    },
     /// A `-setnumber` parameter that the geometry does not define with `DefineConstant`.
     #[error("{geometry}: parameter `{name}` is not defined by the geometry (it defines: {})", if known.is_empty() { "nothing".to_string() } else { known.join(", ") })]
     UnknownParameter {
@@ -506,6 +539,17 @@ impl Error {
             message: message.to_string(),
         }
     }
+}
+
+/// "must be …" for a parameter's declared bounds.
+fn range_message(min: Option<f64>, max: Option<f64>) -> String {
+    let range = match (min, max) {
+        (Some(a), Some(b)) => format!("must lie in [{a}, {b}]"),
+        (Some(a), None) => format!("must be at least {a}"),
+        (None, Some(b)) => format!("must be at most {b}"),
+        (None, None) => "must be a finite number".into(),
+    };
+    format!("{range} (bounds declared by the geometry's DefineConstant)")
 }
 
 /// Crate result type.

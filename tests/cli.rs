@@ -592,22 +592,14 @@ fn a_clearance_relative_to_z0_names_why_z0_is_unusable() {
             "1.7",
             &["without an unbalance", "rotor.unbalance"],
         ),
-        (
-            "rotor.damping_ratio=1e308",
-            "1.7",
-            &["rotor.damping_ratio"],
-        ),
+        ("rotor.damping_ratio=1e308", "1.7", &["rotor.damping_ratio"]),
         ("rotor.disk.diameter=1e300", "1.7", &["rotor.disk.diameter"]),
         (
             "rotor.shaft.youngs_modulus=1e308",
             "1.7",
             &["rotor.shaft.youngs_modulus"],
         ),
-        (
-            "rotor.shaft.length=1e300",
-            "1.7",
-            &["rotor.shaft.length"],
-        ),
+        ("rotor.shaft.length=1e300", "1.7", &["rotor.shaft.length"]),
         ("title=\"huge speed\"", "1e308", &["speed", "--speed"]),
     ] {
         let out = tmp.path().join("out");

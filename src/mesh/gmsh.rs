@@ -9,13 +9,39 @@
 //! gmsh is run as a command line program (`gmsh GEO -3 -format msh41 -bin -setnumber name value
 //! … -o OUT`); `RUBSIM_GMSH` overrides the program. Parameters must be declared by the geometry
 //! with `DefineConstant[ name = default, … ]`, so a misspelt parameter is an error rather than
-//! silently ignored.
+//! silently ignored, and must lie within the `Min`/`Max` the declaration gives
+//! ([`super::geo`]).
+//!
+//! # Time limit, killing, temporary files
+//!
+//! gmsh runs under a time limit: [`DEFAULT_TIME_LIMIT`] (300 s), or `$RUBSIM_GMSH_TIMEOUT`
+//! (seconds), or the request's [`MeshRequest::time_limit`] (`rubsim mesh --timeout`). Past it
+//! gmsh is killed and the error names the geometry and the limit. gmsh runs in its own process
+//! group and dies with rubsim ([`super::process`]).
+//!
+//! gmsh writes into the cache directory under a temporary name,
+//! `.rubsim-gmsh-<pid>-<n>.msh` (and `.geo` for a CAD wrapper), which is renamed to the cache
+//! name only once gmsh has succeeded. Beside it a lock file `.rubsim-gmsh-<pid>-<n>.lock` is held
+//! (`flock`) while gmsh runs. The temporary files are removed on every way out of [`mesh`]
+//! (success, failure, time-out) and by the signal handlers of [`super::process`] when rubsim is
+//! stopped by `SIGTERM`, `SIGINT` or `SIGHUP`; after a `SIGKILL` of rubsim they are removed by
+//! the next [`mesh`] into the same cache: a temporary file whose lock nobody holds is stale.
+//! (A lock, not the pid, decides, so a process in another PID namespace sharing the cache is
+//! never mistaken for a dead one.)
 
+use super::geo::declared_parameters;
+pub use super::geo::{defined_parameters, referenced_files};
+use super::process::{self, Condensed, Finished};
 use super::Mesh;
 use crate::error::MeshError;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::Duration;
+
+/// The time gmsh may take when neither the request nor `$RUBSIM_GMSH_TIMEOUT` says otherwise:
+/// 300 s (the shipped geometries mesh in 0.3–3 s).
+pub const DEFAULT_TIME_LIMIT: Duration = Duration::from_secs(300);
 
 /// Cache format version: bump when the way meshes are produced changes.
 const CACHE_VERSION: &str = "rubsim-mesh-1";
@@ -37,6 +63,9 @@ pub struct MeshRequest {
     pub size_factor: f64,
     /// The scene that asked for the mesh (for messages).
     pub referenced_by: Option<PathBuf>,
+    /// How long gmsh may run; `None`: `$RUBSIM_GMSH_TIMEOUT` (seconds) or
+    /// [`DEFAULT_TIME_LIMIT`]. Not part of the cache key.
+    pub time_limit: Option<Duration>,
 }
 
 impl MeshRequest {
@@ -50,6 +79,7 @@ impl MeshRequest {
             serendipity: false,
             size_factor: 1.0,
             referenced_by: None,
+            time_limit: None,
         }
     }
 }
@@ -94,122 +124,6 @@ pub fn default_cache_dir(geometry: &Path) -> PathBuf {
     } else {
         dir.join("meshes")
     }
-}
-
-/// Names declared by `DefineConstant[ a = …, b = {…, Name "…"}, … ]` in a `.geo` text.
-pub fn defined_parameters(text: &str) -> Vec<String> {
-    let text = strip_comments(text);
-    let mut out = Vec::new();
-    let mut rest = text.as_str();
-    while let Some(i) = rest.find("DefineConstant") {
-        rest = &rest[i + "DefineConstant".len()..];
-        let Some(open) = rest.find('[') else { break };
-        // Matching close bracket.
-        let mut depth = 0usize;
-        let mut end = rest.len();
-        for (k, c) in rest[open..].char_indices() {
-            match c {
-                '[' | '{' | '(' => depth += 1,
-                ']' | '}' | ')' => {
-                    depth -= 1;
-                    if depth == 0 {
-                        end = open + k;
-                        break;
-                    }
-                }
-                _ => {}
-            }
-        }
-        let body = &rest[open + 1..end.min(rest.len())];
-        // Top-level comma-separated `name = value` items.
-        let mut depth = 0usize;
-        let mut start = 0;
-        let mut items = Vec::new();
-        for (k, c) in body.char_indices() {
-            match c {
-                '[' | '{' | '(' => depth += 1,
-                ']' | '}' | ')' => depth = depth.saturating_sub(1),
-                ',' if depth == 0 => {
-                    items.push(&body[start..k]);
-                    start = k + 1;
-                }
-                _ => {}
-            }
-        }
-        items.push(&body[start..]);
-        for it in items {
-            if let Some((name, _)) = it.split_once('=') {
-                let name = name.trim();
-                if !name.is_empty() && name.chars().all(|c| c.is_alphanumeric() || c == '_') {
-                    out.push(name.to_string());
-                }
-            }
-        }
-        rest = &rest[end.min(rest.len())..];
-    }
-    out.sort();
-    out.dedup();
-    out
-}
-
-/// Files a `.geo` text imports: string arguments of `ShapeFromFile`, `Merge`, `Include`.
-pub fn referenced_files(text: &str) -> Vec<String> {
-    let text = strip_comments(text);
-    let mut out = Vec::new();
-    for kw in ["ShapeFromFile", "Merge", "Include"] {
-        let mut rest = text.as_str();
-        while let Some(i) = rest.find(kw) {
-            rest = &rest[i + kw.len()..];
-            let t = rest.trim_start().trim_start_matches('(').trim_start();
-            if let Some(s) = t.strip_prefix('"') {
-                if let Some(e) = s.find('"') {
-                    out.push(s[..e].to_string());
-                }
-            }
-        }
-    }
-    out
-}
-
-fn strip_comments(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut chars = text.chars().peekable();
-    let mut in_str = false;
-    while let Some(c) = chars.next() {
-        if in_str {
-            out.push(c);
-            if c == '"' {
-                in_str = false;
-            }
-            continue;
-        }
-        match (c, chars.peek()) {
-            ('"', _) => {
-                in_str = true;
-                out.push(c);
-            }
-            ('/', Some('/')) => {
-                for d in chars.by_ref() {
-                    if d == '\n' {
-                        out.push('\n');
-                        break;
-                    }
-                }
-            }
-            ('/', Some('*')) => {
-                chars.next();
-                let mut prev = ' ';
-                for d in chars.by_ref() {
-                    if prev == '*' && d == '/' {
-                        break;
-                    }
-                    prev = d;
-                }
-            }
-            _ => out.push(c),
-        }
-    }
-    out
 }
 
 /// 128-bit FNV-1a: a stable content hash for cache keys (not cryptographic).
@@ -294,10 +208,15 @@ EndIf
         return Ok((run, wrap(&name), vec![(geo.clone(), bytes)]));
     }
     let bytes = read_file(geo, req.referenced_by.as_deref())?;
-    let text = String::from_utf8(bytes).map_err(|_| MeshError::GmshFailed {
+    if bytes.starts_with(b"$MeshFormat") {
+        return Err(MeshError::NotAGeometry {
+            geometry: geo.clone(),
+            message: "it is a gmsh mesh (MSH), not a geometry to mesh: name it as a stator's `geometry` (it is read as it is), or report it with `rubsim mesh FILE.msh`".into(),
+        });
+    }
+    let text = String::from_utf8(bytes).map_err(|_| MeshError::NotAGeometry {
         geometry: geo.clone(),
-        status: None,
-        message: "the geometry is not UTF-8 text".into(),
+        message: "the file is not text; a geometry is a gmsh `.geo` script (text) or a CAD file named `.step`, `.stp`, `.brep`, `.iges` or `.igs`".into(),
     })?;
     let mut deps = Vec::new();
     for f in referenced_files(&text) {
@@ -339,9 +258,10 @@ fn key_of(req: &MeshRequest, text: &str, deps: &[(PathBuf, Vec<u8>)]) -> String 
 /// Meshes `req` into `cache` (created if needed), or returns the cached mesh.
 ///
 /// Errors: the geometry or an imported file is missing ([`MeshError::MissingFile`]), a
-/// parameter is not declared by the geometry ([`MeshError::UnknownParameter`]), gmsh cannot be
-/// started ([`MeshError::GmshNotFound`]) or reports errors ([`MeshError::GmshFailed`], with
-/// gmsh's own lines).
+/// parameter is not declared by the geometry ([`MeshError::UnknownParameter`]) or lies outside
+/// its declared bounds ([`MeshError::ParameterOutOfRange`]), gmsh cannot be started
+/// ([`MeshError::GmshNotFound`]), reports errors ([`MeshError::GmshFailed`], with gmsh's own
+/// lines, repeated lines counted) or runs past its time limit ([`MeshError::GmshTimeout`]).
 pub fn mesh(req: &MeshRequest, cache: &Path) -> Result<Meshed, MeshError> {
     let geo = &req.geometry;
     if !(req.order == 1 || req.order == 2) {
@@ -353,6 +273,7 @@ pub fn mesh(req: &MeshRequest, cache: &Path) -> Result<Meshed, MeshError> {
     }
     let (text, hash_text, deps) = geo_text(req)?;
     check_parameters(req, &text)?;
+    let limit = time_limit(req)?;
     let key = key_of(req, &hash_text, &deps);
     let stem = geo
         .file_stem()
@@ -370,33 +291,34 @@ pub fn mesh(req: &MeshRequest, cache: &Path) -> Result<Meshed, MeshError> {
         file: cache.to_path_buf(),
         source: e,
     })?;
-    let tag = format!("{}-{}", std::process::id(), unique());
-    let tmp = cache.join(format!(".{stem}-{key}.{tag}.msh"));
+    remove_stale_temporaries(cache);
+    let scratch = Scratch::new(cache)?;
     // CAD files get a generated wrapper next to the output.
-    let (input, wrapper) = if is_cad(geo) {
-        let w = cache.join(format!(".{stem}-{key}.{tag}.geo"));
-        std::fs::write(&w, &text).map_err(|e| MeshError::Io {
-            file: w.clone(),
+    let input = if is_cad(geo) {
+        std::fs::write(&scratch.geo, &text).map_err(|e| MeshError::Io {
+            file: scratch.geo.clone(),
             source: e,
         })?;
-        (w.clone(), Some(w))
+        scratch.geo.clone()
     } else {
-        (geo.clone(), None)
+        geo.clone()
     };
     let program = gmsh_program();
-    let result = gmsh_command(&program, req, &input, &tmp).output();
-    if let Some(w) = &wrapper {
-        let _ = std::fs::remove_file(w);
-    }
-    let output = result.map_err(|e| MeshError::GmshNotFound {
+    let cmd = gmsh_command(&program, req, &input, &scratch.msh);
+    let finished = process::run(
+        cmd,
+        limit,
+        &[&scratch.msh, &scratch.geo, &scratch.lock_path],
+    )
+    .map_err(|e| MeshError::GmshNotFound {
         geometry: geo.clone(),
         program: program.clone(),
         message: e.to_string(),
     })?;
-    check_gmsh_output(geo, &output, &tmp)?;
+    check_gmsh_output(geo, finished, &scratch.msh, limit)?;
     // Provenance beside the mesh: how it was made.
     let _ = std::fs::write(out.with_extension("toml"), provenance(req, &key));
-    std::fs::rename(&tmp, &out).map_err(|e| MeshError::Io {
+    std::fs::rename(&scratch.msh, &out).map_err(|e| MeshError::Io {
         file: out.clone(),
         source: e,
     })?;
@@ -407,23 +329,164 @@ pub fn mesh(req: &MeshRequest, cache: &Path) -> Result<Meshed, MeshError> {
     })
 }
 
-/// Every `-setnumber` parameter of `req` must be declared by the geometry's `DefineConstant`
-/// (`text`: the geometry's source); CAD files declare none.
+/// The time limit of a request: its own, else `$RUBSIM_GMSH_TIMEOUT` (seconds, positive),
+/// else [`DEFAULT_TIME_LIMIT`].
+pub fn time_limit(req: &MeshRequest) -> Result<Duration, MeshError> {
+    if let Some(t) = req.time_limit {
+        return Ok(t);
+    }
+    match std::env::var("RUBSIM_GMSH_TIMEOUT") {
+        Err(_) => Ok(DEFAULT_TIME_LIMIT),
+        Ok(v) => v
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|s| s.is_finite() && *s > 0.0 && *s < 1e9)
+            .map(Duration::from_secs_f64)
+            .ok_or_else(|| MeshError::GmshFailed {
+                geometry: req.geometry.clone(),
+                status: None,
+                message: format!(
+                    "RUBSIM_GMSH_TIMEOUT=`{v}`: expected a positive number of seconds"
+                ),
+            }),
+    }
+}
+
+/// Prefix of the temporary files of a running gmsh in the cache.
+const TEMP_PREFIX: &str = ".rubsim-gmsh-";
+
+/// The temporary files of one gmsh run (`.rubsim-gmsh-<pid>-<n>.{msh,geo,lock}` in the cache)
+/// and the lock that marks them live; dropping it removes them.
+struct Scratch {
+    msh: PathBuf,
+    geo: PathBuf,
+    lock_path: PathBuf,
+    _lock: std::fs::File,
+}
+
+impl Scratch {
+    /// Creates and locks `.rubsim-gmsh-<pid>-<n>.lock` (created under another name, locked,
+    /// then renamed, so a cleaner never sees it unlocked).
+    fn new(cache: &Path) -> Result<Self, MeshError> {
+        let tag = format!("{TEMP_PREFIX}{}-{}", std::process::id(), unique());
+        let io = |file: &Path| {
+            let file = file.to_path_buf();
+            move |source| MeshError::Io { file, source }
+        };
+        let locking = cache.join(format!("{tag}.locking"));
+        let lock_path = cache.join(format!("{tag}.lock"));
+        let lock = std::fs::File::create(&locking).map_err(io(&locking))?;
+        if !try_lock(&lock) {
+            let _ = std::fs::remove_file(&locking);
+            return Err(MeshError::Io {
+                file: locking,
+                source: std::io::Error::other("cannot lock"),
+            });
+        }
+        std::fs::rename(&locking, &lock_path).map_err(io(&lock_path))?;
+        Ok(Scratch {
+            msh: cache.join(format!("{tag}.msh")),
+            geo: cache.join(format!("{tag}.geo")),
+            lock_path,
+            _lock: lock,
+        })
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.msh);
+        let _ = std::fs::remove_file(&self.geo);
+        let _ = std::fs::remove_file(&self.lock_path);
+    }
+}
+
+/// An exclusive `flock` without waiting: true when taken.
+fn try_lock(f: &std::fs::File) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::io::AsRawFd;
+        // SAFETY: flock on a descriptor we own.
+        unsafe { libc::flock(f.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) == 0 }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = f;
+        true
+    }
+}
+
+/// Removes the temporary files of gmsh runs that are over (their lock is free: the rubsim that
+/// ran them was killed), and stray lock files older than an hour that were never renamed.
+fn remove_stale_temporaries(cache: &Path) {
+    let Ok(rd) = std::fs::read_dir(cache) else {
+        return;
+    };
+    let names: Vec<String> = rd
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(TEMP_PREFIX))
+        .collect();
+    for n in &names {
+        if let Some(tag) = n.strip_suffix(".lock") {
+            let path = cache.join(n);
+            let free = std::fs::File::open(&path).is_ok_and(|f| try_lock(&f));
+            if free {
+                for ext in ["msh", "geo"] {
+                    let _ = std::fs::remove_file(cache.join(format!("{tag}.{ext}")));
+                }
+                let _ = std::fs::remove_file(&path);
+            }
+        } else if n.ends_with(".locking") {
+            let path = cache.join(n);
+            let old = std::fs::metadata(&path)
+                .and_then(|m| m.modified())
+                .ok()
+                .and_then(|t| t.elapsed().ok())
+                .is_some_and(|age| age > Duration::from_secs(3600));
+            if old {
+                let _ = std::fs::remove_file(&path);
+            }
+        } else {
+            // A `.msh`/`.geo` without its lock file: its run is over.
+            let tag = n.rsplit_once('.').map_or(n.as_str(), |(t, _)| t);
+            if !names.iter().any(|m| m == &format!("{tag}.lock")) {
+                let _ = std::fs::remove_file(cache.join(n));
+            }
+        }
+    }
+}
+
+/// Every `-setnumber` parameter of `req` must be finite, declared by the geometry's
+/// `DefineConstant` (`text`: the geometry's source; CAD files declare none) and within the
+/// `Min`/`Max` bounds of its declaration.
 fn check_parameters(req: &MeshRequest, text: &str) -> Result<(), MeshError> {
     if req.parameters.is_empty() {
         return Ok(());
     }
-    let known = if is_cad(&req.geometry) {
+    let declared = if is_cad(&req.geometry) {
         vec![]
     } else {
-        defined_parameters(text)
+        declared_parameters(text)
     };
-    for name in req.parameters.keys() {
-        if !known.contains(name) {
+    for (name, &value) in &req.parameters {
+        let Some(d) = declared.iter().find(|d| &d.name == name) else {
             return Err(MeshError::UnknownParameter {
                 geometry: req.geometry.clone(),
                 name: name.clone(),
-                known,
+                known: declared.iter().map(|d| d.name.clone()).collect(),
+            });
+        };
+        let below = d.min.is_some_and(|m| value < m);
+        let above = d.max.is_some_and(|m| value > m);
+        if !value.is_finite() || below || above {
+            return Err(MeshError::ParameterOutOfRange {
+                geometry: req.geometry.clone(),
+                name: name.clone(),
+                value,
+                min: d.min,
+                max: d.max,
             });
         }
     }
@@ -454,42 +517,75 @@ fn gmsh_command(program: &str, req: &MeshRequest, input: &Path, tmp: &Path) -> C
     cmd
 }
 
-/// gmsh failed when it exited with an error status, printed `Error` lines or wrote no mesh to
-/// `tmp` (then removed): [`MeshError::GmshFailed`] with its error lines, or its last 20 lines.
+/// gmsh failed when it ran past `limit`, exited with an error status, printed `Error` lines or
+/// wrote no mesh to `tmp`: [`MeshError::GmshTimeout`] with its last lines, or
+/// [`MeshError::GmshFailed`] with its error lines (or its last 20 lines), each distinct line
+/// once with its count.
 fn check_gmsh_output(
     geo: &Path,
-    output: &std::process::Output,
+    finished: Finished,
     tmp: &Path,
+    limit: Duration,
 ) -> Result<(), MeshError> {
-    let all = format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let errors: Vec<&str> = all
-        .lines()
-        .filter(|l| l.trim_start().starts_with("Error"))
-        .collect();
+    let (status, output) = match finished {
+        Finished::TimedOut { output } => {
+            return Err(MeshError::GmshTimeout {
+                geometry: geo.to_path_buf(),
+                limit_s: limit.as_secs_f64(),
+                message: match last_lines(&output, 10) {
+                    l if l.trim().is_empty() => "(gmsh printed nothing)".into(),
+                    l => l,
+                },
+            })
+        }
+        Finished::Exited { status, output } => (status, output),
+    };
+    let is_error = |l: &str| l.trim_start().starts_with("Error") && !gmsh_summary_line(l);
+    let has_errors = output.lines.iter().any(|(l, _)| is_error(l));
     let produced = std::fs::metadata(tmp).map(|m| m.len() > 0).unwrap_or(false);
-    if output.status.success() && errors.is_empty() && produced {
+    if status.success() && !has_errors && produced {
         return Ok(());
     }
-    let _ = std::fs::remove_file(tmp);
-    let message = if errors.is_empty() {
-        let tail: Vec<&str> = all.lines().rev().take(20).collect();
-        tail.into_iter().rev().collect::<Vec<_>>().join("\n")
+    let message = if has_errors {
+        output.render(is_error)
     } else {
-        errors.join("\n")
+        last_lines(&output, 20)
     };
     Err(MeshError::GmshFailed {
         geometry: geo.to_path_buf(),
-        status: output.status.code(),
+        status: status.code(),
         message: if message.trim().is_empty() {
             "no mesh written and no message".into()
         } else {
             message
         },
     })
+}
+
+/// Lines of gmsh's closing error summary (`Mesh generation error summary`, `N errors`, …), which
+/// repeat what the error lines say.
+fn gmsh_summary_line(l: &str) -> bool {
+    let body = l.split_once(':').map_or(l, |(_, b)| b).trim();
+    let words: Vec<&str> = body.split_whitespace().collect();
+    let count = matches!(
+        words.as_slice(),
+        [n, "error" | "errors" | "warning" | "warnings"] if n.parse::<u64>().is_ok()
+    );
+    count
+        || body.is_empty()
+        || body.chars().all(|c| c == '-')
+        || body == "Mesh generation error summary"
+        || body == "Check the full log for details"
+}
+
+/// The last `n` distinct lines of a condensed output (with their counts).
+fn last_lines(output: &Condensed, n: usize) -> String {
+    let skip = output.lines.len().saturating_sub(n);
+    let tail = Condensed {
+        lines: output.lines[skip..].to_vec(),
+        dropped: output.dropped,
+    };
+    tail.render(|_| true)
 }
 
 /// The provenance file written beside a cached mesh (TOML): geometry, key, options, parameters.
@@ -524,20 +620,6 @@ fn unique() -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn finds_declared_parameters_and_imports() {
-        let geo = r#"
-// DefineConstant[ commented = 1 ];
-DefineConstant[ ri = 0.06, ro = {0.08, Min 0.07, Name "Parameters/ro"},
-  h = 0.004 ];
-/* Merge "ignored.step"; */
-v() = ShapeFromFile( "part.step" );
-Include "common.geo";
-"#;
-        assert_eq!(defined_parameters(geo), vec!["h", "ri", "ro"]);
-        assert_eq!(referenced_files(geo), vec!["part.step", "common.geo"]);
-    }
 
     #[test]
     fn key_changes_with_every_input() {

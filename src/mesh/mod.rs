@@ -18,12 +18,16 @@
 //! reads MSH 4.1 (ASCII or binary) with the `mshio` crate plus the `$PhysicalNames` section,
 //! which `mshio` does not parse.
 //!
-//! The reader lives in `msh`, the topology (group nodes, facets, outward normals, the
+//! [`geo`] reads what rubsim needs of a `.geo` text (declared parameters and their bounds,
+//! imported files); [`process`] runs gmsh under a time limit, in its own process group, killed
+//! with rubsim, its output condensed. The reader lives in `msh`, the topology (group nodes, facets, outward normals, the
 //! conformity check) in `topology`, the report of a mesh ([`Mesh::summary`]) in `summary`;
 //! they add methods to [`Mesh`].
 
+pub mod geo;
 pub mod gmsh;
 mod msh;
+pub mod process;
 mod summary;
 mod topology;
 

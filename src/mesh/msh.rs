@@ -41,7 +41,10 @@ impl Mesh {
             message,
         };
         check_version(bytes).map_err(parse_err)?;
-        let msh = mshio::parse_msh_bytes(bytes).map_err(|e| parse_err(mshio_message(bytes, &e)))?;
+        for section in ["$Nodes", "$Elements"] {
+            check_section_header(bytes, section).map_err(parse_err)?;
+        }
+        let msh = parse_with_mshio(bytes).map_err(parse_err)?;
         let names = physical_names(bytes).map_err(parse_err)?;
         let (nodes, node_tags) = read_nodes(&msh);
         let index: HashMap<u64, usize> =
@@ -85,17 +88,78 @@ fn check_version(bytes: &[u8]) -> Result<(), String> {
         return Err("the file does not start with $MeshFormat (not a gmsh .msh file?)".into());
     }
     let header = String::from_utf8_lossy(&bytes[..bytes.len().min(64)]);
-    let version = header
-        .lines()
-        .nth(1)
-        .and_then(|l| l.split_whitespace().next());
+    let line = header.lines().nth(1).unwrap_or_default();
+    let fields: Vec<&str> = line.split_whitespace().collect();
+    let version = fields.first().copied();
+    let binary = fields.get(1) == Some(&"1");
     if version != Some("4.1") {
         return Err(format!(
-            "MSH format version {} (rubsim reads 4.1: mesh with `-format msh41`)",
-            version.unwrap_or("?")
+            "MSH format version {}{} (rubsim reads MSH 4.1, ASCII or binary: mesh with `-format msh41`, or convert with `gmsh FILE.msh -save -format msh41 -o NEW.msh`)",
+            version.unwrap_or("?"),
+            if binary { ", binary" } else { "" }
+        ));
+    }
+    // `version file-type data-size`: 0 ASCII or 1 binary, and 8-byte size_t (what gmsh writes;
+    // the parser has no reader for other sizes).
+    if fields.len() != 3 || !matches!(fields[1], "0" | "1") || fields[2] != "8" {
+        return Err(format!(
+            "line 2: the format line `{}` is not `4.1 0 8` (ASCII) or `4.1 1 8` (binary)",
+            line.trim()
         ));
     }
     Ok(())
+}
+
+/// Checks the counts that open `$Nodes` or `$Elements` (`numEntityBlocks num minTag maxTag`,
+/// text or 8-byte binary): at least one entry and `minTag ≤ maxTag` (`mshio` subtracts them
+/// unchecked; found by fuzzing).
+fn check_section_header(bytes: &[u8], section: &str) -> Result<(), String> {
+    let Some(start) = find(bytes, format!("{section}\n").as_bytes()) else {
+        return Ok(());
+    };
+    let body = &bytes[start + section.len() + 1..];
+    let binary = bytes
+        .get(..64)
+        .is_some_and(|h| find(h, b"4.1 1 8").is_some());
+    let v: Vec<u64> = if binary {
+        body.chunks_exact(8)
+            .take(4)
+            .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+            .collect()
+    } else {
+        let line = body.split(|&b| b == b'\n').next().unwrap_or_default();
+        String::from_utf8_lossy(line)
+            .split_whitespace()
+            .take(4)
+            .map_while(|t| t.parse().ok())
+            .collect()
+    };
+    match v.as_slice() {
+        [_, n, lo, hi] if *n >= 1 && lo <= hi => Ok(()),
+        [_, 0, _, _] => Err(format!("{section} holds no entries")),
+        [_, _, lo, hi] => Err(format!(
+            "{section}: smallest tag {lo} above the largest {hi}"
+        )),
+        _ => Err(format!("{section}: cannot read the section's counts")),
+    }
+}
+
+/// The file through `mshio`. The input is checked before (header, see [`check_version`]) for
+/// what `mshio` is known to panic on; a panic that remains is caught and reported as an error
+/// rather than taking the program down (the fuzz target `msh` finds them: it aborts on any).
+fn parse_with_mshio(bytes: &[u8]) -> Result<MshFile, String> {
+    match std::panic::catch_unwind(|| {
+        mshio::parse_msh_bytes(bytes).map_err(|e| mshio_message(bytes, &e))
+    }) {
+        Ok(r) => r,
+        Err(p) => Err(format!(
+            "the MSH parser failed on this file ({})",
+            p.downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| p.downcast_ref::<&str>().copied())
+                .unwrap_or("no message")
+        )),
+    }
 }
 
 /// A `mshio` parse error as `line N: what: why` (outermost context first).
@@ -302,6 +366,25 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("old.msh") && e.contains("2.2"), "{e}");
+        // Found by fuzzing: a data size other than 8 made the parser panic.
+        let e = Mesh::parse(
+            Path::new("odd.msh"),
+            b"$MeshFormat\n4.1 1 9\n\x01\0\0\0\n$EndMeshFormat\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("odd.msh") && e.contains("`4.1 1 9`"), "{e}");
+        // Found by fuzzing: a smallest node tag above the largest (mshio subtracts them).
+        let e = Mesh::parse(
+            Path::new("tags.msh"),
+            b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 5 1\n$EndNodes\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("tags.msh") && e.contains("$Nodes: smallest tag 5"),
+            "{e}"
+        );
         let e = Mesh::parse(Path::new("x.msh"), b"hello")
             .unwrap_err()
             .to_string();

@@ -156,7 +156,9 @@ pub fn resolve(
             approach_deg: spec.approach_deg,
         },
     };
-    let (mesh, geometry, from_cache) = load_mesh(spec, &ls.file)?;
+    check_msh_options(ls, i, spec)?;
+    let (mesh, geometry, from_cache) =
+        load_mesh(spec, &ls.file).map_err(|e| parameter_key(ls, i, e))?;
     let body = body(&mesh, &params)?;
     Ok(MeshStatorInput {
         params,
@@ -167,6 +169,58 @@ pub fn resolve(
         geometry,
         from_cache,
     })
+}
+
+/// True when a stator's geometry names a mesh file (`.msh`), read as it is.
+fn is_msh(geometry: &str) -> bool {
+    Path::new(geometry)
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("msh"))
+}
+
+/// A `.msh` geometry is read as it is: the keys that only tell gmsh how to mesh a geometry
+/// (`parameters`, `order`, `quads`, `serendipity`, `size_factor`) are refused, naming the key,
+/// rather than ignored.
+fn check_msh_options(ls: &LoadedScene, i: usize, spec: &MeshStatorSpec) -> Result<(), Error> {
+    if !is_msh(&spec.geometry) {
+        return Ok(());
+    }
+    let key = if let Some(name) = spec.parameters.keys().next() {
+        format!("parameters.{name}")
+    } else if spec.order != 1 {
+        "order".into()
+    } else if spec.quads {
+        "quads".into()
+    } else if spec.serendipity {
+        "serendipity".into()
+    } else if spec.size_factor != 1.0 {
+        "size_factor".into()
+    } else {
+        return Ok(());
+    };
+    let what = key.split('.').next().unwrap_or_default();
+    Err(ls
+        .invalid(
+            &format!("stator.{i}.{key}"),
+            format!(
+                "`{}` is a mesh, read as it is: `{what}` applies only to a geometry gmsh meshes (`.geo` or CAD); remove it, or name the geometry the mesh came from",
+                spec.geometry
+            ),
+        )
+        .into())
+}
+
+/// A parameter error of gmsh's request, reported at the scene key that set the parameter
+/// (`stator.<i>.parameters.<name>`, with its line); other errors as they are.
+fn parameter_key(ls: &LoadedScene, i: usize, e: MeshError) -> Error {
+    match &e {
+        MeshError::UnknownParameter { name, .. } | MeshError::ParameterOutOfRange { name, .. } => {
+            ls.invalid(&format!("stator.{i}.parameters.{name}"), e.to_string())
+                .into()
+        }
+        _ => e.into(),
+    }
 }
 
 /// Material of a continuum cell of a meshed stator.
@@ -483,6 +537,7 @@ pub fn load_mesh(
         serendipity: spec.serendipity,
         size_factor: spec.size_factor,
         referenced_by: Some(scene_file.to_path_buf()),
+        time_limit: None,
     };
     let (mesh, meshed) = gmsh::mesh_and_read(&req, &gmsh::default_cache_dir(&geo))?;
     Ok((mesh, geo, meshed.from_cache))
