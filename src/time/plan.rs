@@ -266,7 +266,7 @@ fn check_record(case: &Case, samples: f64) -> Result<(), SolveError> {
     Ok(())
 }
 
-/// Chooses Δt ([`choose_dt`]: the paper's rule capped by the stability limit, or the user's
+/// Chooses Δt (the paper's rule capped by the stability limit, or the user's
 /// checked Δt), then reduces it so a revolution holds a whole number of recorded samples and
 /// steps.
 ///
