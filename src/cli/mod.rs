@@ -30,6 +30,7 @@ use rubsim::analysis::{Keep, Prepared, RunSettings, SpeedResults};
 use rubsim::model::Model;
 use rubsim::results::ResultsSink;
 use rubsim::scene::{self, LoadedScene, OutputSpec};
+use rubsim::time::FrameSink;
 use std::path::{Path, PathBuf};
 
 #[derive(Parser)]
@@ -268,7 +269,7 @@ struct Progress {
     every: usize,
 }
 
-impl rubsim::time::FrameSink for Progress {
+impl FrameSink for Progress {
     fn every(&self) -> usize {
         self.every
     }
@@ -323,21 +324,7 @@ impl Series<'_> {
         keep: Keep,
         prefix: &str,
     ) -> rubsim::error::Result<(SpeedResults, Vec<String>)> {
-        let writer = ResultsSink::for_output(
-            model,
-            prep,
-            self.output,
-            self.scene_json,
-            self.staging,
-            prefix,
-        )?;
-        match writer {
-            None => Ok((prep.run(keep, &mut [])?, Vec::new())),
-            Some(mut w) => {
-                let r = prep.run(keep, &mut [&mut w])?;
-                Ok((r, w.finish()?))
-            }
-        }
+        self.run_with(model, prep, keep, prefix, None)
     }
 
     /// [`Series::run`] of a single run: its estimate on stderr first, and a progress bar on
@@ -353,7 +340,21 @@ impl Series<'_> {
         let Some(mut progress) = Progress::for_run(prep) else {
             return self.run(model, prep, keep, prefix);
         };
-        let writer = ResultsSink::for_output(
+        let out = self.run_with(model, prep, keep, prefix, Some(&mut progress));
+        progress.pb.finish_and_clear();
+        out
+    }
+
+    /// [`Series::run`] with one more sink (`extra`, e.g. a progress bar) beside the writers.
+    fn run_with(
+        &self,
+        model: &Model,
+        prep: &Prepared,
+        keep: Keep,
+        prefix: &str,
+        extra: Option<&mut dyn FrameSink>,
+    ) -> rubsim::error::Result<(SpeedResults, Vec<String>)> {
+        let mut writer = ResultsSink::for_output(
             model,
             prep,
             self.output,
@@ -361,15 +362,19 @@ impl Series<'_> {
             self.staging,
             prefix,
         )?;
-        let out = match writer {
-            None => Ok((prep.run(keep, &mut [&mut progress])?, Vec::new())),
-            Some(mut w) => {
-                let r = prep.run(keep, &mut [&mut w, &mut progress])?;
-                Ok((r, w.finish()?))
-            }
-        };
-        progress.pb.finish_and_clear();
-        out
+        let mut sinks: Vec<&mut dyn FrameSink> = Vec::with_capacity(2);
+        if let Some(w) = writer.as_mut() {
+            sinks.push(w);
+        }
+        if let Some(e) = extra {
+            sinks.push(e);
+        }
+        let r = prep.run(keep, &mut sinks)?;
+        drop(sinks);
+        match writer {
+            None => Ok((r, Vec::new())),
+            Some(w) => Ok((r, w.finish()?)),
+        }
     }
 }
 
