@@ -189,10 +189,12 @@ fn set_appends_an_array_entry_and_switches_alternative_keys() {
 
 #[test]
 fn absurd_plans_are_refused_with_the_figure_and_the_key() {
-    // A bearing of stiffness 0: ω_n collapses, a revolution lasts hours.
+    // A bearing of stiffness 0 leaves the rotor pivoting: refused as such when the model is
+    // built (`an_fe_rotor_without_a_bearing_is_blamed_on_its_bearings_not_on_a_stator`). A
+    // bearing of 1e-3 N/m holds it, barely: ω_n collapses, a revolution lasts minutes.
     refused(
         FE,
-        &["rotor.bearing.1.stiffness=0"],
+        &["rotor.bearing.1.stiffness=1e-3"],
         &["steps", "`run.max_steps`", "bearings"],
     );
     refused(
@@ -253,4 +255,26 @@ fn run_states_its_estimate_on_stderr_only() {
     assert!(success, "{stderr}");
     assert!(stderr.contains("estimate at ω/ωn = 1.700:"), "{stderr}");
     assert!(!stdout.contains("estimate"), "{stdout}");
+}
+
+#[test]
+fn an_fe_rotor_without_a_bearing_is_blamed_on_its_bearings_not_on_a_stator() {
+    // Issue 13, item 8: removing an FE rotor bearing (a zero stiffness, or both bearings on one
+    // node) failed with "stator rod stiffness: matrix is singular … fix more DOFs": the rod's
+    // stiffness ε k_r was round-off because k_r came from a numerically singular rotor K.
+    for set in ["rotor.bearing.0.stiffness=0", "rotor.bearing.1.node=0"] {
+        let err = refused(FE, &[set], &["rotor stiffness", "`rotor.bearing`"]);
+        assert!(!err.contains("stator"), "{set}: blames a stator: {err}");
+    }
+}
+
+#[test]
+fn huge_speed_profile_values_are_refused_naming_the_key() {
+    // A speed profile to 1e308 × ω_n overflowed to an infinite speed and was reported without
+    // its key ("speed profile: point 1 is not finite").
+    refused(
+        "scenes/transients/paper_runup.toml",
+        &["run.speed_profile.to=1e308"],
+        &["`run.speed_profile.to`", "1e100"],
+    );
 }

@@ -469,14 +469,24 @@ impl FeRotor {
     pub fn node_stiffness(&self, node: usize) -> Result<f64, ModelError> {
         let nl = self.ndof_lateral;
         let k = dense(&self.k(0.0)).view((0, 0), (nl, nl)).into_owned();
+        let k_scale = k.diagonal().amax();
         let lu = k.lu();
         let mut e = DVector::zeros(nl);
         e[4 * node + 1] = 1.0;
-        let x = lu.solve(&e).ok_or_else(|| ModelError::Singular {
+        let singular = || {
+            ModelError::Singular {
             what: "rotor stiffness".into(),
-            detail: "singular: the bearings do not hold the rotor in every direction".into(),
-        })?;
-        Ok(1.0 / x[4 * node + 1])
+            detail: "singular: the bearings do not hold the rotor in every direction (`rotor.bearing` stiffnesses: a rotor on one bearing, or on a bearing of zero stiffness, pivots)".into(),
+        }
+        };
+        let x = lu.solve(&e).ok_or_else(singular)?;
+        let kd = 1.0 / x[4 * node + 1];
+        // A numerically singular K solves to a huge flexibility: the reference stiffness is then
+        // round-off, not the rotor's (and ε k_r would make every ratio-given stator singular).
+        if !(kd.is_finite() && kd > 1e-12 * k_scale) {
+            return Err(singular());
+        }
+        Ok(kd)
     }
 }
 

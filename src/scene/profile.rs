@@ -114,6 +114,7 @@ fn speed_ok(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
     if !v.is_finite() {
         return Err(ls.invalid(key, format!("must be a finite speed, got {v}")));
     }
+    super::validate::finite(ls, key, v)?;
     if v < 0.0 {
         return Err(ls.invalid(
             key,
@@ -238,6 +239,7 @@ fn table_ok(ls: &LoadedScene, pts: &[[f64; 2]]) -> Result<(), SceneError> {
         if !t.is_finite() || *t < 0.0 {
             return Err(ls.invalid(&key, format!("time must be finite and ≥ 0, got {t}")));
         }
+        super::validate::finite(ls, &key, *t)?;
         if i == 0 && *t != 0.0 {
             return Err(ls.invalid(&key, format!("the table must start at t = 0, got {t}")));
         }
