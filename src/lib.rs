@@ -75,6 +75,7 @@ pub mod assembly;
 pub mod contact;
 pub mod element;
 pub mod error;
+pub mod fslock;
 pub mod linalg;
 pub mod math;
 pub mod mesh;

@@ -377,7 +377,7 @@ impl Scratch {
         let locking = cache.join(format!("{tag}.locking"));
         let lock_path = cache.join(format!("{tag}.lock"));
         let lock = std::fs::File::create(&locking).map_err(io(&locking))?;
-        if !try_lock(&lock) {
+        if !crate::fslock::try_lock(&lock).unwrap_or(false) {
             let _ = std::fs::remove_file(&locking);
             return Err(MeshError::Io {
                 file: locking,
@@ -402,21 +402,6 @@ impl Drop for Scratch {
     }
 }
 
-/// An exclusive `flock` without waiting: true when taken.
-fn try_lock(f: &std::fs::File) -> bool {
-    #[cfg(unix)]
-    {
-        use std::os::unix::io::AsRawFd;
-        // SAFETY: flock on a descriptor we own.
-        unsafe { libc::flock(f.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) == 0 }
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = f;
-        true
-    }
-}
-
 /// Removes the temporary files of gmsh runs that are over (their lock is free: the rubsim that
 /// ran them was killed), and stray lock files older than an hour that were never renamed.
 fn remove_stale_temporaries(cache: &Path) {
@@ -431,7 +416,8 @@ fn remove_stale_temporaries(cache: &Path) {
     for n in &names {
         if let Some(tag) = n.strip_suffix(".lock") {
             let path = cache.join(n);
-            let free = std::fs::File::open(&path).is_ok_and(|f| try_lock(&f));
+            let free = std::fs::File::open(&path)
+                .is_ok_and(|f| crate::fslock::try_lock(&f).unwrap_or(false));
             if free {
                 for ext in ["msh", "geo"] {
                     let _ = std::fs::remove_file(cache.join(format!("{tag}.{ext}")));

@@ -266,7 +266,7 @@ fn acquire_lock(dir: &Path) -> Result<File> {
                     format!("output directory is not writable (its lock file {LOCK}): {e}"),
                 )
             })?;
-        match try_lock(&f) {
+        match crate::fslock::try_lock(&f) {
             Ok(true) => {}
             Ok(false) => {
                 return Err(Error::output(
@@ -292,30 +292,6 @@ fn acquire_lock(dir: &Path) -> Result<File> {
         &path,
         "cannot lock the output directory: its lock file keeps being replaced",
     ))
-}
-
-/// Takes an exclusive advisory lock on `f` without waiting (`flock(LOCK_EX | LOCK_NB)`, held
-/// until the file is closed; std's `File::try_lock` needs a Rust above the crate's MSRV).
-/// `Ok(false)`: another process holds it.
-#[cfg(unix)]
-fn try_lock(f: &File) -> std::io::Result<bool> {
-    use std::os::unix::io::AsRawFd;
-    // SAFETY: flock(2) on a file descriptor that `f` owns and keeps open.
-    if unsafe { libc::flock(f.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } == 0 {
-        return Ok(true);
-    }
-    let e = std::io::Error::last_os_error();
-    if e.kind() == ErrorKind::WouldBlock {
-        Ok(false)
-    } else {
-        Err(e)
-    }
-}
-
-/// Elsewhere (rubsim is built and tested on Linux) the directory is not locked.
-#[cfg(not(unix))]
-fn try_lock(_: &File) -> std::io::Result<bool> {
-    Ok(true)
 }
 
 /// True when the open file `f` is the file at `path` (same device and inode).
