@@ -192,10 +192,7 @@ impl<'a> Stepper<'a> {
         let d0 = case.rotor.node_dofs[node];
         let mdiag = case.rotor.m.diagonal();
         let mut f0 = vec![0.0; n];
-        match self.spin {
-            Some(p) => case.rotor.add_unbalance_spin(p.at(0.0), &mut f0),
-            None => case.rotor.add_unbalance(case.omega, 0.0, &mut f0),
-        }
+        add_unbalance(case, self.spin, 0.0, &mut f0);
         let mut u0 = vec![0.0; n];
         let mut v0 = vec![0.0; n];
         for c in 0..2 {
@@ -353,16 +350,7 @@ impl<'a> Stepper<'a> {
     /// Predicts every body with mass with λ = 0 (Eqs. 35–36); forward increment: massless
     /// stators start undeformed (Eq. 49).
     fn predict(&mut self, t: f64) {
-        match self.spin {
-            Some(p) => self
-                .case
-                .rotor
-                .add_unbalance_spin(p.at(t), &mut self.rotor.rhs),
-            None => self
-                .case
-                .rotor
-                .add_unbalance(self.case.omega, t, &mut self.rotor.rhs),
-        }
+        add_unbalance(self.case, self.spin, t, &mut self.rotor.rhs);
         self.rotor.predict();
         let collocated = self.scheme == Scheme::Collocated;
         for st in self.stators.iter_mut() {
@@ -483,10 +471,7 @@ impl<'a> Stepper<'a> {
     /// forces (`Main`, or the collocated scheme's sum with the stators with mass).
     #[inline]
     fn record(&mut self, t: f64, forces: ForceSet, active: usize) {
-        let f = match forces {
-            ForceSet::Main => &self.ws.main,
-            ForceSet::WithMass => &self.ws.recorded,
-        };
+        let f = self.ws.instant_forces(forces);
         self.recorder
             .sample(t, &self.rotor.u, &f.total, &f.normal, self.energy, active);
     }
@@ -500,10 +485,7 @@ impl<'a> Stepper<'a> {
         if n == self.boundary {
             self.close_window(n);
         }
-        let f = match forces {
-            ForceSet::Main => &self.ws.main,
-            ForceSet::WithMass => &self.ws.recorded,
-        };
+        let f = self.ws.instant_forces(forces);
         let force = f.total.first().copied().unwrap_or_default();
         let gap = self.instant_gap;
         self.instant_gap = f64::INFINITY;
@@ -559,6 +541,16 @@ impl<'a> Stepper<'a> {
             time: t,
             source: Box::new(e),
         })
+    }
+}
+
+/// Adds the unbalance load at time `t` (s) to `rhs`: of the case's constant speed, or of the
+/// speed profile `spin` (φ(t), Ω(t), Ω̇(t), [`crate::model::RotorBody::add_unbalance_spin`]).
+#[inline]
+fn add_unbalance(case: &Case, spin: Option<&SpeedProfile>, t: f64, rhs: &mut [f64]) {
+    match spin {
+        Some(p) => case.rotor.add_unbalance_spin(p.at(t), rhs),
+        None => case.rotor.add_unbalance(case.omega, t, rhs),
     }
 }
 

@@ -149,6 +149,16 @@ impl StepWorkspace {
         }
     }
 
+    /// The station forces of an instant as recorded: `Main`, or (`WithMass`) the collocated
+    /// scheme's sum of the static forces and those of the stators with mass.
+    #[inline]
+    pub(crate) fn instant_forces(&self, which: ForceSet) -> &StationForces {
+        match which {
+            ForceSet::Main => &self.main,
+            ForceSet::WithMass => &self.recorded,
+        }
+    }
+
     /// Number of selected pairs that carry force after a solve.
     #[inline]
     pub(crate) fn active(&self) -> usize {
