@@ -42,18 +42,18 @@ pub struct TransientPrepared {
 /// Ω_ref = `spec.reference` (default ω_n), the plan at the profile's top speed.
 ///
 /// # Errors
-/// [`ModelError::Inconsistent`] for a rotor whose matrices depend on Ω
-/// ([`crate::model::Rotor::speed_dependent`]) or a profile that never spins; model and plan
+/// [`ModelError::Inconsistent`] for a rotor whose bearings are tabulated over speed
+/// ([`crate::model::Rotor::speed_tabulated`]) or a profile that never spins; model and plan
 /// errors as [`super::prepare`].
 pub fn prepare_transient(
     model: &Model,
     settings: &RunSettings,
     spec: &SpeedProfileSpec,
 ) -> Result<TransientPrepared> {
-    if model.rotor.speed_dependent() {
+    if model.rotor.speed_tabulated() {
         return Err(ModelError::Inconsistent {
             what: "run.speed_profile".into(),
-            message: "this rotor's matrices depend on the speed (gyroscopics Ω G or speed-tabulated bearings); speed transients of such rotors are not implemented yet — set `rotor.gyroscopic = false` and constant bearings, or run single speeds".into(),
+            message: "this rotor's bearings are tabulated over speed (K(Ω), C(Ω)); speed transients of such rotors are not implemented — use constant bearing coefficients, or run single speeds".into(),
         }
         .into());
     }

@@ -22,7 +22,7 @@ use crate::assembly::scatter;
 use crate::element::timoshenko::{axial_element, disk, shaft_element, torsion_element};
 use crate::error::ModelError;
 use crate::linalg::{Csc, LowRank};
-use crate::model::rotor::{RotorBody, UnbalanceLoad};
+use crate::model::rotor::{Gyroscopic, RotorBody, UnbalanceLoad};
 pub use crate::resolve::rotor::{Bearing, Disk, FeRotorData, GroundSpring, ModalDamping};
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
@@ -403,7 +403,15 @@ impl FeRotor {
             node_torsion: self.node_torsion.clone(),
             node_z: self.z.clone(),
             unbalance: self.unbalance.clone(),
+            gyro: self.gyroscopic(),
         })
+    }
+
+    /// G and K_st of the rotor ([`crate::model::rotor::Gyroscopic`]); `None` without rotary
+    /// inertia. The y–z plane's DOFs are each shaft node's `u_y` and `θ_x` (`4i + 1`, `4i + 2`).
+    pub fn gyroscopic(&self) -> Option<Gyroscopic> {
+        let shaft = 4 * self.nodes();
+        Gyroscopic::new(&self.g, |d| d < shaft && matches!(d % 4, 1 | 2))
     }
 
     /// Undamped natural frequencies at rest without gyroscopics (rad/s), ascending, from the

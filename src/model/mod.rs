@@ -151,17 +151,13 @@ impl Rotor {
             ),
         })
     }
-    /// Whether the rotor's step matrices depend on the spin speed Ω: an FE rotor with
-    /// gyroscopics (C contains Ω G) or with a speed-tabulated bearing (K(Ω), C(Ω)). A transient
-    /// run of such a rotor would need its step operators to follow Ω(t) (and the Ω̇ K_st term
-    /// of the Timoshenko element), which is not implemented yet.
-    pub fn speed_dependent(&self) -> bool {
+    /// Whether a bearing's coefficients are tabulated over speed (K(Ω), C(Ω)): a transient run
+    /// of such a rotor would need its stiffness and damping to follow Ω(t), which is not
+    /// implemented. (The gyroscopic terms Ω G and Ω̇ K_st are: `time::spin`.)
+    pub fn speed_tabulated(&self) -> bool {
         match self {
             Rotor::Jeffcott(_) => false,
-            Rotor::Fe(f) => {
-                f.rotor.g.values().iter().any(|v| *v != 0.0)
-                    || f.rotor.bearings.iter().any(|b| b.speeds.len() >= 2)
-            }
+            Rotor::Fe(f) => f.rotor.bearings.iter().any(|b| b.speeds.len() >= 2),
         }
     }
     /// Number of rotor nodes.

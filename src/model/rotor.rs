@@ -53,6 +53,47 @@ pub struct RotorBody {
     pub node_z: Vec<f64>,
     /// Unbalance loads.
     pub unbalance: Vec<UnbalanceLoad>,
+    /// The speed-dependent terms of a gyroscopic rotor, for a varying speed; `None` when the
+    /// rotor has none (Jeffcott rotors, FE rotors without rotary inertia).
+    pub gyro: Option<Gyroscopic>,
+}
+
+/// The gyroscopic terms of a spinning rotor under a varying speed Ω(t) (rad/s), per unit
+/// speed and acceleration: the equations read
+/// `M q̈ + (C + Ω G) q̇ + (K + Ω̇ K_st) q = f(t)`.
+///
+/// Derivation (small tilts, spin about +z): the first rotation θ_x about the fixed x axis, then
+/// θ_y about the turned y axis, then the spin φ about the section's axis. The angular velocity
+/// along that axis is `φ̇ + θ̇_x θ_y` to second order, so a section of polar inertia I_p has the
+/// kinetic energy `½ I_p (φ̇ + θ̇_x θ_y)² ≈ ½ I_p Ω² + I_p Ω θ̇_x θ_y`. Over the rotor this is
+/// `T_g = Ω q̇ᵀ A q` with A nonzero only in the y–z plane's rows (u_y, θ_x) and the x–z
+/// plane's columns (u_x, θ_y) (A = ρ I_p ∫ N_θxᵀ N_θy dz for a shaft element, I_p at (θ_x, θ_y)
+/// for a disk). Lagrange's equations give `d/dt(Ω A q) − Ω Aᵀ q̇ = Ω (A − Aᵀ) q̇ + Ω̇ A q`:
+/// `G = A − Aᵀ` (skew-symmetric, as assembled by [`crate::element::timoshenko`]) and
+/// `K_st = A`, the part of G in the y–z plane's rows — the one-plane form of ROSS's `Kst`. At
+/// a disk: `I_d θ̈_x + I_p Ω θ̇_y + I_p Ω̇ θ_y = M_x`, `I_d θ̈_y − I_p Ω θ̇_x = M_y`. The drive
+/// torque I_p Ω̇ acts about the section's axis in this form (the generalised force of φ).
+#[derive(Debug, Clone)]
+pub struct Gyroscopic {
+    /// G per unit spin (kg·m²), skew-symmetric.
+    pub g: Csc,
+    /// K_st per unit angular acceleration (kg·m²): G's entries in the y–z plane's rows.
+    pub k_st: Csc,
+}
+
+impl Gyroscopic {
+    /// The terms of `g` (G per unit spin) on a rotor whose y–z-plane DOFs (u_y, θ_x) are those
+    /// for which `yz(dof)` holds; `None` when G is zero.
+    pub fn new(g: &Csc, yz: impl Fn(usize) -> bool) -> Option<Self> {
+        if g.values().iter().all(|v| *v == 0.0) {
+            return None;
+        }
+        let t: Vec<(usize, usize, f64)> = g.triplets().filter(|(r, _, _)| yz(*r)).collect();
+        Some(Self {
+            g: g.clone(),
+            k_st: Csc::from_triplets(g.nrows(), g.ncols(), &t),
+        })
+    }
 }
 
 impl RotorBody {
@@ -164,6 +205,7 @@ impl Jeffcott {
             node_torsion: vec![None],
             node_z: vec![0.0],
             unbalance: self.unbalance.clone(),
+            gyro: None,
         }
     }
 }

@@ -147,6 +147,23 @@ impl DynBody {
         }
     }
 
+    /// `u_next += M̃⁻¹ r`; `r` is overwritten.
+    pub(crate) fn correct(&mut self, r: &mut [f64]) {
+        match &mut self.minv {
+            MInv::Diag(inv) => {
+                for ((u, r), d) in self.u_next.iter_mut().zip(r.iter()).zip(inv.iter()) {
+                    *u += d * r;
+                }
+            }
+            MInv::Lu { lu, .. } => {
+                lu.solve_in_place(r);
+                for (u, r) in self.u_next.iter_mut().zip(r.iter()) {
+                    *u += r;
+                }
+            }
+        }
+    }
+
     #[inline]
     pub(crate) fn flex(&self, a: usize, b: usize) -> f64 {
         match &self.minv {

@@ -7,8 +7,10 @@ use super::frame::{Frame, FrameSink};
 use super::plan::{Scheme, StepPlan};
 use super::record::{ContactStats, Record, Recorder, RunStats};
 use super::select::{Pairs, Phase};
+use super::spin::GyroLoad;
 use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::error::{LinalgError, SolveError};
+use crate::linalg::Cholesky;
 use crate::math::V2;
 use crate::model::{Case, SpeedProfile};
 use std::time::Instant;
@@ -42,6 +44,8 @@ pub struct Stepper<'a> {
     /// The speed of a transient run; `None`: the case's constant speed (the constant-speed
     /// path, unchanged).
     spin: Option<&'a SpeedProfile>,
+    /// A gyroscopic rotor's load of the speed's change (a transient run only).
+    gyro: Option<GyroLoad<'a>>,
     plan: StepPlan,
     scheme: Scheme,
     pub(crate) pairs: Pairs,
@@ -93,9 +97,10 @@ impl<'a> Stepper<'a> {
     /// [`Stepper::new`] for a speed that follows `spin` (a transient run; `None`: the case's
     /// constant speed). The profile sets the unbalance load of every step
     /// ([`crate::model::RotorBody::add_unbalance_spin`]: φ(t), Ω(t), Ω̇(t)); the step
-    /// operators are the case's, which is exact when the rotor's matrices do not depend on Ω
-    /// (Jeffcott rotors, FE rotors without gyroscopics or speed-tabulated bearings: see
-    /// [`crate::model::Rotor::speed_dependent`]). The tangent `a = Ω × n` depends only on the
+    /// operators are the case's, factored at its speed, and a gyroscopic rotor's
+    /// `(Ω − Ω_case) G q̇ + Ω̇ K_st q` enters the prediction's load explicitly (`time::spin`).
+    /// Bearings tabulated over speed are not followed (see
+    /// [`crate::model::Rotor::speed_tabulated`]). The tangent `a = Ω × n` depends only on the
     /// sign of Ω, which a profile keeps.
     ///
     /// # Errors
@@ -155,9 +160,14 @@ impl<'a> Stepper<'a> {
             case.rotor.node_dofs[node0],
             plan.steps / plan.record_every + 2,
         );
+        let gyro = match (spin, &case.rotor.gyro) {
+            (Some(_), Some(g)) => Some(GyroLoad::new(g, case.omega, dt)),
+            _ => None,
+        };
         let mut st = Self {
             case,
             spin,
+            gyro,
             plan: *plan,
             scheme,
             ws: StepWorkspace::new(pairs.len(), case.stations.len()),
@@ -185,7 +195,8 @@ impl<'a> Stepper<'a> {
     }
 
     /// uⁿ and uⁿ⁻¹ of the rotor from the initial displacement and velocity on `node`'s DOFs:
-    /// `u⁻¹ = u⁰ − Δt v⁰ + ½Δt² a⁰`, `a⁰ = M⁻¹(f⁰ − K u⁰ − C v⁰)` when M is diagonal (else 0).
+    /// `u⁻¹ = u⁰ − Δt v⁰ + ½Δt² a⁰`, `a⁰ = M⁻¹(f⁰ − K u⁰ − C v⁰)` (a sparse Cholesky factor of
+    /// a non-diagonal M; 0 if M cannot be factored, a first-order start).
     fn set_initial(&mut self, init: Initial, node: usize) {
         let (case, dt) = (self.case, self.plan.dt);
         let n = self.rotor.n;
@@ -204,14 +215,33 @@ impl<'a> Stepper<'a> {
         if let Some(lr) = &case.rotor.c_low {
             lr.mul_add(-1.0, &v0, &mut f0, &mut vec![0.0; lr.rank()]);
         }
+        if let (Some(g), Some(p)) = (&case.rotor.gyro, self.spin) {
+            let s = p.at(0.0);
+            g.g.mul_add(-(s.omega - case.omega), &v0, &mut f0);
+            g.k_st.mul_add(-s.omega_dot, &u0, &mut f0);
+        }
+        // a⁰ = M⁻¹ f⁰: a consistent start keeps the scheme's second order (a⁰ = 0 would put
+        // an O(Δt) error in the initial velocity).
+        let a0 = if case.rotor.m.is_diagonal() {
+            f0.iter()
+                .zip(&mdiag)
+                .map(|(f, m)| if *m > 0.0 { f / m } else { 0.0 })
+                .collect()
+        } else {
+            match Cholesky::new(&case.rotor.m) {
+                Ok(ch) => {
+                    ch.solve_in_place(&mut f0);
+                    f0
+                }
+                Err(_) => vec![0.0; n],
+            }
+        };
         for i in 0..n {
-            let a0 = if case.rotor.m.is_diagonal() && mdiag[i] > 0.0 {
-                f0[i] / mdiag[i]
-            } else {
-                0.0
-            };
             self.rotor.u[i] = u0[i];
-            self.rotor.u_prev[i] = u0[i] - dt * v0[i] + 0.5 * dt * dt * a0;
+            self.rotor.u_prev[i] = u0[i] - dt * v0[i] + 0.5 * dt * dt * a0[i];
+        }
+        if let Some(g) = &mut self.gyro {
+            g.start(&self.rotor.u, &self.rotor.u_prev);
         }
     }
 
@@ -351,7 +381,14 @@ impl<'a> Stepper<'a> {
     /// stators start undeformed (Eq. 49).
     fn predict(&mut self, t: f64) {
         add_unbalance(self.case, self.spin, t, &mut self.rotor.rhs);
+        if let (Some(g), Some(p)) = (&mut self.gyro, self.spin) {
+            let r = &mut self.rotor;
+            g.add(p.at(t), &r.u, &r.u_prev, &mut r.rhs);
+        }
         self.rotor.predict();
+        if let Some(g) = &mut self.gyro {
+            g.correct(&mut self.rotor);
+        }
         let collocated = self.scheme == Scheme::Collocated;
         for st in self.stators.iter_mut() {
             match st {
@@ -458,6 +495,9 @@ impl<'a> Stepper<'a> {
 
     /// uⁿ⁺¹ becomes uⁿ for every body with mass.
     fn advance(&mut self) {
+        if let Some(g) = &mut self.gyro {
+            g.advance(&self.rotor.u_prev);
+        }
         self.rotor.rotate();
         for st in self.stators.iter_mut() {
             if let StatorDyn::Massive(b) = st {
