@@ -33,8 +33,8 @@
 //!   operators (`M̃`, `A`, `B` of the rotor hold C + ΩG) and the tangent `a = Ω × n` of the pair
 //!   geometry (`select`). [`Stepper::with_profile`] makes the load a function of t (φ, Ω, Ω̇ of
 //!   a [`crate::model::SpeedProfile`]); the tangent depends only on the sign of Ω, which a
-//!   profile keeps; a gyroscopic rotor keeps M̃ factored at the case's speed Ω_f and takes
-//!   `(Ω − Ω_f) G q̇ + Ω̇ K_st q` into the load explicitly, with a second-order velocity
+//!   profile keeps; a gyroscopic rotor keeps M̃ factored at the case's speed Ω_f and corrects
+//!   each prediction for `(Ω − Ω_f) G q̇ + Ω̇ K_st q` by one more solve on that factor
 //!   (`spin`). Speed-tabulated bearings under a varying speed are refused by
 //!   `analysis::prepare_transient`. The loop and its phases stay as they are.
 //! * Another contact law (stick–slip, wear): the law is the force direction per unit normal
@@ -44,7 +44,7 @@
 //! Files: [`plan`] (Δt and steps, the limits that refuse an absurd run), [`budget`] (steps,
 //! memory and time estimated up front), [`record`] (what a run keeps), `body` (central differences
 //! of a body with mass), [`compliance`] (massless stators), `select` (which pairs enter a
-//! contact problem), `solve` (the contact solve), `workspace` (buffers), `spin` (a gyroscopic rotor's load of a varying speed), `stepper` (the step),
+//! contact problem), `solve` (the contact solve), `workspace` (buffers), `spin` (a gyroscopic rotor's correction for a varying speed), `stepper` (the step),
 //! [`frame`] (frames for sinks).
 
 mod body;

@@ -45,7 +45,7 @@ pub struct Stepper<'a> {
     /// path, unchanged).
     spin: Option<&'a SpeedProfile>,
     /// A gyroscopic rotor's load of the speed's change (a transient run only).
-    gyro: Option<GyroLoad<'a>>,
+    gyro: Option<GyroLoad>,
     plan: StepPlan,
     scheme: Scheme,
     pub(crate) pairs: Pairs,
@@ -98,7 +98,8 @@ impl<'a> Stepper<'a> {
     /// constant speed). The profile sets the unbalance load of every step
     /// ([`crate::model::RotorBody::add_unbalance_spin`]: φ(t), Ω(t), Ω̇(t)); the step
     /// operators are the case's, factored at its speed, and a gyroscopic rotor's
-    /// `(Ω − Ω_case) G q̇ + Ω̇ K_st q` enters the prediction's load explicitly (`time::spin`).
+    /// `(Ω − Ω_case) G q̇ + Ω̇ K_st q` corrects the prediction by a second solve on the same
+    /// factor (`time::spin`).
     /// Bearings tabulated over speed are not followed (see
     /// [`crate::model::Rotor::speed_tabulated`]). The tangent `a = Ω × n` depends only on the
     /// sign of Ω, which a profile keeps.
@@ -215,10 +216,8 @@ impl<'a> Stepper<'a> {
         if let Some(lr) = &case.rotor.c_low {
             lr.mul_add(-1.0, &v0, &mut f0, &mut vec![0.0; lr.rank()]);
         }
-        if let (Some(g), Some(p)) = (&case.rotor.gyro, self.spin) {
-            let s = p.at(0.0);
-            g.g.mul_add(-(s.omega - case.omega), &v0, &mut f0);
-            g.k_st.mul_add(-s.omega_dot, &u0, &mut f0);
+        if let (Some(g), Some(p)) = (&mut self.gyro, self.spin) {
+            g.add_initial(p.at(0.0), &u0, &v0, &mut f0);
         }
         // a⁰ = M⁻¹ f⁰: a consistent start keeps the scheme's second order (a⁰ = 0 would put
         // an O(Δt) error in the initial velocity).
@@ -239,9 +238,6 @@ impl<'a> Stepper<'a> {
         for i in 0..n {
             self.rotor.u[i] = u0[i];
             self.rotor.u_prev[i] = u0[i] - dt * v0[i] + 0.5 * dt * dt * a0[i];
-        }
-        if let Some(g) = &mut self.gyro {
-            g.start(&self.rotor.u, &self.rotor.u_prev);
         }
     }
 
@@ -381,13 +377,9 @@ impl<'a> Stepper<'a> {
     /// stators start undeformed (Eq. 49).
     fn predict(&mut self, t: f64) {
         add_unbalance(self.case, self.spin, t, &mut self.rotor.rhs);
-        if let (Some(g), Some(p)) = (&mut self.gyro, self.spin) {
-            let r = &mut self.rotor;
-            g.add(p.at(t), &r.u, &r.u_prev, &mut r.rhs);
-        }
         self.rotor.predict();
-        if let Some(g) = &mut self.gyro {
-            g.correct(&mut self.rotor);
+        if let (Some(g), Some(p)) = (&mut self.gyro, self.spin) {
+            g.correct(p.at(t), &mut self.rotor);
         }
         let collocated = self.scheme == Scheme::Collocated;
         for st in self.stators.iter_mut() {
@@ -495,9 +487,6 @@ impl<'a> Stepper<'a> {
 
     /// uⁿ⁺¹ becomes uⁿ for every body with mass.
     fn advance(&mut self) {
-        if let Some(g) = &mut self.gyro {
-            g.advance(&self.rotor.u_prev);
-        }
         self.rotor.rotate();
         for st in self.stators.iter_mut() {
             if let StatorDyn::Massive(b) = st {
