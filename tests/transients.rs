@@ -291,7 +291,11 @@ fn gyroscopic_fe_rotor_slow_runup_follows_its_steady_response() {
     assert!(n > 10_000, "{n} windows");
     assert!(amp_err < 0.01 && ph_err < 0.01, "{amp_err} {ph_err}");
     // The peak of the first forward critical.
-    assert!((r.peak_1x.1 - 88.5).abs() < 1.0, "peak at {} rad/s", r.peak_1x.1);
+    assert!(
+        (r.peak_1x.1 - 88.5).abs() < 1.0,
+        "peak at {} rad/s",
+        r.peak_1x.1
+    );
 }
 
 #[test]
