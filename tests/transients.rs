@@ -309,3 +309,45 @@ fn gyroscopic_transient_scheme_keeps_second_order() {
     eprintln!("gyroscopic FE ramp: order {p:.3}, errors {e:?}");
     assert!((p - 2.0).abs() < 0.1, "order {p}");
 }
+
+/// K_st is G's y–z-plane rows: `G = K_st − K_stᵀ` over the assembled rotor, K_st nonzero only
+/// in the rows of u_y and θ_x, and at a disk's node `K_st[θ_x, θ_y] = I_p` (with the shaft's
+/// share).
+#[test]
+fn k_st_is_the_one_plane_part_of_g() {
+    let text = two_disk_gyro(
+        "[run.speed_profile]\nkind = \"ramp\"\nunit = \"rad_per_s\"\nfrom = 100.0\nto = 300.0\nduration = 0.2",
+    );
+    let (_, model) = scene_model(&text, &[] as &[&str]);
+    let body = model.rotor.body(0.0).unwrap();
+    let gyro = body.gyro.expect("a gyroscopic rotor has its terms");
+    let n = body.ndof;
+    let dense = |a: &rubsim::linalg::Csc| {
+        let mut d = vec![0.0; n * n];
+        for (r, c, v) in a.triplets() {
+            d[r * n + c] += v;
+        }
+        d
+    };
+    let (g, k) = (dense(&gyro.g), dense(&gyro.k_st));
+    let scale = g.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    assert!(scale > 0.0);
+    for r in 0..n {
+        for c in 0..n {
+            let skew = k[r * n + c] - k[c * n + r];
+            assert!((skew - g[r * n + c]).abs() <= 1e-12 * scale, "({r}, {c})");
+            if k[r * n + c] != 0.0 {
+                assert!(matches!(r % 4, 1 | 2), "K_st row {r} is not u_y or θ_x");
+            }
+        }
+    }
+    // Disk 2 (350 mm, 70 mm wide, bore 50 mm): I_p = ρ π w (D⁴ − d⁴)/32.
+    let ip = 7810.0 * std::f64::consts::PI * 0.07 * (0.35f64.powi(4) - 0.05f64.powi(4)) / 32.0;
+    let (tx, ty) = (4 * 4 + 2, 4 * 4 + 3);
+    let shaft = k[tx * n + ty] - ip;
+    assert!(
+        shaft > 0.0 && shaft < 0.01 * ip,
+        "K_st[θx, θy] at disk 2 = {} for I_p = {ip}",
+        k[tx * n + ty]
+    );
+}
