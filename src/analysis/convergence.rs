@@ -94,7 +94,10 @@ pub fn convergence(
         for &l in levels {
             let (r, rec) = match run(kind, l) {
                 Ok(x) => x,
-                Err(Error::Solve(crate::error::SolveError::StepTooLarge { .. })) => continue,
+                Err(Error::Solve(
+                    crate::error::SolveError::StepTooLarge { .. }
+                    | crate::error::SolveError::StepTooCoarse { .. },
+                )) => continue,
                 Err(e) => return Err(e),
             };
             let n = rec.len().min(nrec);

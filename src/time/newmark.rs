@@ -1,0 +1,223 @@
+//! Implicit generalised-α integration of a body with mass (Chung & Hulbert 1993), with Newmark's
+//! average acceleration (β = ¼, γ = ½) as its member α_m = α_f = 0.
+//!
+//! With `ũ = uₙ + Δt vₙ + Δt²(½ − β) aₙ`, `ṽ = vₙ + Δt(1 − γ) aₙ` the step's known part,
+//! `uₙ₊₁ = ũ + βΔt² aₙ₊₁`, `vₙ₊₁ = ṽ + γΔt aₙ₊₁`, and the balance at the α-levels
+//!
+//! ```text
+//! (1−α_m) M aₙ₊₁ + α_m M aₙ + (1−α_f)(C vₙ₊₁ + K uₙ₊₁) + α_f (C vₙ + K uₙ)
+//!     = (1−α_f) Lₙ₊₁ + α_f Lₙ,
+//! ```
+//!
+//! `L = f + Gᵀλ` the whole load (external force and contact force at the same instant, so the
+//! contact force is weighted like the external one), divided by `1 − α_f` and written for
+//! `uₙ₊₁`:
+//!
+//! ```text
+//! S uₙ₊₁ = fₙ₊₁ + Gᵀλₙ₊₁ + M x_m + C x_c − α_f/(1−α_f) (K uₙ − Lₙ),
+//! S   = (1−α_m)/((1−α_f)βΔt²) M + γ/(βΔt) C + K,
+//! x_m = [(1−α_m)/(βΔt²) ũ − α_m aₙ] / (1−α_f),
+//! x_c = γ/(βΔt) ũ − ṽ − α_f/(1−α_f) vₙ.
+//! ```
+//!
+//! `S` (the displacement form of `K̂ = M + γΔtC + βΔt²K`, `S = K̂/(βΔt²)` for Newmark) takes the
+//! place of the explicit step's `M̃`: factored once per speed (C holds the speed's gyroscopic
+//! term Ω G), its inverse at the contact DOFs is the body's flexibility in `W = G S⁻¹ Gᵀ`, and
+//! the contact correction `uₙ₊₁ = u* + S⁻¹ Gᵀλ` is the same forward increment as the explicit
+//! scheme's (Eq. 47), imposed at tₙ₊₁. The step then sets `aₙ₊₁ = (uₙ₊₁ − ũ)/(βΔt²)` and
+//! `vₙ₊₁`. Spectral radius at infinite frequency ρ∞: `α_m = (2ρ∞ − 1)/(ρ∞ + 1)`,
+//! `α_f = ρ∞/(ρ∞ + 1)`, `γ = ½ − α_m + α_f`, `β = ¼(1 − α_m + α_f)²` — second order and
+//! unconditionally stable for every ρ∞ ∈ [0, 1]; ρ∞ = 1 conserves the energy of a linear
+//! undamped system as Newmark's average acceleration does. docs/IMPLICIT.md derives the
+//! contact treatment and its energy balance.
+
+use crate::linalg::{Csc, LinalgError, LowRank, PairCsr, StepLu};
+
+/// Coefficients of a generalised-α scheme (dimensionless).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Alpha {
+    /// Weight of aₙ in the inertia term, α_m.
+    pub alpha_m: f64,
+    /// Weight of tₙ in the internal and external forces, α_f (< 1).
+    pub alpha_f: f64,
+    /// Newmark β.
+    pub beta: f64,
+    /// Newmark γ.
+    pub gamma: f64,
+}
+
+impl Alpha {
+    /// Newmark's average acceleration (trapezoidal rule): α_m = α_f = 0, β = ¼, γ = ½.
+    pub fn newmark() -> Self {
+        Self {
+            alpha_m: 0.0,
+            alpha_f: 0.0,
+            beta: 0.25,
+            gamma: 0.5,
+        }
+    }
+
+    /// Chung–Hulbert generalised-α of spectral radius `rho_inf` ∈ [0, 1] at infinite frequency
+    /// (1: no numerical dissipation; 0: the highest modes are annihilated in one step).
+    pub fn generalized(rho_inf: f64) -> Self {
+        let r = rho_inf.clamp(0.0, 1.0);
+        let alpha_m = (2.0 * r - 1.0) / (r + 1.0);
+        let alpha_f = r / (r + 1.0);
+        let d = 1.0 - alpha_m + alpha_f;
+        Self {
+            alpha_m,
+            alpha_f,
+            beta: 0.25 * d * d,
+            gamma: 0.5 - alpha_m + alpha_f,
+        }
+    }
+
+    /// The step operator `S = (1−α_m)/((1−α_f)βΔt²) M + γ/(βΔt) C + K` (N/m) and the factor
+    /// `γ/(βΔt)` (1/s) its damping (and a low-rank damping term) carries.
+    pub(crate) fn operator(&self, m: &Csc, c: &Csc, k: &Csc, dt: f64) -> (Csc, f64) {
+        let cm = (1.0 - self.alpha_m) / ((1.0 - self.alpha_f) * self.beta * dt * dt);
+        let cc = self.gamma / (self.beta * dt);
+        (Csc::lin_comb(1.0, &Csc::lin_comb(cm, m, cc, c), 1.0, k), cc)
+    }
+}
+
+/// The state and operators of a body integrated by generalised-α, besides its displacement
+/// (held by the body as the explicit one's) and its factored step operator `S`.
+#[derive(Debug)]
+pub(crate) struct Implicit {
+    co: Alpha,
+    dt: f64,
+    /// `M` and `C` on one pattern: `y += M x_m + C x_c` in one pass.
+    mc: PairCsr,
+    /// `K` (only read when α_f ≠ 0).
+    k: Csc,
+    /// Low-rank damping added to `C` (modal damping), with its scratch.
+    low: Option<(LowRank, Vec<f64>)>,
+    /// Velocity vₙ (m/s or rad/s).
+    pub(crate) v: Vec<f64>,
+    /// Acceleration aₙ.
+    pub(crate) a: Vec<f64>,
+    /// ũ and ṽ of the current step.
+    ut: Vec<f64>,
+    vt: Vec<f64>,
+    /// Scratch: x_m and x_c.
+    xm: Vec<f64>,
+    xc: Vec<f64>,
+    /// Whole load Lₙ (external plus contact) and Lₙ₊₁ being gathered (α_f ≠ 0 only; empty
+    /// otherwise).
+    load: Vec<f64>,
+    pub(crate) load_next: Vec<f64>,
+}
+
+impl Implicit {
+    pub(crate) fn new(
+        co: Alpha,
+        m: &Csc,
+        c: &Csc,
+        k: &Csc,
+        low: Option<&LowRank>,
+        dt: f64,
+    ) -> Self {
+        let n = m.nrows();
+        let keep_load = if co.alpha_f != 0.0 { n } else { 0 };
+        Self {
+            co,
+            dt,
+            mc: PairCsr::new(m, c),
+            k: k.clone(),
+            low: low.map(|l| (l.clone(), vec![0.0; l.rank()])),
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+            ut: vec![0.0; n],
+            vt: vec![0.0; n],
+            xm: vec![0.0; n],
+            xc: vec![0.0; n],
+            load: vec![0.0; keep_load],
+            load_next: vec![0.0; keep_load],
+        }
+    }
+
+    /// Sets the initial state: `u⁰` (held by the body), `v⁰`, the load `L⁰ = f⁰` and
+    /// `a⁰ = M⁻¹ r`, `r = f⁰ − K u⁰ − C v⁰` given as `residual`; `f0` the external force at t = 0.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when M (not diagonal) cannot be factored.
+    pub(crate) fn start(
+        &mut self,
+        m: &Csc,
+        v0: &[f64],
+        f0: &[f64],
+        mut residual: Vec<f64>,
+    ) -> Result<(), LinalgError> {
+        self.v.copy_from_slice(v0);
+        if !self.load.is_empty() {
+            self.load.copy_from_slice(f0);
+        }
+        if m.is_diagonal() {
+            for ((a, r), d) in self.a.iter_mut().zip(&residual).zip(m.diagonal()) {
+                *a = if d > 0.0 { r / d } else { 0.0 };
+            }
+        } else {
+            StepLu::new(m)?.solve_in_place(&mut residual);
+            self.a.copy_from_slice(&residual);
+        }
+        Ok(())
+    }
+
+    /// Adds the known part of `S uₙ₊₁` to `rhs`, which holds `fₙ₊₁` on entry (call
+    /// [`Implicit::keep_external`] first).
+    pub(crate) fn load_rhs(&mut self, u: &[f64], rhs: &mut [f64]) {
+        let Alpha {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } = self.co;
+        let dt = self.dt;
+        let (cu, ca) = (dt * dt * (0.5 - beta), dt * (1.0 - gamma));
+        let g = gamma / (beta * dt);
+        let mf = (1.0 - alpha_m) / (beta * dt * dt);
+        let w = alpha_f / (1.0 - alpha_f);
+        for i in 0..u.len() {
+            let (v, a) = (self.v[i], self.a[i]);
+            let ut = u[i] + dt * v + cu * a;
+            let vt = v + ca * a;
+            self.ut[i] = ut;
+            self.vt[i] = vt;
+            self.xm[i] = (mf * ut - alpha_m * a) / (1.0 - alpha_f);
+            self.xc[i] = g * ut - vt - w * v;
+        }
+        self.mc.mul_add(&self.xm, &self.xc, rhs);
+        if let Some((lr, t)) = &mut self.low {
+            lr.mul_add(1.0, &self.xc, rhs, t);
+        }
+        if alpha_f != 0.0 {
+            self.k.mul_add(-w, u, rhs);
+            for (r, l) in rhs.iter_mut().zip(&self.load) {
+                *r += w * l;
+            }
+        }
+    }
+
+    /// Records `fₙ₊₁` as the external part of Lₙ₊₁ (α_f ≠ 0; the contact forces are added as
+    /// they are applied), before [`Implicit::load_rhs`] adds to it.
+    pub(crate) fn keep_external(&mut self, f: &[f64]) {
+        if !self.load_next.is_empty() {
+            self.load_next.copy_from_slice(f);
+        }
+    }
+
+    /// Ends the step once `u_next` holds uₙ₊₁: aₙ₊₁, vₙ₊₁ and Lₙ₊₁ become the current ones.
+    pub(crate) fn finish(&mut self, u_next: &[f64]) {
+        let Alpha { beta, gamma, .. } = self.co;
+        let dt = self.dt;
+        let inv = 1.0 / (beta * dt * dt);
+        let gd = gamma * dt;
+        for i in 0..u_next.len() {
+            let a = (u_next[i] - self.ut[i]) * inv;
+            self.a[i] = a;
+            self.v[i] = self.vt[i] + gd * a;
+        }
+        std::mem::swap(&mut self.load, &mut self.load_next);
+    }
+}
