@@ -221,3 +221,136 @@ impl Implicit {
         std::mem::swap(&mut self.load, &mut self.load_next);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::body::{DynBody, Ops};
+    use super::*;
+    use crate::linalg::tests::lap;
+    use crate::math::loglog_slope;
+
+    /// An implicit body with `u⁰`, `v⁰`, no load.
+    fn body(m: &Csc, c: &Csc, k: &Csc, dt: f64, co: Alpha, u0: &[f64], v0: &[f64]) -> DynBody {
+        let mut b = DynBody::new(m, c, k, None, dt, &[], Some(co)).unwrap();
+        b.u.copy_from_slice(u0);
+        let mut r = vec![0.0; u0.len()];
+        k.mul_add(-1.0, u0, &mut r);
+        c.mul_add(-1.0, v0, &mut r);
+        let f0 = vec![0.0; u0.len()];
+        imp(&mut b).start(m, v0, &f0, r).unwrap();
+        b
+    }
+
+    fn imp(b: &mut DynBody) -> &mut Implicit {
+        match &mut b.ops {
+            Ops::Implicit(i) => i,
+            Ops::Central(_) => unreachable!("implicit body"),
+        }
+    }
+
+    fn step(b: &mut DynBody) {
+        b.rhs.fill(0.0);
+        b.predict();
+        b.rotate();
+    }
+
+    /// `½ vᵀ M v + ½ uᵀ K u`.
+    fn energy(m: &Csc, k: &Csc, u: &[f64], v: &[f64]) -> f64 {
+        let quad = |a: &Csc, x: &[f64]| {
+            let mut y = vec![0.0; x.len()];
+            a.mul_add(1.0, x, &mut y);
+            0.5 * x.iter().zip(&y).map(|(p, q)| p * q).sum::<f64>()
+        };
+        quad(m, v) + quad(k, u)
+    }
+
+    /// A chain of 12 DOFs: consistent-like mass (tridiagonal), stiffness 10⁴ × Laplacian and a
+    /// skew gyroscopic damping (no work), started from a deflected, moving state.
+    fn chain() -> (Csc, Csc, Csc, Vec<f64>, Vec<f64>) {
+        let n = 12;
+        let mut tm = Vec::new();
+        let mut tc = Vec::new();
+        for i in 0..n {
+            tm.push((i, i, 4.0 / 6.0));
+            if i + 1 < n {
+                tm.push((i, i + 1, 1.0 / 6.0));
+                tm.push((i + 1, i, 1.0 / 6.0));
+                tc.push((i, i + 1, 3.0));
+                tc.push((i + 1, i, -3.0));
+            }
+        }
+        let m = Csc::from_triplets(n, n, &tm);
+        let c = Csc::from_triplets(n, n, &tc);
+        let k = Csc::lin_comb(1e4, &lap(n), 0.0, &lap(n));
+        let u0: Vec<f64> = (0..n).map(|i| ((i as f64) * 0.7).sin() * 1e-3).collect();
+        let v0: Vec<f64> = (0..n).map(|i| ((i as f64) * 1.3).cos() * 1e-2).collect();
+        (m, c, k, u0, v0)
+    }
+
+    #[test]
+    fn average_acceleration_conserves_energy_with_gyroscopic_coupling() {
+        let (m, c, k, u0, v0) = chain();
+        // Δt far above the explicit limit 2/ω_max (ω_max ≈ 490 rad/s): 0.05 s.
+        let mut b = body(&m, &c, &k, 0.05, Alpha::newmark(), &u0, &v0);
+        let e0 = energy(&m, &k, &u0, &v0);
+        let mut worst = 0.0_f64;
+        for _ in 0..20_000 {
+            step(&mut b);
+            let v = imp(&mut b).v.clone();
+            worst = worst.max((energy(&m, &k, &b.u, &v) - e0).abs() / e0);
+        }
+        assert!(worst < 1e-11, "relative energy drift {worst:e}");
+    }
+
+    #[test]
+    fn generalized_alpha_dissipates_only_what_the_step_does_not_resolve() {
+        let (m, c, k, u0, v0) = chain();
+        let e0 = energy(&m, &k, &u0, &v0);
+        let mut b = body(&m, &c, &k, 0.05, Alpha::generalized(0.5), &u0, &v0);
+        let mut last = f64::INFINITY;
+        for _ in 0..400 {
+            step(&mut b);
+            let v = imp(&mut b).v.clone();
+            let e = energy(&m, &k, &b.u, &v);
+            // Monotone decay up to round-off.
+            assert!(e <= last * (1.0 + 1e-12), "energy rose: {e} after {last}");
+            last = e;
+        }
+        assert!(last < 0.9 * e0, "unresolved modes kept their energy: {last} of {e0}");
+        // ρ∞ = 1 is the midpoint-weighted member: no dissipation either.
+        let mut b = body(&m, &c, &k, 0.05, Alpha::generalized(1.0), &u0, &v0);
+        for _ in 0..2000 {
+            step(&mut b);
+        }
+        let v = imp(&mut b).v.clone();
+        let e = energy(&m, &k, &b.u, &v);
+        assert!((e - e0).abs() < 1e-10 * e0, "ρ∞ = 1 drift {:e}", (e - e0) / e0);
+    }
+
+    #[test]
+    fn one_dof_oscillator_converges_at_second_order() {
+        // m ü + c u̇ + k u = 0, u(0) = 1, u̇(0) = 0: the exact damped solution at t = 2 s.
+        let (wn, xi) = (2.0 * std::f64::consts::PI, 0.05);
+        let m = Csc::from_triplets(1, 1, &[(0, 0, 1.0)]);
+        let c = Csc::from_triplets(1, 1, &[(0, 0, 2.0 * xi * wn)]);
+        let k = Csc::from_triplets(1, 1, &[(0, 0, wn * wn)]);
+        let wd = wn * (1.0 - xi * xi).sqrt();
+        let t_end = 2.0;
+        let exact = (-xi * wn * t_end).exp()
+            * ((wd * t_end).cos() + xi * wn / wd * (wd * t_end).sin());
+        for co in [Alpha::newmark(), Alpha::generalized(0.8), Alpha::generalized(0.5)] {
+            let (mut dts, mut errs) = (Vec::new(), Vec::new());
+            for steps in [200usize, 400, 800, 1600, 3200] {
+                let dt = t_end / steps as f64;
+                let mut b = body(&m, &c, &k, dt, co, &[1.0], &[0.0]);
+                for _ in 0..steps {
+                    step(&mut b);
+                }
+                dts.push(dt);
+                errs.push((b.u[0] - exact).abs());
+            }
+            let p = loglog_slope(&dts, &errs);
+            assert!((p - 2.0).abs() < 0.1, "{co:?}: order {p}, errors {errs:?}");
+        }
+    }
+}
