@@ -316,7 +316,10 @@ mod tests {
             assert!(e <= last * (1.0 + 1e-12), "energy rose: {e} after {last}");
             last = e;
         }
-        assert!(last < 0.9 * e0, "unresolved modes kept their energy: {last} of {e0}");
+        assert!(
+            last < 0.9 * e0,
+            "unresolved modes kept their energy: {last} of {e0}"
+        );
         // ρ∞ = 1 is the midpoint-weighted member: no dissipation either.
         let mut b = body(&m, &c, &k, 0.05, Alpha::generalized(1.0), &u0, &v0);
         for _ in 0..2000 {
@@ -324,7 +327,11 @@ mod tests {
         }
         let v = imp(&mut b).v.clone();
         let e = energy(&m, &k, &b.u, &v);
-        assert!((e - e0).abs() < 1e-10 * e0, "ρ∞ = 1 drift {:e}", (e - e0) / e0);
+        assert!(
+            (e - e0).abs() < 1e-10 * e0,
+            "ρ∞ = 1 drift {:e}",
+            (e - e0) / e0
+        );
     }
 
     #[test]
@@ -336,9 +343,13 @@ mod tests {
         let k = Csc::from_triplets(1, 1, &[(0, 0, wn * wn)]);
         let wd = wn * (1.0 - xi * xi).sqrt();
         let t_end = 2.0;
-        let exact = (-xi * wn * t_end).exp()
-            * ((wd * t_end).cos() + xi * wn / wd * (wd * t_end).sin());
-        for co in [Alpha::newmark(), Alpha::generalized(0.8), Alpha::generalized(0.5)] {
+        let exact =
+            (-xi * wn * t_end).exp() * ((wd * t_end).cos() + xi * wn / wd * (wd * t_end).sin());
+        for co in [
+            Alpha::newmark(),
+            Alpha::generalized(0.8),
+            Alpha::generalized(0.5),
+        ] {
             let (mut dts, mut errs) = (Vec::new(), Vec::new());
             for steps in [200usize, 400, 800, 1600, 3200] {
                 let dt = t_end / steps as f64;
