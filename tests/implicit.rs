@@ -187,3 +187,45 @@ fn a_stator_with_mass_takes_generalized_alpha_and_not_newmark() {
     );
     assert!(err < 3e-3, "extents differ by {err:e}");
 }
+
+/// Issue 15 item 3 (first part): damping on a massless stator is refused with its reason — a
+/// ring's `damping` by the scene's validation, a rod's `rayleigh` with its key and line, an FE
+/// stator's `rayleigh` when the model finds no mass — never silently ignored.
+#[test]
+fn damping_on_a_massless_stator_is_refused_not_ignored() {
+    let text = paper_single();
+    let fails = |sets: &[&str]| -> String {
+        let owned: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        match scene::parse(Path::new("t.toml"), &text, &owned) {
+            Err(e) => Error::from(e).to_string(),
+            Ok(ls) => match rubsim::model::Model::from_scene(&ls) {
+                Err(e) => e.to_string(),
+                Ok(_) => panic!("{sets:?} accepted"),
+            },
+        }
+    };
+    let e = fails(&["run.speed_ratio=1.7", "stator.0.rayleigh=[1.0, 0.0]"]);
+    assert!(
+        e.contains("stator.0.rayleigh") && e.contains("massless"),
+        "{e}"
+    );
+    // With mass the same damping is taken.
+    let ok = parse(
+        &text,
+        &[
+            "run.speed_ratio=1.7",
+            "stator.0.rayleigh=[1.0, 0.0]",
+            "stator.0.density=7800",
+        ],
+    );
+    rubsim::model::Model::from_scene(&ok).unwrap();
+    let ring = common::scenes::paper_with_stator(
+        "[[stator]]\nkind = \"ring\"\nname = \"ring\"\nstation = \"disk\"\nclearance = 1e-4\nstiffness_ratio = 25.0\ndamping = 40.0\n",
+    );
+    let owned = vec!["run.speed_ratio=1.7".to_string()];
+    let e = Error::from(scene::parse(Path::new("t.toml"), &ring, &owned).unwrap_err()).to_string();
+    assert!(
+        e.contains("stator.0.damping") && e.contains("massless"),
+        "{e}"
+    );
+}
