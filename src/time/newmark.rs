@@ -178,9 +178,9 @@ impl Implicit {
         let g = gamma / (beta * dt);
         let mf = (1.0 - alpha_m) / (beta * dt * dt);
         let w = alpha_f / (1.0 - alpha_f);
-        for i in 0..u.len() {
+        for (i, &ui) in u.iter().enumerate() {
             let (v, a) = (self.v[i], self.a[i]);
-            let ut = u[i] + dt * v + cu * a;
+            let ut = ui + dt * v + cu * a;
             let vt = v + ca * a;
             self.ut[i] = ut;
             self.vt[i] = vt;
@@ -213,8 +213,8 @@ impl Implicit {
         let dt = self.dt;
         let inv = 1.0 / (beta * dt * dt);
         let gd = gamma * dt;
-        for i in 0..u_next.len() {
-            let a = (u_next[i] - self.ut[i]) * inv;
+        for (i, &un) in u_next.iter().enumerate() {
+            let a = (un - self.ut[i]) * inv;
             self.a[i] = a;
             self.v[i] = self.vt[i] + gd * a;
         }
