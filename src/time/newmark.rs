@@ -369,8 +369,7 @@ mod tests {
 #[cfg(test)]
 mod contact_tests {
     use super::super::body::Ops;
-    use super::super::{plan_steps, Initial, Scheme, Stepper};
-    use crate::analysis::RunSettings;
+    use super::super::{plan_steps, Initial, Scheme, StepParams, Stepper, MAX_STEPS};
     use crate::model::Model;
 
     /// A unit Jeffcott rotor (m = 1 kg, k = 1 N/m, undamped, no unbalance) started at 2 mm/s
@@ -406,11 +405,16 @@ error_estimate = false
         let ls = crate::scene::parse(std::path::Path::new("t.toml"), BOUNCE, &[]).unwrap();
         let model = Model::from_scene(&ls).unwrap();
         let case = model.case(model.rotor.natural_frequency()).unwrap();
-        let mut s = RunSettings::from_run(&ls.scene.run, "y");
-        s.step.integrator = Scheme::Newmark;
-        s.step.dt = Some(2.0 * std::f64::consts::PI / steps_per_rev as f64 * (1.0 + 1e-12));
-        s.step.samples_per_rev = 8;
-        let plan = plan_steps(&case, &s.step).unwrap();
+        let step = StepParams {
+            integrator: Scheme::Newmark,
+            dt: Some(2.0 * std::f64::consts::PI / steps_per_rev as f64 * (1.0 + 1e-12)),
+            harmonics: 4.0,
+            revolutions: ls.scene.run.revolutions,
+            transient_revolutions: 0,
+            samples_per_rev: 8,
+            max_steps: MAX_STEPS,
+        };
+        let plan = plan_steps(&case, &step).unwrap();
         let init = Initial {
             u: [0.0; 2],
             v: [0.0, 2.0e-3],
