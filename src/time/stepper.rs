@@ -35,7 +35,9 @@ pub type Sink<'s> = Option<&'s mut dyn FrameSink>;
 /// * forward increment: predict every body with λ = 0 (massless stators undeformed, Eq. 49),
 ///   select the pairs penetrating the prediction, solve, correct (Eqs. 34–47);
 /// * collocated: first solve the massless stators' contact at tₙ with the rotor held at uⁿ
-///   and load the prediction with it; then the same forward increment for stators with mass.
+///   and load the prediction with it; then the same forward increment for stators with mass;
+/// * implicit (Newmark, generalised-α): the forward increment's phases, each body predicting
+///   with its implicit operator and the load at tₙ₊₁ (`super::newmark`).
 #[derive(Debug)]
 pub struct Stepper<'a> {
     pub(crate) case: &'a Case,
