@@ -229,3 +229,45 @@ fn damping_on_a_massless_stator_is_refused_not_ignored() {
         "{e}"
     );
 }
+
+/// `rubsim check` shows an implicit run's step as accuracy-bound, and a coarse `run.dt` fails
+/// cleanly with its reason and key.
+#[test]
+fn check_reports_the_implicit_step_and_refuses_a_coarse_one() {
+    let dir = repo("");
+    let scene = "scenes/fe/paper_rotor_rub.toml";
+    let out = common::cli::ok(
+        &dir,
+        &[
+            "check",
+            scene,
+            "--set",
+            "run.integrator=\"generalized_alpha\"",
+        ],
+    );
+    assert!(
+        out.contains("integrator generalized_alpha") && out.contains("not applied: implicit"),
+        "{out}"
+    );
+    let out_dir = std::env::temp_dir().join(format!("rubsim-implicit-{}", std::process::id()));
+    let err = common::cli::fails(
+        &dir,
+        &[
+            "run",
+            scene,
+            "--speed",
+            "1.7",
+            "--set",
+            "run.integrator=\"newmark\"",
+            "--set",
+            "run.dt=0.01",
+            "--out",
+            out_dir.to_str().unwrap(),
+        ],
+    );
+    let _ = std::fs::remove_dir_all(&out_dir);
+    assert!(
+        err.contains("run.dt") && err.contains("contact frequency"),
+        "{err}"
+    );
+}
