@@ -266,6 +266,18 @@ pub enum SolveError {
         /// What sets the limit.
         reason: String,
     },
+    /// A requested time step of an implicit scheme does not resolve the response.
+    #[error("time step {dt:.4e} s of the {integrator} integrator exceeds {max:.4e} s: {reason}; lower `run.dt` or leave it out")]
+    StepTooCoarse {
+        /// Requested step (s).
+        dt: f64,
+        /// Largest step accepted (s).
+        max: f64,
+        /// Integrator name.
+        integrator: String,
+        /// Why.
+        reason: String,
+    },
     /// The step plan needs more steps than one run may take (`run.max_steps`).
     #[error("the run needs {steps:.3e} steps ({steps_per_rev:.3e} per revolution × {revolutions} revolutions; Δt = {dt:.3e} s, set by {why}), above the limit of {max} steps (`run.max_steps`): {advice}")]
     TooManySteps {

@@ -56,6 +56,11 @@ fn allocations_do_not_grow_with_steps() {
         (Scheme::Collocated, "stator.0.density=0.0"),
         (Scheme::ForwardIncrement, "stator.0.density=0.0"),
         (Scheme::ForwardIncrement, "stator.0.density=20.0"),
+        (Scheme::Newmark, "stator.0.density=0.0"),
+        (
+            Scheme::GeneralizedAlpha { rho_inf: 0.8 },
+            "stator.0.density=20.0",
+        ),
     ] {
         let mut counts = Vec::new();
         for revs in [20usize, 80] {
@@ -116,6 +121,8 @@ struct WarmCase {
     count_revs: usize,
     /// Frame interval of a [`ReadingSink`] (0: no sink).
     every: usize,
+    /// An extra `--set` (empty: none), e.g. the integrator.
+    extra: &'static str,
 }
 
 /// Allocations made by the steps of `c.count_revs` revolutions after `c.warm_revs`, the
@@ -125,7 +132,10 @@ fn allocations_after_warm_up(c: &WarmCase) -> (usize, usize, usize) {
         format!("run.revolutions={}", c.warm_revs + c.count_revs + 1),
         "run.transient_revolutions=1".to_string(),
         "run.error_estimate=false".to_string(),
-    ];
+    ]
+    .into_iter()
+    .chain((!c.extra.is_empty()).then(|| c.extra.to_string()))
+    .collect::<Vec<_>>();
     let (ls, model) = file_model(&repo(c.scene), &ov);
     let scheme = settings(&ls).step.integrator;
     let (case, plan) = case_and_plan(&ls, &model, c.speed, scheme);
@@ -160,25 +170,29 @@ fn allocations_after_warm_up(c: &WarmCase) -> (usize, usize, usize) {
 fn steps_after_warm_up_allocate_nothing() {
     let fe = "scenes/fe/paper_rotor_rub.toml";
     let annulus = "scenes/stators/annulus.toml";
+    let implicit = "run.integrator=\"generalized_alpha\"";
     let cases = [
-        (fe, 1.7, 40, 10, 0),
-        (fe, 1.7, 40, 10, 7),
-        (annulus, 1.2, 30, 3, 0),
-        (annulus, 1.2, 30, 3, 97),
+        (fe, 1.7, 40, 10, 0, ""),
+        (fe, 1.7, 40, 10, 7, ""),
+        (fe, 1.7, 40, 10, 7, implicit),
+        (annulus, 1.2, 30, 3, 0, ""),
+        (annulus, 1.2, 30, 3, 97, ""),
+        (annulus, 1.2, 30, 3, 0, implicit),
     ];
-    for (scene, speed, warm_revs, count_revs, every) in cases {
+    for (scene, speed, warm_revs, count_revs, every, extra) in cases {
         let c = WarmCase {
             scene,
             speed,
             warm_revs,
             count_revs,
             every,
+            extra,
         };
         let (n, steps, frames) = allocations_after_warm_up(&c);
         assert!(every == 0 || frames > 0, "{scene}: no frame read");
         assert_eq!(
             n, 0,
-            "{scene} with a sink every {every} steps: {n} allocations in {steps} steps after warm-up ({frames} frames)"
+            "{scene} {extra} with a sink every {every} steps: {n} allocations in {steps} steps after warm-up ({frames} frames)"
         );
     }
 }

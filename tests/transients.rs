@@ -351,3 +351,26 @@ fn k_st_is_the_one_plane_part_of_g() {
         k[tx * n + ty]
     );
 }
+
+/// The gyroscopic correction of a varying speed is written for the explicit schemes (it solves
+/// on M̃'s factor): an implicit scheme on a gyroscopic rotor under a profile is refused, naming
+/// `run.integrator`; the same rotor without gyroscopics runs implicitly.
+#[test]
+fn implicit_schemes_refuse_gyroscopic_transients_by_name() {
+    let text = two_disk_gyro(
+        "integrator = \"generalized_alpha\"\n[run.speed_profile]\nkind = \"ramp\"\nunit = \"rad_per_s\"\nfrom = 100.0\nto = 120.0\nduration = 2.0",
+    );
+    let (ls, model) = scene_model(&text, &[] as &[&str]);
+    let spec = ls.scene.run.speed_profile.as_ref().unwrap();
+    let e = prepare_transient(&model, &settings(&ls), spec)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("run.integrator") && e.contains("gyroscopic"),
+        "{e}"
+    );
+    let plain = text.replace("kind = \"fe\"\n", "kind = \"fe\"\ngyroscopic = false\n");
+    assert_ne!(plain, text);
+    let r = run(&plain, &[]);
+    assert!(!r.windows.is_empty());
+}

@@ -76,7 +76,7 @@ impl RunSettings {
     pub fn from_run(run: &RunSpec, component: &str) -> Self {
         Self {
             step: StepParams {
-                integrator: scheme(run.integrator),
+                integrator: scheme(run.integrator, run.rho_inf),
                 dt: run.dt,
                 harmonics: run.harmonics,
                 revolutions: run.revolutions,
@@ -94,11 +94,16 @@ impl RunSettings {
     }
 }
 
-/// The time loop's scheme for the scene's `run.integrator`.
-pub fn scheme(kind: IntegratorKind) -> Scheme {
+/// The time loop's scheme for the scene's `run.integrator` (and `run.rho_inf` of
+/// `generalized_alpha`, default [`crate::scene::DEFAULT_RHO_INF`]).
+pub fn scheme(kind: IntegratorKind, rho_inf: Option<f64>) -> Scheme {
     match kind {
         IntegratorKind::ForwardIncrement => Scheme::ForwardIncrement,
         IntegratorKind::Collocated => Scheme::Collocated,
+        IntegratorKind::Newmark => Scheme::Newmark,
+        IntegratorKind::GeneralizedAlpha => Scheme::GeneralizedAlpha {
+            rho_inf: rho_inf.unwrap_or(crate::scene::DEFAULT_RHO_INF),
+        },
     }
 }
 

@@ -4,7 +4,7 @@ use super::{load, settings, Common};
 use anyhow::Result;
 use rubsim::analysis;
 use rubsim::model::{Case, Model};
-use rubsim::scene::{self, Scene};
+use rubsim::scene::{self, IntegratorKind, Scene};
 use rubsim::time::StepPlan;
 
 /// Validates the scene and prints the resolved model: rotor, stations, stators, the run and
@@ -166,9 +166,20 @@ fn print_run(s: &Scene, case: &Case, plan: &StepPlan) {
             plan.dt
         );
     }
+    let limit = if matches!(
+        s.run.integrator,
+        IntegratorKind::Newmark | IntegratorKind::GeneralizedAlpha
+    ) {
+        format!(
+            "explicit stability limit {:.4e} s (not applied: implicit, Δt by accuracy only)",
+            plan.limit
+        )
+    } else {
+        format!("stability limit {:.4e} s", plan.limit)
+    };
     println!(
-        "  Δt at ω/ωn = {:.2}: {:.4e} s ({} steps/rev); paper rule (n = {}) {:.4e} s; stability limit {:.4e} s; highest frequency with the contact stiffness and stator modes ω_max,contact = {:.4e} rad/s",
-        case.speed_ratio, plan.dt, plan.steps_per_rev, s.run.harmonics, plan.rule_dt, plan.limit, plan.omega_max
+        "  Δt at ω/ωn = {:.2}: {:.4e} s ({} steps/rev); paper rule (n = {}) {:.4e} s; {limit}; highest frequency with the contact stiffness and stator modes ω_max,contact = {:.4e} rad/s",
+        case.speed_ratio, plan.dt, plan.steps_per_rev, s.run.harmonics, plan.rule_dt, plan.omega_max
     );
 }
 

@@ -16,6 +16,13 @@ pub enum IntegratorKind {
     /// step shrinks as the stator stiffens (Δt < 2/√((k_r + k_s)/m)). Stators with mass are
     /// coupled by forward increment as in the paper.
     Collocated,
+    /// Implicit Newmark average acceleration (β = ¼, γ = ½) with the contact imposed at
+    /// tₙ₊₁ on the implicit operator's flexibility: unconditionally stable, Δt chosen by
+    /// accuracy only (docs/IMPLICIT.md).
+    Newmark,
+    /// Implicit generalised-α (Chung–Hulbert) of spectral radius `run.rho_inf` at infinite
+    /// frequency: as `newmark`, with the unresolved high modes damped.
+    GeneralizedAlpha,
 }
 
 impl IntegratorKind {
@@ -24,6 +31,8 @@ impl IntegratorKind {
         match self {
             IntegratorKind::ForwardIncrement => "forward_increment",
             IntegratorKind::Collocated => "collocated",
+            IntegratorKind::Newmark => "newmark",
+            IntegratorKind::GeneralizedAlpha => "generalized_alpha",
         }
     }
     /// Nominal order in Δt with a massless stator (used by the error estimate).
@@ -31,6 +40,7 @@ impl IntegratorKind {
         match self {
             IntegratorKind::ForwardIncrement => 1.0,
             IntegratorKind::Collocated => 2.0,
+            IntegratorKind::Newmark | IntegratorKind::GeneralizedAlpha => 2.0,
         }
     }
 }
@@ -58,6 +68,10 @@ pub struct RunSpec {
     /// Integrator; default `collocated` (see docs/VALIDATION.md for why).
     #[serde(default = "default_integrator")]
     pub integrator: IntegratorKind,
+    /// Spectral radius at infinite frequency ρ∞ ∈ [0, 1] of `integrator = "generalized_alpha"`
+    /// (default [`DEFAULT_RHO_INF`]; refused with any other integrator): 1 keeps every mode,
+    /// lower values damp the modes the step does not resolve.
+    pub rho_inf: Option<f64>,
     /// Time step override (s). Rounded down so a revolution holds a whole number of steps.
     pub dt: Option<f64>,
     /// The paper's rule Δt ≤ min(T_min/(32 n), 2π/(32 n ω)) with n = `harmonics`.
@@ -104,6 +118,9 @@ pub struct VarySpec {
     /// Values to set.
     pub values: Vec<f64>,
 }
+
+/// ρ∞ of `generalized_alpha` when `run.rho_inf` is not given.
+pub const DEFAULT_RHO_INF: f64 = 0.8;
 
 fn default_revs() -> usize {
     220

@@ -3,9 +3,12 @@
 //! [`Compliance`]).
 //!
 //! Central differences (Eqs. 35–36): `M̃ uⁿ⁺¹ = fⁿ + A uⁿ + B uⁿ⁻¹` with `M̃ = M/Δt² + C/(2Δt)`,
-//! `A = 2M/Δt² − K`, `B = C/(2Δt) − M/Δt²`. M̃ is factored once per run.
+//! `A = 2M/Δt² − K`, `B = C/(2Δt) − M/Δt²`. M̃ is factored once per run. The implicit schemes
+//! ([`super::newmark`]) put their step operator `S` in M̃'s place: the contact sees either
+//! through the same flexibility and correction.
 
 use super::compliance::Compliance;
+use super::newmark::{Alpha, Implicit};
 use crate::linalg::{BlockTridiag, Csc, LinalgError, LowRank, PairCsr, StepLu, WoodburyLu};
 
 /// M̃⁻¹ of a body with mass.
@@ -47,12 +50,21 @@ impl StepSolver {
     }
 }
 
-/// A body with mass, integrated explicitly.
+/// How a body's prediction is formed.
+#[derive(Debug)]
+pub(crate) enum Ops {
+    /// Central differences: `A = 2M/Δt² − K` and `B = C/(2Δt) − M/Δt²` on one pattern.
+    Central(PairCsr),
+    /// Implicit generalised-α (Newmark): velocity, acceleration and the operators of the
+    /// known part of the step.
+    Implicit(Box<Implicit>),
+}
+
+/// A body with mass, integrated by central differences or implicitly.
 #[derive(Debug)]
 pub(crate) struct DynBody {
     pub(crate) n: usize,
-    /// `A = 2M/Δt² − K` and `B = C/(2Δt) − M/Δt²` on one pattern.
-    ab: PairCsr,
+    pub(crate) ops: Ops,
     pub(crate) minv: MInv,
     pub(crate) u_prev: Vec<f64>,
     pub(crate) u: Vec<f64>,
@@ -61,7 +73,9 @@ pub(crate) struct DynBody {
 }
 
 impl DynBody {
-    /// `low`: an optional low-rank damping term added to `c` (M̃ then gets a Woodbury solve).
+    /// `low`: an optional low-rank damping term added to `c` (M̃ then gets a Woodbury solve);
+    /// `implicit`: the generalised-α coefficients of an implicit scheme (`None`: central
+    /// differences).
     pub(crate) fn new(
         m: &Csc,
         c: &Csc,
@@ -69,11 +83,23 @@ impl DynBody {
         low: Option<&LowRank>,
         dt: f64,
         contact_dofs: &[usize],
+        implicit: Option<Alpha>,
     ) -> Result<Self, LinalgError> {
         let n = m.nrows();
-        let aop = Csc::lin_comb(2.0 / (dt * dt), m, -1.0, k);
-        let bop = Csc::lin_comb(1.0 / (2.0 * dt), c, -1.0 / (dt * dt), m);
-        let mt = Csc::lin_comb(1.0 / (dt * dt), m, 1.0 / (2.0 * dt), c);
+        // The matrix factored and the factor its low-rank damping carries.
+        let (mt, low_factor, ops) = match implicit {
+            None => {
+                let aop = Csc::lin_comb(2.0 / (dt * dt), m, -1.0, k);
+                let bop = Csc::lin_comb(1.0 / (2.0 * dt), c, -1.0 / (dt * dt), m);
+                let mt = Csc::lin_comb(1.0 / (dt * dt), m, 1.0 / (2.0 * dt), c);
+                (mt, 1.0 / (2.0 * dt), Ops::Central(PairCsr::new(&aop, &bop)))
+            }
+            Some(co) => {
+                let (s, cc) = co.operator(m, c, k, dt);
+                let imp = Implicit::new(co, m, c, k, low, dt);
+                (s, cc, Ops::Implicit(Box::new(imp)))
+            }
+        };
         let minv = if mt.is_diagonal() && low.is_none() {
             let d = mt.diagonal();
             if let Some(i) = d.iter().position(|v| *v <= 0.0) {
@@ -82,12 +108,12 @@ impl DynBody {
             MInv::Diag(d.iter().map(|v| 1.0 / v).collect())
         } else {
             let mut lu = match low {
-                // M̃ = S + U diag(d/(2Δt)) Uᵀ.
+                // M̃ = S + U diag(d/(2Δt)) Uᵀ (implicit: d γ/(βΔt)).
                 Some(lr) => {
                     let scaled = LowRank {
                         n: lr.n,
                         u: lr.u.clone(),
-                        d: lr.d.iter().map(|d| d / (2.0 * dt)).collect(),
+                        d: lr.d.iter().map(|d| d * low_factor).collect(),
                     };
                     StepSolver::LowRank(WoodburyLu::new(&mt, scaled)?)
                 }
@@ -115,7 +141,7 @@ impl DynBody {
         };
         Ok(Self {
             n,
-            ab: PairCsr::new(&aop, &bop),
+            ops,
             minv,
             u_prev: vec![0.0; n],
             u: vec![0.0; n],
@@ -124,14 +150,23 @@ impl DynBody {
         })
     }
 
-    /// `u_next = M̃⁻¹ (rhs + A u + B u_prev)`; `rhs` holds the external force on entry.
+    /// `u_next = M̃⁻¹ (rhs + A u + B u_prev)`; `rhs` holds the external force on entry (at
+    /// tₙ; implicit: at tₙ₊₁, and `u_next = S⁻¹(rhs + known part)`, [`Implicit::load_rhs`]).
     pub(crate) fn predict(&mut self) {
-        self.ab.mul_add(&self.u, &self.u_prev, &mut self.rhs);
-        // Low-rank damping C_l: its share of B, C_l/(2Δt), is the term the Woodbury solver
-        // holds (M̃ = S + C_l/(2Δt)).
-        if let MInv::Lu { lu, .. } = &mut self.minv {
-            if let StepSolver::LowRank(w) = lu.as_mut() {
-                w.low_rank_mul_add(&self.u_prev, &mut self.rhs);
+        match &mut self.ops {
+            Ops::Central(ab) => {
+                ab.mul_add(&self.u, &self.u_prev, &mut self.rhs);
+                // Low-rank damping C_l: its share of B, C_l/(2Δt), is the term the Woodbury
+                // solver holds (M̃ = S + C_l/(2Δt)).
+                if let MInv::Lu { lu, .. } = &mut self.minv {
+                    if let StepSolver::LowRank(w) = lu.as_mut() {
+                        w.low_rank_mul_add(&self.u_prev, &mut self.rhs);
+                    }
+                }
+            }
+            Ops::Implicit(imp) => {
+                imp.keep_external(&self.rhs);
+                imp.load_rhs(&self.u, &mut self.rhs);
             }
         }
         match &mut self.minv {
@@ -178,9 +213,15 @@ impl DynBody {
         }
     }
 
-    /// `u_next += M̃⁻¹ e_d · f`.
+    /// `u_next += M̃⁻¹ e_d · f` (implicit schemes with α_f ≠ 0 also count `f` in the load of
+    /// tₙ₊₁).
     #[inline]
     pub(crate) fn apply(&mut self, d: usize, f: f64) {
+        if let Ops::Implicit(imp) = &mut self.ops {
+            if let Some(l) = imp.load_next.get_mut(d) {
+                *l += f;
+            }
+        }
         match &self.minv {
             MInv::Diag(inv) => self.u_next[d] += inv[d] * f,
             MInv::Lu { cols, col_of, .. } => {
@@ -192,7 +233,11 @@ impl DynBody {
         }
     }
 
+    /// uⁿ⁺¹ becomes uⁿ (implicit: with its velocity and acceleration).
     pub(crate) fn rotate(&mut self) {
+        if let Ops::Implicit(imp) = &mut self.ops {
+            imp.finish(&self.u_next);
+        }
         std::mem::swap(&mut self.u_prev, &mut self.u);
         std::mem::swap(&mut self.u, &mut self.u_next);
     }

@@ -21,6 +21,12 @@
 //! in the central-difference step — second order, but explicit in the stator stiffness, so its
 //! stable step is `2/ω_c`, `ω_c = √((k_r + k_s)/m)`.
 //!
+//! The implicit schemes [`Scheme::Newmark`] and [`Scheme::GeneralizedAlpha`] ([`newmark`]) run
+//! the same forward-increment step with each body's `M̃` replaced by its generalised-α operator
+//! `S = (1−α_m)/((1−α_f)βΔt²) M + γ/(βΔt) C + K`: the prediction carries the load at tₙ₊₁, the
+//! contact is imposed at tₙ₊₁ on `W = G S⁻¹ Gᵀ`, and no stability limit bounds Δt
+//! (docs/IMPLICIT.md).
+//!
 //! The loop allocates nothing: every buffer lives in the [`Stepper`]'s workspace built before
 //! it, and the record is sized for the whole run. The exceptions are a meshed stator's node
 //! touching for the first time (its compliance column, cached) and a contact problem larger
@@ -42,15 +48,16 @@
 //!   selection, the schemes and the recording do not change.
 //!
 //! Files: [`plan`] (Δt and steps, the limits that refuse an absurd run), [`budget`] (steps,
-//! memory and time estimated up front), [`record`] (what a run keeps), `body` (central differences
-//! of a body with mass), [`compliance`] (massless stators), `select` (which pairs enter a
-//! contact problem), `solve` (the contact solve), `workspace` (buffers), `spin` (a gyroscopic rotor's correction for a varying speed), `stepper` (the step),
-//! [`frame`] (frames for sinks).
+//! memory and time estimated up front), [`record`] (what a run keeps), `body` (a body with mass,
+//! central differences or implicit), [`newmark`] (the generalised-α family), `spin` (a gyroscopic rotor's
+//! correction for a varying speed), [`compliance`] (massless stators), `select` (which pairs enter a contact problem), `solve` (the contact
+//! solve), `workspace` (buffers), `stepper` (the step), [`frame`] (frames for sinks).
 
 mod body;
 pub mod budget;
 pub mod compliance;
 pub mod frame;
+pub mod newmark;
 pub mod plan;
 pub mod record;
 mod select;
@@ -62,6 +69,7 @@ mod workspace;
 pub use budget::{estimate, Budget};
 pub use compliance::EAGER_DOFS;
 pub use frame::{Frame, FrameSink, PairForce};
+pub use newmark::Alpha;
 pub use plan::{plan_duration, plan_steps, Scheme, StepParams, StepPlan, MAX_STEPS};
 pub use record::{ContactStats, Record, RunStats};
 pub use stepper::{Initial, Sink, Stepper};

@@ -1,7 +1,7 @@
 //! The stepper: one step of the paper's algorithm, predict → select → solve → correct → guard
 //! → record, for both schemes.
 
-use super::body::{DynBody, StatorDyn};
+use super::body::{DynBody, Ops, StatorDyn};
 use super::compliance::Compliance;
 use super::frame::{Frame, FrameSink};
 use super::plan::{Scheme, StepPlan};
@@ -37,7 +37,9 @@ pub type Sink<'s> = Option<&'s mut dyn FrameSink>;
 /// * forward increment: predict every body with λ = 0 (massless stators undeformed, Eq. 49),
 ///   select the pairs penetrating the prediction, solve, correct (Eqs. 34–47);
 /// * collocated: first solve the massless stators' contact at tₙ with the rotor held at uⁿ
-///   and load the prediction with it; then the same forward increment for stators with mass.
+///   and load the prediction with it; then the same forward increment for stators with mass;
+/// * implicit (Newmark, generalised-α): the forward increment's phases, each body predicting
+///   with its implicit operator and the load at tₙ₊₁ (`super::newmark`).
 #[derive(Debug)]
 pub struct Stepper<'a> {
     pub(crate) case: &'a Case,
@@ -128,6 +130,7 @@ impl<'a> Stepper<'a> {
             case.rotor.c_low.as_ref(),
             dt,
             &rotor_contact_dofs(case),
+            scheme.implicit(),
         )
         .map_err(factor_err("rotor".into()))?;
         let mut stators = Vec::with_capacity(case.stators.len());
@@ -137,13 +140,22 @@ impl<'a> Stepper<'a> {
                 StatorDyn::Massless(Compliance::new(s).map_err(err)?)
             } else {
                 StatorDyn::Massive(Box::new(
-                    DynBody::new(&s.m, &s.c, &s.k, None, dt, &s.contact_dofs()).map_err(err)?,
+                    DynBody::new(
+                        &s.m,
+                        &s.c,
+                        &s.k,
+                        None,
+                        dt,
+                        &s.contact_dofs(),
+                        scheme.implicit(),
+                    )
+                    .map_err(err)?,
                 ))
             });
         }
         let pairs = Pairs::new(case);
         let massless: Vec<bool> = case.stators.iter().map(|s| s.massless()).collect();
-        let collocated = scheme == Scheme::Collocated;
+        let collocated = scheme.collocated();
         let static_phase = Phase {
             use_index: true,
             keep: massless.clone(),
@@ -191,14 +203,17 @@ impl<'a> Stepper<'a> {
             closed: 0,
             n: 0,
         };
-        st.set_initial(init, node0);
+        st.set_initial(init, node0).map_err(factor_err(
+            "rotor mass matrix (initial acceleration)".into(),
+        ))?;
         Ok(st)
     }
 
     /// uⁿ and uⁿ⁻¹ of the rotor from the initial displacement and velocity on `node`'s DOFs:
     /// `u⁻¹ = u⁰ − Δt v⁰ + ½Δt² a⁰`, `a⁰ = M⁻¹(f⁰ − K u⁰ − C v⁰)` (a sparse Cholesky factor of
-    /// a non-diagonal M; 0 if M cannot be factored, a first-order start).
-    fn set_initial(&mut self, init: Initial, node: usize) {
+    /// a non-diagonal M; 0 if M cannot be factored, a first-order start); implicit schemes:
+    /// u⁰, v⁰ and a⁰ (M factored once when it is not diagonal).
+    fn set_initial(&mut self, init: Initial, node: usize) -> Result<(), LinalgError> {
         let (case, dt) = (self.case, self.plan.dt);
         let n = self.rotor.n;
         let d0 = case.rotor.node_dofs[node];
@@ -211,6 +226,7 @@ impl<'a> Stepper<'a> {
             u0[d0[c]] = init.u[c];
             v0[d0[c]] = init.v[c];
         }
+        let fext = f0.clone();
         case.rotor.k.mul_add(-1.0, &u0, &mut f0);
         case.rotor.c.mul_add(-1.0, &v0, &mut f0);
         if let Some(lr) = &case.rotor.c_low {
@@ -218,6 +234,11 @@ impl<'a> Stepper<'a> {
         }
         if let (Some(g), Some(p)) = (&mut self.gyro, self.spin) {
             g.add_initial(p.at(0.0), &u0, &v0, &mut f0);
+        }
+        if let Ops::Implicit(imp) = &mut self.rotor.ops {
+            self.rotor.u.copy_from_slice(&u0);
+            self.rotor.u_prev.copy_from_slice(&u0);
+            return imp.start(&case.rotor.m, &v0, &fext, f0);
         }
         // a⁰ = M⁻¹ f⁰: a consistent start keeps the scheme's second order (a⁰ = 0 would put
         // an O(Δt) error in the initial velocity).
@@ -239,12 +260,13 @@ impl<'a> Stepper<'a> {
             self.rotor.u[i] = u0[i];
             self.rotor.u_prev[i] = u0[i] - dt * v0[i] + 0.5 * dt * dt * a0[i];
         }
+        Ok(())
     }
 
     /// Runs every step of the plan, handing frames to `sink`; returns the record and counters.
     pub fn run(mut self, mut sink: Sink<'_>) -> Result<(Record, RunStats), SolveError> {
         let start = Instant::now();
-        if self.scheme == Scheme::ForwardIncrement {
+        if !self.scheme.collocated() {
             // The initial state: nothing in contact yet.
             self.record(0.0, ForceSet::Main, 0);
             self.observe(0, ForceSet::Main, 0);
@@ -267,7 +289,7 @@ impl<'a> Stepper<'a> {
         let (n, dt) = (self.n, self.plan.dt);
         let t = n as f64 * dt;
         self.begin_step();
-        if self.scheme == Scheme::Collocated {
+        if self.scheme.collocated() {
             self.static_contact(n, t)?;
             self.record_collocated(sink, n, t)?;
             if n == self.plan.steps {
@@ -285,7 +307,7 @@ impl<'a> Stepper<'a> {
         }
         self.guard(n + 1, t + dt)?;
         self.advance();
-        if self.scheme == Scheme::ForwardIncrement {
+        if !self.scheme.collocated() {
             self.observe(n + 1, ForceSet::Main, self.active);
             if (n + 1) % self.plan.record_every == 0 {
                 self.record(t + dt, ForceSet::Main, self.active);
@@ -373,15 +395,20 @@ impl<'a> Stepper<'a> {
         }
     }
 
-    /// Predicts every body with mass with λ = 0 (Eqs. 35–36); forward increment: massless
-    /// stators start undeformed (Eq. 49).
+    /// Predicts every body with mass with λ = 0 (Eqs. 35–36; implicit schemes: the load at
+    /// tₙ₊₁); forward increment and implicit schemes: massless stators start undeformed
+    /// (Eq. 49).
     fn predict(&mut self, t: f64) {
-        add_unbalance(self.case, self.spin, t, &mut self.rotor.rhs);
+        let at = match self.rotor.ops {
+            Ops::Central(_) => t,
+            Ops::Implicit(_) => t + self.plan.dt,
+        };
+        add_unbalance(self.case, self.spin, at, &mut self.rotor.rhs);
         self.rotor.predict();
         if let (Some(g), Some(p)) = (&mut self.gyro, self.spin) {
             g.correct(p.at(t), &mut self.rotor);
         }
-        let collocated = self.scheme == Scheme::Collocated;
+        let collocated = self.scheme.collocated();
         for st in self.stators.iter_mut() {
             match st {
                 StatorDyn::Massive(b) => {
@@ -400,7 +427,7 @@ impl<'a> Stepper<'a> {
     /// Forward-increment contact on the predicted configuration: select, solve, correct
     /// (Eqs. 37–47).
     fn increment_contact(&mut self, n: usize, t: f64) -> Result<(), SolveError> {
-        let collocated = self.scheme == Scheme::Collocated;
+        let collocated = self.scheme.collocated();
         let found = self.pairs.select(
             self.case,
             &mut self.ws,

@@ -118,6 +118,13 @@ pub fn from_mesh(
     let k = Csc::from_triplets(ndof, ndof, &kt);
     drop(kt);
     let total_mass: f64 = mass.iter().sum();
+    if total_mass == 0.0 && p.rayleigh != [0.0; 2] {
+        return Err(ModelError::Inconsistent {
+            what: format!("stator `{}`", p.name),
+            message: super::MASSLESS_DAMPING.into(),
+        }
+        .into());
+    }
     if total_mass > 0.0 {
         if let Some(d) = mass.iter().position(|m| *m <= 0.0) {
             return Err(ModelError::Inconsistent {

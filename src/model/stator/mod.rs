@@ -306,6 +306,12 @@ pub(super) struct Lumped<'a> {
     pub contact_nodes: Vec<usize>,
 }
 
+/// Why a massless stator refuses damping (`rayleigh`; a ring's `damping` is refused by the
+/// scene's validation for the same reason): it enters the loop as the static compliance of its
+/// contact boundary, which has no velocity to damp; a contact dashpot is not modelled yet
+/// (issue 15, item 3).
+pub(crate) const MASSLESS_DAMPING: &str = "`rayleigh` damping on a massless stator: a massless stator enters the time loop as the static compliance of its contact boundary and has no velocity to damp (a contact dashpot is not modelled yet); give it mass (`density`, `point_masses`) or leave `rayleigh` out";
+
 impl Lumped<'_> {
     /// Numbers the free DOFs, assembles K, the lumped M and C = α M + β K, and checks that K
     /// is positive definite (no free rigid-body or mechanism mode).
@@ -354,6 +360,12 @@ impl Lumped<'_> {
                     ),
                 });
             }
+        }
+        if total_mass == 0.0 && rayleigh != [0.0; 2] {
+            return Err(ModelError::Inconsistent {
+                what,
+                message: MASSLESS_DAMPING.into(),
+            });
         }
         let c = Csc::lin_comb(rayleigh[0], &m, rayleigh[1], &k);
         let targets = contact_nodes

@@ -66,6 +66,25 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
         positive(ls, "run.dt", dt)?;
     }
     positive(ls, "run.harmonics", r.harmonics)?;
+    if let Some(rho) = r.rho_inf {
+        if r.integrator != IntegratorKind::GeneralizedAlpha {
+            return Err(ls.invalid(
+                "run.rho_inf",
+                format!(
+                    "only `run.integrator = \"generalized_alpha\"` has a spectral radius ρ∞; the integrator is `{}`: leave `rho_inf` out or choose `generalized_alpha`",
+                    r.integrator.name()
+                ),
+            ));
+        }
+        if !(0.0..=1.0).contains(&rho) {
+            return Err(ls.invalid(
+                "run.rho_inf",
+                format!(
+                    "must lie in 0 ..= 1 (the spectral radius at infinite frequency), got {rho}"
+                ),
+            ));
+        }
+    }
     if !(8..=MAX_SAMPLES_PER_REV).contains(&r.samples_per_rev) {
         return Err(ls.invalid(
             "run.samples_per_rev",
