@@ -135,6 +135,8 @@ fn scalar_dofs(rotor: &Rotor) -> (Vec<usize>, Vec<usize>) {
 pub struct ModalResults {
     /// Spin speed Ω (rad/s).
     pub speed: f64,
+    /// Rigid-body modes (ω = 0) of free axial or torsional DOFs, by kind: not in `modes`.
+    pub rigid_body: Vec<ModeKind>,
     /// Modes sorted by ω_d (positive-frequency members of the conjugate pairs).
     pub modes: Vec<Mode>,
 }
@@ -222,14 +224,50 @@ fn normalise(
     }
 }
 
+/// The undamped modes `(ω², Φ)` without the rigid-body modes of free axial and torsional DOFs,
+/// and the kinds of those removed. Each rigid-body mode `r` is the column of largest
+/// `|φᵀ M r|² / (rᵀ M r)` (1 for it, 0 for every other mode of a mass-normalised basis).
+#[allow(clippy::type_complexity)]
+fn elastic_modes(
+    rotor: &Rotor,
+    m: &Csc,
+    k: &Csc,
+) -> Result<(Vec<f64>, DMatrix<f64>, Vec<ModeKind>), ModelError> {
+    let (lam, phi) = undamped_modes(m, k)?;
+    let md = dense(m);
+    let mut drop = Vec::new();
+    let mut kinds = Vec::new();
+    for (r, kind) in rotor
+        .rigid_body_modes()
+        .into_iter()
+        .zip([ModeKind::Axial, ModeKind::Torsional])
+    {
+        let Some(r) = r else { continue };
+        let mr = &md * DVector::from_vec(r);
+        let best = (0..phi.ncols())
+            .map(|j| (j, phi.column(j).dot(&mr).powi(2)))
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        if let Some((j, _)) = best {
+            drop.push(j);
+            kinds.push(kind);
+        }
+    }
+    let keep: Vec<usize> = (0..lam.len()).filter(|j| !drop.contains(j)).collect();
+    let phi = DMatrix::from_fn(phi.nrows(), keep.len(), |r, c| phi[(r, keep[c])]);
+    Ok((keep.iter().map(|&j| lam[j]).collect(), phi, kinds))
+}
+
 /// Damped modes at spin speed `omega` (rad/s): at most `nmodes`, lowest ω_d first.
 ///
 /// Solved in the basis of the lowest undamped modes (pseudo-modal reduction to
 /// `max(2·nmodes + 10, 20)` modes, or all): the first-order matrix then spans only the
-/// frequencies of interest and stays well conditioned even with very stiff supports.
+/// frequencies of interest and stays well conditioned even with very stiff supports. The
+/// rigid-body modes of free axial or torsional DOFs are left out of the basis and listed in
+/// [`ModalResults::rigid_body`] (exact when the damping does not couple them to the elastic
+/// modes: Rayleigh damping of the assembly; ROSS's shaft-only α with disks does, weakly).
 pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, ModelError> {
     let (m, k, c, g) = rotor.matrices(omega)?;
-    let (lam, phi_all) = undamped_modes(&m, &k)?;
+    let (lam, phi_all, rigid_body) = elastic_modes(rotor, &m, &k)?;
     let nr = lam.len().min((2 * nmodes + 10).max(20));
     let phi = phi_all.columns(0, nr).into_owned();
     let ctot = dense(&Csc::lin_comb(1.0, &c, omega, &g));
@@ -317,6 +355,7 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
     modes.truncate(nmodes);
     Ok(ModalResults {
         speed: omega,
+        rigid_body,
         modes,
     })
 }
@@ -642,23 +681,27 @@ pub fn unbalance_response(
 }
 
 /// Static deflection under gravity g (m/s², along −y): `K q = −g M e_y` (m, rad per DOF).
-/// Gravity is lateral, so axial and torsional entries are zero (uncoupled DOFs).
+/// Gravity is lateral, so only the lateral block is solved and the axial and torsional entries
+/// are zero (uncoupled DOFs, which may be free).
 pub fn static_deflection(rotor: &Rotor, g: f64) -> Result<Vec<f64>, ModelError> {
     let (m, k, _, _) = rotor.matrices(0.0)?;
-    let n = m.nrows();
+    let (n, nl) = (m.nrows(), rotor.lateral_dofs());
     let mut ey = DVector::zeros(n);
     for i in 0..rotor.node_count() {
         ey[rotor.node_dofs(i)[1]] = 1.0;
     }
-    let f = -g * (dense(&m) * ey);
-    let kd: DMatrix<f64> = dense(&k);
-    kd.lu()
+    let f = (-g * (dense(&m) * ey)).rows(0, nl).into_owned();
+    let kd: DMatrix<f64> = dense(&k).view((0, 0), (nl, nl)).into_owned();
+    let mut q: Vec<f64> = kd
+        .lu()
         .solve(&f)
         .map(|v| v.iter().copied().collect())
         .ok_or_else(|| ModelError::Singular {
             what: "rotor stiffness".into(),
             detail: "singular: the rotor is not held by its bearings".into(),
-        })
+        })?;
+    q.resize(n, 0.0);
+    Ok(q)
 }
 
 /// `points` speeds (at least 2) spread evenly from `from` to `to`, both included.

@@ -38,6 +38,12 @@ pub fn modal(
             m.label()
         );
     }
+    for k in &res.rigid_body {
+        println!(
+            "  rigid-body mode (ω = 0): free {} DOFs (no support of positive stiffness)",
+            k.label()
+        );
+    }
     csv::write_modes(&mut outd, &res)?;
     let nodes = rotordyn::lateral_at_nodes(&model.rotor, &stat);
     let ymax = nodes.iter().fold(0.0_f64, |m, u| m.max(u[1].abs()));

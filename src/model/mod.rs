@@ -164,6 +164,22 @@ impl Rotor {
             }
         }
     }
+    /// Number of lateral DOFs (`0..n`): bending and pedestals (2 for a Jeffcott rotor). The
+    /// axial and torsional DOFs of an FE rotor come after them, uncoupled.
+    pub fn lateral_dofs(&self) -> usize {
+        match self {
+            Rotor::Jeffcott(_) => 2,
+            Rotor::Fe(f) => f.rotor.ndof_lateral,
+        }
+    }
+    /// The rigid-body modes `[axial, torsional]` of free axial and torsional DOFs
+    /// ([`fe_rotor::FeRotor::rigid_body_modes`]); none for a Jeffcott rotor.
+    pub fn rigid_body_modes(&self) -> [Option<Vec<f64>>; 2] {
+        match self {
+            Rotor::Jeffcott(_) => [None, None],
+            Rotor::Fe(f) => f.rotor.rigid_body_modes(),
+        }
+    }
     /// Number of rotor nodes.
     pub fn node_count(&self) -> usize {
         match self {
