@@ -247,7 +247,7 @@ fn modal_and_campbell_label_axial_and_torsional_modes() {
     }
     // Campbell: the torsional and axial tracks are flat and labelled so.
     let speeds: Vec<f64> = (0..6).map(|i| i as f64 * 200.0).collect();
-    let c = rotordyn::campbell(&m.rotor, &speeds, 12).unwrap();
+    let c = rubsim::analysis::campbell::campbell(&m.rotor, &speeds, 12).unwrap();
     let tors: Vec<_> = c
         .tracks
         .iter()

@@ -57,7 +57,10 @@ fn rotary_inertia_and_gyroscopics_are_separate_switches() {
     eprintln!("FW − BW at 4000 rpm: {both:.6} (both), {no_rot:.6} (no rotary inertia), {no_gyro:.3e} (no G)");
     assert!(both > 1e-3 && no_rot > 1e-3);
     assert!((no_rot / both - 1.0).abs() < 0.05, "{no_rot} vs {both}");
-    assert!(no_gyro.abs() < 1e-6 * both, "round-off of a double eigenvalue only");
+    assert!(
+        no_gyro.abs() < 1e-6 * both,
+        "round-off of a double eigenvalue only"
+    );
     let w = |t: &str| fe(&model(t).rotor).rotor.lateral_frequencies(0.0).unwrap()[0];
     assert!(w(&bare_shaft(12, "rotary_inertia = false")) > w(&bare_shaft(12, "")));
     // G itself is the same matrix with or without the rotary inertia.
@@ -95,7 +98,10 @@ fn rayleigh_on_the_shaft_only_damps_by_the_shaft_energy() {
         eprintln!("mode {}: ω {w:.4}, ζ assembly {za:.6e} (closed form {exact:.6e}), shaft only {zs:.6e} (first order {zeta:.6e})", i + 1);
         assert!((za / exact - 1.0).abs() < 1e-5, "mode {i}: {za} vs {exact}");
         assert!((zs / zeta - 1.0).abs() < 2e-3, "mode {i}: {zs} vs {zeta}");
-        assert!(zs < 0.9 * za, "the disks' α M and the bearings' β K are left out");
+        assert!(
+            zs < 0.9 * za,
+            "the disks' α M and the bearings' β K are left out"
+        );
     }
 }
 
@@ -134,7 +140,10 @@ fn free_axial_and_torsional_dofs_have_rigid_body_modes() {
         assert!(got.len() >= 2, "{kind:?}: {got:?}");
         for (j, w) in got.iter().take(2).enumerate() {
             let want = discrete(c, j + 1);
-            eprintln!("free–free {kind:?} mode {}: {w:.6} rad/s, discrete closed form {want:.6}", j + 1);
+            eprintln!(
+                "free–free {kind:?} mode {}: {w:.6} rad/s, discrete closed form {want:.6}",
+                j + 1
+            );
             assert!((w / want - 1.0).abs() < 1e-8, "{kind:?} {j}: {w} vs {want}");
         }
     }

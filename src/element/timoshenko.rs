@@ -483,9 +483,13 @@ mod tests {
             let s = sec(shear);
             let p = s.phi();
             let r3 = 2.0 / 15.0 + p / 6.0 + p * p / 3.0;
-            let mr = s.density * s.inertia() / (s.length * (1.0 + p).powi(2)) * r3 * s.length.powi(2);
+            let mr =
+                s.density * s.inertia() / (s.length * (1.0 + p).powi(2)) * r3 * s.length.powi(2);
             assert!((on.m[3][3] - off.m[3][3] - mr).abs() < 1e-12 * mr);
-            assert!((on.g[3][2] + 2.0 * mr).abs() < 1e-12 * mr, "G = −2 M_r at θ_y θ_x");
+            assert!(
+                (on.g[3][2] + 2.0 * mr).abs() < 1e-12 * mr,
+                "G = −2 M_r at θ_y θ_x"
+            );
             assert!(off.g.iter().flatten().any(|v| *v != 0.0));
         }
     }

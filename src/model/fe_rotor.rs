@@ -628,7 +628,10 @@ fn check(d: &FeRotorData) -> Result<(Vec<f64>, Vec<f64>), ModelError> {
             if !(s.stiffness.is_finite() && s.stiffness >= 0.0) {
                 return Err(err(
                     what,
-                    format!("stiffness must be zero or positive and finite, got {}", s.stiffness),
+                    format!(
+                        "stiffness must be zero or positive and finite, got {}",
+                        s.stiffness
+                    ),
                 ));
             }
             if !(s.damping.is_finite() && s.damping >= 0.0) {

@@ -232,7 +232,7 @@ impl Rotor {
     pub fn describe(&self) -> String {
         match self {
             Rotor::Jeffcott(j) => format!(
-                "Jeffcott rotor, 2 DOF: m = {:.6} kg, k = {:.6e} N/m, c = {:.6e} N·s/m (ξ = {:.4}), ω_n = {:.4} rad/s ({:.4} Hz)",
+                "Jeffcott rotor, 2 DOF: m = {:.6} kg, k = {:.6e} N/m, c = {:.6e} N·s/m (ξ = {:.4}), ω_n = {} rad/s ({} Hz, full precision)",
                 j.mass,
                 j.stiffness,
                 j.damping,
@@ -241,7 +241,7 @@ impl Rotor {
                 j.natural_frequency() / (2.0 * std::f64::consts::PI)
             ),
             Rotor::Fe(f) => format!(
-                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF ({}), {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; damping: {}; ω_n = {:.4} rad/s ({:.4} Hz, first lateral mode), highest free-rotor mode ω_max,rotor = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
+                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF ({}), {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; damping: {}; ω_n = {} rad/s ({} Hz, first lateral mode, full precision), highest free-rotor mode ω_max,rotor = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
                 f.rotor.nodes(),
                 f.rotor.nodes() - 1,
                 f.rotor.ndof,
@@ -269,6 +269,9 @@ impl Rotor {
                             if md.max_frequency.is_finite() { format!("{}", md.max_frequency) } else { "∞".into() },
                             if md.modes == usize::MAX { "all".into() } else { md.modes.to_string() }
                         ));
+                    }
+                    if f.rotor.rayleigh_shaft.is_some() {
+                        d[0].push_str(" on the shaft elements only");
                     }
                     d.push("bearings".into());
                     d.join(", ")

@@ -6,8 +6,8 @@ use crate::element::timoshenko::ShaftSection;
 use crate::error::SceneError;
 use crate::scene::validate::{one_of, OneOf};
 use crate::scene::{
-    material, BearingSpec, RayleighOn, FeRotorSpec, GroundSpringSpec, JeffcottSpec, LoadedScene, RotorSpec,
-    ScalarOrTable,
+    material, BearingSpec, FeRotorSpec, GroundSpringSpec, JeffcottSpec, LoadedScene, RayleighOn,
+    RotorSpec, ScalarOrTable,
 };
 use std::f64::consts::PI;
 
