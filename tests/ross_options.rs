@@ -89,8 +89,8 @@ fn rayleigh_on_the_shaft_only_damps_by_the_shaft_energy() {
     let cs = dense(f.rayleigh_shaft.as_ref().unwrap());
     let r_asm = rotordyn::modal(&m_asm.rotor, 0.0, 6).unwrap();
     let r_shaft = rotordyn::modal(&m_shaft.rotor, 0.0, 6).unwrap();
-    for i in 0..6 {
-        let w = lam[i].sqrt();
+    for (i, l) in lam.iter().enumerate().take(6) {
+        let w = l.sqrt();
         let p = phi.column(i);
         let zeta = (p.transpose() * &cs * p)[(0, 0)] / (2.0 * w);
         let (za, zs) = (r_asm.modes[i].damping_ratio, r_shaft.modes[i].damping_ratio);
@@ -157,8 +157,8 @@ fn free_axial_and_torsional_dofs_have_rigid_body_modes() {
         .filter(|x| x.kind == ModeKind::Lateral)
         .map(|x| x.omega_d)
         .collect();
-    for i in 0..4 {
-        assert!((lateral[i] / w_held[i] - 1.0).abs() < 1e-8);
+    for (a, b) in lateral.iter().zip(&w_held).take(4) {
+        assert!((a / b - 1.0).abs() < 1e-8);
     }
 }
 
