@@ -268,7 +268,7 @@ fn elastic_modes(
 /// Rotors with at most this many (elastic) DOFs are solved on the full modal basis: exact, and
 /// cheap at that size (the reduction's truncation error grows with Ω², 4e-7 of ω_d at
 /// 1000 rad/s on ROSS's `rotor_example` with 34 of its 40 modes).
-const FULL_BASIS: usize = 160;
+pub const FULL_BASIS: usize = 160;
 
 /// Damped modes at spin speed `omega` (rad/s): at most `nmodes`, lowest ω_d first.
 ///
