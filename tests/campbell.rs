@@ -204,3 +204,53 @@ fn cli_campbell_reproducer_and_speed_units() {
     let (ok, _, err) = in_repo(&["modal", SCENE, "--unit", "furlongs"]);
     assert!(!ok && err.contains("possible values"), "{err}");
 }
+
+/// `rubsim import-ross` on the file ROSS 2.3.0's `Rotor.save` wrote for `rotor_example`
+/// (`tests/data/ross/rotor_example.toml`): the scene gives ROSS's frequencies; what cannot be
+/// represented is refused naming the element table.
+#[test]
+fn import_ross_rotor_example_and_refusals() {
+    let path = repo("tests/data/ross/rotor_example.toml");
+    let text = common::read(&path);
+    let scene = rubsim::scene::ross::import(&path, &text).unwrap();
+    let m = build(&common::parse(&scene, NO_SETS));
+    let r = rotordyn::modal(&m.rotor, 1000.0, 12).unwrap();
+    for (g, w) in r.modes.iter().zip(ROSS_WD[2].1) {
+        assert!((g.omega_d / w - 1.0).abs() < 1e-7, "{} vs {w}", g.omega_d);
+    }
+    let cases = [
+        (text.replacen("odr = 0.05", "odr = 0.06", 1), "tapered"),
+        (
+            text.replacen("mxx = [ 0,]", "mxx = [ 1.0,]", 1),
+            "mass coefficient",
+        ),
+        (
+            text.replacen("[\"DiskElement_Disk 0\"]", "[\"SealElement_Seal 0\"]", 1),
+            "SealElement",
+        ),
+        (
+            text.replacen("beta = 0.0", "beta = 1e-5", 1),
+            "same on every shaft element",
+        ),
+    ];
+    for (bad, what) in cases {
+        let e = rubsim::scene::ross::import(&path, &bad)
+            .unwrap_err()
+            .to_string();
+        eprintln!("{what}: {e}");
+        assert!(
+            e.contains(what) && e.contains("rotor_example.toml:"),
+            "{what}: {e}"
+        );
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("imported.toml");
+    let (ok, _, err) = in_repo(&[
+        "import-ross",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(common::read(&out), scene);
+}

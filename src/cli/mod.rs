@@ -217,6 +217,15 @@ pub enum Cmd {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Read a rotor saved by ROSS (`Rotor.save`, TOML) and write the equivalent rubsim scene
+    /// (what rubsim cannot represent is refused by the element's name).
+    ImportRoss {
+        /// The ROSS file.
+        file: PathBuf,
+        /// The scene to write (default: standard output).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Time the scene's sweep (no output files) and print wall time, ns per step and error.
     Bench {
         #[command(flatten)]
@@ -511,5 +520,24 @@ pub fn run() -> Result<()> {
             reference,
             ..
         } => bench::bench(c, *repeat, *reference),
+        Cmd::ImportRoss { file, out } => import_ross(file, out.as_deref()),
     }
+}
+
+/// `rubsim import-ross FILE [--out SCENE]`: the scene of a ROSS rotor, checked by building its
+/// model before it is written.
+fn import_ross(file: &Path, out: Option<&Path>) -> Result<()> {
+    let text = std::fs::read_to_string(file)
+        .with_context(|| format!("{}: cannot read the ROSS file", file.display()))?;
+    let scene_text = rubsim::scene::ross::import(file, &text)?;
+    let ls = scene::parse(file, &scene_text, &[])
+        .with_context(|| format!("{}: the imported scene is not valid", file.display()))?;
+    Model::from_scene(&ls)
+        .with_context(|| format!("{}: building the imported rotor", file.display()))?;
+    match out {
+        Some(p) => std::fs::write(p, &scene_text)
+            .with_context(|| format!("{}: cannot write the scene", p.display()))?,
+        None => print!("{scene_text}"),
+    }
+    Ok(())
 }
