@@ -29,6 +29,7 @@
 //! response).
 
 pub mod bench;
+pub mod campbell;
 pub mod convergence;
 pub mod refine;
 pub mod regimes;

@@ -1,5 +1,5 @@
-//! Linear rotordynamics of the rotor alone: static deflection, damped modes, Campbell diagram
-//! with mode tracking and critical speeds, unbalance response.
+//! Linear rotordynamics of the rotor alone: static deflection, damped modes, unbalance
+//! response (the Campbell diagram built on these modes is [`super::campbell`]).
 //!
 //! The rotor obeys `M q̈ + (C + Ω G) q̇ + K q = f` with the matrices of
 //! [`crate::model::Rotor::matrices`]. Modes come from the first-order form
@@ -110,6 +110,10 @@ pub struct Mode {
     /// Torsional shape `φ_θz` per node, same scale (empty without torsional DOFs).
     #[serde(skip)]
     pub shape_torsion: Vec<Complex64>,
+    /// Rotations `[φ_θx, φ_θy]` per node, same scale (empty for a Jeffcott rotor): with the
+    /// displacements they make the full shape that Campbell tracking compares.
+    #[serde(skip)]
+    pub shape_tilt: Vec<[Complex64; 2]>,
 }
 
 impl Mode {
@@ -135,6 +139,8 @@ fn scalar_dofs(rotor: &Rotor) -> (Vec<usize>, Vec<usize>) {
 pub struct ModalResults {
     /// Spin speed Ω (rad/s).
     pub speed: f64,
+    /// Rigid-body modes (ω = 0) of free axial or torsional DOFs, by kind: not in `modes`.
+    pub rigid_body: Vec<ModeKind>,
     /// Modes sorted by ω_d (positive-frequency members of the conjugate pairs).
     pub modes: Vec<Mode>,
 }
@@ -193,12 +199,13 @@ fn kind_of(energy: [f64; 3]) -> ModeKind {
     }
 }
 
-/// Scales a mode shape so that its entry of largest modulus is 1.
+/// Scales a mode shape so that its entry of largest modulus is 1; returns the divisor (1 for
+/// a zero shape).
 fn normalise(
     shape: &mut [[Complex64; 2]],
     shape_axial: &mut [Complex64],
     shape_torsion: &mut [Complex64],
-) {
+) -> Complex64 {
     let big = shape
         .iter()
         .flat_map(|p| p.iter())
@@ -219,18 +226,66 @@ fn normalise(
         for v in shape_axial.iter_mut().chain(shape_torsion.iter_mut()) {
             *v /= big;
         }
+        big
+    } else {
+        Complex64::new(1.0, 0.0)
     }
 }
 
+/// The undamped modes `(ω², Φ)` without the rigid-body modes of free axial and torsional DOFs,
+/// and the kinds of those removed. Each rigid-body mode `r` is the column of largest
+/// `|φᵀ M r|² / (rᵀ M r)` (1 for it, 0 for every other mode of a mass-normalised basis).
+#[allow(clippy::type_complexity)]
+fn elastic_modes(
+    rotor: &Rotor,
+    m: &Csc,
+    k: &Csc,
+) -> Result<(Vec<f64>, DMatrix<f64>, Vec<ModeKind>), ModelError> {
+    let (lam, phi) = undamped_modes(m, k)?;
+    let md = dense(m);
+    let mut drop = Vec::new();
+    let mut kinds = Vec::new();
+    for (r, kind) in rotor
+        .rigid_body_modes()
+        .into_iter()
+        .zip([ModeKind::Axial, ModeKind::Torsional])
+    {
+        let Some(r) = r else { continue };
+        let mr = &md * DVector::from_vec(r);
+        let best = (0..phi.ncols())
+            .map(|j| (j, phi.column(j).dot(&mr).powi(2)))
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        if let Some((j, _)) = best {
+            drop.push(j);
+            kinds.push(kind);
+        }
+    }
+    let keep: Vec<usize> = (0..lam.len()).filter(|j| !drop.contains(j)).collect();
+    let phi = DMatrix::from_fn(phi.nrows(), keep.len(), |r, c| phi[(r, keep[c])]);
+    Ok((keep.iter().map(|&j| lam[j]).collect(), phi, kinds))
+}
+
+/// Rotors with at most this many (elastic) DOFs are solved on the full modal basis: exact, and
+/// cheap at that size (the reduction's truncation error grows with Ω², 4e-7 of ω_d at
+/// 1000 rad/s on ROSS's `rotor_example` with 34 of its 40 modes).
+pub const FULL_BASIS: usize = 160;
+
 /// Damped modes at spin speed `omega` (rad/s): at most `nmodes`, lowest ω_d first.
 ///
-/// Solved in the basis of the lowest undamped modes (pseudo-modal reduction to
-/// `max(2·nmodes + 10, 20)` modes, or all): the first-order matrix then spans only the
-/// frequencies of interest and stays well conditioned even with very stiff supports.
+/// Solved in the basis of the undamped modes: all of them up to [`FULL_BASIS`] DOFs, else the
+/// lowest `max(2·nmodes + 10, 20)` (pseudo-modal reduction): the first-order matrix then spans only the
+/// frequencies of interest and stays well conditioned even with very stiff supports. The
+/// rigid-body modes of free axial or torsional DOFs are left out of the basis and listed in
+/// [`ModalResults::rigid_body`] (exact when the damping does not couple them to the elastic
+/// modes: Rayleigh damping of the assembly; ROSS's shaft-only α with disks does, weakly).
 pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, ModelError> {
     let (m, k, c, g) = rotor.matrices(omega)?;
-    let (lam, phi_all) = undamped_modes(&m, &k)?;
-    let nr = lam.len().min((2 * nmodes + 10).max(20));
+    let (lam, phi_all, rigid_body) = elastic_modes(rotor, &m, &k)?;
+    let nr = if lam.len() <= FULL_BASIS {
+        lam.len()
+    } else {
+        lam.len().min((2 * nmodes + 10).max(20))
+    };
     let phi = phi_all.columns(0, nr).into_owned();
     let ctot = dense(&Csc::lin_comb(1.0, &c, omega, &g));
     let cr = phi.transpose() * ctot * &phi;
@@ -285,6 +340,12 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
             .collect();
         let mut shape_axial: Vec<Complex64> = axial.iter().map(|&d| full(d)).collect();
         let mut shape_torsion: Vec<Complex64> = torsion.iter().map(|&d| full(d)).collect();
+        let mut shape_tilt: Vec<[Complex64; 2]> = match rotor {
+            Rotor::Fe(_) => (0..nodes)
+                .map(|i| [full(4 * i + 2), full(4 * i + 3)])
+                .collect(),
+            Rotor::Jeffcott(_) => Vec::new(),
+        };
         let energy = if axial.is_empty() && torsion.is_empty() {
             [1.0, 0.0, 0.0]
         } else {
@@ -292,7 +353,10 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
             energy_shares(&m, &group, &q)
         };
         let kind = kind_of(energy);
-        normalise(&mut shape, &mut shape_axial, &mut shape_torsion);
+        let scale = normalise(&mut shape, &mut shape_axial, &mut shape_torsion);
+        for t in shape_tilt.iter_mut().flatten() {
+            *t /= scale;
+        }
         let whirl = if kind == ModeKind::Lateral {
             whirl_of(&shape)
         } else {
@@ -310,6 +374,7 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
             shape,
             shape_axial,
             shape_torsion,
+            shape_tilt,
         });
     }
     modes.sort_by(|a, b| a.omega_d.total_cmp(&b.omega_d));
@@ -317,6 +382,7 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
     modes.truncate(nmodes);
     Ok(ModalResults {
         speed: omega,
+        rigid_body,
         modes,
     })
 }
@@ -378,6 +444,14 @@ fn split_degenerate_pairs(modes: &mut [Mode]) {
         let (cf, cb) = (vec_for(mid + rad), vec_for(mid - rad));
         let fw = combine(cf);
         let bw = combine(cb);
+        let combine_tilt = |c: [Complex64; 2]| -> Vec<[Complex64; 2]> {
+            a.shape_tilt
+                .iter()
+                .zip(&b.shape_tilt)
+                .map(|(s, t)| [c[0] * s[0] + c[1] * t[0], c[0] * s[1] + c[1] * t[1]])
+                .collect()
+        };
+        let (ti_fw, ti_bw) = (combine_tilt(cf), combine_tilt(cb));
         let (ax_fw, ax_bw) = (
             combine1(cf, &a.shape_axial, &b.shape_axial),
             combine1(cb, &a.shape_axial, &b.shape_axial),
@@ -392,10 +466,12 @@ fn split_degenerate_pairs(modes: &mut [Mode]) {
         modes[i].shape = bw;
         modes[i].shape_axial = ax_bw;
         modes[i].shape_torsion = to_bw;
+        modes[i].shape_tilt = ti_bw;
         modes[i].whirl = whirl_of(&modes[i].shape);
         modes[i2].shape = fw;
         modes[i2].shape_axial = ax_fw;
         modes[i2].shape_torsion = to_fw;
+        modes[i2].shape_tilt = ti_fw;
         modes[i2].whirl = whirl_of(&modes[i2].shape);
         if reshare {
             modes[i].energy = energy;
@@ -423,8 +499,8 @@ pub fn mac(a: &[[Complex64; 2]], b: &[[Complex64; 2]]) -> f64 {
     }
 }
 
-/// MAC of two modes over all their DOF groups (lateral, axial, torsional); modes of different
-/// groups have a MAC of 0 (the groups are uncoupled).
+/// MAC of two modes over their full shapes — displacements, rotations, axial and torsional
+/// DOFs; modes of different groups have a MAC of 0 (the groups are uncoupled).
 pub fn mode_mac(a: &Mode, b: &Mode) -> f64 {
     let mut ab = Complex64::new(0.0, 0.0);
     let (mut aa, mut bb) = (0.0, 0.0);
@@ -433,6 +509,12 @@ pub fn mode_mac(a: &Mode, b: &Mode) -> f64 {
         .iter()
         .flatten()
         .zip(b.shape.iter().flatten())
+        .chain(
+            a.shape_tilt
+                .iter()
+                .flatten()
+                .zip(b.shape_tilt.iter().flatten()),
+        )
         .chain(a.shape_axial.iter().zip(&b.shape_axial))
         .chain(a.shape_torsion.iter().zip(&b.shape_torsion));
     for (p, q) in pairs {
@@ -445,149 +527,6 @@ pub fn mode_mac(a: &Mode, b: &Mode) -> f64 {
     } else {
         ab.norm_sqr() / (aa * bb)
     }
-}
-
-/// A mode followed over speed.
-#[derive(Debug, Clone, Serialize)]
-pub struct Track {
-    /// Label, e.g. "1 FW", "3 torsional".
-    pub label: String,
-    /// Whirl at the highest speed.
-    pub whirl: Whirl,
-    /// Kind at the highest speed.
-    pub kind: ModeKind,
-    /// ω_d (rad/s) per speed of the diagram.
-    pub omega_d: Vec<f64>,
-    /// Log decrement per speed.
-    pub log_dec: Vec<f64>,
-}
-
-/// A critical speed: a track crossing the 1× line ω_d = Ω. Lateral (forward or backward)
-/// crossings are the unbalance critical speeds; axial and torsional crossings are listed too
-/// (the unbalance does not excite them in the linear model, but a once-per-revolution rub
-/// force or friction torque does).
-#[derive(Debug, Clone, Serialize)]
-pub struct CriticalSpeed {
-    /// Track label.
-    pub mode: String,
-    /// Whirl.
-    pub whirl: Whirl,
-    /// Kind.
-    pub kind: ModeKind,
-    /// Spin speed (rad/s).
-    pub speed: f64,
-    /// The same in rpm.
-    pub rpm: f64,
-}
-
-/// Campbell diagram results.
-#[derive(Debug, Clone, Serialize)]
-pub struct CampbellResults {
-    /// Spin speeds (rad/s).
-    pub speeds: Vec<f64>,
-    /// Tracked modes.
-    pub tracks: Vec<Track>,
-    /// Crossings with the 1× line.
-    pub critical_speeds: Vec<CriticalSpeed>,
-}
-
-/// Campbell diagram over `speeds` (rad/s, ascending) for `nmodes` modes, tracked from speed
-/// to speed by the MAC of their shapes (greedy best match).
-pub fn campbell(
-    rotor: &Rotor,
-    speeds: &[f64],
-    nmodes: usize,
-) -> Result<CampbellResults, ModelError> {
-    let extra = nmodes + 4;
-    // At Ω = 0 forward and backward modes coincide; evaluate the first point at a tiny spin so
-    // the pairs start split in the direction they will follow.
-    let top = speeds.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
-    let results: Vec<ModalResults> = speeds
-        .iter()
-        .map(|w| {
-            let w = if *w == 0.0 { 1e-6 * top.max(1.0) } else { *w };
-            modal(rotor, w, extra)
-        })
-        .collect::<Result<_, _>>()?;
-    let first = &results[0].modes;
-    let nt = nmodes.min(first.len());
-    let mut tracks: Vec<Track> = Vec::with_capacity(nt);
-    let mut last_mode: Vec<Mode> = Vec::with_capacity(nt);
-    let mut whirls = vec![Whirl::Mixed; nt];
-    let mut kinds = vec![ModeKind::Lateral; nt];
-    for m in first.iter().take(nt) {
-        tracks.push(Track {
-            label: String::new(),
-            whirl: m.whirl,
-            kind: m.kind,
-            omega_d: vec![m.omega_d],
-            log_dec: vec![m.log_dec],
-        });
-        last_mode.push(m.clone());
-    }
-    for r in results.iter().skip(1) {
-        let mut taken = vec![false; r.modes.len()];
-        for (t, track) in tracks.iter_mut().enumerate() {
-            let mut best = None;
-            let mut best_mac = -1.0;
-            for (j, m) in r.modes.iter().enumerate() {
-                if taken[j] {
-                    continue;
-                }
-                let v = mode_mac(&last_mode[t], m);
-                if v > best_mac {
-                    best_mac = v;
-                    best = Some(j);
-                }
-            }
-            match best {
-                Some(j) => {
-                    taken[j] = true;
-                    track.omega_d.push(r.modes[j].omega_d);
-                    track.log_dec.push(r.modes[j].log_dec);
-                    last_mode[t] = r.modes[j].clone();
-                    whirls[t] = r.modes[j].whirl;
-                    kinds[t] = r.modes[j].kind;
-                }
-                None => {
-                    track.omega_d.push(f64::NAN);
-                    track.log_dec.push(f64::NAN);
-                }
-            }
-        }
-    }
-    for (t, track) in tracks.iter_mut().enumerate() {
-        if speeds.len() > 1 {
-            track.whirl = whirls[t];
-            track.kind = kinds[t];
-        }
-        track.label = format!("{} {}", t + 1, mode_label(track.kind, track.whirl));
-    }
-    let mut critical_speeds = Vec::new();
-    for track in &tracks {
-        for i in 1..speeds.len() {
-            let (a, b) = (
-                track.omega_d[i - 1] - speeds[i - 1],
-                track.omega_d[i] - speeds[i],
-            );
-            if a.is_finite() && b.is_finite() && a > 0.0 && b <= 0.0 {
-                let s = speeds[i - 1] + (speeds[i] - speeds[i - 1]) * a / (a - b);
-                critical_speeds.push(CriticalSpeed {
-                    mode: track.label.clone(),
-                    whirl: track.whirl,
-                    kind: track.kind,
-                    speed: s,
-                    rpm: s * 60.0 / (2.0 * std::f64::consts::PI),
-                });
-            }
-        }
-    }
-    critical_speeds.sort_by(|a, b| a.speed.total_cmp(&b.speed));
-    Ok(CampbellResults {
-        speeds: speeds.to_vec(),
-        tracks,
-        critical_speeds,
-    })
 }
 
 /// Unbalance response at one speed and node.
@@ -642,23 +581,27 @@ pub fn unbalance_response(
 }
 
 /// Static deflection under gravity g (m/s², along −y): `K q = −g M e_y` (m, rad per DOF).
-/// Gravity is lateral, so axial and torsional entries are zero (uncoupled DOFs).
+/// Gravity is lateral, so only the lateral block is solved and the axial and torsional entries
+/// are zero (uncoupled DOFs, which may be free).
 pub fn static_deflection(rotor: &Rotor, g: f64) -> Result<Vec<f64>, ModelError> {
     let (m, k, _, _) = rotor.matrices(0.0)?;
-    let n = m.nrows();
+    let (n, nl) = (m.nrows(), rotor.lateral_dofs());
     let mut ey = DVector::zeros(n);
     for i in 0..rotor.node_count() {
         ey[rotor.node_dofs(i)[1]] = 1.0;
     }
-    let f = -g * (dense(&m) * ey);
-    let kd: DMatrix<f64> = dense(&k);
-    kd.lu()
+    let f = (-g * (dense(&m) * ey)).rows(0, nl).into_owned();
+    let kd: DMatrix<f64> = dense(&k).view((0, 0), (nl, nl)).into_owned();
+    let mut q: Vec<f64> = kd
+        .lu()
         .solve(&f)
         .map(|v| v.iter().copied().collect())
         .ok_or_else(|| ModelError::Singular {
             what: "rotor stiffness".into(),
             detail: "singular: the rotor is not held by its bearings".into(),
-        })
+        })?;
+    q.resize(n, 0.0);
+    Ok(q)
 }
 
 /// `points` speeds (at least 2) spread evenly from `from` to `to`, both included.

@@ -1,23 +1,25 @@
 //! `rubsim convergence`: error against Δt and run time for each integrator.
 
-use super::{default_out, finish, load, settings, Common};
+use super::{default_out, finish, load, settings, Common, UnitArg};
 use anyhow::Result;
 use rubsim::analysis::{self, convergence::COMPARE_REVOLUTIONS, ConvergenceResults};
 use rubsim::output::{csv, figures, summary};
 use std::path::PathBuf;
 
-/// Runs the study at each speed (default: the scene's, or 1.7, 3.1, 4.9) with levels
+/// Runs the study at each speed (in its unit; default: the scene's, or ω/ω_n = 1.7, 3.1, 4.9) with levels
 /// `0..=levels` against a collocated reference at level `reference`; writes
 /// `speed_<ν>/convergence.csv`, its pictures and `summary.json`.
 pub fn convergence(
     c: &Common,
-    speeds: &[f64],
+    (speeds, unit): (&[f64], UnitArg),
     levels: u32,
     reference: u32,
     out: Option<PathBuf>,
 ) -> Result<()> {
     let (ls, model) = load(c)?;
-    let speeds = analysis::study_speeds(&ls.scene.run, &model, speeds);
+    let wn = model.rotor.natural_frequency();
+    let given: Vec<f64> = speeds.iter().map(|v| unit.ratio(*v, wn)).collect();
+    let speeds = analysis::study_speeds(&ls.scene.run, &model, &given);
     let mut outd =
         super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("convergence")))?;
     let mut s = settings(&ls);

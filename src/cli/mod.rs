@@ -53,6 +53,41 @@ pub struct Common {
     pub set: Vec<String>,
 }
 
+/// The unit of the speeds given on the command line (`--unit`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum UnitArg {
+    /// ω/ω_n, ω_n the rotor's first (lateral) natural frequency at rest, as `rubsim check`
+    /// prints it.
+    #[default]
+    #[value(name = "ratio", alias = "speed_ratio")]
+    Ratio,
+    /// rad/s.
+    #[value(name = "rad/s", alias = "rad_per_s")]
+    RadPerS,
+    /// Revolutions per minute (Ω = 2π n/60).
+    #[value(name = "rpm")]
+    Rpm,
+}
+
+impl UnitArg {
+    /// The scene's unit of the same name.
+    pub fn unit(self) -> rubsim::scene::SpeedUnit {
+        match self {
+            UnitArg::Ratio => rubsim::scene::SpeedUnit::SpeedRatio,
+            UnitArg::RadPerS => rubsim::scene::SpeedUnit::RadPerS,
+            UnitArg::Rpm => rubsim::scene::SpeedUnit::Rpm,
+        }
+    }
+    /// A speed `v` in this unit as rad/s, for a rotor of first natural frequency `wn` (rad/s).
+    pub fn rad_per_s(self, v: f64, wn: f64) -> f64 {
+        v * self.unit().to_rad_per_s(wn)
+    }
+    /// A speed `v` in this unit as ω/ω_n.
+    pub fn ratio(self, v: f64, wn: f64) -> f64 {
+        self.rad_per_s(v, wn) / wn
+    }
+}
+
 #[derive(Subcommand)]
 pub enum Cmd {
     /// Mesh a stator geometry (.geo or STEP) with gmsh into the cache `meshes/` and report it:
@@ -71,9 +106,13 @@ pub enum Cmd {
         /// Output directory (default: out/<scene name>).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Run at this ω/ω_n instead of the scene's speed (also picks one speed of a sweep scene).
+        /// Run at this speed (in `--unit`) instead of the scene's (also picks one speed of a
+        /// sweep scene).
         #[arg(long)]
         speed: Option<f64>,
+        /// Unit of `--speed`: ratio (ω/ω_n), rad/s or rpm.
+        #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
+        unit: UnitArg,
     },
     /// Run the speed sweep of [run.sweep] in parallel; write sweep.csv, summary.json, pictures.
     Sweep {
@@ -95,9 +134,13 @@ pub enum Cmd {
     Convergence {
         #[command(flatten)]
         c: Common,
-        /// Speeds ω/ω_n (default: the scene's speed, or 1.7, 3.1, 4.9 for a sweep scene).
+        /// Speeds in `--unit` (default: the scene's speed, or ω/ω_n = 1.7, 3.1, 4.9 for a
+        /// sweep scene).
         #[arg(long = "speed")]
         speeds: Vec<f64>,
+        /// Unit of `--speed`: ratio (ω/ω_n), rad/s or rpm.
+        #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
+        unit: UnitArg,
         /// Finest level k of the study: steps per revolution = samples_per_rev · 2^k, k = 0..=K.
         #[arg(long, default_value_t = 6)]
         levels: u32,
@@ -112,9 +155,12 @@ pub enum Cmd {
     Modal {
         #[command(flatten)]
         c: Common,
-        /// Speed ω/ω_n.
+        /// Speed, in `--unit`.
         #[arg(long, default_value_t = 0.0)]
         speed: f64,
+        /// Unit of the speeds: ratio (ω/ω_n), rad/s or rpm.
+        #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
+        unit: UnitArg,
         /// Number of modes.
         #[arg(long, default_value_t = 8)]
         modes: usize,
@@ -129,12 +175,15 @@ pub enum Cmd {
     Campbell {
         #[command(flatten)]
         c: Common,
-        /// First speed ω/ω_n.
+        /// First speed, in `--unit`.
         #[arg(long, default_value_t = 0.0)]
         from: f64,
-        /// Last speed ω/ω_n.
+        /// Last speed, in `--unit`.
         #[arg(long, default_value_t = 6.0)]
         to: f64,
+        /// Unit of the speeds: ratio (ω/ω_n), rad/s or rpm.
+        #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
+        unit: UnitArg,
         /// Number of speeds.
         #[arg(long, default_value_t = 31)]
         points: usize,
@@ -149,12 +198,15 @@ pub enum Cmd {
     Unbalance {
         #[command(flatten)]
         c: Common,
-        /// First speed ω/ω_n.
+        /// First speed, in `--unit`.
         #[arg(long, default_value_t = 0.05)]
         from: f64,
-        /// Last speed ω/ω_n.
+        /// Last speed, in `--unit`.
         #[arg(long, default_value_t = 6.0)]
         to: f64,
+        /// Unit of the speeds: ratio (ω/ω_n), rad/s or rpm.
+        #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
+        unit: UnitArg,
         /// Number of speeds.
         #[arg(long, default_value_t = 400)]
         points: usize,
@@ -162,6 +214,15 @@ pub enum Cmd {
         #[arg(long = "node")]
         nodes: Vec<usize>,
         /// Output directory (default: out/<scene name>/unbalance).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Read a rotor saved by ROSS (`Rotor.save`, TOML) and write the equivalent rubsim scene
+    /// (what rubsim cannot represent is refused by the element's name).
+    ImportRoss {
+        /// The ROSS file.
+        file: PathBuf,
+        /// The scene to write (default: standard output).
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -408,7 +469,12 @@ pub fn run() -> Result<()> {
             .build_global();
     }
     match &cli.cmd {
-        Cmd::Run { c, out, speed } => run::run(c, out.clone(), *speed),
+        Cmd::Run {
+            c,
+            out,
+            speed,
+            unit,
+        } => run::run(c, out.clone(), *speed, *unit),
         Cmd::Sweep { c, out, .. } => sweep::sweep(c, out.clone()),
         Cmd::Check { c } => check::check(c),
         Cmd::Mesh(a) => mesh::mesh(a),
@@ -417,38 +483,61 @@ pub fn run() -> Result<()> {
         Cmd::Modal {
             c,
             speed,
+            unit,
             modes,
             gravity,
             out,
-        } => rotordyn::modal(c, *speed, *modes, *gravity, out.clone()),
+        } => rotordyn::modal(c, (*speed, *unit), *modes, *gravity, out.clone()),
         Cmd::Campbell {
             c,
             from,
             to,
+            unit,
             points,
             modes,
             out,
-        } => rotordyn::campbell(c, *from, *to, *points, *modes, out.clone()),
+        } => rotordyn::campbell(c, (*from, *to, *unit), *points, *modes, out.clone()),
         Cmd::Unbalance {
             c,
             from,
             to,
+            unit,
             points,
             nodes,
             out,
-        } => rotordyn::unbalance(c, *from, *to, *points, nodes, out.clone()),
+        } => rotordyn::unbalance(c, (*from, *to, *unit), *points, nodes, out.clone()),
         Cmd::Convergence {
             c,
             speeds,
+            unit,
             levels,
             reference,
             out,
-        } => convergence::convergence(c, speeds, *levels, *reference, out.clone()),
+        } => convergence::convergence(c, (speeds, *unit), *levels, *reference, out.clone()),
         Cmd::Bench {
             c,
             repeat,
             reference,
             ..
         } => bench::bench(c, *repeat, *reference),
+        Cmd::ImportRoss { file, out } => import_ross(file, out.as_deref()),
     }
+}
+
+/// `rubsim import-ross FILE [--out SCENE]`: the scene of a ROSS rotor, checked by building its
+/// model before it is written.
+fn import_ross(file: &Path, out: Option<&Path>) -> Result<()> {
+    let text = std::fs::read_to_string(file)
+        .with_context(|| format!("{}: cannot read the ROSS file", file.display()))?;
+    let scene_text = rubsim::scene::ross::import(file, &text)?;
+    let ls = scene::parse(file, &scene_text, &[])
+        .with_context(|| format!("{}: the imported scene is not valid", file.display()))?;
+    Model::from_scene(&ls)
+        .with_context(|| format!("{}: building the imported rotor", file.display()))?;
+    match out {
+        Some(p) => std::fs::write(p, &scene_text)
+            .with_context(|| format!("{}: cannot write the scene", p.display()))?,
+        None => print!("{scene_text}"),
+    }
+    Ok(())
 }

@@ -20,9 +20,12 @@ pub struct RefineArgs {
     /// Its values, coarse to fine (comma separated).
     #[arg(long, value_delimiter = ',', required = true)]
     pub values: Vec<String>,
-    /// Speed ω/ω_n (default: the scene's, or 1.7).
+    /// Speed in `--unit` (default: the scene's, or ω/ω_n = 1.7).
     #[arg(long)]
     pub speed: Option<f64>,
+    /// Unit of `--speed`: ratio (ω/ω_n), rad/s or rpm (converted with each refinement's ω_n).
+    #[arg(long, value_enum, default_value_t = super::UnitArg::Ratio)]
+    pub unit: super::UnitArg,
     /// Revolutions of the force histories drawn.
     #[arg(long, default_value_t = 3)]
     pub window: usize,
@@ -47,7 +50,12 @@ pub fn refine(a: &RefineArgs) -> Result<()> {
         let (ls, model) = load_scene(&a.scene, &set, || {
             format!("{} with {} = {v}", a.scene.display(), a.key)
         })?;
-        let speed = a.speed.or(ls.scene.run.speed_ratio).unwrap_or(1.7);
+        let wn = model.rotor.natural_frequency();
+        let speed = a
+            .speed
+            .map(|v| a.unit.ratio(v, wn))
+            .or(ls.scene.run.speed_ratio)
+            .unwrap_or(1.7);
         let p = refine_point(&model, &settings(&ls), speed, a.window)?;
         let r = &p.results;
         println!(

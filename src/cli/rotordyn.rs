@@ -1,16 +1,16 @@
 //! `rubsim modal`, `rubsim campbell`, `rubsim unbalance`: linear rotordynamics of the rotor
 //! alone (no stator), written as CSV, summary.json and PNG.
 
-use super::{default_out, finish, load, Common};
+use super::{default_out, finish, load, Common, UnitArg};
 use anyhow::{Context, Result};
-use rubsim::analysis::rotordyn;
+use rubsim::analysis::{campbell, rotordyn};
 use rubsim::output::{csv, figures, summary};
 use std::path::PathBuf;
 
-/// Modes at one speed (ω/ω_n, default 0) and the static deflection under gravity.
+/// Modes at one speed (in its unit, default 0) and the static deflection under gravity.
 pub fn modal(
     c: &Common,
-    speed: f64,
+    (speed, unit): (f64, UnitArg),
     nmodes: usize,
     gravity: f64,
     out: Option<PathBuf>,
@@ -18,11 +18,15 @@ pub fn modal(
     let (ls, model) = load(c)?;
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("modal")))?;
     let wn = model.rotor.natural_frequency();
-    let omega = speed * wn;
+    let omega = unit.rad_per_s(speed, wn);
     let res = rotordyn::modal(&model.rotor, omega, nmodes)?;
     let stat = rotordyn::static_deflection(&model.rotor, gravity)?;
     println!("rotor: {}", model.rotor.describe());
-    println!("modes at Ω = {omega:.4} rad/s (ω/ωn = {speed}):");
+    println!(
+        "modes at Ω = {omega} rad/s ({} rpm, ω/ωn = {}):",
+        omega * 30.0 / std::f64::consts::PI,
+        omega / wn
+    );
     println!(
         "  {:>4} {:>12} {:>10} {:>9} {:>9} {:>9}",
         "mode", "ω_d rad/s", "f Hz", "ζ", "log dec", "type"
@@ -38,6 +42,12 @@ pub fn modal(
             m.label()
         );
     }
+    for k in &res.rigid_body {
+        println!(
+            "  rigid-body mode (ω = 0): free {} DOFs (no support of positive stiffness)",
+            k.label()
+        );
+    }
     csv::write_modes(&mut outd, &res)?;
     let nodes = rotordyn::lateral_at_nodes(&model.rotor, &stat);
     let ymax = nodes.iter().fold(0.0_f64, |m, u| m.max(u[1].abs()));
@@ -49,11 +59,10 @@ pub fn modal(
     finish(outd, &sum)
 }
 
-/// Campbell diagram from ω/ω_n `from` to `to`.
+/// Campbell diagram from `from` to `to` (in their unit).
 pub fn campbell(
     c: &Common,
-    from: f64,
-    to: f64,
+    (from, to, unit): (f64, f64, UnitArg),
     points: usize,
     nmodes: usize,
     out: Option<PathBuf>,
@@ -61,8 +70,9 @@ pub fn campbell(
     let (ls, model) = load(c)?;
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("campbell")))?;
     let wn = model.rotor.natural_frequency();
-    let speeds: Vec<f64> = rotordyn::speed_list(from * wn, to * wn, points);
-    let res = rotordyn::campbell(&model.rotor, &speeds, nmodes)?;
+    let speeds: Vec<f64> =
+        rotordyn::speed_list(unit.rad_per_s(from, wn), unit.rad_per_s(to, wn), points);
+    let res = campbell::campbell(&model.rotor, &speeds, nmodes)?;
     csv::write_campbell(&mut outd, &speeds, &res)?;
     figures::write_campbell(&mut outd, &ls.scene.title, &speeds, &res)?;
     println!(
@@ -90,11 +100,11 @@ pub fn campbell(
     finish(outd, &sum)
 }
 
-/// Unbalance response (Bode and polar) at `nodes` (default: every station's node).
+/// Unbalance response (Bode and polar) at `nodes` (default: every station's node), from
+/// `from` to `to` (in their unit).
 pub fn unbalance(
     c: &Common,
-    from: f64,
-    to: f64,
+    (from, to, unit): (f64, f64, UnitArg),
     points: usize,
     nodes: &[usize],
     out: Option<PathBuf>,
@@ -116,7 +126,7 @@ pub fn unbalance(
             );
         }
     }
-    let speeds = rotordyn::speed_list(from * wn, to * wn, points);
+    let speeds = rotordyn::speed_list(unit.rad_per_s(from, wn), unit.rad_per_s(to, wn), points);
     let res = rotordyn::unbalance_response(&model.rotor, &speeds, &nodes)
         .context("unbalance response")?;
     csv::write_unbalance(&mut outd, &res)?;

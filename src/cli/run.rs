@@ -1,6 +1,6 @@
 //! `rubsim run`: one speed, its summary, pictures and time series.
 
-use super::{default_out, load, settings, Common, Series};
+use super::{default_out, load, settings, Common, Series, UnitArg};
 use anyhow::{Context, Result};
 use rubsim::analysis::{self, Keep};
 use rubsim::output::{figures, summary, transient as transient_out};
@@ -8,16 +8,17 @@ use std::path::PathBuf;
 
 /// Runs the scene at `speed` (default: its own single speed) and writes `summary.json`,
 /// `orbit.png`, `spectrum.png`, `contact_force.png` and the VTK/HDF5 series it asks for.
-pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>) -> Result<()> {
+pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) -> Result<()> {
     let (ls, model) = load(c)?;
     if ls.scene.run.speed_profile.is_some() {
         return transient(c, &ls, &model, out, speed);
     }
     if let Some(v) = speed {
         if !(v.is_finite() && v > 0.0) {
-            anyhow::bail!("--speed must be a positive ω/ω_n, got {v}");
+            anyhow::bail!("--speed must be a positive speed, got {v}");
         }
     }
+    let speed = speed.map(|v| unit.ratio(v, model.rotor.natural_frequency()));
     let v = speed
         .or_else(|| analysis::single_speed(&ls.scene.run, &model))
         .with_context(|| {

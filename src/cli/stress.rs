@@ -15,9 +15,13 @@ pub struct StressArgs {
     /// Override a scene value (repeatable), as for the other commands.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Speeds ω/ω_n (repeatable; default: the scene's speed, or 1.7, 3.1, 4.9 — Fig. 10).
+    /// Speeds in `--unit` (repeatable; default: the scene's speed, or ω/ω_n = 1.7, 3.1, 4.9 —
+    /// Fig. 10).
     #[arg(long = "speed")]
     pub speeds: Vec<f64>,
+    /// Unit of `--speed`: ratio (ω/ω_n), rad/s or rpm.
+    #[arg(long, value_enum, default_value_t = super::UnitArg::Ratio)]
+    pub unit: super::UnitArg,
     /// Stress samples per revolution.
     #[arg(long, default_value_t = 64)]
     pub per_rev: usize,
@@ -36,10 +40,12 @@ pub fn stress(a: &StressArgs) -> Result<()> {
         format!("{}: building the model", a.scene.display())
     })?;
     let settings = settings(&ls);
-    let speeds = analysis::study_speeds(&ls.scene.run, &model, &a.speeds);
+    let wn = model.rotor.natural_frequency();
+    let given: Vec<f64> = a.speeds.iter().map(|v| a.unit.ratio(*v, wn)).collect();
+    let speeds = analysis::study_speeds(&ls.scene.run, &model, &given);
     for v in &speeds {
         if !(v.is_finite() && *v > 0.0) {
-            bail!("--speed must be a positive ω/ω_n, got {v}");
+            bail!("--speed must be positive, got ω/ω_n = {v}");
         }
     }
     let dir = a

@@ -59,7 +59,9 @@ pub struct ShaftSection {
     pub density: f64,
     /// Include shear deformation (Timoshenko); false gives Euler–Bernoulli (Φ = 0).
     pub shear: bool,
-    /// Include rotary inertia and the gyroscopic matrix.
+    /// Include the rotary inertia of the bending rotations in the mass matrix. Independent of
+    /// the gyroscopic matrix (ROSS's `rotary_inertia` switch): [`shaft_element`] builds `G`
+    /// from the rotary-mass pattern either way, and the rotor's `gyroscopic` switch drops it.
     pub rotary_inertia: bool,
 }
 
@@ -155,7 +157,8 @@ const SYZ: [f64; 4] = [1.0, -1.0, 1.0, -1.0];
 /// A 4×4 planar element matrix in `[w₁, φ₁, w₂, φ₂]`.
 type Planar = [[f64; 4]; 4];
 
-/// Planar (K, M_t, M_r).
+/// Planar (K, M_t, M_r); `M_r` is the rotary-mass pattern whatever `rotary_inertia` says (the
+/// caller leaves it out of the mass matrix when it is off; `G` needs it either way).
 #[allow(non_snake_case)]
 fn planar(s: &ShaftSection) -> (Planar, Planar, Planar) {
     let L = s.length;
@@ -196,32 +199,33 @@ fn planar(s: &ShaftSection) -> (Planar, Planar, Planar) {
             m5 * L * L * mt,
         ],
     ];
-    let mut Mr = [[0.0; 4]; 4];
-    if s.rotary_inertia {
+    let Mr = {
         let mr = s.density * s.inertia() / (L * (1.0 + p).powi(2));
         let r1 = 6.0 / 5.0;
         let r2 = 1.0 / 10.0 - p / 2.0;
         let r3 = 2.0 / 15.0 + p / 6.0 + p * p / 3.0;
         let r4 = -1.0 / 30.0 - p / 6.0 + p * p / 6.0;
-        Mr = [
+        [
             [r1 * mr, r2 * L * mr, -r1 * mr, r2 * L * mr],
             [r2 * L * mr, r3 * L * L * mr, -r2 * L * mr, r4 * L * L * mr],
             [-r1 * mr, -r2 * L * mr, r1 * mr, -r2 * L * mr],
             [r2 * L * mr, r4 * L * L * mr, -r2 * L * mr, r3 * L * L * mr],
-        ];
-    }
+        ]
+    };
     (K, Mt, Mr)
 }
 
-/// Element matrices of a shaft element.
+/// Element matrices of a shaft element. `M` holds the rotary inertia only with
+/// `rotary_inertia`; `G` is always built (as in ROSS, where the two are separate switches).
 pub fn shaft_element(s: &ShaftSection) -> ShaftMatrices {
     let (kp, mt, mr) = planar(s);
+    let rot = if s.rotary_inertia { 1.0 } else { 0.0 };
     let mut m = [[0.0; 8]; 8];
     let mut k = [[0.0; 8]; 8];
     let mut g = [[0.0; 8]; 8];
     for a in 0..4 {
         for b in 0..4 {
-            let mp = mt[a][b] + mr[a][b];
+            let mp = mt[a][b] + rot * mr[a][b];
             m[XZ[a]][XZ[b]] += mp;
             k[XZ[a]][XZ[b]] += kp[a][b];
             m[YZ[a]][YZ[b]] += SYZ[a] * SYZ[b] * mp;
@@ -461,5 +465,32 @@ mod tests {
         assert!(e.g[2][3] > 0.0 && e.g[3][2] < 0.0);
         let (_, g) = disk(1.0, 0.1, 0.2);
         assert!(g[2][3] > 0.0 && g[3][2] < 0.0);
+    }
+
+    /// ROSS's switches are separate: without rotary inertia the mass loses exactly the rotary
+    /// pattern `M_r`, and `G` (built from `M_r`, `G = 2 M_r` between the planes) is unchanged.
+    #[test]
+    fn rotary_inertia_switch_leaves_the_gyroscopic_matrix() {
+        for shear in [false, true] {
+            let on = shaft_element(&sec(shear));
+            let off = shaft_element(&ShaftSection {
+                rotary_inertia: false,
+                ..sec(shear)
+            });
+            assert_eq!(on.g, off.g);
+            assert_eq!(on.k, off.k);
+            // θ_y1–θ_y1 (x–z plane φ₁φ₁): M_r = ρI/(L(1+Φ)²)·r₃L² with r₃ = 2/15 + Φ/6 + Φ²/3.
+            let s = sec(shear);
+            let p = s.phi();
+            let r3 = 2.0 / 15.0 + p / 6.0 + p * p / 3.0;
+            let mr =
+                s.density * s.inertia() / (s.length * (1.0 + p).powi(2)) * r3 * s.length.powi(2);
+            assert!((on.m[3][3] - off.m[3][3] - mr).abs() < 1e-12 * mr);
+            assert!(
+                (on.g[3][2] + 2.0 * mr).abs() < 1e-12 * mr,
+                "G = −2 M_r at θ_y θ_x"
+            );
+            assert!(off.g.iter().flatten().any(|v| *v != 0.0));
+        }
     }
 }

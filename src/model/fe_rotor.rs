@@ -10,13 +10,21 @@
 //! ([`FeRotor::node_axial`], [`FeRotor::node_torsion`]). Node positions `z` (m) run along the
 //! shaft from its left end.
 //!
-//! The equations are `M q̈ + (C + Ω G) q̇ + K q = f(t)`, `C = C_bearings + C_supports + α M + β K`.
+//! The equations are `M q̈ + (C + Ω G) q̇ + K q = f(t)`, `C = C_bearings + C_supports + C_R`. The
+//! Rayleigh part `C_R` is `α M + β K(Ω)` of the assembly (disks, point masses, pedestals and
+//! bearings included; the default) or, with [`FeRotorData::rayleigh_shaft_only`],
+//! `Σ_e (α M_e + β K_e)` over the shaft elements alone (bending, and the axial and torsional
+//! elements when those DOFs are on) — ROSS's convention, where α and β are shaft-element data.
 //! Axial and torsional DOFs are uncoupled from the lateral ones (linear theory: no entries
-//! between them in M, K, G, bearings or supports), so a rotor needs an axial support (thrust
-//! bearing, [`FeRotorData::axial_supports`]) when it has axial DOFs and a torsional restraint
-//! (coupling or drive stiffness to ground, [`FeRotorData::torsional_supports`]) when it has
-//! torsional ones; [`FeRotor::build`] refuses a rotor without them, as it refuses one without a
-//! bearing (a free rigid-body mode would make K singular for the static and unbalance solves).
+//! between them in M, K, G, bearings or supports). They may be free — no axial support (thrust
+//! bearing, [`FeRotorData::axial_supports`]) or no torsional restraint (coupling or drive,
+//! [`FeRotorData::torsional_supports`]) of positive stiffness, ROSS's `kzz = 0` — and then have
+//! one rigid-body mode each, the uniform `u_z` or `θ_z` ([`FeRotor::free_axial`],
+//! [`FeRotor::free_torsion`], [`FeRotor::rigid_body_modes`]): K is singular on them, so the
+//! static and unbalance solves use the lateral block only (the loads are lateral), the modal
+//! analysis reports them as rigid-body modes, and the time loop, which factors M̃ and never K,
+//! carries them as they are (unloaded, they stay put). The lateral DOFs must be held: a rotor
+//! without a bearing is refused.
 
 use crate::assembly::scatter;
 use crate::element::timoshenko::{axial_element, disk, shaft_element, torsion_element};
@@ -46,6 +54,10 @@ pub struct FeRotor {
     pub axial_supports: Vec<GroundSpring>,
     /// Torsional restraints (couplings, drives) on `θ_z`.
     pub torsional_supports: Vec<GroundSpring>,
+    /// The axial DOFs are on and no axial support has positive stiffness: a rigid-body mode.
+    pub free_axial: bool,
+    /// The torsional DOFs are on and no restraint has positive stiffness: a rigid-body mode.
+    pub free_torsion: bool,
     /// Mass (shaft, disks, point masses, pedestals).
     pub m: Csc,
     /// Stiffness of the shaft alone (bearings and supports added per speed by [`FeRotor::k`]).
@@ -56,6 +68,9 @@ pub struct FeRotor {
     pub bearings: Vec<Bearing>,
     /// Rayleigh `[α, β]`.
     pub rayleigh: [f64; 2],
+    /// `Σ_e (α M_e + β K_e)` over the shaft elements when Rayleigh damping is on the shaft
+    /// only ([`FeRotorData::rayleigh_shaft_only`]); `None`: `α M + β K(Ω)` of the assembly.
+    pub rayleigh_shaft: Option<Csc>,
     /// Modal damping (none when `None`).
     pub modal_damping: Option<ModalDamping>,
     /// Unbalances.
@@ -89,10 +104,12 @@ struct Refill {
     m_in_c: Vec<usize>,
     k_in_c: Vec<usize>,
     cb_in_c: Vec<usize>,
+    /// Slot in `c` of each stored entry of the shaft-only Rayleigh matrix (empty without).
+    rs_in_c: Vec<usize>,
 }
 
 impl Refill {
-    fn new(m: &Csc, k_shaft: &Csc, kb: &Csc, cb: &Csc) -> Self {
+    fn new(m: &Csc, k_shaft: &Csc, kb: &Csc, cb: &Csc, rs: Option<&Csc>) -> Self {
         let n = m.nrows();
         let pat = |parts: &[&Csc]| {
             let t: Vec<(usize, usize, f64)> = parts
@@ -107,8 +124,11 @@ impl Refill {
                 .collect()
         };
         let k = pat(&[k_shaft, kb]);
-        let c = pat(&[m, &k, cb]);
+        let empty = Csc::zeros(n, n);
+        let rs = rs.unwrap_or(&empty);
+        let c = pat(&[m, &k, cb, rs]);
         Self {
+            rs_in_c: slots(rs, &c),
             k_shaft_in_k: slots(k_shaft, &k),
             kb_in_k: slots(kb, &k),
             m_in_c: slots(m, &c),
@@ -153,9 +173,9 @@ fn symmetric_form(
 
 impl FeRotor {
     /// Assembles the model. Errors name the offending item: a node that does not exist, a
-    /// rotor without bearing, axial DOFs without an axial support, torsional DOFs without a
-    /// torsional restraint, supports of DOFs that are off, non-positive support stiffness or
-    /// negative damping.
+    /// rotor without bearing, supports of DOFs that are off, negative or infinite support
+    /// stiffness or negative damping. Axial or torsional DOFs without a support of positive
+    /// stiffness are free ([`FeRotor::free_axial`], [`FeRotor::free_torsion`]).
     pub fn build(d: &FeRotorData) -> Result<Self, ModelError> {
         let (z, node_diameter) = check(d)?;
         let nn = z.len();
@@ -183,6 +203,7 @@ impl FeRotor {
             mt,
             kt,
             gt,
+            rt,
             total_mass,
             total_ip,
         } = Triplets::assemble(d, &pedestal_dofs, &node_axial, &node_torsion);
@@ -204,11 +225,16 @@ impl FeRotor {
             node_torsion,
             axial_supports: d.axial_supports.clone(),
             torsional_supports: d.torsional_supports.clone(),
+            free_axial: d.axial && !d.axial_supports.iter().any(|s| s.stiffness > 0.0),
+            free_torsion: d.torsion && !d.torsional_supports.iter().any(|s| s.stiffness > 0.0),
             m: Csc::from_triplets(ndof, ndof, &mt),
             k_shaft: Csc::from_triplets(ndof, ndof, &kt),
             g: Csc::from_triplets(ndof, ndof, &gt),
             bearings: d.bearings.clone(),
             rayleigh: d.rayleigh,
+            rayleigh_shaft: d
+                .rayleigh_shaft_only
+                .then(|| Csc::from_triplets(ndof, ndof, &rt)),
             modal_damping: d.modal_damping,
             unbalance,
             disks: d.disks.clone(),
@@ -223,18 +249,45 @@ impl FeRotor {
                 m_in_c: Vec::new(),
                 k_in_c: Vec::new(),
                 cb_in_c: Vec::new(),
+                rs_in_c: Vec::new(),
             },
         };
         // Every bearing coefficient is stored even where it is zero at some speed (the
         // pattern of `bearing_matrices` does not depend on Ω).
         let (kb, cb) = rotor.bearing_matrices(0.0);
-        rotor.refill = Refill::new(&rotor.m, &rotor.k_shaft, &kb, &cb);
+        rotor.refill = Refill::new(
+            &rotor.m,
+            &rotor.k_shaft,
+            &kb,
+            &cb,
+            rotor.rayleigh_shaft.as_ref(),
+        );
         Ok(rotor)
     }
 
     /// Number of shaft nodes.
     pub fn nodes(&self) -> usize {
         self.z.len()
+    }
+
+    /// The rigid-body modes of the free axial and torsional DOFs, `[axial, torsional]`: the
+    /// uniform `u_z = 1` m (or `θ_z = 1` rad) on every node, zero elsewhere — `K r = 0` exactly
+    /// (the bar and torsion elements' rows sum to zero and nothing ties the DOFs to ground).
+    /// `None` where the DOFs are off or held.
+    pub fn rigid_body_modes(&self) -> [Option<Vec<f64>>; 2] {
+        let uniform = |free: bool, dofs: &[Option<usize>]| {
+            free.then(|| {
+                let mut r = vec![0.0; self.ndof];
+                for d in dofs.iter().flatten() {
+                    r[*d] = 1.0;
+                }
+                r
+            })
+        };
+        [
+            uniform(self.free_axial, &self.node_axial),
+            uniform(self.free_torsion, &self.node_torsion),
+        ]
     }
 
     /// Bearing stiffness and damping at speed ω, plus the axial and torsional supports (to
@@ -304,13 +357,17 @@ impl FeRotor {
         k
     }
 
-    /// Sparse damping without gyroscopics at speed ω: bearings + α M + β K (no modal part),
+    /// Sparse damping without gyroscopics at speed ω: bearings + the Rayleigh part (α M + β K
+    /// of the assembly, or of the shaft elements alone, see the module docs; no modal part),
     /// refilled on the pattern built once.
     pub fn c_sparse(&self, omega: f64) -> Csc {
         let (kb, cb) = self.bearing_matrices(omega);
         let k = self.k_with(&kb);
         let r = &self.refill;
-        let [alpha, beta] = self.rayleigh;
+        let [alpha, beta] = match self.rayleigh_shaft {
+            Some(_) => [0.0; 2],
+            None => self.rayleigh,
+        };
         let mut c = r.c.clone();
         let v = c.values_mut();
         v.fill(0.0);
@@ -322,6 +379,11 @@ impl FeRotor {
         }
         for (s, x) in r.cb_in_c.iter().zip(cb.values()) {
             v[*s] += *x;
+        }
+        if let Some(rs) = &self.rayleigh_shaft {
+            for (s, x) in r.rs_in_c.iter().zip(rs.values()) {
+                v[*s] += *x;
+            }
         }
         c
     }
@@ -571,10 +633,13 @@ fn check(d: &FeRotorData) -> Result<(Vec<f64>, Vec<f64>), ModelError> {
                     format!("the rotor has no {kind} DOFs: switch them on to use it"),
                 ));
             }
-            if !(s.stiffness.is_finite() && s.stiffness > 0.0) {
+            if !(s.stiffness.is_finite() && s.stiffness >= 0.0) {
                 return Err(err(
                     what,
-                    format!("stiffness must be positive and finite, got {}", s.stiffness),
+                    format!(
+                        "stiffness must be zero or positive and finite, got {}",
+                        s.stiffness
+                    ),
                 ));
             }
             if !(s.damping.is_finite() && s.damping >= 0.0) {
@@ -585,26 +650,16 @@ fn check(d: &FeRotorData) -> Result<(Vec<f64>, Vec<f64>), ModelError> {
             }
         }
     }
-    if d.axial && d.axial_supports.is_empty() {
-        return Err(err(
-                "rotor".into(),
-                "axial DOFs but no axial support: the rotor would slide freely along its axis (a rigid-body axial mode, no static equilibrium); add a thrust bearing".into(),
-            ));
-    }
-    if d.torsion && d.torsional_supports.is_empty() {
-        return Err(err(
-                "rotor".into(),
-                "torsional DOFs but no torsional restraint: the rotor would turn freely about its axis (a rigid-body torsional mode, no static equilibrium); add a coupling or drive stiffness".into(),
-            ));
-    }
     Ok((z, node_diameter))
 }
 
-/// The triplets of M, K (shaft) and G, with the total mass and polar inertia.
+/// The triplets of M, K (shaft) and G, the shaft elements' Rayleigh damping `α M_e + β K_e`,
+/// with the total mass and polar inertia.
 struct Triplets {
     mt: Vec<(usize, usize, f64)>,
     kt: Vec<(usize, usize, f64)>,
     gt: Vec<(usize, usize, f64)>,
+    rt: Vec<(usize, usize, f64)>,
     total_mass: f64,
     total_ip: f64,
 }
@@ -618,7 +673,12 @@ impl Triplets {
         node_axial: &[Option<usize>],
         node_torsion: &[Option<usize>],
     ) -> Self {
-        let (mut mt, mut kt, mut gt) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut mt, mut kt, mut gt, mut rt) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let [alpha, beta] = d.rayleigh;
+        let mut rayleigh = |dofs: &[usize], m: &[f64], k: &[f64]| {
+            let c: Vec<f64> = m.iter().zip(k).map(|(m, k)| alpha * m + beta * k).collect();
+            scatter(&mut rt, dofs, &c);
+        };
         let mut total_mass = 0.0;
         let mut total_ip = 0.0;
         for (i, e) in d.elements.iter().enumerate() {
@@ -626,9 +686,8 @@ impl Triplets {
             let dofs: [usize; 8] = std::array::from_fn(|k| 4 * i + k);
             scatter(&mut mt, &dofs, el.m.as_flattened());
             scatter(&mut kt, &dofs, el.k.as_flattened());
-            if e.rotary_inertia {
-                scatter(&mut gt, &dofs, el.g.as_flattened());
-            }
+            scatter(&mut gt, &dofs, el.g.as_flattened());
+            rayleigh(&dofs, el.m.as_flattened(), el.k.as_flattened());
             total_mass += e.mass();
             total_ip += e.density * 2.0 * e.inertia() * e.length;
         }
@@ -662,6 +721,7 @@ impl Triplets {
                     let ab = [a, b];
                     scatter(&mut mt, &ab, el.m.as_flattened());
                     scatter(&mut kt, &ab, el.k.as_flattened());
+                    rayleigh(&ab, el.m.as_flattened(), el.k.as_flattened());
                 }
             }
         }
@@ -682,6 +742,7 @@ impl Triplets {
             mt,
             kt,
             gt,
+            rt,
             total_mass,
             total_ip,
         }

@@ -160,6 +160,22 @@ impl Rotor {
             Rotor::Fe(f) => f.rotor.bearings.iter().any(|b| b.speeds.len() >= 2),
         }
     }
+    /// Number of lateral DOFs (`0..n`): bending and pedestals (2 for a Jeffcott rotor). The
+    /// axial and torsional DOFs of an FE rotor come after them, uncoupled.
+    pub fn lateral_dofs(&self) -> usize {
+        match self {
+            Rotor::Jeffcott(_) => 2,
+            Rotor::Fe(f) => f.rotor.ndof_lateral,
+        }
+    }
+    /// The rigid-body modes `[axial, torsional]` of free axial and torsional DOFs
+    /// ([`fe_rotor::FeRotor::rigid_body_modes`]); none for a Jeffcott rotor.
+    pub fn rigid_body_modes(&self) -> [Option<Vec<f64>>; 2] {
+        match self {
+            Rotor::Jeffcott(_) => [None, None],
+            Rotor::Fe(f) => f.rotor.rigid_body_modes(),
+        }
+    }
     /// Number of rotor nodes.
     pub fn node_count(&self) -> usize {
         match self {
@@ -212,7 +228,7 @@ impl Rotor {
     pub fn describe(&self) -> String {
         match self {
             Rotor::Jeffcott(j) => format!(
-                "Jeffcott rotor, 2 DOF: m = {:.6} kg, k = {:.6e} N/m, c = {:.6e} N·s/m (ξ = {:.4}), ω_n = {:.4} rad/s ({:.4} Hz)",
+                "Jeffcott rotor, 2 DOF: m = {:.6} kg, k = {:.6e} N/m, c = {:.6e} N·s/m (ξ = {:.4}), ω_n = {} rad/s ({} Hz, full precision)",
                 j.mass,
                 j.stiffness,
                 j.damping,
@@ -221,7 +237,7 @@ impl Rotor {
                 j.natural_frequency() / (2.0 * std::f64::consts::PI)
             ),
             Rotor::Fe(f) => format!(
-                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF ({}), {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; damping: {}; ω_n = {:.4} rad/s ({:.4} Hz, first lateral mode), highest free-rotor mode ω_max,rotor = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
+                "FE rotor (Timoshenko): {} nodes, {} elements, {} DOF ({}), {} disks, {} bearings; mass {:.4} kg, polar inertia {:.4e} kg·m²; damping: {}; ω_n = {} rad/s ({} Hz, first lateral mode, full precision), highest free-rotor mode ω_max,rotor = {:.4e} rad/s; reference node {} with k_r = {:.4e} N/m",
                 f.rotor.nodes(),
                 f.rotor.nodes() - 1,
                 f.rotor.ndof,
@@ -249,6 +265,9 @@ impl Rotor {
                             if md.max_frequency.is_finite() { format!("{}", md.max_frequency) } else { "∞".into() },
                             if md.modes == usize::MAX { "all".into() } else { md.modes.to_string() }
                         ));
+                    }
+                    if f.rotor.rayleigh_shaft.is_some() {
+                        d[0].push_str(" on the shaft elements only");
                     }
                     d.push("bearings".into());
                     d.join(", ")

@@ -6,8 +6,9 @@
 //! `docs/OUTPUTS.md` lists the columns.
 
 use super::OutDir;
+use crate::analysis::campbell::CampbellResults;
 use crate::analysis::refine::RefinePoint;
-use crate::analysis::rotordyn::{CampbellResults, ModalResults, ResponsePoint};
+use crate::analysis::rotordyn::{ModalResults, ResponsePoint};
 use crate::analysis::{ConvergenceResults, SpeedResults, StressResults, SweepResults};
 use crate::error::Result;
 

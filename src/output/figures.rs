@@ -4,8 +4,9 @@
 //! frequencies of ω_n (the `_nd` conventions of [`crate::analysis`]).
 
 use super::OutDir;
+use crate::analysis::campbell::CampbellResults;
 use crate::analysis::refine::RefinePoint;
-use crate::analysis::rotordyn::{CampbellResults, ResponsePoint};
+use crate::analysis::rotordyn::ResponsePoint;
 use crate::analysis::{
     regime_name, ConvergencePoint, ConvergenceResults, SpeedResults, StressResults, StressTrace,
     SweepResults,

@@ -6,8 +6,8 @@ use crate::element::timoshenko::ShaftSection;
 use crate::error::SceneError;
 use crate::scene::validate::{one_of, OneOf};
 use crate::scene::{
-    material, BearingSpec, FeRotorSpec, GroundSpringSpec, JeffcottSpec, LoadedScene, RotorSpec,
-    ScalarOrTable,
+    material, BearingSpec, FeRotorSpec, GroundSpringSpec, JeffcottSpec, LoadedScene, RayleighOn,
+    RotorSpec, ScalarOrTable,
 };
 use std::f64::consts::PI;
 
@@ -217,6 +217,9 @@ pub struct FeRotorData {
     pub unbalances: Vec<(usize, f64, f64)>,
     /// Rayleigh `[α, β]`.
     pub rayleigh: [f64; 2],
+    /// Rayleigh damping on the shaft elements only (`Σ_e α M_e + β K_e`, ROSS's convention)
+    /// instead of `α M + β K` of the assembly (disks, point masses, bearings included).
+    pub rayleigh_shaft_only: bool,
     /// Modal damping.
     pub modal_damping: Option<ModalDamping>,
     /// Axial DOF `u_z` per node (axial bar elements, see
@@ -320,6 +323,7 @@ pub fn fe_rotor(ls: &LoadedScene, s: &FeRotorSpec) -> Result<FeRotorData, SceneE
             .map(|u| (u.node, u.mass * u.radius, u.phase_deg.to_radians()))
             .collect(),
         rayleigh: s.rayleigh,
+        rayleigh_shaft_only: s.rayleigh_on == RayleighOn::Shaft,
         modal_damping: s.modal_damping.as_ref().map(|m| ModalDamping {
             ratio: m.ratio,
             max_frequency: m.max_frequency.unwrap_or(f64::INFINITY),

@@ -16,6 +16,7 @@
 mod output;
 mod overrides;
 pub mod profile;
+pub mod ross;
 mod rotor;
 mod run;
 mod stator;

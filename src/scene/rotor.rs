@@ -36,16 +36,22 @@ pub struct FeRotorSpec {
     /// Unbalances (`[[rotor.unbalance]]`, with `node`).
     #[serde(default)]
     pub unbalance: Vec<UnbalanceSpec>,
-    /// Rayleigh damping `[α, β]`: C += α M + β K.
+    /// Rayleigh damping `[α, β]`: C += α M + β K (of what `rayleigh_on` says).
     #[serde(default)]
     pub rayleigh: [f64; 2],
+    /// What the Rayleigh damping acts on: `"assembly"` (default: M and K(Ω) of the whole
+    /// rotor, disks, point masses, pedestals and bearings included) or `"shaft"` (the shaft
+    /// elements' own M_e and K_e only, ROSS's convention).
+    #[serde(default, skip_serializing_if = "RayleighOn::is_assembly")]
+    pub rayleigh_on: RayleighOn,
     /// Shear deformation (Timoshenko); false = Euler–Bernoulli.
     #[serde(default = "yes")]
     pub shear: bool,
-    /// Rotary inertia of the shaft.
+    /// Rotary inertia of the shaft's bending rotations in M (independent of `gyroscopic`:
+    /// the shaft's G stays when this is off, as in ROSS).
     #[serde(default = "yes")]
     pub rotary_inertia: bool,
-    /// Gyroscopic coupling (shaft and disks).
+    /// Gyroscopic coupling (shaft and disks; false: G = 0).
     #[serde(default = "yes")]
     pub gyroscopic: bool,
     /// Axial DOF `u_z` per node: bar elements E A/L, consistent mass; disks and point masses
@@ -83,6 +89,23 @@ pub struct ModalDampingSpec {
     pub max_frequency: Option<f64>,
     /// Largest number of modes damped.
     pub modes: Option<usize>,
+}
+
+/// What `rotor.rayleigh` acts on.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RayleighOn {
+    /// `α M + β K(Ω)` of the assembled rotor (bearings, disks, point masses, pedestals).
+    #[default]
+    Assembly,
+    /// `Σ_e α M_e + β K_e` over the shaft elements alone (ROSS's convention).
+    Shaft,
+}
+
+impl RayleighOn {
+    fn is_assembly(&self) -> bool {
+        *self == RayleighOn::Assembly
+    }
 }
 
 fn is_false(b: &bool) -> bool {

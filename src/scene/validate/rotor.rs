@@ -366,7 +366,9 @@ pub(super) fn validate_supports(
     ] {
         for (i, g) in list.iter().enumerate() {
             node_ok(ls, format!("rotor.{name}.{i}.node"), g.node, nodes)?;
-            positive(ls, &format!("rotor.{name}.{i}.stiffness"), g.stiffness)?;
+            // 0 is ROSS's kzz = 0: a damper alone, or nothing; the DOF is then free if no
+            // other support holds it (a rigid-body mode, see `FeRotor::free_axial`).
+            non_negative(ls, &format!("rotor.{name}.{i}.stiffness"), g.stiffness)?;
             non_negative(ls, &format!("rotor.{name}.{i}.damping"), g.damping)?;
             if !on {
                 return Err(ls.invalid(
@@ -375,11 +377,27 @@ pub(super) fn validate_supports(
                 ));
             }
         }
-        if on && list.is_empty() {
-            return Err(ls.invalid(
-                &format!("rotor.{name}"),
-                format!("`{flag} = true` needs at least one [[rotor.{name}]] (without one the rotor has a free rigid-body {mode} mode and no equilibrium)"),
-            ));
+        // Without a support of positive stiffness the DOFs are free (a rigid-body mode). A free
+        // θ_z under a rub's friction torque would spin down without bound: refused.
+        let free = on && !list.iter().any(|g| g.stiffness > 0.0);
+        if free && flag == "torsion" {
+            if let Some((i, st)) = ls
+                .scene
+                .stations
+                .iter()
+                .enumerate()
+                .find(|(_, st)| st.friction > 0.0)
+            {
+                let key = if list.is_empty() {
+                    format!("rotor.{name}")
+                } else {
+                    format!("rotor.{name}.0.stiffness")
+                };
+                return Err(ls.invalid(
+                    &key,
+                    format!("the rotor's {mode} DOFs are free (`torsion = true` without a [[rotor.{name}]] of positive stiffness), but station `{}` rubs with friction (`station.{i}.friction`), whose torque they cannot resist: add a drive or coupling stiffness", st.name),
+                ));
+            }
         }
     }
     Ok(())

@@ -1,0 +1,248 @@
+//! A rotor saved by ROSS (`Rotor.save`, TOML; checked with ROSS 2.3.0) as a rubsim scene
+//! (`rubsim import-ross FILE`).
+//!
+//! ROSS writes one table per element, named `"<Class>_<tag>"`: `ShaftElement_…` (`L`, `idl`,
+//! `odl`, `idr`, `odr`, `n`, `shear_effects`, `rotary_inertia`, `gyroscopic`, `alpha`, `beta`,
+//! and a `material` sub-table with `rho`, `E`, `G_s`), `DiskElement_…` (`n`, `m`, `Id`, `Ip`),
+//! `BearingElement_…` (`n`, coefficient lists `kxx … kzz`, `cxx … czz`, `mxx … mzz`, and
+//! `frequency` when they are tabulated), `PointMass_…` (`n`, `m` or `mx`, `my`). They map to
+//! `[[rotor.shaft]]` segments of one element each (ν = E/(2G) − 1), `[[rotor.disk]]` by
+//! inertias, `[[rotor.bearing]]` with `kxx … cyy` (tables over `speeds` when ROSS gives a
+//! `frequency`), `[[rotor.point_mass]]`. ROSS's rotor is 6-DOF: the scene has `axial = true`,
+//! `torsion = true`; a bearing's `kzz`, `czz` becomes an `[[rotor.axial_support]]` (kzz = 0
+//! everywhere leaves u_z free), θ_z is always free. Rayleigh `alpha`, `beta` act on the shaft
+//! elements (`rayleigh_on = "shaft"`).
+//!
+//! What rubsim cannot represent is refused by the element's table name: tapered elements,
+//! elements that differ in their switches or Rayleigh factors, axial force or torque on an
+//! element, bearing mass coefficients, speed-dependent kzz, bearings linked to another node
+//! (`n_link`), point masses with mx ≠ my, and every other element class (seals, magnetic
+//! bearings, …).
+
+use crate::error::SceneError;
+use std::fmt::Write as _;
+use std::path::Path;
+use toml::{Table, Value};
+
+/// The rubsim scene (TOML text) of a ROSS rotor file's text `text` read from `path`.
+///
+/// # Errors
+/// [`SceneError::Parse`] for a file that is not TOML; [`SceneError::Invalid`] naming the
+/// element table (and its line) for anything that cannot be represented or is missing.
+pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
+    let doc: Table = text
+        .parse()
+        .map_err(|e: toml::de::Error| SceneError::Parse {
+            file: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+    let bad = |table: &str, message: String| SceneError::Invalid {
+        file: path.to_path_buf(),
+        key: table.to_string(),
+        line: text
+            .lines()
+            .position(|l| l.trim_start().starts_with(&format!("[\"{table}\"")))
+            .map(|i| i + 1),
+        message,
+    };
+    let mut shafts = Vec::new();
+    let mut out = String::new();
+    let mut body = String::new();
+    for (name, v) in &doc {
+        let Value::Table(t) = v else { continue };
+        let class = name.split('_').next().unwrap_or("");
+        let num = |k: &str| -> Result<f64, SceneError> {
+            match t.get(k) {
+                Some(Value::Float(x)) => Ok(*x),
+                Some(Value::Integer(i)) => Ok(*i as f64),
+                _ => Err(bad(name, format!("`{k}` missing or not a number"))),
+            }
+        };
+        match class {
+            "parameters" if name == "parameters" => {}
+            "ShaftElement" => {
+                let refuse = |m: String| bad(name, m);
+                shafts.push((num("n")? as usize, name.clone(), shaft(t, &num, &refuse)?));
+            }
+            "DiskElement" => {
+                let _ = writeln!(
+                    body,
+                    "[[rotor.disk]]\nnode = {}\nmass = {:?}\ndiametral_inertia = {:?}\npolar_inertia = {:?}",
+                    num("n")? as usize,
+                    num("m")?,
+                    num("Id")?,
+                    num("Ip")?
+                );
+            }
+            "BearingElement" => bearing(&mut body, t, &num).map_err(|m| bad(name, m))?,
+            "PointMass" => {
+                let (mx, my) = match t.get("m") {
+                    Some(_) => (num("m")?, num("m")?),
+                    None => (num("mx")?, num("my")?),
+                };
+                if mx != my {
+                    return Err(bad(name, format!("point mass mx = {mx} ≠ my = {my}: rubsim's point masses are isotropic")));
+                }
+                let _ = writeln!(body, "[[rotor.point_mass]]\nnode = {}\nmass = {mx:?}", num("n")? as usize);
+            }
+            _ => {
+                return Err(bad(
+                    name,
+                    format!("ROSS element class `{class}` cannot be represented in rubsim (shaft elements, disks, bearings and point masses can)"),
+                ))
+            }
+        }
+    }
+    shafts.sort_by_key(|s| s.0);
+    let Some(first) = shafts.first() else {
+        return Err(bad("ShaftElement", "the file has no shaft element".into()));
+    };
+    for (i, (n, name, s)) in shafts.iter().enumerate() {
+        if *n != i {
+            return Err(bad(name, format!("shaft element n = {n}, expected {i}: elements must follow each other from node 0")));
+        }
+        if s.flags != first.2.flags {
+            return Err(bad(name, "shear_effects, rotary_inertia, gyroscopic, alpha and beta must be the same on every shaft element (rubsim sets them for the rotor)".into()));
+        }
+    }
+    let (shear, rot, gyro, alpha, beta) = first.2.flags;
+    let _ = writeln!(
+        out,
+        "# Imported from ROSS ({}) by `rubsim import-ross`.\ntitle = \"ROSS rotor {}\"\n[rotor]\nkind = \"fe\"\naxial = true\ntorsion = true\nshear = {shear}\nrotary_inertia = {rot}\ngyroscopic = {gyro}\nrayleigh = [{alpha:?}, {beta:?}]\nrayleigh_on = \"shaft\"",
+        doc.get("ross_version").and_then(Value::as_str).unwrap_or("unknown version"),
+        path.file_name().map(|f| f.to_string_lossy().to_string()).unwrap_or_default()
+    );
+    for (_, _, s) in &shafts {
+        out.push_str(&s.toml);
+    }
+    out.push_str(&body);
+    out.push_str("[run]\nspeed_ratio = 1.0\n");
+    Ok(out)
+}
+
+/// A shaft element: its `[[rotor.shaft]]` text and its switches and Rayleigh factors.
+struct Shaft {
+    toml: String,
+    flags: (bool, bool, bool, u64, u64),
+}
+
+fn shaft(
+    t: &Table,
+    num: &dyn Fn(&str) -> Result<f64, SceneError>,
+    bad: &dyn Fn(String) -> SceneError,
+) -> Result<Shaft, SceneError> {
+    let flag = |k: &str| t.get(k).and_then(Value::as_bool).unwrap_or(true);
+    let (idl, odl, idr, odr) = (num("idl")?, num("odl")?, num("idr")?, num("odr")?);
+    let refuse = |m: String| Err(bad(m));
+    if idl != idr || odl != odr {
+        return refuse(format!("tapered element (idl {idl}, idr {idr}, odl {odl}, odr {odr}): rubsim's shaft elements are cylindrical"));
+    }
+    for k in ["axial_force", "torque"] {
+        if num(k).unwrap_or(0.0) != 0.0 {
+            return refuse(format!(
+                "`{k}` on a shaft element is not modelled by rubsim"
+            ));
+        }
+    }
+    if let Some(m) = t.get("shear_method_calc").and_then(Value::as_str) {
+        if m != "cowper" {
+            return refuse(format!(
+                "shear_method_calc = \"{m}\": rubsim uses Cowper's shear factor"
+            ));
+        }
+    }
+    let Some(Value::Table(mat)) = t.get("material") else {
+        return refuse("no material table".into());
+    };
+    let mnum = |k: &str| {
+        mat.get(k)
+            .and_then(|v| v.as_float().or(v.as_integer().map(|i| i as f64)))
+    };
+    let (Some(rho), Some(e), Some(g)) = (mnum("rho"), mnum("E"), mnum("G_s")) else {
+        return refuse("material needs rho, E and G_s".into());
+    };
+    let alpha = num("alpha").unwrap_or(0.0);
+    let beta = num("beta").unwrap_or(0.0);
+    Ok(Shaft {
+        toml: format!(
+            "[[rotor.shaft]]\nlength = {:?}\nouter_diameter = {odl:?}\ninner_diameter = {idl:?}\nelements = 1\nyoungs_modulus = {e:?}\npoisson = {:?}\ndensity = {rho:?}\n",
+            num("L")?,
+            e / (2.0 * g) - 1.0
+        ),
+        flags: (
+            flag("shear_effects"),
+            flag("rotary_inertia"),
+            flag("gyroscopic"),
+            alpha.to_bits(),
+            beta.to_bits(),
+        ),
+    })
+}
+
+/// A bearing's `[[rotor.bearing]]` (and `[[rotor.axial_support]]` for kzz, czz) text.
+fn bearing(
+    body: &mut String,
+    t: &Table,
+    num: &dyn Fn(&str) -> Result<f64, SceneError>,
+) -> Result<(), String> {
+    let list = |k: &str| -> Result<Vec<f64>, String> {
+        match t.get(k) {
+            None => Ok(vec![0.0]),
+            Some(Value::Array(a)) => a
+                .iter()
+                .map(|v| v.as_float().or(v.as_integer().map(|i| i as f64)))
+                .collect::<Option<Vec<f64>>>()
+                .ok_or_else(|| format!("`{k}` must be a list of numbers")),
+            Some(v) => v
+                .as_float()
+                .or(v.as_integer().map(|i| i as f64))
+                .map(|x| vec![x])
+                .ok_or_else(|| format!("`{k}` must be a number or a list")),
+        }
+    };
+    if t.get("n_link")
+        .is_some_and(|v| !matches!(v, Value::String(s) if s == "None"))
+    {
+        return Err("a bearing linked to another node (`n_link`, pedestal or support mass) is not read yet; model the pedestal with `rotor.bearing.pedestal`".into());
+    }
+    for k in ["mxx", "mxy", "myx", "myy", "mzz"] {
+        if list(k)?.iter().any(|v| *v != 0.0) {
+            return Err(format!(
+                "bearing mass coefficient `{k}` ≠ 0 cannot be represented"
+            ));
+        }
+    }
+    let node = num("n").map_err(|e| e.to_string())? as usize;
+    let freq = list("frequency").unwrap_or_default();
+    let tabulated = t.contains_key("frequency") && freq.len() > 1;
+    let _ = writeln!(body, "[[rotor.bearing]]\nnode = {node}");
+    for k in ["kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"] {
+        let v = list(k)?;
+        if tabulated && v.len() == freq.len() {
+            let _ = writeln!(body, "{k} = {v:?}");
+        } else if v.len() == 1 || v.iter().all(|x| *x == v[0]) {
+            let _ = writeln!(body, "{k} = {:?}", v[0]);
+        } else {
+            return Err(format!(
+                "`{k}` has {} values but `frequency` has {}",
+                v.len(),
+                freq.len()
+            ));
+        }
+    }
+    if tabulated {
+        let _ = writeln!(body, "speeds = {freq:?}");
+    }
+    let (kz, cz) = (list("kzz")?, list("czz")?);
+    if kz.iter().chain(&cz).any(|v| *v != kz[0] && *v != cz[0]) {
+        return Err("speed-dependent kzz or czz cannot be represented (rubsim's axial supports are constant)".into());
+    }
+    if kz[0] != 0.0 || cz[0] != 0.0 {
+        let _ = writeln!(
+            body,
+            "[[rotor.axial_support]]\nnode = {node}\nstiffness = {:?}\ndamping = {:?}",
+            kz[0], cz[0]
+        );
+    }
+    Ok(())
+}

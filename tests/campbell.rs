@@ -1,0 +1,256 @@
+//! ROSS's `rotor_example` (ROSS 2.3.0, 6-DOF, `scenes/fe/ross_rotor_example.toml`): damped
+//! natural frequencies against ROSS's own `run_modal`, and the Campbell diagram of the issue's
+//! reproducer (0 … 1000 rad/s, 12 modes) keeping every branch; speeds in rad/s and rpm on the
+//! command line.
+
+mod common;
+
+use common::cli::in_repo;
+use common::{build, load, repo, NO_SETS};
+use rubsim::analysis::campbell::campbell;
+use rubsim::analysis::rotordyn::{self, ModeKind, Whirl};
+
+const SCENE: &str = "scenes/fe/ross_rotor_example.toml";
+
+/// ROSS 2.3.0 `rs.rotor_example().run_modal(Ω, num_modes=24).wd[:12]` (rad/s) at Ω = 0, 500,
+/// 1000 rad/s (its rigid-body axial and torsional modes are not in the list).
+const ROSS_WD: [(f64, [f64; 12]); 3] = [
+    (
+        0.0,
+        [
+            91.79655317547088,
+            96.28899976982909,
+            274.56594512614095,
+            296.50048531747393,
+            722.8978749547146,
+            765.0004291573102,
+            774.3496781516478,
+            1069.659599788357,
+            1103.6289827274043,
+            2042.410086432257,
+            2053.8773423900398,
+            2604.763404735894,
+        ],
+    ),
+    (
+        500.0,
+        [
+            91.5603507409686,
+            96.45663974845561,
+            265.40599986984256,
+            305.35345475931956,
+            658.3465523039288,
+            774.3496781550966,
+            821.3253588403228,
+            1062.9206562939669,
+            1107.6454643785125,
+            1819.2105447792853,
+            2272.34547939333,
+            2351.2685062943533,
+        ],
+    ),
+    (
+        1000.0,
+        [
+            90.93010826951645,
+            96.88132615727132,
+            250.08834688226003,
+            319.79053378006876,
+            576.9367354592277,
+            774.349678155026,
+            881.7353472337708,
+            1046.9883279087792,
+            1115.3664692113998,
+            1657.6342686382836,
+            2003.5445972850184,
+            2717.485705774953,
+        ],
+    ),
+];
+
+fn model() -> rubsim::model::Model {
+    build(&load(&repo(SCENE), NO_SETS))
+}
+
+/// The 6-DOF model with free axial and torsional DOFs (kzz = 0) gives ROSS's frequencies at
+/// rest and spinning, and reports the two rigid-body modes.
+#[test]
+fn ross_rotor_example_frequencies_match_ross() {
+    let m = model();
+    for (speed, want) in ROSS_WD {
+        let r = rotordyn::modal(&m.rotor, speed, 12).unwrap();
+        assert_eq!(r.rigid_body, vec![ModeKind::Axial, ModeKind::Torsional]);
+        let worst = r
+            .modes
+            .iter()
+            .zip(want)
+            .map(|(g, w)| (g.omega_d / w - 1.0).abs())
+            .fold(0.0_f64, f64::max);
+        eprintln!("Ω = {speed} rad/s: largest relative difference to ROSS {worst:.2e}");
+        assert!(worst < 1e-7, "Ω = {speed}: {worst}");
+    }
+}
+
+/// The reproducer: 31 speeds from 0 to 1000 rad/s, 12 modes. Every track ends on one
+/// of ROSS's frequencies at 1000 rad/s (each once), no track jumps by more than the speed step
+/// between two speeds (the slopes here are below 1), and the highest three go 2042 → 1657 (BW),
+/// 2054 → 2717 (FW), 2605 → 2004 (BW).
+#[test]
+fn campbell_of_ross_rotor_example_keeps_every_branch() {
+    let m = model();
+    let speeds = rotordyn::speed_list(0.0, 1000.0, 31);
+    let c = campbell(&m.rotor, &speeds, 12).unwrap();
+    let step = speeds[1] - speeds[0];
+    let mut ends: Vec<f64> = Vec::new();
+    for t in &c.tracks {
+        for w in t.omega_d.windows(2) {
+            assert!(
+                w[1].is_finite() && (w[1] - w[0]).abs() < step,
+                "{}: {w:?}",
+                t.label
+            );
+        }
+        ends.push(*t.omega_d.last().unwrap());
+    }
+    let mut sorted = ends.clone();
+    sorted.sort_by(f64::total_cmp);
+    for (g, w) in sorted.iter().zip(ROSS_WD[2].1) {
+        assert!((g / w - 1.0).abs() < 1e-7, "{g} vs {w}");
+    }
+    let top: Vec<(f64, Whirl)> = c.tracks[9..]
+        .iter()
+        .map(|t| (*t.omega_d.last().unwrap(), t.whirl))
+        .collect();
+    eprintln!(
+        "tracks 10–12 at 1000 rad/s: {top:?}; {} refined speeds",
+        c.refined_speeds
+    );
+    let want = [
+        (1657.634, Whirl::Backward),
+        (2717.486, Whirl::Forward),
+        (2003.545, Whirl::Backward),
+    ];
+    for ((g, gw), (w, ww)) in top.iter().zip(want) {
+        assert!(
+            (g - w).abs() < 1e-3 && *gw == ww,
+            "{g} {gw:?} vs {w} {ww:?}"
+        );
+    }
+    // Critical speeds lie inside the range and carry a whirl.
+    assert!(!c.critical_speeds.is_empty());
+    for cs in &c.critical_speeds {
+        assert!(cs.speed > 0.0 && cs.speed < 1000.0);
+        assert!(matches!(
+            cs.whirl,
+            Whirl::Forward | Whirl::Backward | Whirl::NoWhirl | Whirl::Mixed
+        ));
+    }
+}
+
+/// The reproducer on the command line, with the speeds in rad/s; and one speed given in rad/s,
+/// rpm and ω/ω_n gives the same modes.
+#[test]
+fn cli_campbell_reproducer_and_speed_units() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("c");
+    let (ok, stdout, err) = in_repo(&[
+        "campbell",
+        SCENE,
+        "--from",
+        "0",
+        "--to",
+        "1000",
+        "--unit",
+        "rad/s",
+        "--modes",
+        "12",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(stdout.contains("2604.763 → 2003.545"), "{stdout}");
+    assert!(stdout.contains("2053.877 → 2717.486"), "{stdout}");
+    let wn = model().rotor.natural_frequency();
+    let modes = |speed: String, unit: &str| {
+        let o = tmp.path().join(format!("m_{unit}").replace('/', "_"));
+        let (ok, stdout, err) = in_repo(&[
+            "modal",
+            SCENE,
+            "--speed",
+            &speed,
+            "--unit",
+            unit,
+            "--out",
+            o.to_str().unwrap(),
+        ]);
+        assert!(ok, "{err}");
+        assert!(stdout.contains("rigid-body mode"), "{stdout}");
+        // Mode number, ω_d, f and whirl (an undamped ζ prints as ±0 by round-off).
+        stdout
+            .lines()
+            .filter(|l| l.contains(" BW") || l.contains(" FW"))
+            .map(|l| {
+                let f: Vec<&str> = l.split_whitespace().collect();
+                format!("{} {} {} {}", f[0], f[1], f[2], f[5])
+            })
+            .collect::<Vec<_>>()
+    };
+    let a = modes("1000".into(), "rad/s");
+    let b = modes(format!("{}", 1000.0 * 30.0 / std::f64::consts::PI), "rpm");
+    let c = modes(format!("{}", 1000.0 / wn), "ratio");
+    assert!(!a.is_empty());
+    assert_eq!(a, b);
+    assert_eq!(a, c);
+    let (ok, _, err) = in_repo(&["modal", SCENE, "--unit", "furlongs"]);
+    assert!(!ok && err.contains("possible values"), "{err}");
+}
+
+/// `rubsim import-ross` on the file ROSS 2.3.0's `Rotor.save` wrote for `rotor_example`
+/// (`tests/data/ross/rotor_example.toml`): the scene gives ROSS's frequencies; what cannot be
+/// represented is refused naming the element table.
+#[test]
+fn import_ross_rotor_example_and_refusals() {
+    let path = repo("tests/data/ross/rotor_example.toml");
+    let text = common::read(&path);
+    let scene = rubsim::scene::ross::import(&path, &text).unwrap();
+    let m = build(&common::parse(&scene, NO_SETS));
+    let r = rotordyn::modal(&m.rotor, 1000.0, 12).unwrap();
+    for (g, w) in r.modes.iter().zip(ROSS_WD[2].1) {
+        assert!((g.omega_d / w - 1.0).abs() < 1e-7, "{} vs {w}", g.omega_d);
+    }
+    let cases = [
+        (text.replacen("odr = 0.05", "odr = 0.06", 1), "tapered"),
+        (
+            text.replacen("mxx = [ 0,]", "mxx = [ 1.0,]", 1),
+            "mass coefficient",
+        ),
+        (
+            text.replacen("[\"DiskElement_Disk 0\"]", "[\"SealElement_Seal 0\"]", 1),
+            "SealElement",
+        ),
+        (
+            text.replacen("beta = 0.0", "beta = 1e-5", 1),
+            "same on every shaft element",
+        ),
+    ];
+    for (bad, what) in cases {
+        let e = rubsim::scene::ross::import(&path, &bad)
+            .unwrap_err()
+            .to_string();
+        eprintln!("{what}: {e}");
+        assert!(
+            e.contains(what) && e.contains("rotor_example.toml:"),
+            "{what}: {e}"
+        );
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("imported.toml");
+    let (ok, _, err) = in_repo(&[
+        "import-ross",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(common::read(&out), scene);
+}
