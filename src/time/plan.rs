@@ -85,6 +85,23 @@ pub struct StepParams {
 /// (a 200-DOF FE rotor) about an hour; a plan that needs more is refused with its figures.
 pub const MAX_STEPS: u64 = 1_000_000_000;
 
+/// The analysed steady window is a whole multiple of this many revolutions
+/// ([`plan_steps`] lengthens it), so the ½× and ⅓× lines of a periodic response fall on exact
+/// frequency bins of the window.
+pub const WINDOW_MULTIPLE: usize = 6;
+
+/// The revolutions of a run of `revolutions` whose first `transient` are cut: the analysed
+/// window `revolutions − transient` rounded up to a multiple of [`WINDOW_MULTIPLE`] (none when
+/// `revolutions ≤ transient`), after the transient.
+pub fn planned_revolutions(revolutions: usize, transient: usize) -> usize {
+    let window = revolutions.saturating_sub(transient);
+    if window == 0 {
+        revolutions
+    } else {
+        transient + window.div_ceil(WINDOW_MULTIPLE) * WINDOW_MULTIPLE
+    }
+}
+
 /// Most bytes the record of one run may take (the samples are held in memory for the
 /// analysis): 4 GiB.
 pub const MAX_RECORD_BYTES: f64 = 4.0 * 1024.0 * 1024.0 * 1024.0;
@@ -268,7 +285,8 @@ fn check_record(case: &Case, samples: f64) -> Result<(), SolveError> {
 
 /// Chooses Δt (the paper's rule capped by the stability limit, or the user's
 /// checked Δt), then reduces it so a revolution holds a whole number of recorded samples and
-/// steps.
+/// steps. The run lasts [`planned_revolutions`]: the analysed window after the
+/// `transient_revolutions` is lengthened to a multiple of [`WINDOW_MULTIPLE`] revolutions.
 ///
 /// # Errors
 /// [`SolveError::StepTooLarge`] for a user Δt above the stability limit,
@@ -282,16 +300,17 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
     // its figures before any count is cast to an integer.
     let per_sample = (t_rev / (c.dt * spr as f64) - 1e-9).ceil().max(1.0);
     let steps_per_rev = per_sample * spr as f64;
-    let steps = steps_per_rev * p.revolutions as f64;
-    check_steps(case, p, &c, steps, steps_per_rev, p.revolutions, t_rev)?;
-    check_record(case, spr as f64 * p.revolutions as f64 + 1.0)?;
+    let revolutions = planned_revolutions(p.revolutions, p.transient_revolutions);
+    let steps = steps_per_rev * revolutions as f64;
+    check_steps(case, p, &c, steps, steps_per_rev, revolutions, t_rev)?;
+    check_record(case, spr as f64 * revolutions as f64 + 1.0)?;
     let (per_sample, steps_per_rev) = (per_sample as usize, steps_per_rev as usize);
     Ok(StepPlan {
         dt: t_rev / steps_per_rev as f64,
         steps_per_rev,
         steps: steps as usize,
         record_every: per_sample,
-        steady_from: steps_per_rev * p.transient_revolutions.min(p.revolutions),
+        steady_from: steps_per_rev * p.transient_revolutions.min(revolutions),
         limit: c.limit,
         rule_dt: c.rule_dt,
         omega_max: c.omega_max,

@@ -65,6 +65,26 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
     if let Some(dt) = r.dt {
         positive(ls, "run.dt", dt)?;
     }
+    if !(r.tolerance >= 1e-12 && r.tolerance <= 0.5) {
+        return Err(ls.invalid(
+            "run.tolerance",
+            format!(
+                "a relative tolerance must lie in 1e-12 ..= 0.5, got {}",
+                show(r.tolerance)
+            ),
+        ));
+    }
+    if let Some(m) = r.max_transient_revolutions {
+        if m < r.transient_revolutions || m > MAX_REVOLUTIONS {
+            return Err(ls.invalid(
+                "run.max_transient_revolutions",
+                format!(
+                    "must lie in transient_revolutions ({}) ..= {MAX_REVOLUTIONS}, got {m}",
+                    r.transient_revolutions
+                ),
+            ));
+        }
+    }
     positive(ls, "run.harmonics", r.harmonics)?;
     if !(8..=MAX_SAMPLES_PER_REV).contains(&r.samples_per_rev) {
         return Err(ls.invalid(
