@@ -97,9 +97,9 @@ impl RunSettings {
             },
             component: Component::from_name(component).unwrap_or_default().index(),
             tolerance: run.tolerance,
-            max_transient_revolutions: run.max_transient_revolutions.unwrap_or(
-                run.transient_revolutions * crate::scene::MAX_TRANSIENT_FACTOR,
-            ),
+            max_transient_revolutions: run
+                .max_transient_revolutions
+                .unwrap_or(run.transient_revolutions * crate::scene::MAX_TRANSIENT_FACTOR),
         }
     }
 }

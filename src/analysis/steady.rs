@@ -36,8 +36,7 @@ impl Stationarity {
     /// not decay.
     pub fn revolutions_needed(&self, tol: f64) -> usize {
         let b = self.block_revolutions.max(1);
-        if self.decay.is_finite() && self.decay > 0.0 && self.decay < 1.0 && self.residual > 0.0
-        {
+        if self.decay.is_finite() && self.decay > 0.0 && self.decay < 1.0 && self.residual > 0.0 {
             let thirds = ((0.5 * tol / self.residual).ln() / self.decay.ln()).max(1.0);
             // 20 % margin, whole revolutions, at least one third.
             ((1.2 * thirds * b as f64).ceil() as usize).max(b)
@@ -138,7 +137,14 @@ pub struct Classification {
 /// Comparing every sample of the revolutions (not only the once-per-revolution point) makes a
 /// period-2 orbit whose two loops cross at the sampling phase read 2, not 1: a sub-harmonic
 /// line of amplitude `a` gives `r ≥ 2a/span` for every period it does not divide.
-pub fn classify(w: &[V2], spr: usize, nrev: usize, span: f64, tol: f64, max_period: usize) -> Classification {
+pub fn classify(
+    w: &[V2],
+    spr: usize,
+    nrev: usize,
+    span: f64,
+    tol: f64,
+    max_period: usize,
+) -> Classification {
     let n = (nrev * spr).min(w.len());
     let mut rejected = f64::INFINITY;
     let mut best = f64::INFINITY;
@@ -239,7 +245,10 @@ mod tests {
         let q: f64 = 0.97;
         let w = orbit(64, 120, |t| {
             let a = 0.2 * q.powf(t / (2.0 * PI));
-            [t.cos() + a * (0.37 * t).cos(), t.sin() + a * (0.37 * t).sin()]
+            [
+                t.cos() + a * (0.37 * t).cos(),
+                t.sin() + a * (0.37 * t).sin(),
+            ]
         });
         let s = stationarity(&w, 64, 120, 2.0);
         // The window's first third carries ≈ 0.2 / 2 of transient on its extents.
