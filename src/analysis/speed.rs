@@ -53,7 +53,7 @@ pub struct SpeedResults {
     /// Revolutions cut as transient before the analysed window (`run.transient_revolutions`,
     /// more when the run went on to reach the steady state).
     pub transient_revolutions: usize,
-    /// Revolutions of the analysed window (a multiple of 6).
+    /// Revolutions of the analysed window (at least 6).
     pub window_revolutions: usize,
     /// How stationary the analysed window is (the transient's share of the error).
     pub stationarity: Stationarity,

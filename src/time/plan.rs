@@ -85,20 +85,20 @@ pub struct StepParams {
 /// (a 200-DOF FE rotor) about an hour; a plan that needs more is refused with its figures.
 pub const MAX_STEPS: u64 = 1_000_000_000;
 
-/// The analysed steady window is a whole multiple of this many revolutions
-/// ([`plan_steps`] lengthens it), so the ½× and ⅓× lines of a periodic response fall on exact
-/// frequency bins of the window.
+/// The shortest analysed steady window (revolutions): [`plan_steps`] lengthens a shorter one to
+/// it, so that the ½× and ⅓× lines of a periodic response fall on exact frequency bins of the
+/// window (the analysis reads the lines over the last whole multiple of 6 revolutions).
 pub const WINDOW_MULTIPLE: usize = 6;
 
-/// The revolutions of a run of `revolutions` whose first `transient` are cut: the analysed
-/// window `revolutions − transient` rounded up to a multiple of [`WINDOW_MULTIPLE`] (none when
-/// `revolutions ≤ transient`), after the transient.
+/// The revolutions of a run of `revolutions` whose first `transient` are cut: an analysed window
+/// `revolutions − transient` shorter than [`WINDOW_MULTIPLE`] is lengthened to it (none when
+/// `revolutions ≤ transient`).
 pub fn planned_revolutions(revolutions: usize, transient: usize) -> usize {
     let window = revolutions.saturating_sub(transient);
     if window == 0 {
         revolutions
     } else {
-        transient + window.div_ceil(WINDOW_MULTIPLE) * WINDOW_MULTIPLE
+        transient + window.max(WINDOW_MULTIPLE)
     }
 }
 
@@ -285,8 +285,8 @@ fn check_record(case: &Case, samples: f64) -> Result<(), SolveError> {
 
 /// Chooses Δt (the paper's rule capped by the stability limit, or the user's
 /// checked Δt), then reduces it so a revolution holds a whole number of recorded samples and
-/// steps. The run lasts [`planned_revolutions`]: the analysed window after the
-/// `transient_revolutions` is lengthened to a multiple of [`WINDOW_MULTIPLE`] revolutions.
+/// steps. The run lasts [`planned_revolutions`]: an analysed window after the
+/// `transient_revolutions` shorter than [`WINDOW_MULTIPLE`] revolutions is lengthened to it.
 ///
 /// # Errors
 /// [`SolveError::StepTooLarge`] for a user Δt above the stability limit,

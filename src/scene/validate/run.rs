@@ -65,7 +65,7 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
     if let Some(dt) = r.dt {
         positive(ls, "run.dt", dt)?;
     }
-    if !(r.tolerance >= 1e-12 && r.tolerance <= 0.5) {
+    if !(1e-12..=0.5).contains(&r.tolerance) {
         return Err(ls.invalid(
             "run.tolerance",
             format!(
