@@ -27,12 +27,19 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rubsim_results as rr  # noqa: E402
 
 
-def lines(series, node=None):
-    """{order: amplitude (m)} of the 1×, 1/2× and 1/3× lines over the steady window at a rotor
-    node (default: the observed node, `Series.observed_node`)."""
+def lines(series, node=None, period=1):
+    """{order: amplitude (m)} of the 1×, 1/2× and 1/3× lines at a rotor node (default: the
+    observed node, `Series.observed_node`), read as rubsim reads them: at their exact
+    frequencies over the last multiple of lcm(6, period) revolutions of the steady window."""
     node = series.observed_node() if node is None else node
-    f, spec, nrev = rr.spectrum(series, node=node)
-    return {o: rr.line_amplitude(spec, o * nrev) for o in (1.0, 0.5, 1.0 / 3.0)}
+    comp = series.scene.get("output", {}).get("component", "y")
+    a, b = series.steady()
+    per_rev = series.frames_per_rev()
+    x = series.node_disp(node)[a:b, 0 if comp == "x" else 1]
+    nrev = len(x) // per_rev
+    lrev = rr.lines_revolutions(nrev, period)
+    x = x[(nrev - lrev) * per_rev:nrev * per_rev]
+    return {o: rr.line_exact(x, per_rev, o) for o in (1.0, 0.5, 1.0 / 3.0)}
 
 
 def main(argv=None):

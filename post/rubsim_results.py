@@ -139,10 +139,27 @@ def hann_spectrum(x):
     return 2.0 * np.abs(np.fft.rfft((x - x.mean()) * w)) / (n / 2.0)
 
 
-def line_amplitude(spec, k):
-    """Largest amplitude within one bin of bin `k` (as `signal::line_amplitude`)."""
-    c = int(round(k))
-    return max((spec[i] for i in range(c - 1, c + 2) if 0 < i < len(spec)), default=0.0)
+def line_exact(x, per_rev, order):
+    """Amplitude of the line of `order` cycles per revolution in `x` (`per_rev` samples per
+    revolution): the rectangular-window DFT at the line's exact frequency, mean removed (as
+    rubsim's `signal::line_exact`; exact for a periodic record spanning whole periods)."""
+    x = np.asarray(x, dtype=float)
+    n = len(x)
+    if n == 0:
+        return 0.0
+    k = round(order * 6)
+    m = (k * (np.arange(n) % (6 * per_rev))) % (6 * per_rev)
+    e = np.exp(-2j * math.pi * m / (6 * per_rev))
+    return float(2.0 * abs(np.sum((x - x.mean()) * e)) / n)
+
+
+def lines_revolutions(nrev, period=1):
+    """Revolutions the lines are read over (as rubsim's `analysis::steady::lines_revolutions`):
+    the largest multiple of lcm(6, period) within `nrev`, else of 6, else `nrev`."""
+    l = 6 * max(period, 1) // math.gcd(6, max(period, 1))
+    if nrev >= l:
+        return nrev // l * l
+    return nrev // 6 * 6 if nrev >= 6 else nrev
 
 
 def spectrum(series, component=None, station=0, node=None):

@@ -174,17 +174,23 @@ def test_animate_renders_a_png_and_a_movie(arc, tmp_path):
 
 def test_sweep_per_speed_and_cascade(tmp_path):
     out = tmp_path / "sweep"
+    # The post scripts take the steady window from the scene and read the lines over its last
+    # multiple of 6 revolutions: hold the transient at the scene's (no sliding window) and
+    # compare at two speeds whose period divides 6 (rubsim reads a period p over lcm(6, p)
+    # revolutions).
     rubsim("sweep", os.path.join(SCENES, "sweep.toml"), "--out", str(out),
-           "--set", "output.hdf5={}", "--set", "output.per_speed=[1.5, 2.5]")
-    assert sorted(p.name for p in out.iterdir() if p.name.startswith("speed_")) == ["speed_1.5", "speed_2.5"]
+           "--set", "output.hdf5={}", "--set", "output.per_speed=[1.5, 2.0]",
+           "--set", "run.max_transient_revolutions=10")
+    assert sorted(p.name for p in out.iterdir() if p.name.startswith("speed_")) == ["speed_1.5", "speed_2"]
     with open(out / "summary.json") as f:
         speeds = {round(r["speed_ratio"], 6): r for r in json.load(f)["sweeps"][0]["speeds"]}
     png = tmp_path / "cascade.png"
-    rows = orbit_cascade.main([str(out / "speed_2.5" / "results.vtkhdf"), str(out / "speed_1.5" / "results.vtkhdf"),
+    rows = orbit_cascade.main([str(out / "speed_2" / "results.vtkhdf"), str(out / "speed_1.5" / "results.vtkhdf"),
                                "--png", str(png)])
-    assert [r[0] for r in rows] == [1.5, 2.5]
+    assert [r[0] for r in rows] == [1.5, 2.0]
     for v, a1, a2, a3 in rows:
         r = speeds[v]
+        assert r["period"] in (0, 1, 2, 3, 6) and r["transient_revolutions"] == 10
         assert a1 / r["z0"] == pytest.approx(r["amp_1x_nd"], rel=1e-9)
         assert a2 / r["z0"] == pytest.approx(r["amp_half_nd"], rel=1e-9, abs=1e-12)
         assert a3 / r["z0"] == pytest.approx(r["amp_third_nd"], rel=1e-9, abs=1e-12)
@@ -407,9 +413,11 @@ def test_orbit_cascade_at_any_node(torsion, tmp_path):
     # --node 0 (the drive-end journal): the y spectrum of its own DOF, found through the map.
     (row0,) = orbit_cascade.main([path, "--node", "0", "--png", str(tmp_path / "n0.png")])
     y0 = s.u[a:b, s.node_dofs[0, 1]]
-    spec = rr.hann_spectrum(y0)
-    nrev = (b - a) / s.frames_per_rev()
-    assert row0[1] == pytest.approx(rr.line_amplitude(spec, nrev), rel=1e-12)
+    per_rev = s.frames_per_rev()
+    nrev = (b - a) // per_rev
+    lrev = rr.lines_revolutions(nrev)
+    y0 = y0[(nrev - lrev) * per_rev:nrev * per_rev]
+    assert row0[1] == pytest.approx(rr.line_exact(y0, per_rev, 1.0), rel=1e-12)
     # The journal on its 1e8 N/m bearing barely moves next to the disk.
     assert 0 < row0[1] < 0.1 * row[1]
     with pytest.raises(SystemExit):
