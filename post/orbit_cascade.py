@@ -13,7 +13,9 @@ Hann-windowed amplitude spectrum of `output.component` against f/ω_n, drawn as 
 `/rotor/node_dofs`), by default the node the run's analysis observed (`output.node`, else the
 first station's node). The frames must be evenly spaced with a whole number per revolution (the
 default `every`). Prints one line per run: ω/ω_n and the 1×, 1/2×, 1/3× amplitudes (m) — at the
-default node the numbers `summary.json` gives as `amp_*_nd` × `z0`.
+default node the numbers `summary.json` gives as `amp_*_nd` × `z0` when the run kept the scene's
+transient (summary.json `transient_revolutions`; a run that went on to reach its steady state
+analysed a later window than the scene's) and its period divides 6.
 
 Renders with pyvista off screen (works headless).
 """
