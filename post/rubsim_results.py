@@ -113,11 +113,16 @@ class Series:
         return spr // every
 
     def steady(self):
-        """Frame range [first, last) of the analysis window: after `run.transient_revolutions`,
-        up to `run.revolutions` (as the summary's orbit extents and spectra)."""
+        """Frame range [first, last) of the analysis window as planned: after
+        `run.transient_revolutions`, up to `run.revolutions` (a window shorter than 6 revolutions
+        lengthened to 6) — the summary's when the run kept that transient (its
+        `transient_revolutions`; a run that went on to reach its steady state analysed later)."""
         spr = int(self.attrs["steps_per_rev"])
         run = self.scene["run"]
-        s0, s1 = run["transient_revolutions"] * spr, run["revolutions"] * spr
+        t0, revs = run["transient_revolutions"], run["revolutions"]
+        if revs > t0:
+            revs = t0 + max(revs - t0, 6)
+        s0, s1 = t0 * spr, revs * spr
         idx = np.nonzero((self.step >= s0) & (self.step < s1))[0]
         return int(idx[0]), int(idx[-1]) + 1
 
