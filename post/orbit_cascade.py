@@ -13,7 +13,9 @@ Hann-windowed amplitude spectrum of `output.component` against f/ω_n, drawn as 
 `/rotor/node_dofs`), by default the node the run's analysis observed (`output.node`, else the
 first station's node). The frames must be evenly spaced with a whole number per revolution (the
 default `every`). Prints one line per run: ω/ω_n and the 1×, 1/2×, 1/3× amplitudes (m) — at the
-default node the numbers `summary.json` gives as `amp_*_nd` × `z0`.
+default node the numbers `summary.json` gives as `amp_*_nd` × `z0` when the run kept the scene's
+transient (summary.json `transient_revolutions`; a run that went on to reach its steady state
+analysed a later window than the scene's) and its period divides 6.
 
 Renders with pyvista off screen (works headless).
 """
@@ -27,12 +29,19 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rubsim_results as rr  # noqa: E402
 
 
-def lines(series, node=None):
-    """{order: amplitude (m)} of the 1×, 1/2× and 1/3× lines over the steady window at a rotor
-    node (default: the observed node, `Series.observed_node`)."""
+def lines(series, node=None, period=1):
+    """{order: amplitude (m)} of the 1×, 1/2× and 1/3× lines at a rotor node (default: the
+    observed node, `Series.observed_node`), read as rubsim reads them: at their exact
+    frequencies over the last multiple of lcm(6, period) revolutions of the steady window."""
     node = series.observed_node() if node is None else node
-    f, spec, nrev = rr.spectrum(series, node=node)
-    return {o: rr.line_amplitude(spec, o * nrev) for o in (1.0, 0.5, 1.0 / 3.0)}
+    comp = series.scene.get("output", {}).get("component", "y")
+    a, b = series.steady()
+    per_rev = series.frames_per_rev()
+    x = series.node_disp(node)[a:b, 0 if comp == "x" else 1]
+    nrev = len(x) // per_rev
+    lrev = rr.lines_revolutions(nrev, period)
+    x = x[(nrev - lrev) * per_rev:nrev * per_rev]
+    return {o: rr.line_exact(x, per_rev, o) for o in (1.0, 0.5, 1.0 / 3.0)}
 
 
 def main(argv=None):

@@ -113,11 +113,16 @@ class Series:
         return spr // every
 
     def steady(self):
-        """Frame range [first, last) of the analysis window: after `run.transient_revolutions`,
-        up to `run.revolutions` (as the summary's orbit extents and spectra)."""
+        """Frame range [first, last) of the analysis window as planned: after
+        `run.transient_revolutions`, up to `run.revolutions` (a window shorter than 6 revolutions
+        lengthened to 6) — the summary's when the run kept that transient (its
+        `transient_revolutions`; a run that went on to reach its steady state analysed later)."""
         spr = int(self.attrs["steps_per_rev"])
         run = self.scene["run"]
-        s0, s1 = run["transient_revolutions"] * spr, run["revolutions"] * spr
+        t0, revs = run["transient_revolutions"], run["revolutions"]
+        if revs > t0:
+            revs = t0 + max(revs - t0, 6)
+        s0, s1 = t0 * spr, revs * spr
         idx = np.nonzero((self.step >= s0) & (self.step < s1))[0]
         return int(idx[0]), int(idx[-1]) + 1
 
@@ -139,10 +144,27 @@ def hann_spectrum(x):
     return 2.0 * np.abs(np.fft.rfft((x - x.mean()) * w)) / (n / 2.0)
 
 
-def line_amplitude(spec, k):
-    """Largest amplitude within one bin of bin `k` (as `signal::line_amplitude`)."""
-    c = int(round(k))
-    return max((spec[i] for i in range(c - 1, c + 2) if 0 < i < len(spec)), default=0.0)
+def line_exact(x, per_rev, order):
+    """Amplitude of the line of `order` cycles per revolution in `x` (`per_rev` samples per
+    revolution): the rectangular-window DFT at the line's exact frequency, mean removed (as
+    rubsim's `signal::line_exact`; exact for a periodic record spanning whole periods)."""
+    x = np.asarray(x, dtype=float)
+    n = len(x)
+    if n == 0:
+        return 0.0
+    k = round(order * 6)
+    m = (k * (np.arange(n) % (6 * per_rev))) % (6 * per_rev)
+    e = np.exp(-2j * math.pi * m / (6 * per_rev))
+    return float(2.0 * abs(np.sum((x - x.mean()) * e)) / n)
+
+
+def lines_revolutions(nrev, period=1):
+    """Revolutions the lines are read over (as rubsim's `analysis::steady::lines_revolutions`):
+    the largest multiple of lcm(6, period) within `nrev`, else of 6, else `nrev`."""
+    l = 6 * max(period, 1) // math.gcd(6, max(period, 1))
+    if nrev >= l:
+        return nrev // l * l
+    return nrev // 6 * 6 if nrev >= 6 else nrev
 
 
 def spectrum(series, component=None, station=0, node=None):

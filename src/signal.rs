@@ -1,34 +1,10 @@
-//! Signal analysis of recorded responses: Poincaré period, Hann-windowed spectra, extents.
+//! Signal analysis of recorded responses: Hann-windowed spectra, exact line amplitudes, extents.
 //!
 //! Works on plain slices sampled a whole number of times per revolution, so the 1×, 1/2×, 1/3×
 //! lines of a record spanning a multiple of 6 revolutions fall exactly on FFT bins.
 
 use crate::math::V2;
 use realfft::RealFftPlanner;
-
-/// Smallest period `p ∈ 1..=max_period` (in revolutions) with
-/// `max_k |P_{k+p} − P_k| ≤ rel_tol · span` over the once-per-revolution points `pts`, where
-/// `span` is the orbit size. Returns 0 when none fits (not periodic: quasi-periodic or chaotic).
-pub fn poincare_period(pts: &[V2], span: f64, max_period: usize, rel_tol: f64) -> usize {
-    if pts.len() < 2 || span <= 0.0 {
-        return if pts.is_empty() { 0 } else { 1 };
-    }
-    let tol = rel_tol * span;
-    for p in 1..=max_period {
-        if pts.len() <= 2 * p {
-            break;
-        }
-        let ok = (0..pts.len() - p).all(|k| {
-            let a = pts[k];
-            let b = pts[k + p];
-            (a[0] - b[0]).hypot(a[1] - b[1]) <= tol
-        });
-        if ok {
-            return p;
-        }
-    }
-    0
-}
 
 /// Single-sided amplitude spectrum of `x` with a periodic Hann window, after removing the mean.
 ///
@@ -57,14 +33,29 @@ pub fn hann_spectrum(x: &[f64]) -> Vec<f64> {
     out.iter().map(|c| 2.0 * c.norm() / wsum).collect()
 }
 
-/// Amplitude of the line at bin `k` (the largest of bins `k−1..=k+1`, to tolerate a record that
-/// is not an exact multiple of the line's period).
-pub fn line_amplitude(spec: &[f64], k: f64) -> f64 {
-    let c = k.round() as isize;
-    (c - 1..=c + 1)
-        .filter(|i| *i > 0 && (*i as usize) < spec.len())
-        .map(|i| spec[i as usize])
-        .fold(0.0, f64::max)
+/// Amplitude of the line of `order` cycles per revolution in `x` (`spr` samples per
+/// revolution): `|2/N Σ_n (x_n − x̄) e^{−2πi·order·n/spr}|`, the rectangular-window DFT at the
+/// line's exact frequency. Exact (no leakage) for a periodic signal when the record spans a
+/// whole number of its periods and of the line's; `order · 6` must be a whole number (½×, ⅓×,
+/// 1×, …; other orders are read at the nearest sixth).
+pub fn line_exact(x: &[f64], spr: usize, order: f64) -> f64 {
+    let n = x.len();
+    if n == 0 || spr == 0 {
+        return 0.0;
+    }
+    let mean = x.iter().sum::<f64>() / n as f64;
+    // e^{−2πi·order·n/spr} = e^{−2πi·m/(6·spr)}, m = (6·order·n) mod 6·spr.
+    let k = (order * 6.0).round().max(0.0) as usize;
+    let period = 6 * spr;
+    let step = 2.0 * std::f64::consts::PI / period as f64;
+    let (mut re, mut im) = (0.0, 0.0);
+    for (i, v) in x.iter().enumerate() {
+        let m = (k * (i % period)) % period;
+        let (s, c) = (step * m as f64).sin_cos();
+        re += (v - mean) * c;
+        im -= (v - mean) * s;
+    }
+    2.0 * re.hypot(im) / n as f64
 }
 
 /// `[x_min, x_max, y_min, y_max]` of a set of points.
@@ -101,31 +92,11 @@ mod tests {
                 .collect();
             let s = hann_spectrum(&x);
             let k = order * 120.0;
-            let a = line_amplitude(&s, k);
+            let a = line_exact(&x, 64, order);
             assert!((a - amp).abs() < 1e-9 * amp.max(1.0), "order {order}: {a}");
-            assert_eq!(s[k.round() as usize], a);
+            assert!((s[k.round() as usize] - a).abs() < 1e-9, "order {order}");
             // DC removed
             assert!(s[0] < 1e-9);
         }
-    }
-
-    #[test]
-    fn period_detection() {
-        let p2: Vec<V2> = (0..40)
-            .map(|k| if k % 2 == 0 { [1.0, 0.0] } else { [0.0, 1.0] })
-            .collect();
-        assert_eq!(poincare_period(&p2, 1.0, 8, 1e-3), 2);
-        let p3: Vec<V2> = (0..40).map(|k| [(k % 3) as f64, 0.0]).collect();
-        assert_eq!(poincare_period(&p3, 2.0, 8, 1e-3), 3);
-        let p1: Vec<V2> = (0..40).map(|_| [0.5, 0.5]).collect();
-        assert_eq!(poincare_period(&p1, 1.0, 8, 1e-3), 1);
-        // Quasi-periodic: irrational rotation never repeats.
-        let q: Vec<V2> = (0..40)
-            .map(|k| {
-                let a = 2.0 * PI * 0.618034 * k as f64;
-                [a.cos(), a.sin()]
-            })
-            .collect();
-        assert_eq!(poincare_period(&q, 2.0, 8, 1e-3), 0);
     }
 }

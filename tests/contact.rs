@@ -194,7 +194,8 @@ fn contact_statistics_count_every_step() {
     ] {
         let mut ov = vec![
             format!("run.integrator=\"{integrator}\""),
-            "run.revolutions=16".into(),
+            // An analysed window of 12 revolutions (a multiple of 6, as planned).
+            "run.revolutions=20".into(),
             "run.transient_revolutions=8".into(),
             "run.error_estimate=false".into(),
             "run.speed_ratio=1.7".into(),
@@ -216,7 +217,7 @@ fn contact_statistics_count_every_step() {
         for p in [&every, &coarse] {
             let (rec, stats) = p.integrate(&mut []).unwrap();
             let (plan, spr) = (&p.plan, p.settings.step.samples_per_rev);
-            let (first, last) = (8 * spr, 16 * spr);
+            let (first, last) = (8 * spr, 20 * spr);
             assert_eq!(plan.steady_from, 8 * plan.steps_per_rev, "{what}");
             let (s, w) = (stats.steady, stats.whole);
             assert_eq!(s.from_step, plan.steady_from, "{what}");

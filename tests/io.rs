@@ -555,13 +555,17 @@ mod hdf5_file {
             &[
                 "run.revolutions=14",
                 "run.transient_revolutions=10",
+                "run.max_transient_revolutions=10",
                 "output.hdf5={}",
             ],
             &dir,
         );
         let f = h5::File::open(dir.join("results.vtkhdf")).unwrap();
         let spr = 64;
-        let n = 14 * spr + 1;
+        // The 4-revolution window is lengthened to 6 (½× and ⅓× on exact bins) after the
+        // 10 transient revolutions (held at 10: the window does not slide).
+        assert_eq!((r.transient_revolutions, r.window_revolutions), (10, 6));
+        let n = 16 * spr + 1;
         let t: Vec<f64> = read(&f, "time");
         assert_eq!(t.len(), n);
         let u: Vec<f64> = read(&f, "rotor/u");

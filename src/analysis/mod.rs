@@ -22,7 +22,8 @@
 //! the unbalance force |Σ m_u e e^{iφ}| ω², frequencies over ω_n; speeds are given as
 //! ν = ω/ω_n.
 //!
-//! Files: [`speed`] (prepare, run, analyse, error estimate), [`sweep`](mod@sweep) (speeds, variants, the
+//! Files: [`speed`] (prepare, run to the steady state, analyse, error estimate), [`steady`]
+//! (stationarity of the window, period classification, where lines are resolved), [`sweep`](mod@sweep) (speeds, variants, the
 //! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),
 //! [`bench`](mod@bench) (timing and the comparison with a converged sweep), [`stress`] (stator stress
 //! probe), [`refine`] (mesh-refinement metrics), [`rotordyn`] (modes, Campbell, unbalance
@@ -35,6 +36,7 @@ pub mod refine;
 pub mod regimes;
 pub mod rotordyn;
 pub mod speed;
+pub mod steady;
 pub mod stress;
 pub mod sweep;
 pub mod transient;
@@ -55,8 +57,6 @@ use crate::time::{Initial, Scheme, StepParams};
 
 /// Largest Poincaré period reported (longer ones count as not periodic).
 pub const MAX_PERIOD: usize = 8;
-/// Relative tolerance of the Poincaré period test (fraction of the orbit size).
-pub const PERIOD_TOL: f64 = 2e-3;
 
 /// Settings of a run at one speed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,6 +69,12 @@ pub struct RunSettings {
     pub initial: Initial,
     /// Analysed response component: 0 = x, 1 = y.
     pub component: usize,
+    /// Relative tolerance (`run.tolerance`, of the orbit's size): the steady-state test and
+    /// the Poincaré period are judged to it.
+    pub tolerance: f64,
+    /// Most transient revolutions while waiting for the steady state
+    /// (`run.max_transient_revolutions`).
+    pub max_transient_revolutions: usize,
 }
 
 impl RunSettings {
@@ -91,6 +97,10 @@ impl RunSettings {
                 v: run.initial_velocity,
             },
             component: Component::from_name(component).unwrap_or_default().index(),
+            tolerance: run.tolerance,
+            max_transient_revolutions: run
+                .max_transient_revolutions
+                .unwrap_or(run.transient_revolutions * crate::scene::MAX_TRANSIENT_FACTOR),
         }
     }
 }

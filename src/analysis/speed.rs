@@ -2,13 +2,14 @@
 //! frame sinks ([`Prepared::run`]), analyse the record ([`analyse`]) and estimate the
 //! discretisation error by a companion run.
 
-use super::{Keep, RunSettings, MAX_PERIOD, PERIOD_TOL};
+use super::steady::{classify, lines_revolutions, stationarity, Classification, Stationarity};
+use super::{Keep, RunSettings, MAX_PERIOD};
 use crate::error::Result;
 use crate::math::{gcd, V2};
 use crate::model::{Case, Model};
-use crate::signal::{extents, hann_spectrum, line_amplitude, poincare_period};
+use crate::signal::{extents, hann_spectrum, line_exact};
 use crate::time::{
-    integrate, integrate_with, plan_steps, Frame, FrameSink, Record, RunStats, StepPlan,
+    integrate, plan_steps, Frame, FrameSink, Record, RunStats, Sink, StepPlan, Stepper,
 };
 use serde::Serialize;
 
@@ -42,11 +43,32 @@ pub struct SpeedResults {
     pub clearances: Vec<f64>,
     /// Unbalance force |U| ω² (N).
     pub unbalance_force: f64,
-    /// Poincaré period 1–8, 0 when not periodic.
+    /// Poincaré period 1–8, 0 when not periodic (judged on the whole orbit to
+    /// `run.tolerance`: [`Classification`]).
     pub period: usize,
+    /// Whether the steady state is proven: the analysed window's transient residual
+    /// (`stationarity.residual`) is within `run.tolerance` of the orbit's size. A run that does
+    /// not settle within `run.max_transient_revolutions` is reported with `false`.
+    pub steady: bool,
+    /// Revolutions cut as transient before the analysed window (`run.transient_revolutions`,
+    /// more when the run went on to reach the steady state).
+    pub transient_revolutions: usize,
+    /// Revolutions of the analysed window (at least 6).
+    pub window_revolutions: usize,
+    /// How stationary the analysed window is (the transient's share of the error).
+    pub stationarity: Stationarity,
+    /// How the period was told, and how surely.
+    pub classification: Classification,
+    /// Revolutions (the last of the window) the 1×, ½×, ⅓× lines are read over: a multiple of
+    /// `lcm(6, period)`.
+    pub lines_revolutions: usize,
+    /// Whether the lines are read over a whole number of the period's and the lines' periods
+    /// (exact bins, no leakage); false when the window is shorter than `lcm(6, period)`.
+    pub lines_resolved: bool,
     /// `[x_min, x_max, y_min, y_max]` / |Z0| over the analysis window.
     pub extents_nd: [f64; 4],
-    /// 1× amplitude of the analysed component / |Z0|.
+    /// 1× amplitude of the analysed component / |Z0|, read at its exact frequency over
+    /// `lines_revolutions` ([`crate::signal::line_exact`]).
     pub amp_1x_nd: f64,
     /// 1/2× amplitude / |Z0|.
     pub amp_half_nd: f64,
@@ -121,33 +143,69 @@ impl Prepared {
         2.0 * std::f64::consts::PI / self.omega
     }
 
-    /// Integrates the case with the plan, handing frames to `sinks` (each at its own
-    /// [`FrameSink::every`]); returns the record and the loop's counters.
+    /// Integrates the case with the plan as it stands, handing frames to `sinks` (each at its
+    /// own [`FrameSink::every`]); returns the record and the loop's counters. No steady-state
+    /// test: the fixed plan (the stress probe's runs).
     ///
     /// # Errors
     /// [`crate::error::SolveError`] of the loop, a sink's error included.
     pub fn integrate(&self, sinks: &mut [&mut dyn FrameSink]) -> Result<(Record, RunStats)> {
-        let s = &self.settings;
-        let (case, plan) = (&self.case, &self.plan);
-        Ok(match sinks {
-            [] => integrate(case, s.step.integrator, plan, s.initial)?,
-            [one] => integrate_with(case, s.step.integrator, plan, s.initial, Some(&mut **one))?,
-            many => {
-                let mut fan = Fanout::new(many);
-                integrate_with(case, s.step.integrator, plan, s.initial, Some(&mut fan))?
-            }
-        })
+        let (rec, stats, _) = with_sinks(sinks, |sink| self.drive(sink, false))?;
+        Ok((rec, stats))
     }
 
-    /// [`Prepared::integrate`] with `sinks`, then [`analyse`] the record; with
-    /// `settings.error_estimate` a companion run (no sinks) estimates the discretisation error
-    /// ([`ErrorEstimate`]).
+    /// Integrates until the steady state is proven: the plan's run, then, while the analysed
+    /// window's transient residual ([`stationarity`]) is above `run.tolerance` and the
+    /// transient below `run.max_transient_revolutions` (and the steps below `run.max_steps`),
+    /// the run goes on and the window slides — by as many revolutions as the observed decay
+    /// asks, at least a third of the window. Frames go to `sink` throughout. Returns the record,
+    /// the counters and the plan as it ended.
+    fn drive(&self, mut sink: Sink<'_>, adapt: bool) -> Result<(Record, RunStats, StepPlan)> {
+        let s = &self.settings;
+        let mut st = Stepper::new(&self.case, s.step.integrator, &self.plan, s.initial)?;
+        let spr_steps = self.plan.steps_per_rev.max(1);
+        let window = (self.plan.steps - self.plan.steady_from) / spr_steps;
+        loop {
+            let p = *st.plan();
+            st.run_to(p.steps, &mut sink)?;
+            let transient = p.steady_from / spr_steps;
+            let cap = s.max_transient_revolutions.max(transient);
+            if !adapt || window < 3 || transient >= cap {
+                break;
+            }
+            let (w, nrev) = window_points(&self.case, s, &p, st.recorded());
+            let span = orbit_span(&extents(&w));
+            let stn = stationarity(&w, s.step.samples_per_rev, nrev, span);
+            if stn.residual <= s.tolerance {
+                break;
+            }
+            let by_steps = (s.step.max_steps as usize).saturating_sub(p.steps) / spr_steps;
+            let more = stn
+                .revolutions_needed(s.tolerance)
+                .min(cap - transient)
+                .min(by_steps);
+            if more == 0 {
+                break;
+            }
+            st.extend(p.steps + more * spr_steps, p.steady_from + more * spr_steps);
+        }
+        let plan = *st.plan();
+        let (rec, stats) = st.finish(&mut sink)?;
+        Ok((rec, stats, plan))
+    }
+
+    /// Integrates until the steady state is proven or the transient reaches its cap (see
+    /// `drive` above: the analysed window slides while its transient residual is above
+    /// `run.tolerance`), handing frames to `sinks`, then [`analyse`]s the window; with
+    /// `settings.error_estimate` a companion run (no sinks, the same transient) estimates the
+    /// discretisation error ([`ErrorEstimate`]). Frames cover the revolutions their sinks
+    /// ask for, counted from the start of the run.
     ///
     /// # Errors
     /// As [`Prepared::integrate`]; the companion run's failure only leaves the estimate out.
     pub fn run(&self, keep: Keep, sinks: &mut [&mut dyn FrameSink]) -> Result<SpeedResults> {
-        let (rec, stats) = self.integrate(sinks)?;
-        let mut res = analyse(&self.case, &self.settings, &self.plan, &rec, stats, keep);
+        let (rec, stats, plan) = with_sinks(sinks, |sink| self.drive(sink, true))?;
+        let mut res = analyse(&self.case, &self.settings, &plan, &rec, stats, keep);
         if self.settings.error_estimate {
             res.error = self.error_estimate(&res);
         }
@@ -157,7 +215,12 @@ impl Prepared {
     /// Companion run at 2Δt (at Δt/2 when 2Δt is above the stability limit); the error of the
     /// main run ≈ |Q_h − Q_c| / |r^p − 1|, r = h_c / h, p the scheme's nominal order.
     fn error_estimate(&self, res: &SpeedResults) -> Option<ErrorEstimate> {
-        let (s, case, plan) = (&self.settings, &self.case, &self.plan);
+        let (case, plan) = (&self.case, &res.plan);
+        // The companion cuts the transient the main run ended with.
+        let mut s = self.settings;
+        s.step.transient_revolutions = res.transient_revolutions;
+        s.step.revolutions = res.transient_revolutions + res.window_revolutions;
+        let s = &s;
         let mut coarse = s.step;
         coarse.dt = Some(2.0 * plan.dt);
         let cplan = plan_steps(case, &coarse)
@@ -203,6 +266,38 @@ pub fn run_speed(
     keep: Keep,
 ) -> Result<SpeedResults> {
     prepare(model, s, speed_ratio)?.run(keep, &mut [])
+}
+
+/// Calls `f` with `sinks` as one optional sink (none, the one, or a [`Fanout`] of several).
+fn with_sinks<R>(
+    sinks: &mut [&mut dyn FrameSink],
+    f: impl FnOnce(Sink<'_>) -> Result<R>,
+) -> Result<R> {
+    match sinks {
+        [] => f(None),
+        [one] => f(Some(&mut **one)),
+        many => {
+            let mut fan = Fanout::new(many);
+            f(Some(&mut fan))
+        }
+    }
+}
+
+/// The analysed window of a record, non-dimensional (/|Z0|): the samples at the instants
+/// `plan.steady_from ≤ k < plan.steps`, and its whole revolutions.
+fn window_points(case: &Case, s: &RunSettings, plan: &StepPlan, rec: &Record) -> (Vec<V2>, usize) {
+    let spr = s.step.samples_per_rev;
+    let z0 = if case.z0 > 0.0 { case.z0 } else { 1.0 };
+    let first = plan.steady_from / plan.record_every;
+    let last = (plan.steps / plan.record_every).min(rec.len().saturating_sub(1));
+    let w: Vec<V2> = (first..last.max(first))
+        .map(|i| {
+            let d = rec.observed[i];
+            [d[0] / z0, d[1] / z0]
+        })
+        .collect();
+    let nrev = w.len() / spr.max(1);
+    (w, nrev)
 }
 
 /// Several sinks as one: frames every gcd of their intervals, each sink handed the frames at
@@ -291,15 +386,10 @@ pub fn analyse(
     } else {
         1.0
     };
+    let (window, nrev) = window_points(case, s, plan, rec);
     let first = plan.steady_from / plan.record_every;
-    let last = (s.step.revolutions * spr).min(rec.len().saturating_sub(1));
-    let window: Vec<V2> = (first..last)
-        .map(|i| {
-            let d = rec.observed[i];
-            [d[0] / z0, d[1] / z0]
-        })
-        .collect();
-    let poincare: Vec<V2> = (first..=last)
+    let last = first + window.len();
+    let poincare: Vec<V2> = (first..=last.min(rec.len().saturating_sub(1)))
         .step_by(spr)
         .map(|i| {
             let d = rec.observed[i];
@@ -308,16 +398,23 @@ pub fn analyse(
         .collect();
     let ext = extents(&window);
     let span = orbit_span(&ext);
-    let period = poincare_period(&poincare, span, MAX_PERIOD, PERIOD_TOL);
+    let stn = stationarity(&window, spr, nrev, span);
+    let steady = stn.residual <= s.tolerance;
+    // What is left of the transient makes revolutions differ by up to twice its size: a
+    // steady run's period is judged to the tolerance plus that.
+    let period_tol = s.tolerance + if steady { 2.0 * stn.residual } else { 0.0 };
+    let class = classify(&window, spr, nrev, span, period_tol, MAX_PERIOD);
+    let period = class.period;
     let comp: Vec<f64> = window.iter().map(|p| p[s.component]).collect();
-    let spec = hann_spectrum(&comp);
-    let nrev = (last - first) as f64 / spr as f64;
-    let amp = |order: f64| line_amplitude(&spec, order * nrev);
+    let (lrev, resolved) = lines_revolutions(nrev, period);
+    let lines = &comp[(nrev - lrev) * spr..nrev * spr];
+    let amp = |order: f64| line_exact(lines, spr, order);
+    let nrev_f = (last - first) as f64 / spr as f64;
     let spectrum = match keep.spectrum_up_to {
-        Some(fm) => spec
+        Some(fm) => hann_spectrum(&comp)
             .iter()
             .enumerate()
-            .map(|(k, a)| (k as f64 / nrev * case.speed_ratio, *a))
+            .map(|(k, a)| (k as f64 / nrev_f * case.speed_ratio, *a))
             .take_while(|(f, _)| *f <= fm as f64 + 1e-9)
             .collect(),
         None => Vec::new(),
@@ -331,6 +428,13 @@ pub fn analyse(
         clearances: case.stators.iter().map(|s| s.clearance).collect(),
         unbalance_force: case.unbalance_force,
         period,
+        steady,
+        transient_revolutions: plan.steady_from / plan.steps_per_rev.max(1),
+        window_revolutions: nrev,
+        stationarity: stn,
+        classification: class,
+        lines_revolutions: lrev,
+        lines_resolved: resolved,
         extents_nd: ext,
         amp_1x_nd: amp(1.0),
         amp_half_nd: amp(0.5),

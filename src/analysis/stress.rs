@@ -163,7 +163,7 @@ impl<'a> StressProbe<'a> {
     /// revolutions of the plan (the whole run when `window` is 0 or not shorter than it).
     pub fn for_run(prep: &'a Prepared, per_rev: usize, window: usize) -> Self {
         let every = (prep.plan.steps_per_rev / per_rev.max(1)).max(1);
-        let revs = prep.settings.step.revolutions;
+        let revs = prep.plan.steps / prep.plan.steps_per_rev.max(1);
         let start = if window == 0 || window >= revs {
             0.0
         } else {

@@ -51,6 +51,21 @@ pub struct Common {
     /// Override a scene value: `--set stator.0.clearance_nd=0.5` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Relative tolerance of the results (`run.tolerance`, of the orbit's size): the steady
+    /// state is proven and the Poincaré period judged to it.
+    #[arg(long, value_name = "REL")]
+    pub tol: Option<f64>,
+}
+
+impl Common {
+    /// The overrides: `--set …` in order, then `run.tolerance` from `--tol`.
+    pub fn sets(&self) -> Vec<String> {
+        let mut s = self.set.clone();
+        if let Some(t) = self.tol {
+            s.push(format!("run.tolerance={}", scene::toml_number(t)));
+        }
+        s
+    }
 }
 
 /// The unit of the speeds given on the command line (`--unit`).
@@ -258,7 +273,7 @@ pub fn load_scene(
 
 /// [`load_scene`] of a command's scene and overrides.
 pub fn load(c: &Common) -> Result<(LoadedScene, Model)> {
-    load_scene(&c.scene, &c.set, || {
+    load_scene(&c.scene, &c.sets(), || {
         format!("{}: building the model", c.scene.display())
     })
 }

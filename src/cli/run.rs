@@ -66,6 +66,15 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
         r.stats.steps, r.plan.dt, r.stats.wall_s,
         r.error.map(|e| format!("{:.1e}", e.extents_rel)).unwrap_or_else(|| "not estimated".into())
     );
+    if !r.steady {
+        eprintln!(
+            "warning: ω/ωn = {:.3}: the steady state was not proven within {} transient revolutions (`run.max_transient_revolutions`): the analysed window still changes by {:.1e} of the orbit's size, above `run.tolerance` = {:e}; the results carry that error (summary.json: `steady = false`)",
+            r.speed_ratio,
+            r.transient_revolutions,
+            r.stationarity.residual,
+            ls.scene.run.tolerance
+        );
+    }
     println!("results in {}", dir.display());
     Ok(())
 }

@@ -36,6 +36,7 @@ pub fn sweep(c: &Common, out: Option<PathBuf>) -> Result<()> {
             let (ls_v, model_v) = load(&Common {
                 scene: c.scene.clone(),
                 set,
+                tol: c.tol,
             })?;
             run_variant(&mut outd, &variant, &ls_v, &model_v, &speeds)?
         };
@@ -142,6 +143,25 @@ fn report(
             String::new()
         }
     );
+    let unsteady: Vec<String> = res
+        .speeds
+        .iter()
+        .filter(|r| !r.steady)
+        .map(|r| format!("{:.2}", r.speed_ratio))
+        .collect();
+    if !unsteady.is_empty() {
+        eprintln!(
+            "warning: {}the steady state was not proven at {} of {} speeds (ω/ωn {}): their analysed window still changes by more than `run.tolerance` of the orbit's size after `run.max_transient_revolutions`; their results carry that error (`steady = false`, `transient_residual` in sweep.csv)",
+            if variant.prefix.is_empty() {
+                String::new()
+            } else {
+                format!("{}: ", variant.label())
+            },
+            unsteady.len(),
+            res.speeds.len(),
+            unsteady.join(", ")
+        );
+    }
     for r in regimes {
         println!(
             "  {:>13}  ω/ωn {:.2} – {:.2}",

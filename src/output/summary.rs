@@ -28,7 +28,7 @@ pub fn base(ls: &LoadedScene, model: &Model, command: &str) -> Value {
         "conventions": {
             "units": "SI; _nd = displacement / |Z0(ω)|, force / (|Σ m_u e e^{iφ}| ω²), frequency / ω_n",
             "axes": "x horizontal, y vertical, rotor spins counter-clockwise seen from +z",
-            "period": "Poincaré period in revolutions; 0 = not periodic",
+            "period": "Poincaré period in revolutions (the whole orbit repeats to run.tolerance of its size); 0 = not periodic",
         }
     })
 }
@@ -59,6 +59,7 @@ pub fn sweep_variant(
         "wall_s": res.wall_s,
         "steps": res.total_steps(),
         "max_estimated_extents_error": res.max_estimated_error(),
+        "unsteady_speeds": res.speeds.iter().filter(|r| !r.steady).map(|r| r.speed_ratio).collect::<Vec<_>>(),
         "regimes": regimes,
         "quasi_resonances": peaks,
         "speeds": res.speeds,

@@ -65,6 +65,16 @@ pub struct RunSpec {
     /// Revolutions cut as transient before analysis.
     #[serde(default = "default_transient")]
     pub transient_revolutions: usize,
+    /// Relative tolerance of the results (default 1e-3): the steady state is proven when the
+    /// analysed window's orbit extents and Poincaré section change by less than this fraction
+    /// of the orbit's size, and the Poincaré period is judged to it (`--tol` on the command
+    /// line).
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    /// Most revolutions the transient may grow to while the run waits for the steady state
+    /// (default 5 × `transient_revolutions`); a run not steady by then is reported
+    /// `steady = false`.
+    pub max_transient_revolutions: Option<usize>,
     /// Integrator; default `collocated` (see docs/VALIDATION.md for why).
     #[serde(default = "default_integrator")]
     pub integrator: IntegratorKind,
@@ -128,6 +138,11 @@ fn default_revs() -> usize {
 fn default_transient() -> usize {
     100
 }
+fn default_tolerance() -> f64 {
+    1e-3
+}
+/// Default of `run.max_transient_revolutions`: this many times `run.transient_revolutions`.
+pub const MAX_TRANSIENT_FACTOR: usize = 5;
 fn default_integrator() -> IntegratorKind {
     IntegratorKind::Collocated
 }

@@ -119,6 +119,23 @@ pub struct StepParams {
 /// (a 200-DOF FE rotor) about an hour; a plan that needs more is refused with its figures.
 pub const MAX_STEPS: u64 = 1_000_000_000;
 
+/// The shortest analysed steady window (revolutions): [`plan_steps`] lengthens a shorter one to
+/// it, so that the ½× and ⅓× lines of a periodic response fall on exact frequency bins of the
+/// window (the analysis reads the lines over the last whole multiple of 6 revolutions).
+pub const WINDOW_MULTIPLE: usize = 6;
+
+/// The revolutions of a run of `revolutions` whose first `transient` are cut: an analysed window
+/// `revolutions − transient` shorter than [`WINDOW_MULTIPLE`] is lengthened to it (none when
+/// `revolutions ≤ transient`).
+pub fn planned_revolutions(revolutions: usize, transient: usize) -> usize {
+    let window = revolutions.saturating_sub(transient);
+    if window == 0 {
+        revolutions
+    } else {
+        transient + window.max(WINDOW_MULTIPLE)
+    }
+}
+
 /// Most bytes the record of one run may take (the samples are held in memory for the
 /// analysis): 4 GiB.
 pub const MAX_RECORD_BYTES: f64 = 4.0 * 1024.0 * 1024.0 * 1024.0;
@@ -318,8 +335,10 @@ fn check_record(case: &Case, samples: f64) -> Result<(), SolveError> {
 }
 
 /// Chooses Δt (the paper's rule capped by the stability limit, or the user's
-/// checked Δt; implicit schemes: the paper's rule, or the user's Δt if it resolves T_min), then reduces it so a revolution holds a whole number of recorded samples and
-/// steps.
+/// checked Δt; implicit schemes: the paper's rule, or the user's Δt if it resolves T_min),
+/// then reduces it so a revolution holds a whole number of recorded samples and steps. The run
+/// lasts [`planned_revolutions`]: an analysed window after the `transient_revolutions` shorter
+/// than [`WINDOW_MULTIPLE`] revolutions is lengthened to it.
 ///
 /// # Errors
 /// [`SolveError::StepTooLarge`] for a user Δt above the stability limit (explicit schemes),
@@ -335,16 +354,17 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
     // its figures before any count is cast to an integer.
     let per_sample = (t_rev / (c.dt * spr as f64) - 1e-9).ceil().max(1.0);
     let steps_per_rev = per_sample * spr as f64;
-    let steps = steps_per_rev * p.revolutions as f64;
-    check_steps(case, p, &c, steps, steps_per_rev, p.revolutions, t_rev)?;
-    check_record(case, spr as f64 * p.revolutions as f64 + 1.0)?;
+    let revolutions = planned_revolutions(p.revolutions, p.transient_revolutions);
+    let steps = steps_per_rev * revolutions as f64;
+    check_steps(case, p, &c, steps, steps_per_rev, revolutions, t_rev)?;
+    check_record(case, spr as f64 * revolutions as f64 + 1.0)?;
     let (per_sample, steps_per_rev) = (per_sample as usize, steps_per_rev as usize);
     Ok(StepPlan {
         dt: t_rev / steps_per_rev as f64,
         steps_per_rev,
         steps: steps as usize,
         record_every: per_sample,
-        steady_from: steps_per_rev * p.transient_revolutions.min(p.revolutions),
+        steady_from: steps_per_rev * p.transient_revolutions.min(revolutions),
         limit: c.limit,
         rule_dt: c.rule_dt,
         omega_max: c.omega_max,

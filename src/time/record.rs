@@ -191,6 +191,19 @@ impl Recorder {
         }
     }
 
+    /// Room for `more` samples beyond those already planned (a run lengthened in chunks).
+    pub(crate) fn reserve(&mut self, more: usize) {
+        let rec = &mut self.rec;
+        let nst = rec.nstations;
+        rec.t.reserve(more);
+        rec.disp.reserve(more * nst);
+        rec.observed.reserve(more);
+        rec.force.reserve(more * nst);
+        rec.force_normal.reserve(more * nst);
+        rec.stator_energy.reserve(more);
+        rec.active.reserve(more);
+    }
+
     /// Appends one sample: time `t` (s), the rotor DOF vector, the contact force and its normal
     /// part on each station (N), the massless stators' elastic energy (J), the active pairs.
     pub(crate) fn sample(

@@ -69,13 +69,17 @@ pub struct Stepper<'a> {
     /// Smallest post-correction gap of the pairs solved for the instant the next
     /// [`Stepper::observe`] counts (m; +∞ when none).
     instant_gap: f64,
-    /// Contact statistics of the open window of instants: the transient, then the steady
-    /// window, then the final instant; closed into `stats` at `boundary`.
+    /// Contact statistics of the open segment of instants (one revolution of
+    /// `plan.steps_per_rev` steps, the last one ending at `plan.steps`); closed into
+    /// `segments` at `boundary`.
     segment: ContactStats,
-    /// The instant that closes the open window.
+    /// Closed segments, in order: segment `i` holds the instants `i × steps_per_rev ≤ k <
+    /// (i + 1) × steps_per_rev` (the last one ends at `plan.steps`).
+    segments: Vec<ContactStats>,
+    /// The instant that closes the open segment.
     boundary: usize,
-    /// Windows closed so far (0: the transient is open, 1: the steady window, 2: the end).
-    closed: u8,
+    /// Whether the initial instant has been handled (forward increment: recorded at t = 0).
+    started: bool,
     /// Index of the next step.
     n: usize,
 }
@@ -199,10 +203,12 @@ impl<'a> Stepper<'a> {
             active: 0,
             instant_gap: f64::INFINITY,
             segment: ContactStats::starting_at(0),
-            boundary: plan.steady_from,
-            closed: 0,
+            segments: Vec::with_capacity(plan.steps / plan.steps_per_rev.max(1) + 2),
+            boundary: 0,
+            started: false,
             n: 0,
         };
+        st.boundary = st.next_boundary(0);
         st.set_initial(init, node0).map_err(factor_err(
             "rotor mass matrix (initial acceleration)".into(),
         ))?;
@@ -264,19 +270,87 @@ impl<'a> Stepper<'a> {
     }
 
     /// Runs every step of the plan, handing frames to `sink`; returns the record and counters.
-    pub fn run(mut self, mut sink: Sink<'_>) -> Result<(Record, RunStats), SolveError> {
+    pub fn run(self, mut sink: Sink<'_>) -> Result<(Record, RunStats), SolveError> {
+        self.finish(&mut sink)
+    }
+
+    /// Steps until the next step is `target` (at most `plan.steps`): the state is then
+    /// uᵗᵃʳᵍᵉᵗ, every instant before it recorded and counted. A run can be driven in chunks
+    /// (`run_to`, look at [`Stepper::recorded`], [`Stepper::extend`], `run_to` again) and ended by
+    /// [`Stepper::finish`]; the steps taken are the same as one [`Stepper::run`].
+    ///
+    /// # Errors
+    /// As [`Stepper::step`].
+    pub fn run_to(&mut self, target: usize, sink: &mut Sink<'_>) -> Result<(), SolveError> {
         let start = Instant::now();
-        if !self.scheme.collocated() {
-            // The initial state: nothing in contact yet.
-            self.record(0.0, ForceSet::Main, 0);
-            self.observe(0, ForceSet::Main, 0);
-            self.emit(&mut sink, 0, 0.0)?;
+        if !self.started {
+            self.started = true;
+            if !self.scheme.collocated() {
+                // The initial state: nothing in contact yet.
+                self.record(0.0, ForceSet::Main, 0);
+                self.observe(0, ForceSet::Main, 0);
+                self.emit(sink, 0, 0.0)?;
+            }
         }
-        while self.step(&mut sink)? {}
+        let target = target.min(self.plan.steps);
+        while self.n < target {
+            self.step(sink)?;
+        }
+        self.stats.wall_s += start.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// The samples recorded so far.
+    pub fn recorded(&self) -> &Record {
+        &self.recorder.rec
+    }
+
+    /// The plan as it stands (lengthened by [`Stepper::extend`]).
+    pub fn plan(&self) -> &StepPlan {
+        &self.plan
+    }
+
+    /// Lengthens the run to `steps` steps with the analysed steady window starting at step
+    /// `steady_from` (both whole revolutions of the plan; `steps` not below the steps already
+    /// taken): a run whose transient has not died out goes on. The record grows for the new
+    /// samples here, not in the loop.
+    pub fn extend(&mut self, steps: usize, steady_from: usize) {
+        let steps = steps.max(self.plan.steps).max(self.n);
+        let more = (steps - self.plan.steps) / self.plan.record_every + 1;
+        self.recorder.reserve(more);
+        self.segments
+            .reserve((steps - self.plan.steps) / self.plan.steps_per_rev.max(1) + 1);
+        self.plan.steps = steps;
+        self.plan.steady_from = steady_from.min(steps);
+        self.boundary = self.next_boundary(self.segment.from_step);
+    }
+
+    /// Runs the rest of the plan and ends the run (the collocated scheme solves and records
+    /// the final instant's contact); returns the record and the counters, whose contact
+    /// statistics cover the whole run and the steady window `plan.steady_from ≤ k <
+    /// plan.steps` as the plan stands.
+    ///
+    /// # Errors
+    /// As [`Stepper::step`].
+    pub fn finish(mut self, sink: &mut Sink<'_>) -> Result<(Record, RunStats), SolveError> {
+        self.run_to(self.plan.steps, sink)?;
+        let start = Instant::now();
+        while self.step(sink)? {}
         let mut stats = self.stats;
-        // The transient window (held in `whole` until now), the steady one, the final instant.
-        stats.whole = stats.whole.merge(stats.steady).merge(self.segment);
-        stats.wall_s = start.elapsed().as_secs_f64();
+        let spr = self.plan.steps_per_rev.max(1);
+        let steady_seg = self.plan.steady_from / spr;
+        let mut whole = ContactStats::starting_at(0);
+        let mut steady = ContactStats::starting_at(self.plan.steady_from);
+        for (i, seg) in self.segments.iter().enumerate() {
+            whole = whole.merge(*seg);
+            if i >= steady_seg {
+                steady = steady.merge(*seg);
+            }
+        }
+        // The open segment holds the final instant only (the steady window ends before it).
+        stats.whole = whole.merge(self.segment);
+        stats.steady = steady;
+        stats.wall_s += start.elapsed().as_secs_f64();
         if stats.min_gap == f64::INFINITY {
             stats.min_gap = f64::NAN;
         }
@@ -549,22 +623,23 @@ impl<'a> Stepper<'a> {
         self.segment.observe(n, self.plan.dt, force, active, gap);
     }
 
-    /// Closes the open window of contact statistics at instant `n`: the transient (kept in
-    /// `stats.whole` until [`Stepper::run`] merges the windows) at `plan.steady_from`, the
-    /// steady window at `plan.steps` — both at once when they coincide.
+    /// The instant that closes the segment opened at instant `from`: the next whole revolution
+    /// of the plan, or the plan's end when it comes first.
+    fn next_boundary(&self, from: usize) -> usize {
+        let spr = self.plan.steps_per_rev.max(1);
+        if from >= self.plan.steps {
+            return usize::MAX;
+        }
+        ((from / spr + 1) * spr).min(self.plan.steps)
+    }
+
+    /// Closes the open segment of contact statistics at instant `n` and opens the next.
     #[cold]
     fn close_window(&mut self, n: usize) {
-        while n == self.boundary {
-            let done = std::mem::replace(&mut self.segment, ContactStats::starting_at(n));
-            self.closed += 1;
-            if self.closed == 1 {
-                self.stats.whole = done;
-                self.boundary = self.plan.steps;
-            } else {
-                self.stats.steady = done;
-                self.boundary = usize::MAX;
-            }
-        }
+        let done = std::mem::replace(&mut self.segment, ContactStats::starting_at(n));
+        // Sized for the plan up front (and by `extend`): no allocation in the loop.
+        self.segments.push(done);
+        self.boundary = self.next_boundary(n);
     }
 
     /// Hands the state at step `n` to the sink when its interval asks for it.

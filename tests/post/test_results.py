@@ -37,13 +37,15 @@ def rubsim(*args):
 
 @pytest.fixture(scope="module")
 def arc(tmp_path_factory):
-    """The meshed truss arc (300 nodes, 448 bars): 14 revolutions, the last as VTK frames every
-    2 steps, the whole run in HDF5 at the recording interval."""
+    """The meshed truss arc (300 nodes, 448 bars): 16 revolutions (a 6-revolution window, the
+    transient held at 10), the last as VTK frames every 2 steps, the whole run in HDF5 at the
+    recording interval."""
     out = tmp_path_factory.mktemp("arc") / "out"
     rubsim(
         "run", os.path.join(SCENES, "fe_arc.toml"), "--out", str(out),
-        "--set", "run.revolutions=14", "--set", "run.transient_revolutions=10",
-        "--set", "output.vtk={ every = 2, from_revolution = 13 }",
+        "--set", "run.revolutions=16", "--set", "run.transient_revolutions=10",
+        "--set", "run.max_transient_revolutions=10",
+        "--set", "output.vtk={ every = 2, from_revolution = 15 }",
         "--set", "output.hdf5={}",
     )
     with open(out / "summary.json") as f:
@@ -56,9 +58,9 @@ def test_hdf5_reproduces_the_summary(arc):
     res = summary["result"]
     s = rr.Series(str(out / "results.vtkhdf"))
     assert s.frames_per_rev() == 64
-    assert len(s.t) == 14 * 64 + 1
+    assert len(s.t) == 16 * 64 + 1
     a, b = s.steady()
-    assert (a, b) == (10 * 64, 14 * 64)
+    assert (a, b) == (10 * 64, 16 * 64)
     xy = s.station_disp(0)[a:b] / res["z0"]
     ext = [xy[:, 0].min(), xy[:, 0].max(), xy[:, 1].min(), xy[:, 1].max()]
     np.testing.assert_allclose(ext, res["extents_nd"], rtol=1e-12, atol=1e-12)
@@ -75,7 +77,7 @@ def test_hdf5_reproduces_the_summary(arc):
     assert amp[1.0] / res["z0"] == pytest.approx(res["amp_1x_nd"], rel=1e-9)
     assert amp[0.5] / res["z0"] == pytest.approx(res["amp_half_nd"], rel=1e-9, abs=1e-12)
     # The resolved scene and the units travel with the file.
-    assert s.scene["run"]["revolutions"] == 14
+    assert s.scene["run"]["revolutions"] == 16
     assert s.units["force"] == "N"
     # The station force on the rotor is minus the sum of the pair forces.
     np.testing.assert_allclose(s.station_force[:, 0], -s.pair_force.sum(axis=1), atol=1e-9)
@@ -88,7 +90,7 @@ def test_pvd_and_vtkhdf_step_through_the_same_states(arc):
     s = rr.Series(str(out / "results.vtkhdf"))
     pvd = pv.get_reader(str(out / "results.pvd"))
     times = np.asarray(pvd.time_values)
-    # One revolution (13 → 14) every 2 steps: steps_per_rev / 2 + 1 frames.
+    # One revolution (15 → 16) every 2 steps: steps_per_rev / 2 + 1 frames.
     spr = int(s.attrs["steps_per_rev"])
     assert len(times) == spr // 2 + 1
     assert np.all(np.diff(times) > 0)
@@ -169,22 +171,28 @@ def test_animate_renders_a_png_and_a_movie(arc, tmp_path):
     animate.main([str(out / "results.vtkhdf"), "--movie", str(gif), "--every", "200", "--size", "320", "240"])
     import imageio.v3 as iio
 
-    assert iio.improps(str(gif)).shape[0] == len(range(0, 14 * 64 + 1, 200))
+    assert iio.improps(str(gif)).shape[0] == len(range(0, 16 * 64 + 1, 200))
 
 
 def test_sweep_per_speed_and_cascade(tmp_path):
     out = tmp_path / "sweep"
+    # The post scripts take the steady window from the scene and read the lines over its last
+    # multiple of 6 revolutions: hold the transient at the scene's (no sliding window) and
+    # compare at two speeds whose period divides 6 (rubsim reads a period p over lcm(6, p)
+    # revolutions).
     rubsim("sweep", os.path.join(SCENES, "sweep.toml"), "--out", str(out),
-           "--set", "output.hdf5={}", "--set", "output.per_speed=[1.5, 2.5]")
-    assert sorted(p.name for p in out.iterdir() if p.name.startswith("speed_")) == ["speed_1.5", "speed_2.5"]
+           "--set", "output.hdf5={}", "--set", "output.per_speed=[1.5, 2.0]",
+           "--set", "run.max_transient_revolutions=10")
+    assert sorted(p.name for p in out.iterdir() if p.name.startswith("speed_")) == ["speed_1.5", "speed_2"]
     with open(out / "summary.json") as f:
         speeds = {round(r["speed_ratio"], 6): r for r in json.load(f)["sweeps"][0]["speeds"]}
     png = tmp_path / "cascade.png"
-    rows = orbit_cascade.main([str(out / "speed_2.5" / "results.vtkhdf"), str(out / "speed_1.5" / "results.vtkhdf"),
+    rows = orbit_cascade.main([str(out / "speed_2" / "results.vtkhdf"), str(out / "speed_1.5" / "results.vtkhdf"),
                                "--png", str(png)])
-    assert [r[0] for r in rows] == [1.5, 2.5]
+    assert [r[0] for r in rows] == [1.5, 2.0]
     for v, a1, a2, a3 in rows:
         r = speeds[v]
+        assert r["period"] in (0, 1, 2, 3, 6) and r["transient_revolutions"] == 10
         assert a1 / r["z0"] == pytest.approx(r["amp_1x_nd"], rel=1e-9)
         assert a2 / r["z0"] == pytest.approx(r["amp_half_nd"], rel=1e-9, abs=1e-12)
         assert a3 / r["z0"] == pytest.approx(r["amp_third_nd"], rel=1e-9, abs=1e-12)
@@ -407,9 +415,11 @@ def test_orbit_cascade_at_any_node(torsion, tmp_path):
     # --node 0 (the drive-end journal): the y spectrum of its own DOF, found through the map.
     (row0,) = orbit_cascade.main([path, "--node", "0", "--png", str(tmp_path / "n0.png")])
     y0 = s.u[a:b, s.node_dofs[0, 1]]
-    spec = rr.hann_spectrum(y0)
-    nrev = (b - a) / s.frames_per_rev()
-    assert row0[1] == pytest.approx(rr.line_amplitude(spec, nrev), rel=1e-12)
+    per_rev = s.frames_per_rev()
+    nrev = (b - a) // per_rev
+    lrev = rr.lines_revolutions(nrev)
+    y0 = y0[(nrev - lrev) * per_rev:nrev * per_rev]
+    assert row0[1] == pytest.approx(rr.line_exact(y0, per_rev, 1.0), rel=1e-12)
     # The journal on its 1e8 N/m bearing barely moves next to the disk.
     assert 0 < row0[1] < 0.1 * row[1]
     with pytest.raises(SystemExit):

@@ -65,6 +65,26 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
     if let Some(dt) = r.dt {
         positive(ls, "run.dt", dt)?;
     }
+    if !(1e-12..=0.5).contains(&r.tolerance) {
+        return Err(ls.invalid(
+            "run.tolerance",
+            format!(
+                "a relative tolerance must lie in 1e-12 ..= 0.5, got {}",
+                show(r.tolerance)
+            ),
+        ));
+    }
+    if let Some(m) = r.max_transient_revolutions {
+        if m < r.transient_revolutions || m > MAX_REVOLUTIONS {
+            return Err(ls.invalid(
+                "run.max_transient_revolutions",
+                format!(
+                    "must lie in transient_revolutions ({}) ..= {MAX_REVOLUTIONS}, got {m}",
+                    r.transient_revolutions
+                ),
+            ));
+        }
+    }
     positive(ls, "run.harmonics", r.harmonics)?;
     if let Some(rho) = r.rho_inf {
         if r.integrator != IntegratorKind::GeneralizedAlpha {
