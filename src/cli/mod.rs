@@ -21,6 +21,7 @@ mod refine;
 mod rotordyn;
 mod run;
 mod stress;
+mod study;
 mod sweep;
 
 use anyhow::{Context, Result};
@@ -76,15 +77,22 @@ pub enum Cmd {
         speed: Option<f64>,
     },
     /// Run the speed sweep of [run.sweep] in parallel; write sweep.csv, summary.json, pictures.
+    /// Every case is kept in <out>/cases/ as soon as it is done: a rerun computes only the
+    /// missing ones.
     Sweep {
         #[command(flatten)]
         c: Common,
-        /// Output directory (default: out/<scene name>).
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        jobs: Option<usize>,
+        #[command(flatten)]
+        a: study::StudyArgs,
+    },
+    /// Assemble the cases of a sharded sweep or map (DIR/shard-*/cases, and the cases/ of
+    /// further directories) into DIR, as one machine would have written them; lists the
+    /// missing cases and their shards.
+    Merge {
+        /// Output directory of the study (holding the shard-<i>-of-<n>/ folders).
+        dir: PathBuf,
+        /// Further directories whose cases join the merge.
+        more: Vec<PathBuf>,
     },
     /// Validate the scene and print the resolved model: what is built and what is left out.
     Check {
@@ -399,7 +407,8 @@ pub fn finish(out: rubsim::output::OutDir, summary: &serde_json::Value) -> Resul
 pub fn run() -> Result<()> {
     let cli = Cli::parse();
     let jobs = match &cli.cmd {
-        Cmd::Sweep { jobs, .. } | Cmd::Bench { jobs, .. } => *jobs,
+        Cmd::Sweep { a, .. } => a.jobs,
+        Cmd::Bench { jobs, .. } => *jobs,
         _ => None,
     };
     if let Some(j) = jobs {
@@ -409,7 +418,12 @@ pub fn run() -> Result<()> {
     }
     match &cli.cmd {
         Cmd::Run { c, out, speed } => run::run(c, out.clone(), *speed),
-        Cmd::Sweep { c, out, .. } => sweep::sweep(c, out.clone()),
+        Cmd::Sweep { c, a } => study::run(c, study::Kind::Sweep, a),
+        Cmd::Merge { dir, more } => {
+            let mut dirs = vec![dir.clone()];
+            dirs.extend(more.iter().cloned());
+            study::merge(&dirs)
+        }
         Cmd::Check { c } => check::check(c),
         Cmd::Mesh(a) => mesh::mesh(a),
         Cmd::Stress(a) => stress::stress(a),

@@ -40,7 +40,7 @@ impl Scheme {
 }
 
 /// Time-step choices of a run.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepPlan {
     /// Time step (s).
     pub dt: f64,
