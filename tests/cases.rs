@@ -252,3 +252,117 @@ fn bad_shards_and_merges_of_different_scenes_fail_clearly() {
     );
     assert!(err.contains("no such directory"), "{err}");
 }
+
+/// A 4 × 3 map of the paper case over speed and clearance, short runs.
+const MAP_SETS: &[&str] = &[
+    "--set",
+    "run.map.x={ key = \"speed_ratio\", values = [0.8, 1.7, 3.1, 4.9] }",
+    "--set",
+    "run.map.y={ key = \"stator.0.clearance_nd\", from = 0.4, to = 0.8, step = 0.2 }",
+    "--set",
+    "run.revolutions=120",
+    "--set",
+    "run.transient_revolutions=60",
+];
+
+fn map_args<'a>(out: &'a str, extra: &[&'a str]) -> Vec<String> {
+    let mut a = vec![
+        "map".to_string(),
+        repo("scenes/paper/regime_map.toml").display().to_string(),
+    ];
+    a.extend(MAP_SETS.iter().map(|s| s.to_string()));
+    a.extend(["--out", out, "--jobs", "1"].map(String::from));
+    a.extend(extra.iter().map(|s| s.to_string()));
+    a
+}
+
+#[test]
+fn a_map_writes_its_table_and_pictures_and_its_shards_merge_identically() {
+    let tmp = tempfile::tempdir().unwrap();
+    let one = tmp.path().join("one");
+    let args = map_args(one.to_str().unwrap(), &[]);
+    let out = ok(
+        tmp.path(),
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    assert!(out.contains("map 4 × 3: 12 cases"), "{out}");
+    let csv = read(&one.join("map.csv"));
+    let mut lines = csv.lines();
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("speed_ratio,stator.0.clearance_nd,period,regime,"));
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    assert_eq!(rows.len(), 12);
+    // The row at δ_nd = 0.6 is the paper's sweep at those speeds: the paper's regimes
+    // (1× at 1.7, 1/2× at 3.1, 1/3× at 4.9).
+    for (v, period) in [("1.7", "1"), ("3.1", "2"), ("4.9", "3")] {
+        let r = rows.iter().find(|r| r[0] == v && r[1] == "0.6").unwrap();
+        assert_eq!(r[2], period, "{r:?}");
+    }
+    for f in [
+        "regime_map.png",
+        "orbit_size_map.png",
+        "contact_force_map.png",
+    ] {
+        assert!(common::cli::is_png(&one.join(f)), "{f}");
+    }
+    // Two shards and a merge: the same table and pictures.
+    let dist = tmp.path().join("dist");
+    for s in ["1/2", "2/2"] {
+        let a = map_args(dist.to_str().unwrap(), &["--shard", s]);
+        ok(
+            tmp.path(),
+            &a.iter().map(String::as_str).collect::<Vec<_>>(),
+        );
+    }
+    ok(tmp.path(), &["merge", dist.to_str().unwrap()]);
+    assert_eq!(
+        without_timing(&read(&dist.join("map.csv"))),
+        without_timing(&csv)
+    );
+    for f in [
+        "regime_map.png",
+        "orbit_size_map.png",
+        "contact_force_map.png",
+    ] {
+        assert_eq!(
+            std::fs::read(dist.join(f)).unwrap(),
+            std::fs::read(one.join(f)).unwrap(),
+            "{f}"
+        );
+    }
+}
+
+#[test]
+fn map_keys_and_values_are_checked_naming_the_key() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = repo("scenes/paper/regime_map.toml").display().to_string();
+    for (set, says) in [
+        (
+            "run.map.y={ key = \"stator.0.clearance_typo\", values = [0.5] }",
+            "run.map.y.key",
+        ),
+        (
+            "run.map.y={ key = \"stator.0.clearance_nd\", values = [0.5, -1.0] }",
+            "run.map.y.values",
+        ),
+        (
+            "run.map.y={ key = \"stator.0.clearance_nd\", values = [0.5], step = 0.1 }",
+            "run.map.y.values",
+        ),
+        (
+            "run.map.y={ key = \"speed_ratio\", values = [0.5] }",
+            "run.map.y.key",
+        ),
+        (
+            "run.map.x={ key = \"speed_ratio\", from = 2.0, to = 1.0, step = 0.1 }",
+            "run.map.x.to",
+        ),
+    ] {
+        let err = fails(tmp.path(), &["check", &scene, "--set", set]);
+        assert!(err.contains(says), "{set}: {err}");
+    }
+}

@@ -9,13 +9,7 @@ use serde::Serialize;
 
 /// The speeds of a sweep (inclusive, rounded to the step's decimals to avoid drift).
 pub fn sweep_speeds(from: f64, to: f64, step: f64) -> Vec<f64> {
-    let n = ((to - from) / step + 1e-9).floor() as usize;
-    (0..=n)
-        .map(|i| {
-            let v = from + i as f64 * step;
-            (v * 1e9).round() / 1e9
-        })
-        .collect()
+    crate::scene::inclusive_range(from, to, step)
 }
 
 /// Per-speed results of a sweep, in speed order, and its wall time.

@@ -16,6 +16,7 @@ macro_rules! println {
 mod bench;
 mod check;
 mod convergence;
+mod map;
 mod mesh;
 mod refine;
 mod rotordyn;
@@ -80,6 +81,15 @@ pub enum Cmd {
     /// Every case is kept in <out>/cases/ as soon as it is done: a rerun computes only the
     /// missing ones.
     Sweep {
+        #[command(flatten)]
+        c: Common,
+        #[command(flatten)]
+        a: study::StudyArgs,
+    },
+    /// Run the 2-D map of [run.map] (speed × a scene key, or two keys) in parallel; write
+    /// map.csv, summary.json, regime_map.png, orbit_size_map.png, contact_force_map.png. Cases
+    /// are kept in <out>/cases/ like a sweep's.
+    Map {
         #[command(flatten)]
         c: Common,
         #[command(flatten)]
@@ -407,7 +417,7 @@ pub fn finish(out: rubsim::output::OutDir, summary: &serde_json::Value) -> Resul
 pub fn run() -> Result<()> {
     let cli = Cli::parse();
     let jobs = match &cli.cmd {
-        Cmd::Sweep { a, .. } => a.jobs,
+        Cmd::Sweep { a, .. } | Cmd::Map { a, .. } => a.jobs,
         Cmd::Bench { jobs, .. } => *jobs,
         _ => None,
     };
@@ -419,6 +429,7 @@ pub fn run() -> Result<()> {
     match &cli.cmd {
         Cmd::Run { c, out, speed } => run::run(c, out.clone(), *speed),
         Cmd::Sweep { c, a } => study::run(c, study::Kind::Sweep, a),
+        Cmd::Map { c, a } => study::run(c, study::Kind::Map, a),
         Cmd::Merge { dir, more } => {
             let mut dirs = vec![dir.clone()];
             dirs.extend(more.iter().cloned());

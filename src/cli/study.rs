@@ -40,6 +40,8 @@ pub struct StudyArgs {
 pub enum Kind {
     /// `[run.sweep]`: speeds, once or per value of `[run.sweep.vary]`.
     Sweep,
+    /// `[run.map]`: two parameters.
+    Map,
 }
 
 impl Kind {
@@ -47,12 +49,14 @@ impl Kind {
     pub fn name(self) -> &'static str {
         match self {
             Kind::Sweep => "sweep",
+            Kind::Map => "map",
         }
     }
 
     fn from_name(name: &str) -> Option<Self> {
         match name {
             "sweep" => Some(Kind::Sweep),
+            "map" => Some(Kind::Map),
             _ => None,
         }
     }
@@ -67,6 +71,8 @@ pub struct Study {
     pub variants: Vec<Variant>,
     /// The speeds ω/ω_n of every variant.
     pub speeds: Vec<f64>,
+    /// A map's axes, else `None`.
+    pub map: Option<super::map::MapAxes>,
 }
 
 impl Study {
@@ -84,8 +90,10 @@ impl Study {
                     kind,
                     variants: sw::variants(spec.vary.as_ref()),
                     speeds: analysis::sweep_speeds(spec.from, spec.to, spec.step),
+                    map: None,
                 })
             }
+            Kind::Map => super::map::study(ls, model_wn),
         }
     }
 
@@ -96,6 +104,7 @@ impl Study {
                 let o = &ls.scene.output;
                 SweepKeep::new(o, sw::cascade_max(o, &self.speeds)).at(v)
             }
+            Kind::Map => Keep::default(),
         }
     }
 }
@@ -358,6 +367,9 @@ fn assemble(
         Kind::Sweep => {
             let records = super::sweep::assemble(&mut outd, ls, study, results)?;
             sum["sweeps"] = serde_json::Value::Array(records);
+        }
+        Kind::Map => {
+            sum["map"] = super::map::assemble(&mut outd, ls, study, results)?;
         }
     }
     sum["cases"] = serde_json::json!({
