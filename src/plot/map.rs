@@ -122,7 +122,7 @@ pub fn field_map(
     }
     let (ex, ey) = (edges(grid.xs), edges(grid.ys));
     let (v0, mut v1) = finite_range(values.iter().flatten().copied()).unwrap_or((0.0, 1.0));
-    if !(v1 > v0) {
+    if v1 <= v0 {
         v1 = v0 + 1.0;
     }
     let fx = tick_formatter(ex[0], ex[ex.len() - 1], 8);

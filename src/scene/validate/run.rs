@@ -257,7 +257,7 @@ pub(super) fn validate_map(ls: &LoadedScene, m: &MapSpec) -> Result<(), SceneErr
                 return Err(ls.invalid(&k("to"), "must not be below `from`"));
             }
             let n = (b - a) / h + 1.0;
-            if !(n <= MAX_SWEEP_SPEEDS as f64) {
+            if n.is_nan() || n > MAX_SWEEP_SPEEDS as f64 {
                 return Err(ls.invalid(
                     &k("step"),
                     format!("the range has {n:.3e} values; at most {MAX_SWEEP_SPEEDS} are allowed"),
