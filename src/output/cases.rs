@@ -149,7 +149,7 @@ impl CaseStore {
     pub fn open(out: &Path, plan: StorePlan, fresh: bool) -> Result<(Self, Option<String>)> {
         let dir = out.join(CASES_DIR);
         let mut note = None;
-        if dir.exists() {
+        if dir.exists() && !(no_cases(&dir) && !dir.join(PLAN).exists()) {
             let found = read_plan(&dir);
             let same = matches!(&found, Ok(p) if p.scene_hash == plan.scene_hash);
             if !same && fresh {
@@ -339,6 +339,14 @@ fn foreign_message(found: &std::result::Result<StorePlan, String>, plan: &StoreP
     )
 }
 
+/// True when `dir` holds no case file (e.g. a run killed before it wrote its plan).
+fn no_cases(dir: &Path) -> bool {
+    fs::read_dir(dir).map_or(true, |rd| {
+        !rd.flatten()
+            .any(|e| e.file_name().to_string_lossy().ends_with(".toml"))
+    })
+}
+
 /// Removes the temporary files of killed runs (only the lock holder calls this).
 fn remove_temporaries(dir: &Path) {
     let Ok(rd) = fs::read_dir(dir) else {
@@ -379,5 +387,60 @@ fn test_hooks(id: &str) {
                 libc::raise(libc::SIGKILL);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sealed(body: &str) -> String {
+        let mut h = Fnv128::new();
+        h.write(body.as_bytes());
+        format!("{body}{END}{}\n", h.hex())
+    }
+
+    #[test]
+    fn a_case_file_is_whole_only_with_its_matching_end_line() {
+        let p = Path::new("cases/x.toml");
+        let text = sealed("id = \"x\"\nvalue = 1.5\n");
+        assert_eq!(body(p, &text).unwrap(), "id = \"x\"\nvalue = 1.5\n");
+        // Cut anywhere (at a line end too), or changed: named as half-written or damaged.
+        for cut in [0, 5, 12, text.len() - 1] {
+            let e = body(p, &text[..cut]).unwrap_err().to_string();
+            assert!(
+                e.contains("cases/x.toml") && e.contains("half-written"),
+                "{e}"
+            );
+        }
+        let changed = text.replace("1.5", "2.5");
+        assert!(body(p, &changed).is_err());
+    }
+
+    #[test]
+    fn a_store_killed_before_its_plan_is_reused_and_another_scene_refused() {
+        let tmp = tempfile::tempdir().unwrap();
+        let plan = |hash: &str| StorePlan {
+            format: FORMAT,
+            command: "sweep".into(),
+            scene_hash: hash.into(),
+            rubsim_version: "0".into(),
+            cases: 1,
+            scene_file: "s.toml".into(),
+            source: String::new(),
+            overrides: Vec::new(),
+            model: serde_json::Value::Null,
+        };
+        // A folder with only a temporary file: a run killed before its plan was in place.
+        fs::create_dir_all(tmp.path().join(CASES_DIR)).unwrap();
+        fs::write(tmp.path().join(CASES_DIR).join(".tmp-plan.json"), "{").unwrap();
+        let (s, note) = CaseStore::open(tmp.path(), plan("a"), false).unwrap();
+        assert!(note.is_none());
+        assert!(!s.dir().join(".tmp-plan.json").exists());
+        assert_eq!(CaseStore::read_only(s.dir()).unwrap().plan(), &plan("a"));
+        let e = CaseStore::open(tmp.path(), plan("b"), false).unwrap_err();
+        assert!(e.to_string().contains("--fresh"), "{e}");
+        let (_, note) = CaseStore::open(tmp.path(), plan("b"), true).unwrap();
+        assert!(note.unwrap().contains("discarded"));
     }
 }

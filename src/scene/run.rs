@@ -156,8 +156,13 @@ impl MapAxis {
 
 /// The values `from, from + step, …` up to `to` inclusive, each rounded to 9 decimals so that
 /// `0.1` steps do not drift.
+/// A range whose count is not finite or exceeds 10⁹ (refused by validation) gives no value.
 pub fn inclusive_range(from: f64, to: f64, step: f64) -> Vec<f64> {
-    let n = ((to - from) / step + 1e-9).floor() as usize;
+    let count = ((to - from) / step + 1e-9).floor();
+    if !(0.0..1e9).contains(&count) {
+        return Vec::new();
+    }
+    let n = count as usize;
     (0..=n)
         .map(|i| {
             let v = from + i as f64 * step;

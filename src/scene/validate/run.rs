@@ -18,6 +18,18 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
     .iter()
     .filter(|b| **b)
     .count();
+    if n_speed != 1 && r.map.is_some() {
+        return Err(ls.invalid(
+            "run.map",
+            if map_speed {
+                "`run.map.x.key` or `run.map.y.key` is `speed_ratio`: leave out `run.speed_ratio`, \
+                 `run.speed`, `[run.sweep]` and `[run.speed_profile]`"
+            } else {
+                "neither `run.map.x.key` nor `run.map.y.key` is `speed_ratio`: a map of two scene \
+                 keys runs at `run.speed_ratio` or `run.speed`; give exactly one"
+            },
+        ));
+    }
     if n_speed != 1 {
         return Err(ls.invalid(
             "run",
@@ -212,6 +224,76 @@ fn valid_with(
     })
 }
 
+/// One axis of `[run.map]`: a key, and a list of values or a whole range, finite, distinct,
+/// positive speeds.
+fn validate_axis(ls: &LoadedScene, name: &str, ax: &MapAxis) -> Result<(), SceneError> {
+    let k = |f: &str| format!("run.map.{name}.{f}");
+    if ax.key.trim().is_empty() {
+        return Err(ls.invalid(&k("key"), "is empty: give `speed_ratio` or a scene key"));
+    }
+    let range = [ax.from, ax.to, ax.step];
+    let (all, any) = (
+        range.iter().all(Option::is_some),
+        range.iter().any(Option::is_some),
+    );
+    if (ax.values.is_some() && any) || (ax.values.is_none() && !all) {
+        return Err(ls.invalid(
+            &k("values"),
+            format!(
+                "give either `{}` or all of `{}`, `{}` and `{}`",
+                k("values"),
+                k("from"),
+                k("to"),
+                k("step")
+            ),
+        ));
+    }
+    if let (Some(a), Some(b), Some(h)) = (ax.from, ax.to, ax.step) {
+        for (f, x) in [("from", a), ("to", b)] {
+            if !x.is_finite() {
+                return Err(ls.invalid(&k(f), format!("must be finite, got {x}")));
+            }
+        }
+        if ax.is_speed() {
+            positive(ls, &k("from"), a)?;
+        }
+        positive(ls, &k("step"), h)?;
+        if b < a {
+            return Err(ls.invalid(
+                &k("to"),
+                format!("must not be below `{}` ({a}), got {b}", k("from")),
+            ));
+        }
+        let n = (b - a) / h + 1.0;
+        if n.is_nan() || n > MAX_SWEEP_SPEEDS as f64 {
+            return Err(ls.invalid(
+                &k("step"),
+                format!(
+                    "the range `{}` … `{}` has {n:.3e} values; at most {MAX_SWEEP_SPEEDS} are allowed",
+                    k("from"),
+                    k("to")
+                ),
+            ));
+        }
+    }
+    let values = ax.resolved();
+    if values.is_empty() {
+        return Err(ls.invalid(&k("values"), "no values"));
+    }
+    for (i, x) in values.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(ls.invalid(&k("values"), format!("value {i} is {x}: must be finite")));
+        }
+        if values[..i].contains(x) {
+            return Err(ls.invalid(&k("values"), format!("value {x} appears twice")));
+        }
+        if ax.is_speed() {
+            positive(ls, &k("values"), *x)?;
+        }
+    }
+    Ok(())
+}
+
 /// Most cases of a map.
 pub const MAX_MAP_CASES: usize = 1_000_000;
 
@@ -224,72 +306,36 @@ pub(super) fn validate_map(ls: &LoadedScene, m: &MapSpec) -> Result<(), SceneErr
             format!("is `{}` like x: give two different keys", m.y.key),
         ));
     }
-    let speed =
-        m.x.is_speed()
-            .then(|| m.x.resolved())
-            .or_else(|| m.y.is_speed().then(|| m.y.resolved()));
-    let first_speed = speed.as_ref().and_then(|v| v.first().copied());
     let mut total = 1usize;
     for (name, ax) in [("x", &m.x), ("y", &m.y)] {
-        let k = |f: &str| format!("run.map.{name}.{f}");
-        let range = [ax.from, ax.to, ax.step];
-        match (
-            &ax.values,
-            range.iter().all(Option::is_some),
-            range.iter().any(Option::is_some),
-        ) {
-            (Some(_), _, true) | (None, false, _) => {
-                return Err(ls.invalid(
-                    &k("values"),
-                    "give either `values = [...]` or all of `from`, `to` and `step`",
-                ))
-            }
-            _ => {}
-        }
-        if let (Some(a), Some(b), Some(h)) = (ax.from, ax.to, ax.step) {
-            for (f, x) in [("from", a), ("to", b)] {
-                if !x.is_finite() {
-                    return Err(ls.invalid(&k(f), format!("must be finite, got {x}")));
-                }
-            }
-            positive(ls, &k("step"), h)?;
-            if b < a {
-                return Err(ls.invalid(&k("to"), "must not be below `from`"));
-            }
-            let n = (b - a) / h + 1.0;
-            if n.is_nan() || n > MAX_SWEEP_SPEEDS as f64 {
-                return Err(ls.invalid(
-                    &k("step"),
-                    format!("the range has {n:.3e} values; at most {MAX_SWEEP_SPEEDS} are allowed"),
-                ));
-            }
+        validate_axis(ls, name, ax)?;
+        total = total.saturating_mul(ax.resolved().len());
+    }
+    // The scene at the first speed of the map (if one axis is the speed) with each value of
+    // a scene key; a failing value of a range is blamed on `from`, `to` or `step`.
+    let first_speed = [&m.x, &m.y]
+        .iter()
+        .find(|a| a.is_speed())
+        .and_then(|a| a.resolved().first().copied());
+    for (name, ax) in [("x", &m.x), ("y", &m.y)] {
+        if ax.is_speed() {
+            continue;
         }
         let values = ax.resolved();
-        if values.is_empty() {
-            return Err(ls.invalid(&k("values"), "no values"));
-        }
         for (i, x) in values.iter().enumerate() {
-            if !x.is_finite() {
-                return Err(ls.invalid(&k("values"), format!("value {i} is {x}: must be finite")));
-            }
-            if values[..i].contains(x) {
-                return Err(ls.invalid(&k("values"), format!("value {x} appears twice")));
-            }
-            if ax.is_speed() {
-                positive(ls, &k("values"), *x)?;
-            }
-        }
-        total = total.saturating_mul(values.len());
-        if !ax.is_speed() {
-            for x in &values {
-                valid_with(ls, &ax.key, *x, first_speed).map_err(|(key, msg)| {
-                    let kk = if key == KEY { k("key") } else { k("values") };
-                    ls.invalid(
-                        &kk,
-                        format!("with `{} = {x}` the scene is invalid: {msg}", ax.key),
-                    )
-                })?;
-            }
+            valid_with(ls, &ax.key, *x, first_speed).map_err(|(key, msg)| {
+                let field = match (key, &ax.values, i) {
+                    (KEY, ..) => "key",
+                    (_, Some(_), _) => "values",
+                    (_, None, 0) => "from",
+                    (_, None, i) if i + 1 == values.len() => "to",
+                    _ => "step",
+                };
+                ls.invalid(
+                    &format!("run.map.{name}.{field}"),
+                    format!("with `{} = {x}` the scene is invalid: {msg}", ax.key),
+                )
+            })?;
         }
     }
     if total > MAX_MAP_CASES {
