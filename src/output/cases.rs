@@ -77,12 +77,19 @@ pub struct StorePlan {
 }
 
 /// The identity of a study's cases: FNV-1a of the program version, the command and the
-/// resolved scene (every override applied) as JSON.
+/// resolved scene (every override applied) as JSON — without the output choices that change
+/// no case's results (`output.png`, `output.vtk`, `output.hdf5`, `output.per_speed`), so
+/// asking for other pictures or time series keeps the finished cases.
 pub fn scene_hash(command: &str, scene: &Scene) -> String {
+    let mut s = scene.clone();
+    s.output.png = true;
+    s.output.vtk = None;
+    s.output.hdf5 = None;
+    s.output.per_speed = Default::default();
     let mut h = Fnv128::new();
     h.write(env!("CARGO_PKG_VERSION").as_bytes());
     h.write(command.as_bytes());
-    h.write(serde_json::to_string(scene).unwrap_or_default().as_bytes());
+    h.write(serde_json::to_string(&s).unwrap_or_default().as_bytes());
     h.hex()
 }
 
