@@ -156,7 +156,7 @@ impl CaseStore {
     pub fn open(out: &Path, plan: StorePlan, fresh: bool) -> Result<(Self, Option<String>)> {
         let dir = out.join(CASES_DIR);
         let mut note = None;
-        if dir.exists() && !(no_cases(&dir) && !dir.join(PLAN).exists()) {
+        if dir.exists() && (dir.join(PLAN).exists() || !no_cases(&dir)) {
             let found = read_plan(&dir);
             let same = matches!(&found, Ok(p) if p.scene_hash == plan.scene_hash);
             if !same && fresh {
