@@ -533,6 +533,22 @@ pub enum Error {
         /// What went wrong.
         source: Box<Error>,
     },
+    /// An error while running one case of a sweep or map (named by its id).
+    #[error("case {id}: {source}")]
+    AtCase {
+        /// The case id (its parameters).
+        id: String,
+        /// What went wrong.
+        source: Box<Error>,
+    },
+    /// A shard request (`--shard i/n`, or the Slurm array's variables) that cannot be served.
+    #[error("{given}: {message}")]
+    Shard {
+        /// What was given (`--shard 5/4`, `SLURM_ARRAY_TASK_ID=…`).
+        given: String,
+        /// What is wrong.
+        message: String,
+    },
     /// Output writing error.
     #[error("{path}: {message}")]
     Output {

@@ -116,6 +116,38 @@ pub fn loglog_slope(x: &[f64], y: &[f64]) -> f64 {
     sxy / sxx
 }
 
+/// 128-bit FNV-1a: a stable content hash for cache keys and scene identities (not
+/// cryptographic). Every [`Fnv128::write`] ends with a separator byte, so that the fields
+/// `("ab", "c")` and `("a", "bc")` hash differently.
+#[derive(Debug, Clone, Copy)]
+pub struct Fnv128(u128);
+
+impl Default for Fnv128 {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Fnv128 {
+    /// The FNV-1a offset basis.
+    pub fn new() -> Self {
+        Fnv128(0x6c62272e07bb014262b821756295c58d)
+    }
+    /// Hashes one field.
+    pub fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 ^= *b as u128;
+            self.0 = self.0.wrapping_mul(0x0000000001000000000000000000013B);
+        }
+        self.0 ^= 0xff;
+        self.0 = self.0.wrapping_mul(0x0000000001000000000000000000013B);
+    }
+    /// The hash as 32 hexadecimal digits.
+    pub fn hex(&self) -> String {
+        format!("{:032x}", self.0)
+    }
+}
+
 /// Greatest common divisor; `gcd(0, b) = b`, so a fold from 0 over intervals gives their
 /// common interval (0 when every interval is 0).
 pub fn gcd(a: usize, b: usize) -> usize {

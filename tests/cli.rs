@@ -357,6 +357,7 @@ fn failed_rerun_keeps_previous_results() {
     ok(tmp.path(), &["sweep", s, "--out", o]);
     let before: Vec<(PathBuf, Vec<u8>)> = tree(&out)
         .into_iter()
+        .filter(|p| out.join(p).is_file())
         .map(|p| (p.clone(), std::fs::read(out.join(&p)).unwrap()))
         .collect();
     fails(tmp.path(), &["sweep", s, "--set", "run.dt=1.0", "--out", o]);
@@ -366,6 +367,7 @@ fn failed_rerun_keeps_previous_results() {
     );
     let after: Vec<(PathBuf, Vec<u8>)> = tree(&out)
         .into_iter()
+        .filter(|p| out.join(p).is_file())
         .map(|p| (p.clone(), std::fs::read(out.join(&p)).unwrap()))
         .collect();
     assert!(before == after, "a failed rerun changed {}", out.display());
@@ -785,7 +787,8 @@ fn sweep_writes_csv_and_rerun_replaces_it() {
         .position(|c| c == "contact_fraction")
         .expect("contact_fraction column");
 
-    // Rerun with a different setting into the same directory: files are replaced.
+    // Rerun with a different setting into the same directory: files are replaced (the cases
+    // of the other scene discarded by --fresh; without it the run is refused, issue 12).
     ok(
         tmp.path(),
         &[
@@ -797,6 +800,7 @@ fn sweep_writes_csv_and_rerun_replaces_it() {
             "stator.0.clearance_nd=5",
             "--out",
             o,
+            "--fresh",
         ],
     );
     let (_, rows) = sweep_rows(&out);

@@ -42,7 +42,9 @@ pub mod sweep;
 pub mod transient;
 
 pub use convergence::{convergence, ConvergencePoint, ConvergenceResults};
-pub use regimes::{quasi_resonances, regime_name, regime_ranges, RegimeRange};
+pub use regimes::{
+    quasi_resonances, regime_class, regime_name, regime_ranges, RegimeRange, REGIME_CLASSES,
+};
 pub use speed::{
     analyse, extent_scale, extents_error, orbit_span, prepare, run_speed, ErrorEstimate,
     ExtentsScale, Fanout, Prepared, SpeedResults,

@@ -71,3 +71,27 @@ pub fn regime_name(period: usize) -> String {
         p => format!("1/{p}×"),
     }
 }
+
+/// The regime classes of a map cell, in the order of their colours.
+pub const REGIME_CLASSES: [&str; 6] = [
+    "no contact",
+    "1×",
+    "1/2×",
+    "1/3×",
+    "1/4× … 1/8×",
+    "quasi-periodic or chaotic",
+];
+
+/// The class of a run for a regime map (an index into [`REGIME_CLASSES`]): no contact in the
+/// steady window, else by Poincaré period — 1, 2, 3, 4 to [`super::MAX_PERIOD`], or not
+/// periodic.
+pub fn regime_class(r: &SpeedResults) -> usize {
+    if r.contact_fraction == 0.0 {
+        return 0;
+    }
+    match r.period {
+        0 => 5,
+        1..=3 => r.period,
+        _ => 4,
+    }
+}

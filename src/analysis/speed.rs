@@ -11,10 +11,10 @@ use crate::signal::{extents, hann_spectrum, line_exact};
 use crate::time::{
     integrate, plan_steps, Frame, FrameSink, Record, RunStats, Sink, StepPlan, Stepper,
 };
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Discretisation-error estimate from a companion run at about 2Δt (Richardson, nominal order).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ErrorEstimate {
     /// Companion Δt (s): about 2Δt, or Δt/2 when 2Δt would be unstable.
     pub dt_coarse: f64,
@@ -29,7 +29,7 @@ pub struct ErrorEstimate {
 }
 
 /// Results of a run at one speed.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SpeedResults {
     /// ω/ω_n.
     pub speed_ratio: f64,

@@ -11,13 +11,13 @@ use crate::math::V2;
 use crate::signal::extents;
 #[cfg(test)]
 use crate::signal::line_exact;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Largest confidence reported ([`Classification::confidence`]).
 pub const MAX_CONFIDENCE: f64 = 1e6;
 
 /// How stationary the analysed window is: its first, middle and last thirds compared.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Stationarity {
     /// Estimated error of the window's extents and Poincaré section due to what is left of
     /// the transient, relative to the orbit's size (see [`stationarity`]); +∞ when the window
@@ -110,7 +110,7 @@ fn hausdorff(a: &[V2], b: &[V2]) -> f64 {
 }
 
 /// The Poincaré period of a window and how surely it was told.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Classification {
     /// Period 1–`max_period` in revolutions, 0 when not periodic.
     pub period: usize,

@@ -9,13 +9,7 @@ use serde::Serialize;
 
 /// The speeds of a sweep (inclusive, rounded to the step's decimals to avoid drift).
 pub fn sweep_speeds(from: f64, to: f64, step: f64) -> Vec<f64> {
-    let n = ((to - from) / step + 1e-9).floor() as usize;
-    (0..=n)
-        .map(|i| {
-            let v = from + i as f64 * step;
-            (v * 1e9).round() / 1e9
-        })
-        .collect()
+    crate::scene::inclusive_range(from, to, step)
 }
 
 /// Per-speed results of a sweep, in speed order, and its wall time.
@@ -68,22 +62,173 @@ pub fn sweep<T: Send>(
     progress: &(dyn Fn() + Sync),
 ) -> Result<Sweep<T>> {
     let t0 = std::time::Instant::now();
-    let res: Vec<Result<T>> = speeds
-        .par_iter()
-        .map(|&v| {
-            let r = run(v).map_err(|e| Error::AtSpeed {
+    let speeds = run_all(
+        speeds,
+        &|&v| {
+            run(v).map_err(|e| Error::AtSpeed {
                 speed_ratio: v,
                 source: Box::new(e),
-            });
-            progress();
-            r
-        })
-        .collect();
-    let speeds = res.into_iter().collect::<Result<Vec<_>>>()?;
+            })
+        },
+        progress,
+    )?;
     Ok(Sweep {
         speeds,
         wall_s: t0.elapsed().as_secs_f64(),
     })
+}
+
+/// The one parallel map (rayon) of sweeps and maps: `run` on every item, `progress` after
+/// each; every item runs even when one fails, and the first failure (in item order) is
+/// returned.
+pub fn run_all<C: Sync, T: Send>(
+    items: &[C],
+    run: &(dyn Fn(&C) -> Result<T> + Sync),
+    progress: &(dyn Fn() + Sync),
+) -> Result<Vec<T>> {
+    let res: Vec<Result<T>> = items
+        .par_iter()
+        .map(|c| {
+            let r = run(c);
+            progress();
+            r
+        })
+        .collect();
+    res.into_iter().collect()
+}
+
+/// One case of a sweep or map: a variant of the scene at one speed, named by its parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaseSpec {
+    /// Index of its variant in the study's variants.
+    pub variant: usize,
+    /// ω/ω_n.
+    pub speed_ratio: f64,
+    /// Stable id: the variant's overrides, then `speed_ratio=ν`, comma-separated
+    /// (`stator.0.clearance_nd=0.4,speed_ratio=1.7`); characters `[A-Za-z0-9._=,+-]` only.
+    pub id: String,
+}
+
+/// The id of the case of `variant` at ν = `speed`.
+pub fn case_id(variant: &Variant, speed: f64) -> String {
+    let mut parts = variant.overrides.clone();
+    parts.push(format!("speed_ratio={}", crate::scene::toml_number(speed)));
+    parts.join(",")
+}
+
+/// The cases of a study: every speed of every variant, variant-major (the order of the
+/// tables).
+pub fn cases(variants: &[Variant], speeds: &[f64]) -> Vec<CaseSpec> {
+    variants
+        .iter()
+        .enumerate()
+        .flat_map(|(i, var)| {
+            speeds.iter().map(move |&v| CaseSpec {
+                variant: i,
+                speed_ratio: v,
+                id: case_id(var, v),
+            })
+        })
+        .collect()
+}
+
+/// One part of a study run on its own (`--shard i/n`): the cases whose index k (in the order
+/// of [`cases`]) has `k mod n = i − 1`, so every shard gets cases from the whole range.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// 1-based index i.
+    pub index: usize,
+    /// Number of shards n.
+    pub count: usize,
+}
+
+impl Shard {
+    /// Parses `i/n` (1 ≤ i ≤ n).
+    ///
+    /// # Errors
+    /// [`Error::Shard`] naming what was given.
+    pub fn parse(text: &str) -> Result<Self> {
+        let bad = |m: &str| Error::Shard {
+            given: format!("--shard {text}"),
+            message: m.to_string(),
+        };
+        let (i, n) = text
+            .split_once('/')
+            .ok_or_else(|| bad("expected i/n, e.g. 3/8 (shard 3 of 8)"))?;
+        let num = |s: &str, what: &str| {
+            s.trim()
+                .parse::<usize>()
+                .map_err(|_| bad(&format!("{what} `{s}` is not a whole number")))
+        };
+        Self::new(num(i, "the index")?, num(n, "the count")?).map_err(|m| bad(&m))
+    }
+
+    /// Shard `index` of `count`, or why not (index out of 1 ..= count).
+    fn new(index: usize, count: usize) -> std::result::Result<Self, String> {
+        if count == 0 {
+            return Err("the number of shards must be at least 1".into());
+        }
+        if index == 0 || index > count {
+            return Err(format!(
+                "shard index {index} is out of range: shards are numbered 1 to {count}"
+            ));
+        }
+        Ok(Self { index, count })
+    }
+
+    /// The shard of a Slurm array task, from `SLURM_ARRAY_TASK_ID`, `SLURM_ARRAY_TASK_MIN`
+    /// and `SLURM_ARRAY_TASK_COUNT` (read through `var`): i = ID − MIN + 1, n = COUNT. `None`
+    /// outside an array job. An array that is not contiguous (`--array=3,5`, a step) is
+    /// refused: its tasks do not number the shards; give `--shard i/n` then.
+    ///
+    /// # Errors
+    /// [`Error::Shard`] naming the variables.
+    pub fn from_slurm(var: impl Fn(&str) -> Option<String>) -> Result<Option<Self>> {
+        let Some(id) = var("SLURM_ARRAY_TASK_ID") else {
+            return Ok(None);
+        };
+        let get = |k: &str| var(k).and_then(|v| v.trim().parse::<usize>().ok());
+        let given = format!(
+            "SLURM_ARRAY_TASK_ID={id}, SLURM_ARRAY_TASK_MIN={}, SLURM_ARRAY_TASK_MAX={}, \
+             SLURM_ARRAY_TASK_COUNT={}",
+            var("SLURM_ARRAY_TASK_MIN").unwrap_or_default(),
+            var("SLURM_ARRAY_TASK_MAX").unwrap_or_default(),
+            var("SLURM_ARRAY_TASK_COUNT").unwrap_or_default()
+        );
+        let bad = |m: String| Error::Shard {
+            given: given.clone(),
+            message: m,
+        };
+        let (Some(id), Some(min), Some(count)) = (
+            get("SLURM_ARRAY_TASK_ID"),
+            get("SLURM_ARRAY_TASK_MIN"),
+            get("SLURM_ARRAY_TASK_COUNT"),
+        ) else {
+            return Err(bad(
+                "a Slurm array task without readable task numbers".into()
+            ));
+        };
+        let max = get("SLURM_ARRAY_TASK_MAX").unwrap_or(min + count.saturating_sub(1));
+        let step = get("SLURM_ARRAY_TASK_STEP").unwrap_or(1);
+        if step != 1 || max + 1 != min + count || id < min {
+            return Err(bad(
+                "the array's tasks are not contiguous, so they do not number the shards; \
+                 pass --shard i/n explicitly"
+                    .into(),
+            ));
+        }
+        Self::new(id - min + 1, count).map(Some).map_err(bad)
+    }
+
+    /// Whether the case of index `k` (order of [`cases`]) belongs to this shard.
+    pub fn contains(&self, k: usize) -> bool {
+        k % self.count == self.index - 1
+    }
+
+    /// The shard's folder inside the study's output directory: `shard-<i>-of-<n>`.
+    pub fn folder(&self) -> String {
+        format!("shard-{}-of-{}", self.index, self.count)
+    }
 }
 
 /// One sweep of a parameter study (`[run.sweep.vary]`): the overrides it adds and the

@@ -16,11 +16,13 @@ macro_rules! println {
 mod bench;
 mod check;
 mod convergence;
+mod map;
 mod mesh;
 mod refine;
 mod rotordyn;
 mod run;
 mod stress;
+mod study;
 mod sweep;
 
 use anyhow::{Context, Result};
@@ -130,15 +132,31 @@ pub enum Cmd {
         unit: UnitArg,
     },
     /// Run the speed sweep of [run.sweep] in parallel; write sweep.csv, summary.json, pictures.
+    /// Every case is kept in <out>/cases/ as soon as it is done: a rerun computes only the
+    /// missing ones.
     Sweep {
         #[command(flatten)]
         c: Common,
-        /// Output directory (default: out/<scene name>).
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        jobs: Option<usize>,
+        #[command(flatten)]
+        a: study::StudyArgs,
+    },
+    /// Run the 2-D map of [run.map] (speed × a scene key, or two keys) in parallel; write
+    /// map.csv, summary.json, regime_map.png, orbit_size_map.png, contact_force_map.png. Cases
+    /// are kept in <out>/cases/ like a sweep's.
+    Map {
+        #[command(flatten)]
+        c: Common,
+        #[command(flatten)]
+        a: study::StudyArgs,
+    },
+    /// Assemble the cases of a sharded sweep or map (DIR/shard-*/cases, and the cases/ of
+    /// further directories) into DIR, as one machine would have written them; lists the
+    /// missing cases and their shards.
+    Merge {
+        /// Output directory of the study (holding the shard-<i>-of-<n>/ folders).
+        dir: PathBuf,
+        /// Further directories whose cases join the merge.
+        more: Vec<PathBuf>,
     },
     /// Validate the scene and print the resolved model: what is built and what is left out.
     Check {
@@ -475,7 +493,8 @@ pub fn finish(out: rubsim::output::OutDir, summary: &serde_json::Value) -> Resul
 pub fn run() -> Result<()> {
     let cli = Cli::parse();
     let jobs = match &cli.cmd {
-        Cmd::Sweep { jobs, .. } | Cmd::Bench { jobs, .. } => *jobs,
+        Cmd::Sweep { a, .. } | Cmd::Map { a, .. } => a.jobs,
+        Cmd::Bench { jobs, .. } => *jobs,
         _ => None,
     };
     if let Some(j) = jobs {
@@ -490,7 +509,13 @@ pub fn run() -> Result<()> {
             speed,
             unit,
         } => run::run(c, out.clone(), *speed, *unit),
-        Cmd::Sweep { c, out, .. } => sweep::sweep(c, out.clone()),
+        Cmd::Sweep { c, a } => study::run(c, study::Kind::Sweep, a),
+        Cmd::Map { c, a } => study::run(c, study::Kind::Map, a),
+        Cmd::Merge { dir, more } => {
+            let mut dirs = vec![dir.clone()];
+            dirs.extend(more.iter().cloned());
+            study::merge(&dirs)
+        }
         Cmd::Check { c } => check::check(c),
         Cmd::Mesh(a) => mesh::mesh(a),
         Cmd::Stress(a) => stress::stress(a),

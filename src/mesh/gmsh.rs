@@ -126,25 +126,6 @@ pub fn default_cache_dir(geometry: &Path) -> PathBuf {
     }
 }
 
-/// 128-bit FNV-1a: a stable content hash for cache keys (not cryptographic).
-#[derive(Debug, Clone, Copy)]
-struct Fnv128(u128);
-
-impl Fnv128 {
-    fn new() -> Self {
-        Fnv128(0x6c62272e07bb014262b821756295c58d)
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes {
-            self.0 ^= *b as u128;
-            self.0 = self.0.wrapping_mul(0x0000000001000000000000000000013B);
-        }
-        // Field separator, so that ("ab", "c") and ("a", "bc") differ.
-        self.0 ^= 0xff;
-        self.0 = self.0.wrapping_mul(0x0000000001000000000000000000013B);
-    }
-}
-
 fn read_file(file: &Path, referenced_by: Option<&Path>) -> Result<Vec<u8>, MeshError> {
     std::fs::read(file).map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
@@ -234,7 +215,7 @@ pub fn cache_key(req: &MeshRequest) -> Result<String, MeshError> {
 }
 
 fn key_of(req: &MeshRequest, text: &str, deps: &[(PathBuf, Vec<u8>)]) -> String {
-    let mut h = Fnv128::new();
+    let mut h = crate::math::Fnv128::new();
     h.write(CACHE_VERSION.as_bytes());
     h.write(text.as_bytes());
     for (p, b) in deps {
@@ -252,7 +233,7 @@ fn key_of(req: &MeshRequest, text: &str, deps: &[(PathBuf, Vec<u8>)]) -> String 
     }
     h.write(&[req.order, req.recombine as u8, req.serendipity as u8]);
     h.write(&req.size_factor.to_bits().to_le_bytes());
-    format!("{:032x}", h.0)
+    h.hex()
 }
 
 /// Meshes `req` into `cache` (created if needed), or returns the cached mesh.

@@ -211,3 +211,72 @@ pub fn write_unbalance(out: &mut OutDir, res: &[ResponsePoint]) -> Result<()> {
     );
     out.write("unbalance.csv", csv.as_bytes())
 }
+
+/// One cell of a map: its two parameter values and its run.
+#[derive(Debug, Clone, Copy)]
+pub struct MapCell<'a> {
+    /// Value of the horizontal parameter.
+    pub x: f64,
+    /// Value of the vertical parameter.
+    pub y: f64,
+    /// The run.
+    pub run: &'a SpeedResults,
+}
+
+/// The orbit size of a run: the larger of its horizontal and vertical extents, / |Z0|.
+pub fn orbit_size_nd(r: &SpeedResults) -> f64 {
+    (r.extents_nd[1] - r.extents_nd[0]).max(r.extents_nd[3] - r.extents_nd[2])
+}
+
+/// Writes `map.csv`: one row per cell — the two parameters (columns named by their keys; a
+/// `speed_ratio` column besides when neither is the speed), the Poincaré period and regime
+/// class ([`crate::analysis::REGIME_CLASSES`]), extents, orbit size ([`orbit_size_nd`]), line
+/// amplitudes, contact fraction and peak force, the error estimate (relative extents error and
+/// whether the companion run found the same period), the steady-state proof (`steady`, the
+/// transient residual, the period's confidence, whether the lines are resolved: as in
+/// `sweep.csv`), steps and wall time.
+pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Result<()> {
+    let speed_col = !keys.contains(&"speed_ratio");
+    let header = format!(
+        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s",
+        keys[0],
+        keys[1],
+        if speed_col { ",speed_ratio" } else { "" }
+    );
+    let rows = cells.iter().map(|c| {
+        let r = c.run;
+        format!(
+            "{},{}{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.6},{},{},{},{:.3e},{:.3e},{},{},{:.6}",
+            crate::scene::toml_number(c.x),
+            crate::scene::toml_number(c.y),
+            if speed_col {
+                format!(",{}", crate::scene::toml_number(r.speed_ratio))
+            } else {
+                String::new()
+            },
+            r.period,
+            crate::analysis::REGIME_CLASSES[crate::analysis::regime_class(r)],
+            r.extents_nd[0],
+            r.extents_nd[1],
+            r.extents_nd[2],
+            r.extents_nd[3],
+            orbit_size_nd(r),
+            r.amp_1x_nd,
+            r.amp_half_nd,
+            r.amp_third_nd,
+            r.contact_fraction,
+            r.contact_force_max_nd,
+            r.error
+                .map(|e| format!("{:.3e}", e.extents_rel))
+                .unwrap_or_default(),
+            r.error.map(|e| e.same_period.to_string()).unwrap_or_default(),
+            r.steady,
+            r.stationarity.residual,
+            r.classification.confidence,
+            r.lines_resolved,
+            r.stats.steps,
+            r.stats.wall_s
+        )
+    });
+    out.write("map.csv", table(&header, rows).as_bytes())
+}

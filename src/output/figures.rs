@@ -585,3 +585,54 @@ pub fn write_unbalance(
     }
     Ok(())
 }
+
+/// Draws a map (`rubsim map`): `regime_map.png` (cells coloured by regime class,
+/// [`crate::analysis::REGIME_CLASSES`]), `orbit_size_map.png` and `contact_force_map.png`
+/// (values with contour lines); `runs[iy][ix]` is the run at `(xs[ix], ys[iy])`.
+pub fn write_map(
+    out: &mut OutDir,
+    title: &str,
+    grid: plot::MapGrid<'_>,
+    runs: &[Vec<&SpeedResults>],
+) -> Result<()> {
+    let classes: Vec<Vec<usize>> = runs
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|r| crate::analysis::regime_class(r))
+                .collect()
+        })
+        .collect();
+    let p = out.stage("regime_map.png")?;
+    plot::category_map(
+        &p,
+        &format!("{title} — regime map (Poincaré period)"),
+        grid,
+        &classes,
+        &crate::analysis::REGIME_CLASSES,
+    )?;
+    let field = |f: &dyn Fn(&SpeedResults) -> f64| -> Vec<Vec<f64>> {
+        runs.iter()
+            .map(|row| row.iter().map(|r| f(r)).collect())
+            .collect()
+    };
+    let p = out.stage("orbit_size_map.png")?;
+    plot::field_map(
+        &p,
+        &format!("{title} — orbit size"),
+        grid,
+        &field(&super::csv::orbit_size_nd),
+        "orbit size / |Z0|",
+        8,
+    )?;
+    let p = out.stage("contact_force_map.png")?;
+    plot::field_map(
+        &p,
+        &format!("{title} — peak contact force"),
+        grid,
+        &field(&|r| r.contact_force_max_nd),
+        "F_max / (m_u e ω²)",
+        8,
+    )?;
+    Ok(())
+}

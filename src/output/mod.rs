@@ -11,6 +11,7 @@
 //! discarded by the next run. The protocol, step by step, is in [`outdir`]. The directory is
 //! checked for writability before any computation starts ([`OutDir::prepare`]).
 
+pub mod cases;
 pub mod csv;
 pub mod figures;
 pub mod manifest;

@@ -15,16 +15,27 @@ use std::path::PathBuf;
 /// The part of `summary.json` every scene command writes: version, command, the scene (file,
 /// overrides, resolved values), the rotor model and the conventions of the numbers.
 pub fn base(ls: &LoadedScene, model: &Model, command: &str) -> Value {
+    base_with(ls, model_record(model), command)
+}
+
+/// The `model` record of [`base`]: the rotor's description and ω_n.
+pub fn model_record(model: &Model) -> Value {
+    json!({
+        "rotor": model.rotor.describe(),
+        "omega_n_rad_s": model.rotor.natural_frequency(),
+    })
+}
+
+/// [`base`] with the `model` record given (e.g. kept with a study's cases, so `rubsim merge`
+/// needs no model).
+pub fn base_with(ls: &LoadedScene, model: Value, command: &str) -> Value {
     json!({
         "rubsim_version": env!("CARGO_PKG_VERSION"),
         "command": command,
         "scene_file": ls.file.display().to_string(),
         "overrides": ls.overrides,
         "scene": ls.scene,
-        "model": {
-            "rotor": model.rotor.describe(),
-            "omega_n_rad_s": model.rotor.natural_frequency(),
-        },
+        "model": model,
         "conventions": {
             "units": "SI; _nd = displacement / |Z0(ω)|, force / (|Σ m_u e e^{iφ}| ω²), frequency / ω_n",
             "axes": "x horizontal, y vertical, rotor spins counter-clockwise seen from +z",

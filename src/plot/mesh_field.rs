@@ -21,7 +21,7 @@ const MESH_FRAME: Frame = Frame {
 };
 
 /// Frame of the colour bar (its labels on the left, no x axis).
-const BAR_FRAME: Frame = Frame {
+pub(super) const BAR_FRAME: Frame = Frame {
     top: 40,
     right: 20,
     bottom: 80,
@@ -103,7 +103,7 @@ pub fn mesh_field(
 
 /// Colour of value `v` on the viridis scale over `v0..v1` (five stops, linear in between;
 /// values outside are clamped); grey for a non-finite value.
-fn viridis(v: f64, v0: f64, v1: f64) -> RGBColor {
+pub(super) fn viridis(v: f64, v0: f64, v1: f64) -> RGBColor {
     if !v.is_finite() {
         return RGBColor(170, 170, 170);
     }

@@ -19,6 +19,7 @@
 mod cascade;
 mod chart;
 mod geom;
+mod map;
 mod mesh_field;
 mod orbit;
 mod style;
@@ -27,6 +28,7 @@ mod tests;
 mod xy;
 
 pub use cascade::{cascade, CascadeLine};
+pub use map::{category_map, field_map, MapGrid};
 pub use mesh_field::mesh_field;
 pub use orbit::{orbit_grid, Boundary, OrbitPanel};
 pub use xy::{bifurcation, lines, loglog, stacked_series, Curve, Series};

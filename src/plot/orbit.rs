@@ -13,7 +13,7 @@ use crate::error::Result;
 
 /// What to draw as the stator boundary in an orbit panel (non-dimensional units, same as the
 /// orbit).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Boundary {
     /// No boundary.
     None,

@@ -55,6 +55,8 @@ pub struct RunSpec {
     pub speed: Option<f64>,
     /// Speed sweep over ω/ω_n.
     pub sweep: Option<SweepSpec>,
+    /// A 2-D map (`rubsim map`): the runs at every pair of values of two parameters.
+    pub map: Option<MapSpec>,
     /// A speed that varies in time (run-up, coast-down, a tabulated history): the run
     /// integrates the whole profile, whose length sets the run's; `revolutions` and
     /// `transient_revolutions` do not apply.
@@ -131,6 +133,70 @@ pub struct VarySpec {
 
 /// ρ∞ of `generalized_alpha` when `run.rho_inf` is not given.
 pub const DEFAULT_RHO_INF: f64 = 0.8;
+
+/// A 2-D regime map (`rubsim map`): one run for every pair of values of two parameters — the
+/// speed ω/ω_n (key `speed_ratio`) and a scene key, or two scene keys at the scene's speed.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapSpec {
+    /// The horizontal axis.
+    pub x: MapAxis,
+    /// The vertical axis.
+    pub y: MapAxis,
+}
+
+/// One axis of a map: a key and its values, as a list or an inclusive range.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapAxis {
+    /// `speed_ratio` (ω/ω_n), or a dotted scene key as for `--set` (`stator.0.clearance_nd`).
+    pub key: String,
+    /// The values, listed.
+    pub values: Option<Vec<f64>>,
+    /// Or a range: first value …
+    pub from: Option<f64>,
+    /// … last value (inclusive) …
+    pub to: Option<f64>,
+    /// … and increment.
+    pub step: Option<f64>,
+}
+
+/// The key of a map axis that is the speed ω/ω_n.
+pub const SPEED_KEY: &str = "speed_ratio";
+
+impl MapAxis {
+    /// Whether this axis is the speed ω/ω_n.
+    pub fn is_speed(&self) -> bool {
+        self.key == SPEED_KEY
+    }
+
+    /// The axis's values: the list, or the range `from, from + step, …, to`
+    /// ([`inclusive_range`]); empty when neither is given.
+    pub fn resolved(&self) -> Vec<f64> {
+        match (&self.values, self.from, self.to, self.step) {
+            (Some(v), ..) => v.clone(),
+            (None, Some(a), Some(b), Some(h)) => inclusive_range(a, b, h),
+            _ => Vec::new(),
+        }
+    }
+}
+
+/// The values `from, from + step, …` up to `to` inclusive, each rounded to 9 decimals so that
+/// `0.1` steps do not drift.
+/// A range whose count is not finite or exceeds 10⁹ (refused by validation) gives no value.
+pub fn inclusive_range(from: f64, to: f64, step: f64) -> Vec<f64> {
+    let count = ((to - from) / step + 1e-9).floor();
+    if !(0.0..1e9).contains(&count) {
+        return Vec::new();
+    }
+    let n = count as usize;
+    (0..=n)
+        .map(|i| {
+            let v = from + i as f64 * step;
+            (v * 1e9).round() / 1e9
+        })
+        .collect()
+}
 
 fn default_revs() -> usize {
     220

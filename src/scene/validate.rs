@@ -226,6 +226,9 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
     if let Some(v) = ls.scene.run.sweep.as_ref().and_then(|w| w.vary.as_ref()) {
         validate_vary(ls, v)?;
     }
+    if let Some(m) = &ls.scene.run.map {
+        validate_map(ls, m)?;
+    }
     Ok(())
 }
 

@@ -74,7 +74,7 @@ impl Scheme {
 pub const MIN_IMPLICIT_STEPS_PER_PERIOD: f64 = 4.0;
 
 /// Time-step choices of a run.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepPlan {
     /// Time step (s).
     pub dt: f64,

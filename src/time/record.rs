@@ -57,7 +57,7 @@ impl Record {
 }
 
 /// Counters of a finished run.
-#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunStats {
     /// Steps taken.
     pub steps: usize,
@@ -86,7 +86,7 @@ pub struct RunStats {
 /// the forces after the correction of the step that ends at tₖ; collocated, the massless
 /// stators' static forces at tₖ plus the forces of the stators with mass from the step that
 /// ends at tₖ. Its gaps are the exact post-correction gaps of the pairs solved for tₖ.
-#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactStats {
     /// First instant index of the window (tₖ = kΔt).
     pub from_step: usize,

@@ -4,19 +4,44 @@ use super::*;
 
 pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
     let r = &ls.scene.run;
+    let map_speed = r
+        .map
+        .as_ref()
+        .is_some_and(|m| m.x.is_speed() || m.y.is_speed());
     let n_speed = [
         r.speed_ratio.is_some(),
         r.speed.is_some(),
         r.sweep.is_some(),
         r.speed_profile.is_some(),
+        map_speed,
     ]
     .iter()
     .filter(|b| **b)
     .count();
+    if n_speed != 1 && r.map.is_some() {
+        return Err(ls.invalid(
+            "run.map",
+            if map_speed {
+                "`run.map.x.key` or `run.map.y.key` is `speed_ratio`: leave out `run.speed_ratio`, \
+                 `run.speed`, `[run.sweep]` and `[run.speed_profile]`"
+            } else {
+                "neither `run.map.x.key` nor `run.map.y.key` is `speed_ratio`: a map of two scene \
+                 keys runs at `run.speed_ratio` or `run.speed`; give exactly one"
+            },
+        ));
+    }
     if n_speed != 1 {
         return Err(ls.invalid(
             "run",
-            "give exactly one of `speed_ratio`, `speed`, `[run.sweep]` or `[run.speed_profile]`",
+            "give exactly one of `speed_ratio`, `speed`, `[run.sweep]`, `[run.speed_profile]` \
+             or a `[run.map]` with a `speed_ratio` axis (a map of two other keys runs at \
+             `speed_ratio` or `speed`)",
+        ));
+    }
+    if r.map.is_some() && (r.sweep.is_some() || r.speed_profile.is_some()) {
+        return Err(ls.invalid(
+            "run.map",
+            "cannot be combined with `[run.sweep]` or `[run.speed_profile]`",
         ));
     }
     if let Some(p) = &r.speed_profile {
@@ -178,41 +203,185 @@ pub(super) fn validate_vary(ls: &LoadedScene, v: &VarySpec) -> Result<(), SceneE
         }
     }
     for x in &v.values {
-        let mut value: toml::Value = toml::from_str(&ls.source)
-            .map_err(|e| ls.invalid("run.sweep.vary", e.message().to_string()))?;
-        let mut sets = ls.overrides.clone();
-        sets.push(format!("{}={}", v.key, toml_number(*x)));
-        let nested = sets.iter().try_for_each(|a| apply_override(&mut value, a));
-        let nested = nested.and_then(|()| {
-            if let Some(sw) = value
-                .get_mut("run")
-                .and_then(|r| r.get_mut("sweep"))
-                .and_then(|s| s.as_table_mut())
-            {
-                sw.remove("vary");
-            }
-            let scene = Scene::deserialize(value).map_err(|e| SceneError::Override {
-                assignment: format!("{}={}", v.key, toml_number(*x)),
-                message: e.message().to_string(),
-            })?;
-            validate(&LoadedScene {
-                scene,
-                file: ls.file.clone(),
-                source: ls.source.clone(),
-                overrides: sets,
-            })
-        });
-        if let Err(e) = nested {
-            let (key, msg) = match &e {
-                SceneError::Invalid { key, message, .. } if *key == v.key => (vk, message.clone()),
-                SceneError::Invalid { key, message, .. } => (vk, format!("{key}: {message}")),
-                other => ("run.sweep.vary.key", other.to_string()),
-            };
-            return Err(ls.invalid(
+        valid_with(ls, &v.key, *x, None).map_err(|(key, msg)| {
+            let key = if key == KEY { "run.sweep.vary.key" } else { vk };
+            ls.invalid(
                 key,
                 format!("with `{} = {x}` the scene is invalid: {msg}", v.key),
+            )
+        })?;
+    }
+    Ok(())
+}
+
+/// Marks an error of [`valid_with`] that is about the key itself (it does not exist).
+const KEY: &str = "key";
+
+/// Checks that the scene with `key = x` (and the study tables removed; a map's speed axis
+/// replaced by `run.speed_ratio = speed`) is valid; the error is `(KEY or "values", message)`.
+fn valid_with(
+    ls: &LoadedScene,
+    key: &str,
+    x: f64,
+    speed: Option<f64>,
+) -> Result<(), (&'static str, String)> {
+    let mut value: toml::Value =
+        toml::from_str(&ls.source).map_err(|e| (KEY, e.message().to_string()))?;
+    let mut sets = ls.overrides.clone();
+    sets.push(format!("{key}={}", toml_number(x)));
+    let nested = sets.iter().try_for_each(|a| apply_override(&mut value, a));
+    let nested = nested.and_then(|()| {
+        if let Some(run) = value.get_mut("run").and_then(|r| r.as_table_mut()) {
+            if let Some(sw) = run.get_mut("sweep").and_then(|s| s.as_table_mut()) {
+                sw.remove("vary");
+            }
+            if run.remove("map").is_some() {
+                if let Some(v) = speed {
+                    run.insert("speed_ratio".into(), toml::Value::Float(v));
+                }
+            }
+        }
+        let scene = Scene::deserialize(value).map_err(|e| SceneError::Override {
+            assignment: format!("{key}={}", toml_number(x)),
+            message: e.message().to_string(),
+        })?;
+        validate(&LoadedScene {
+            scene,
+            file: ls.file.clone(),
+            source: ls.source.clone(),
+            overrides: sets,
+        })
+    });
+    nested.map_err(|e| match &e {
+        SceneError::Invalid {
+            key: k, message, ..
+        } if k == key => ("values", message.clone()),
+        SceneError::Invalid {
+            key: k, message, ..
+        } => ("values", format!("{k}: {message}")),
+        other => (KEY, other.to_string()),
+    })
+}
+
+/// One axis of `[run.map]`: a key, and a list of values or a whole range, finite, distinct,
+/// positive speeds.
+fn validate_axis(ls: &LoadedScene, name: &str, ax: &MapAxis) -> Result<(), SceneError> {
+    let k = |f: &str| format!("run.map.{name}.{f}");
+    if ax.key.trim().is_empty() {
+        return Err(ls.invalid(&k("key"), "is empty: give `speed_ratio` or a scene key"));
+    }
+    let range = [ax.from, ax.to, ax.step];
+    let (all, any) = (
+        range.iter().all(Option::is_some),
+        range.iter().any(Option::is_some),
+    );
+    if (ax.values.is_some() && any) || (ax.values.is_none() && !all) {
+        return Err(ls.invalid(
+            &k("values"),
+            format!(
+                "give either `{}` or all of `{}`, `{}` and `{}`",
+                k("values"),
+                k("from"),
+                k("to"),
+                k("step")
+            ),
+        ));
+    }
+    if let (Some(a), Some(b), Some(h)) = (ax.from, ax.to, ax.step) {
+        for (f, x) in [("from", a), ("to", b)] {
+            if !x.is_finite() {
+                return Err(ls.invalid(&k(f), format!("must be finite, got {x}")));
+            }
+        }
+        if ax.is_speed() {
+            positive(ls, &k("from"), a)?;
+        }
+        positive(ls, &k("step"), h)?;
+        if b < a {
+            return Err(ls.invalid(
+                &k("to"),
+                format!("must not be below `{}` ({a}), got {b}", k("from")),
             ));
         }
+        let n = (b - a) / h + 1.0;
+        if n.is_nan() || n > MAX_SWEEP_SPEEDS as f64 {
+            return Err(ls.invalid(
+                &k("step"),
+                format!(
+                    "the range `{}` … `{}` has {n:.3e} values; at most {MAX_SWEEP_SPEEDS} are allowed",
+                    k("from"),
+                    k("to")
+                ),
+            ));
+        }
+    }
+    let values = ax.resolved();
+    if values.is_empty() {
+        return Err(ls.invalid(&k("values"), "no values"));
+    }
+    for (i, x) in values.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(ls.invalid(&k("values"), format!("value {i} is {x}: must be finite")));
+        }
+        if values[..i].contains(x) {
+            return Err(ls.invalid(&k("values"), format!("value {x} appears twice")));
+        }
+        if ax.is_speed() {
+            positive(ls, &k("values"), *x)?;
+        }
+    }
+    Ok(())
+}
+
+/// Most cases of a map.
+pub const MAX_MAP_CASES: usize = 1_000_000;
+
+/// `[run.map]`: each axis a key with values (a list, or `from`/`to`/`step`), the keys
+/// distinct, speeds positive, and the scene valid with every value of a scene key.
+pub(super) fn validate_map(ls: &LoadedScene, m: &MapSpec) -> Result<(), SceneError> {
+    if m.x.key == m.y.key {
+        return Err(ls.invalid(
+            "run.map.y.key",
+            format!("is `{}` like x: give two different keys", m.y.key),
+        ));
+    }
+    let mut total = 1usize;
+    for (name, ax) in [("x", &m.x), ("y", &m.y)] {
+        validate_axis(ls, name, ax)?;
+        total = total.saturating_mul(ax.resolved().len());
+    }
+    // The scene at the first speed of the map (if one axis is the speed) with each value of
+    // a scene key; a failing value of a range is blamed on `from`, `to` or `step`.
+    let first_speed = [&m.x, &m.y]
+        .iter()
+        .find(|a| a.is_speed())
+        .and_then(|a| a.resolved().first().copied());
+    for (name, ax) in [("x", &m.x), ("y", &m.y)] {
+        if ax.is_speed() {
+            continue;
+        }
+        let values = ax.resolved();
+        for (i, x) in values.iter().enumerate() {
+            valid_with(ls, &ax.key, *x, first_speed).map_err(|(key, msg)| {
+                let field = match (key, &ax.values, i) {
+                    (KEY, ..) => "key",
+                    (_, Some(_), _) => "values",
+                    (_, None, 0) => "from",
+                    (_, None, i) if i + 1 == values.len() => "to",
+                    _ => "step",
+                };
+                ls.invalid(
+                    &format!("run.map.{name}.{field}"),
+                    format!("with `{} = {x}` the scene is invalid: {msg}", ax.key),
+                )
+            })?;
+        }
+    }
+    if total > MAX_MAP_CASES {
+        return Err(ls.invalid(
+            "run.map",
+            format!("has {total} cases; at most {MAX_MAP_CASES} are allowed"),
+        ));
     }
     Ok(())
 }

@@ -1,0 +1,24 @@
+#!/bin/bash
+# Submits a rubsim sweep or map to Slurm: an array of N shards (at most T running at once),
+# then the merge as a job that waits for the whole array. Prints the two job IDs.
+#
+#   scripts/slurm/submit.sh map scenes/paper/regime_map.toml out/map 32 8 [rubsim args…]
+#
+# RUBSIM (default: rubsim on PATH) is the binary the jobs run; extra arguments go to every
+# shard (e.g. --set key=value). SBATCH_* variables and sbatch options in the environment
+# (partition, account, time) apply as usual.
+set -euo pipefail
+if [ $# -lt 5 ]; then
+    echo "usage: $0 sweep|map SCENE OUT SHARDS THROTTLE [rubsim args…]" >&2
+    exit 2
+fi
+cmd=$1 scene=$2 out=$3 n=$4 throttle=$5
+shift 5
+here=$(cd "$(dirname "$0")" && pwd)
+mkdir -p "$out"
+array=$(sbatch --parsable --chdir="$PWD" --output="$out/slurm-%A_%a.out" \
+    --array="1-$n%$throttle" "$here/shard.sbatch" "$cmd" "$scene" "$out" "$n" "$@")
+array=${array%%;*}
+merge=$(sbatch --parsable --chdir="$PWD" --output="$out/slurm-merge-%j.out" \
+    --dependency="afterany:$array" "$here/merge.sbatch" "$out")
+echo "array $array merge ${merge%%;*}"

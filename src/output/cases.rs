@@ -1,0 +1,453 @@
+//! [`CaseStore`]: the finished cases of a sweep or map, one small file each, kept across runs.
+//!
+//! A sweep or map is a list of *cases* — a variant of the scene (its overrides) at one speed —
+//! each named by a stable id made of its parameters (`speed_ratio=1.7`,
+//! `stator.0.clearance_nd=0.4,speed_ratio=1.7`; [`crate::analysis::sweep::CaseSpec`]). As soon
+//! as a case is computed, its results are written to `cases/<id>.toml` (a temporary file, then
+//! a rename), and the command's tables and pictures are assembled from those files, so:
+//!
+//! - a run killed anywhere (even by SIGKILL) loses no finished case, and the next run of the
+//!   same command into the same directory computes only the cases still missing;
+//! - shards of one study (`--shard i/n`, each in `shard-<i>-of-<n>/` beside the others) and a
+//!   one-machine run write the same files, and `rubsim merge` assembles them the same way.
+//!
+//! **Files.** `cases/plan.json` ([`StorePlan`]) says whose cases these are: the command, the
+//! *scene hash* ([`scene_hash`]: the resolved scene with every override, the command and the
+//! program version), the scene's text and overrides (so `merge` rebuilds the same scene) and
+//! the summary's model record. A run whose scene hash differs is refused (or, with `--fresh`,
+//! the old cases are discarded first): cases of two scenes are never mixed. Each case file is
+//! TOML ([`CaseRecord`]: exact `f64` round trip, NaN included) ending with the line
+//! `# end <FNV-1a of everything above>`; a file without a matching end line is reported as
+//! half-written or damaged, naming it — never silently recomputed or read.
+//!
+//! **With the output protocol** ([`super::outdir`]): the folder is written only by the holder
+//! of the output directory's lock, directly (not staged): it is a journal of finished work,
+//! not a result. The commit's manifest never lists it, so a commit neither moves nor removes
+//! it; temporary files (`cases/.tmp-*`) left by a killed run are removed under the lock.
+//!
+//! **Test hooks.** `RUBSIM_CASE_LOG=<file>` appends each case id to the file when its case
+//! file is in place; `RUBSIM_KILL_AFTER_CASES=N` kills the process with SIGKILL right after
+//! its N-th case file (tests of resume).
+
+use crate::analysis::SpeedResults;
+use crate::error::{Error, Result};
+use crate::math::{Fnv128, V2};
+use crate::plot::Boundary;
+use crate::scene::Scene;
+use serde::{Deserialize, Serialize};
+use std::fs;
+use std::io::ErrorKind;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// The folder of the case files inside an output directory.
+pub const CASES_DIR: &str = "cases";
+/// The store's plan inside [`CASES_DIR`].
+pub const PLAN: &str = "plan.json";
+/// Version of the case-file format.
+pub const FORMAT: u32 = 1;
+/// Test hook: append every case id written to this file.
+pub const CASE_LOG_ENV: &str = "RUBSIM_CASE_LOG";
+/// Test hook: SIGKILL the process after this many case files.
+pub const KILL_ENV: &str = "RUBSIM_KILL_AFTER_CASES";
+const TMP_PREFIX: &str = ".tmp-";
+const END: &str = "# end ";
+
+/// Whose cases a store holds (`cases/plan.json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StorePlan {
+    /// Version of the format ([`FORMAT`]).
+    pub format: u32,
+    /// `"sweep"` or `"map"`.
+    pub command: String,
+    /// [`scene_hash`] of the scene and command.
+    pub scene_hash: String,
+    /// Version of the program that made the cases.
+    pub rubsim_version: String,
+    /// Number of cases of the whole study (every shard).
+    pub cases: usize,
+    /// The scene file as given on the command line.
+    pub scene_file: String,
+    /// The scene file's text.
+    pub source: String,
+    /// The overrides (`--set key=value`).
+    pub overrides: Vec<String>,
+    /// The `model` record of the summary (not rebuilt by `merge`).
+    pub model: serde_json::Value,
+}
+
+/// The identity of a study's cases: FNV-1a of the program version, the command and the
+/// resolved scene (every override applied) as JSON — without the output choices that change
+/// no case's results (`output.png`, `output.vtk`, `output.hdf5`, `output.per_speed`), so
+/// asking for other pictures or time series keeps the finished cases.
+pub fn scene_hash(command: &str, scene: &Scene) -> String {
+    let mut s = scene.clone();
+    s.output.png = true;
+    s.output.vtk = None;
+    s.output.hdf5 = None;
+    s.output.per_speed = Default::default();
+    let mut h = Fnv128::new();
+    h.write(env!("CARGO_PKG_VERSION").as_bytes());
+    h.write(command.as_bytes());
+    h.write(serde_json::to_string(&s).unwrap_or_default().as_bytes());
+    h.hex()
+}
+
+/// One finished case: its results with the heavy data the pictures draw.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct CaseRecord {
+    /// The case id.
+    pub id: String,
+    /// [`scene_hash`] of the study.
+    pub scene_hash: String,
+    /// Steady orbit / |Z0| (when kept).
+    pub orbit_nd: Vec<V2>,
+    /// Contact-force history (revolutions, force / |U|ω²) (when kept).
+    pub force_history: Vec<(f64, f64)>,
+    /// Spectrum (f/ω_n, amplitude / |Z0|) (when kept).
+    pub spectrum: Vec<(f64, f64)>,
+    /// The stator boundary drawn in orbit panels.
+    pub boundary: Boundary,
+    /// The results.
+    pub results: SpeedResults,
+}
+
+impl CaseRecord {
+    /// A record of `results` (its kept orbit, force history and spectrum moved in).
+    pub fn new(id: &str, scene_hash: &str, mut results: SpeedResults, boundary: Boundary) -> Self {
+        Self {
+            id: id.to_string(),
+            scene_hash: scene_hash.to_string(),
+            orbit_nd: std::mem::take(&mut results.orbit_nd),
+            force_history: std::mem::take(&mut results.force_history),
+            spectrum: std::mem::take(&mut results.spectrum),
+            boundary,
+            results,
+        }
+    }
+
+    /// The results with their orbit, force history and spectrum, and the boundary.
+    pub fn into_parts(self) -> (SpeedResults, Boundary) {
+        let mut r = self.results;
+        r.orbit_nd = self.orbit_nd;
+        r.force_history = self.force_history;
+        r.spectrum = self.spectrum;
+        (r, self.boundary)
+    }
+}
+
+/// The case files of one output directory (or shard folder); see the module docs.
+#[derive(Debug)]
+pub struct CaseStore {
+    dir: PathBuf,
+    plan: StorePlan,
+    written: AtomicUsize,
+}
+
+impl CaseStore {
+    /// Opens (creating it when needed) the store of the output directory `out`, whose lock the
+    /// caller holds. A store of another scene is refused, or emptied when `fresh`; temporary
+    /// files of a killed run are removed. Returns the store and a note for the user when old
+    /// cases were discarded.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the folder: cases of another scene (without `fresh`), a
+    /// damaged plan, or an I/O failure.
+    pub fn open(out: &Path, plan: StorePlan, fresh: bool) -> Result<(Self, Option<String>)> {
+        let dir = out.join(CASES_DIR);
+        let mut note = None;
+        if dir.exists() && (dir.join(PLAN).exists() || !no_cases(&dir)) {
+            let found = read_plan(&dir);
+            let same = matches!(&found, Ok(p) if p.scene_hash == plan.scene_hash);
+            if !same && fresh {
+                fs::remove_dir_all(&dir).map_err(|e| Error::output(&dir, e))?;
+                note = Some(format!(
+                    "{}: discarded the cases of an earlier study (--fresh)",
+                    dir.display()
+                ));
+            } else if !same {
+                return Err(Error::output(&dir, foreign_message(&found, &plan)));
+            }
+        }
+        fs::create_dir_all(&dir).map_err(|e| Error::output(&dir, e))?;
+        remove_temporaries(&dir);
+        let plan_path = dir.join(PLAN);
+        if !plan_path.exists() {
+            let text = serde_json::to_string_pretty(&plan).map_err(|e| Error::output(&dir, e))?;
+            write_atomic(&plan_path, text.as_bytes())?;
+        }
+        let store = Self {
+            dir,
+            plan,
+            written: AtomicUsize::new(0),
+        };
+        Ok((store, note))
+    }
+
+    /// Opens an existing store `dir` (a `cases/` folder) for reading.
+    ///
+    /// # Errors
+    /// [`Error::Output`] when it has no readable plan.
+    pub fn read_only(dir: &Path) -> Result<Self> {
+        let plan = read_plan(dir).map_err(|m| Error::output(dir.join(PLAN), m))?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            plan,
+            written: AtomicUsize::new(0),
+        })
+    }
+
+    /// The folder of the case files.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The store's plan.
+    pub fn plan(&self) -> &StorePlan {
+        &self.plan
+    }
+
+    /// The file of case `id`.
+    pub fn path(&self, id: &str) -> PathBuf {
+        self.dir.join(format!("{id}.toml"))
+    }
+
+    /// Whether case `id` is finished: its file exists and is whole (its end line matches).
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming a case file that is half-written or damaged.
+    pub fn finished(&self, id: &str) -> Result<bool> {
+        let p = self.path(id);
+        match fs::read_to_string(&p) {
+            Ok(text) => body(&p, &text).map(|_| true),
+            Err(e) if e.kind() == ErrorKind::NotFound => Ok(false),
+            Err(e) => Err(Error::output(&p, e)),
+        }
+    }
+
+    /// Writes `rec` to its case file (temporary file, then rename); may be called from
+    /// several threads at once for different cases.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file.
+    pub fn write(&self, rec: &CaseRecord) -> Result<()> {
+        let p = self.path(&rec.id);
+        let mut text = toml::to_string(rec).map_err(|e| Error::output(&p, e))?;
+        let mut h = Fnv128::new();
+        h.write(text.as_bytes());
+        text.push_str(&format!("{END}{}\n", h.hex()));
+        let tmp = self.dir.join(format!(
+            "{TMP_PREFIX}{}-{}",
+            std::process::id(),
+            self.written.fetch_add(1, Ordering::SeqCst)
+        ));
+        fs::write(&tmp, text).map_err(|e| Error::output(&tmp, e))?;
+        fs::rename(&tmp, &p).map_err(|e| Error::output(&p, e))?;
+        test_hooks(&rec.id);
+        Ok(())
+    }
+
+    /// Reads case `id`; `None` when it has no file.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file: half-written or damaged, of another case or of
+    /// another scene.
+    pub fn read(&self, id: &str) -> Result<Option<CaseRecord>> {
+        let p = self.path(id);
+        let text = match fs::read_to_string(&p) {
+            Ok(t) => t,
+            Err(e) if e.kind() == ErrorKind::NotFound => return Ok(None),
+            Err(e) => return Err(Error::output(&p, e)),
+        };
+        let rec: CaseRecord = toml::from_str(body(&p, &text)?)
+            .map_err(|e| Error::output(&p, format!("damaged case file: {}", e.message())))?;
+        if rec.id != id {
+            return Err(Error::output(
+                &p,
+                format!("holds case `{}`, not `{id}`", rec.id),
+            ));
+        }
+        if rec.scene_hash != self.plan.scene_hash {
+            return Err(Error::output(
+                &p,
+                format!(
+                    "is a case of another scene (hash {}, this study's is {})",
+                    rec.scene_hash, self.plan.scene_hash
+                ),
+            ));
+        }
+        Ok(Some(rec))
+    }
+}
+
+/// The text of a case file above its end line, when the end line matches it.
+fn body<'a>(p: &Path, text: &'a str) -> Result<&'a str> {
+    let half = |why: &str| {
+        Error::output(
+            p,
+            format!(
+                "half-written or damaged case file ({why}); delete it to have the case \
+                 computed again"
+            ),
+        )
+    };
+    let t = text.strip_suffix('\n').ok_or_else(|| half("no end line"))?;
+    let (head, end) = t
+        .rsplit_once('\n')
+        .map_or(("", t), |(a, b)| (&t[..a.len() + 1], b));
+    let hex = end.strip_prefix(END).ok_or_else(|| half("no end line"))?;
+    let mut h = Fnv128::new();
+    h.write(head.as_bytes());
+    if h.hex() != hex {
+        return Err(half("its end line does not match its content"));
+    }
+    Ok(head)
+}
+
+/// The plan of the store `dir`, or why it cannot be read.
+fn read_plan(dir: &Path) -> std::result::Result<StorePlan, String> {
+    let p = dir.join(PLAN);
+    let text = fs::read_to_string(&p).map_err(|e| match e.kind() {
+        ErrorKind::NotFound => format!("{} is missing", p.display()),
+        _ => format!("{}: {e}", p.display()),
+    })?;
+    let plan: StorePlan =
+        serde_json::from_str(&text).map_err(|e| format!("{}: damaged plan: {e}", p.display()))?;
+    if plan.format != FORMAT {
+        return Err(format!(
+            "{}: case format {} (this program reads format {FORMAT})",
+            p.display(),
+            plan.format
+        ));
+    }
+    Ok(plan)
+}
+
+/// Why a store is not this study's.
+fn foreign_message(found: &std::result::Result<StorePlan, String>, plan: &StorePlan) -> String {
+    let what = match found {
+        Ok(p) => format!(
+            "holds the cases of another scene (`rubsim {}` of {}{}, scene hash {})",
+            p.command,
+            p.scene_file,
+            if p.overrides.is_empty() {
+                String::new()
+            } else {
+                format!(" with --set {}", p.overrides.join(" --set "))
+            },
+            p.scene_hash
+        ),
+        Err(why) => format!("holds cases this run cannot identify ({why})"),
+    };
+    format!(
+        "{what}; this run's scene hash is {}. Cases of two scenes are never mixed: rerun with \
+         --fresh to discard them, or choose another --out",
+        plan.scene_hash
+    )
+}
+
+/// True when `dir` holds no case file (e.g. a run killed before it wrote its plan).
+fn no_cases(dir: &Path) -> bool {
+    fs::read_dir(dir).map_or(true, |rd| {
+        !rd.flatten()
+            .any(|e| e.file_name().to_string_lossy().ends_with(".toml"))
+    })
+}
+
+/// Removes the temporary files of killed runs (only the lock holder calls this).
+fn remove_temporaries(dir: &Path) {
+    let Ok(rd) = fs::read_dir(dir) else {
+        return;
+    };
+    for e in rd.flatten() {
+        if e.file_name().to_string_lossy().starts_with(TMP_PREFIX) {
+            let _ = fs::remove_file(e.path());
+        }
+    }
+}
+
+/// Writes `bytes` to `path` by a temporary file and a rename.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let tmp = path.with_file_name(format!("{TMP_PREFIX}{name}"));
+    fs::write(&tmp, bytes).map_err(|e| Error::output(&tmp, e))?;
+    fs::rename(&tmp, path).map_err(|e| Error::output(path, e))
+}
+
+/// The test hooks of the module docs, after the case file of `id` is in place.
+fn test_hooks(id: &str) {
+    use std::io::Write;
+    if let Some(log) = std::env::var_os(CASE_LOG_ENV) {
+        if let Ok(mut f) = fs::OpenOptions::new().append(true).create(true).open(log) {
+            let _ = f.write_all(format!("{id}\n").as_bytes());
+        }
+    }
+    static DONE: AtomicUsize = AtomicUsize::new(0);
+    let limit = std::env::var(KILL_ENV)
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok());
+    if let Some(n) = limit {
+        if DONE.fetch_add(1, Ordering::SeqCst) + 1 >= n {
+            eprintln!("rubsim: test hook {KILL_ENV}={n}: killing the process");
+            // SAFETY: raise(2) with a valid signal number has no memory-safety preconditions.
+            unsafe {
+                libc::raise(libc::SIGKILL);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sealed(body: &str) -> String {
+        let mut h = Fnv128::new();
+        h.write(body.as_bytes());
+        format!("{body}{END}{}\n", h.hex())
+    }
+
+    #[test]
+    fn a_case_file_is_whole_only_with_its_matching_end_line() {
+        let p = Path::new("cases/x.toml");
+        let text = sealed("id = \"x\"\nvalue = 1.5\n");
+        assert_eq!(body(p, &text).unwrap(), "id = \"x\"\nvalue = 1.5\n");
+        // Cut anywhere (at a line end too), or changed: named as half-written or damaged.
+        for cut in [0, 5, 12, text.len() - 1] {
+            let e = body(p, &text[..cut]).unwrap_err().to_string();
+            assert!(
+                e.contains("cases/x.toml") && e.contains("half-written"),
+                "{e}"
+            );
+        }
+        let changed = text.replace("1.5", "2.5");
+        assert!(body(p, &changed).is_err());
+    }
+
+    #[test]
+    fn a_store_killed_before_its_plan_is_reused_and_another_scene_refused() {
+        let tmp = tempfile::tempdir().unwrap();
+        let plan = |hash: &str| StorePlan {
+            format: FORMAT,
+            command: "sweep".into(),
+            scene_hash: hash.into(),
+            rubsim_version: "0".into(),
+            cases: 1,
+            scene_file: "s.toml".into(),
+            source: String::new(),
+            overrides: Vec::new(),
+            model: serde_json::Value::Null,
+        };
+        // A folder with only a temporary file: a run killed before its plan was in place.
+        fs::create_dir_all(tmp.path().join(CASES_DIR)).unwrap();
+        fs::write(tmp.path().join(CASES_DIR).join(".tmp-plan.json"), "{").unwrap();
+        let (s, note) = CaseStore::open(tmp.path(), plan("a"), false).unwrap();
+        assert!(note.is_none());
+        assert!(!s.dir().join(".tmp-plan.json").exists());
+        assert_eq!(CaseStore::read_only(s.dir()).unwrap().plan(), &plan("a"));
+        let e = CaseStore::open(tmp.path(), plan("b"), false).unwrap_err();
+        assert!(e.to_string().contains("--fresh"), "{e}");
+        let (_, note) = CaseStore::open(tmp.path(), plan("b"), true).unwrap();
+        assert!(note.unwrap().contains("discarded"));
+    }
+}
