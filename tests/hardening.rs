@@ -262,8 +262,14 @@ fn an_fe_rotor_without_a_bearing_is_blamed_on_its_bearings_not_on_a_stator() {
     // Issue 13, item 8: removing an FE rotor bearing (a zero stiffness, or both bearings on one
     // node) failed with "stator rod stiffness: matrix is singular … fix more DOFs": the rod's
     // stiffness ε k_r was round-off because k_r came from a numerically singular rotor K.
-    for set in ["rotor.bearing.0.stiffness=0", "rotor.bearing.1.node=0"] {
-        let err = refused(FE, &[set], &["rotor stiffness", "`rotor.bearing`"]);
+    // Each is now blamed on its own key, with the file and line.
+    for (set, key) in [
+        ("rotor.bearing.0.stiffness=0", "toml:27: key `rotor.bearing.0.stiffness`"),
+        ("rotor.bearing.1.node=0", "key `rotor.bearing.1.node`"),
+        ("rotor.bearing.1.kyy=0", "key `rotor.bearing.1.kyy`"),
+    ] {
+        let scene = if set.contains("kyy") { TWO } else { FE };
+        let err = refused(scene, &[set], &[key, "the rotor pivots"]);
         assert!(!err.contains("stator"), "{set}: blames a stator: {err}");
     }
 }
