@@ -264,7 +264,10 @@ fn an_fe_rotor_without_a_bearing_is_blamed_on_its_bearings_not_on_a_stator() {
     // stiffness ε k_r was round-off because k_r came from a numerically singular rotor K.
     // Each is now blamed on its own key, with the file and line.
     for (set, key) in [
-        ("rotor.bearing.0.stiffness=0", "toml:27: key `rotor.bearing.0.stiffness`"),
+        (
+            "rotor.bearing.0.stiffness=0",
+            "toml:27: key `rotor.bearing.0.stiffness`",
+        ),
         ("rotor.bearing.1.node=0", "key `rotor.bearing.1.node`"),
         ("rotor.bearing.1.kyy=0", "key `rotor.bearing.1.kyy`"),
     ] {
