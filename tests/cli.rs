@@ -532,6 +532,53 @@ fn station_away_from_the_analysed_response_is_no_false_divergence() {
 }
 
 #[test]
+fn a_stiff_rod_at_a_bearing_node_runs_at_the_planned_step() {
+    // Issue 13 follow-up: the rod (k_s = 2.5·10⁹ N/m) at the bearing node 0 of the FE paper
+    // rotor, collocated scheme. The plan took 0.8 × the Weyl-bound limit 1.957 µs (Δt =
+    // 1.56 µs), below the exact in-contact limit 1.981 µs, and the run diverged at step 684 412
+    // (≈ 45 revolutions): the contact switching on and off pumps energy into the step. The
+    // contact term of the bound now counts 1/φ² = 4 times (`time::CONTACT_SWITCHING_FACTOR`,
+    // limit 1.015 µs): the planned step runs, and a step above the reported limit is refused
+    // as such before it runs.
+    let tmp = TempDir::new().unwrap();
+    let scene = repo("scenes/fe/paper_rotor_rub.toml");
+    let scene = scene.to_str().unwrap();
+    let node = ["--set", "station.0.node=0"];
+    let check = ok(tmp.path(), &[&["check", scene][..], &node].concat());
+    let limit: f64 = check
+        .split("stability limit ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no stability limit in\n{check}"));
+    assert!(limit < 1.1e-6, "{limit}: was the linear 1.957 µs");
+    let out = tmp.path().join("o");
+    let run = [
+        "run",
+        scene,
+        "--speed",
+        "1.7",
+        "--set",
+        "run.revolutions=60",
+        "--set",
+        "run.transient_revolutions=10",
+        "--set",
+        "output.png=false",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    ok(tmp.path(), &[&run[..], &node].concat());
+    let res = &json(&out.join("summary.json"))["result"];
+    assert!(res["extents_nd"][1].as_f64().unwrap() < 2.0, "{res}");
+    let dt = format!("run.dt={:e}", 1.1 * limit);
+    let err = fails(tmp.path(), &[&run[..], &node, &["--set", &dt]].concat());
+    assert!(
+        err.contains("stability limit") && err.contains("switches on and off"),
+        "{err}"
+    );
+}
+
+#[test]
 fn undamped_rotor_runs_off_its_critical_speed_and_says_why_not_at_it() {
     // Issue 13, item 8: `rotor.damping_ratio=0` is legal, but the model was checked at ω_n
     // where |Z0| is infinite, and the rod placed at an infinite clearance failed as "stator rod

@@ -40,7 +40,7 @@ fn scene_seeds_and_regressions_load_without_panic() {
 
 #[test]
 fn msh_seeds_and_regressions_read_without_panic() {
-    assert!(replay("msh", targets::msh) >= 7);
+    assert!(replay("msh", targets::msh) >= 14);
 }
 
 #[test]
@@ -83,4 +83,38 @@ fn a_bearing_table_without_speeds_is_refused_naming_the_key() {
         err.contains("key `rotor.bearing.0.stiffness`") && err.contains("needs `speeds`"),
         "{err}"
     );
+}
+
+#[test]
+fn msh_section_counts_mshio_would_overflow_on_are_refused_naming_the_file() {
+    // Was: `mshio` computes `numEntries − 1` of a `$Nodes`/`$Elements` header unchecked — a
+    // panic (nodes_section.rs:39) with overflow checks, as in the fuzz build; without them a
+    // wrapped value and a mesh read from a header declaring no nodes. The check before `mshio`
+    // looked at the first "$Nodes\n" only, in little-endian: a section after CRLF, a second
+    // section, or the same bytes inside an earlier unknown section passed it (the fuzz `msh`
+    // run's crash after 761 285 executions, issue 13). Each file is in fuzz/regressions/msh/.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/regressions/msh");
+    for (file, says) in [
+        (
+            "nodes_zero_after_crlf.msh",
+            "$Nodes (byte 728) declares 0 nodes",
+        ),
+        ("nodes_zero_behind_decoy.msh", "declares 0 nodes"),
+        (
+            "nodes_zero_second_section.msh",
+            "$Nodes (line 46) declares 0 nodes",
+        ),
+        (
+            "elements_zero_after_crlf.msh",
+            "$Elements (line 46) declares 0 elements",
+        ),
+        ("dense_tags_past_u64.msh", "pass the largest tag"),
+    ] {
+        let path = dir.join(file);
+        let e = match rubsim::mesh::Mesh::read(&path) {
+            Ok(m) => format!("read, {} nodes", m.nodes.len()),
+            Err(e) => e.to_string(),
+        };
+        assert!(e.contains(file) && e.contains(says), "{file}: {e}");
+    }
 }

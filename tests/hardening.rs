@@ -262,8 +262,17 @@ fn an_fe_rotor_without_a_bearing_is_blamed_on_its_bearings_not_on_a_stator() {
     // Issue 13, item 8: removing an FE rotor bearing (a zero stiffness, or both bearings on one
     // node) failed with "stator rod stiffness: matrix is singular … fix more DOFs": the rod's
     // stiffness ε k_r was round-off because k_r came from a numerically singular rotor K.
-    for set in ["rotor.bearing.0.stiffness=0", "rotor.bearing.1.node=0"] {
-        let err = refused(FE, &[set], &["rotor stiffness", "`rotor.bearing`"]);
+    // Each is now blamed on its own key, with the file and line.
+    for (set, key) in [
+        (
+            "rotor.bearing.0.stiffness=0",
+            "toml:27: key `rotor.bearing.0.stiffness`",
+        ),
+        ("rotor.bearing.1.node=0", "key `rotor.bearing.1.node`"),
+        ("rotor.bearing.1.kyy=0", "key `rotor.bearing.1.kyy`"),
+    ] {
+        let scene = if set.contains("kyy") { TWO } else { FE };
+        let err = refused(scene, &[set], &[key, "the rotor pivots"]);
         assert!(!err.contains("stator"), "{set}: blames a stator: {err}");
     }
 }
@@ -277,4 +286,33 @@ fn huge_speed_profile_values_are_refused_naming_the_key() {
         &["run.speed_profile.to=1e308"],
         &["`run.speed_profile.to`", "1e100"],
     );
+}
+
+#[test]
+fn a_damping_ratio_without_physical_meaning_is_refused_naming_the_key() {
+    // Issue 13 follow-up: `rotor.damping_ratio=1e90` ran, with an orbit of 1e-90 of the
+    // clearance scale and an estimated error of 1.5e83. Above ξ = 10 (no resonance left) the
+    // value is refused: as a ratio, as the ratio a damping coefficient makes with the rotor's
+    // mass and stiffness, as a modal damping ratio.
+    refused(
+        PAPER,
+        &["rotor.damping_ratio=1e90"],
+        &["key `rotor.damping_ratio`", "above 10", "N·s/m"],
+    );
+    // The paper's rotor: m = 2.65 kg, k = 7.36e4 N/m, so 1e5 N·s/m is ξ ≈ 113.
+    refused(
+        PAPER,
+        &["rotor.damping=1.0e5"],
+        &["key `rotor.damping`", "a damping ratio of 1.1"],
+    );
+    refused(
+        FE,
+        &["rotor.modal_damping.ratio=11.0"],
+        &["key `rotor.modal_damping.ratio`", "above 10"],
+    );
+    // Overdamped but within the bound: legal.
+    for set in ["rotor.damping_ratio=10.0", "rotor.damping_ratio=2.0"] {
+        let (ok, _, err) = in_repo(&["check", PAPER, "--set", set]);
+        assert!(ok, "{set}: {err}");
+    }
 }

@@ -40,13 +40,11 @@ impl Mesh {
             file: path.to_path_buf(),
             message,
         };
-        check_version(bytes).map_err(parse_err)?;
-        for section in ["$Nodes", "$Elements"] {
-            check_section_header(bytes, section).map_err(parse_err)?;
-        }
+        let numbers = check_version(bytes).map_err(parse_err)?;
+        check_section_counts(bytes, numbers).map_err(parse_err)?;
         let msh = parse_with_mshio(bytes).map_err(parse_err)?;
         let names = physical_names(bytes).map_err(parse_err)?;
-        let (nodes, node_tags) = read_nodes(&msh);
+        let (nodes, node_tags) = read_nodes(&msh).map_err(parse_err)?;
         let index: HashMap<u64, usize> =
             node_tags.iter().enumerate().map(|(i, &t)| (t, i)).collect();
         if index.len() != node_tags.len() {
@@ -81,9 +79,20 @@ impl Mesh {
     }
 }
 
-/// Checks the `$MeshFormat` header: an MSH file of version 4.1. Done before `mshio` parses,
-/// since `mshio` reads 4.1 only and its errors on 2.2 files are cryptic.
-fn check_version(bytes: &[u8]) -> Result<(), String> {
+/// How the numbers after the `$MeshFormat` header are written, as `mshio` reads them: text, or
+/// binary in the byte order given by the test value `1` (an `int`) that follows the format line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Numbers {
+    /// ASCII file: integers as decimal digits between whitespace.
+    Text,
+    /// Binary file: `size_t` as 8 bytes, big-endian when `true`.
+    Binary { big_endian: bool },
+}
+
+/// Checks the `$MeshFormat` header: an MSH file of version 4.1 with 8-byte `size_t`; how its
+/// numbers are written. Done before `mshio` parses, since `mshio` reads 4.1 only, its errors on
+/// 2.2 files are cryptic and it panics on other data sizes.
+fn check_version(bytes: &[u8]) -> Result<Numbers, String> {
     if !bytes.starts_with(b"$MeshFormat") {
         return Err("the file does not start with $MeshFormat (not a gmsh .msh file?)".into());
     }
@@ -107,46 +116,111 @@ fn check_version(bytes: &[u8]) -> Result<(), String> {
             line.trim()
         ));
     }
-    Ok(())
-}
-
-/// Checks the counts that open `$Nodes` or `$Elements` (`numEntityBlocks num minTag maxTag`,
-/// text or 8-byte binary): at least one entry and `minTag ≤ maxTag` (`mshio` subtracts them
-/// unchecked; found by fuzzing).
-fn check_section_header(bytes: &[u8], section: &str) -> Result<(), String> {
-    let Some(start) = find(bytes, format!("{section}\n").as_bytes()) else {
-        return Ok(());
-    };
-    let body = &bytes[start + section.len() + 1..];
-    let binary = bytes
-        .get(..64)
-        .is_some_and(|h| find(h, b"4.1 1 8").is_some());
-    let v: Vec<u64> = if binary {
-        body.chunks_exact(8)
-            .take(4)
-            .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
-            .collect()
-    } else {
-        let line = body.split(|&b| b == b'\n').next().unwrap_or_default();
-        String::from_utf8_lossy(line)
-            .split_whitespace()
-            .take(4)
-            .map_while(|t| t.parse().ok())
-            .collect()
-    };
-    match v.as_slice() {
-        [_, n, lo, hi] if *n >= 1 && lo <= hi => Ok(()),
-        [_, 0, _, _] => Err(format!("{section} holds no entries")),
-        [_, _, lo, hi] => Err(format!(
-            "{section}: smallest tag {lo} above the largest {hi}"
-        )),
-        _ => Err(format!("{section}: cannot read the section's counts")),
+    if !binary {
+        return Ok(Numbers::Text);
+    }
+    // The test value follows the format line's end (its second `\n`), as `mshio` reads it:
+    // big-endian when it reads 1 that way, else little-endian when it reads 1 so.
+    let test = bytes
+        .iter()
+        .enumerate()
+        .filter(|(_, &b)| b == b'\n')
+        .nth(1)
+        .and_then(|(i, _)| bytes.get(i + 1..i + 5))
+        .and_then(|t| <[u8; 4]>::try_from(t).ok());
+    match test {
+        Some(t) if i32::from_be_bytes(t) == 1 => Ok(Numbers::Binary { big_endian: true }),
+        Some(t) if i32::from_le_bytes(t) == 1 => Ok(Numbers::Binary { big_endian: false }),
+        _ => Err(
+            "line 3: binary file without the byte-order test value 1 after the format line".into(),
+        ),
     }
 }
 
-/// The file through `mshio`. The input is checked before (header, see [`check_version`]) for
-/// what `mshio` is known to panic on; a panic that remains is caught and reported as an error
-/// rather than taking the program down (the fuzz target `msh` finds them: it aborts on any).
+/// Checks the counts that open every `$Nodes` and `$Elements` section (`numEntityBlocks
+/// numEntries minTag maxTag`): at least one entry and `minTag ≤ maxTag`. `mshio` computes
+/// `numEntries − 1` unchecked (an overflow panic with overflow checks, a wrapped value and a
+/// wrong reading without them; found by fuzzing). Every place `mshio` could take for the start of
+/// such a section is checked — each occurrence of the section's name followed by a line end,
+/// whatever precedes it (a section may follow another on the same line, sit after a CRLF, be
+/// repeated or be preceded by the same bytes inside another section) — with the counts read the
+/// way `mshio` reads them (text, or 8-byte integers in the file's byte order). Counts that do
+/// not read are left to `mshio`, which stops there with an error.
+fn check_section_counts(bytes: &[u8], numbers: Numbers) -> Result<(), String> {
+    for (section, what) in [("$Nodes", "nodes"), ("$Elements", "elements")] {
+        let mut from = 0;
+        while let Some(at) = find(&bytes[from..], section.as_bytes()).map(|i| i + from) {
+            from = at + section.len();
+            let rest = &bytes[from..];
+            let body = if rest.starts_with(b"\n") {
+                &rest[1..]
+            } else if rest.starts_with(b"\r\n") {
+                &rest[2..]
+            } else {
+                continue;
+            };
+            let Some([_, n, lo, hi]) = section_counts(body, numbers) else {
+                continue;
+            };
+            let place = match numbers {
+                Numbers::Text => format!(
+                    "line {}",
+                    bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1
+                ),
+                Numbers::Binary { .. } => format!("byte {at}"),
+            };
+            if n == 0 {
+                return Err(format!("{section} ({place}) declares 0 {what}"));
+            }
+            if lo > hi {
+                return Err(format!(
+                    "{section} ({place}): smallest tag {lo} above the largest {hi}"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The four counts opening a `$Nodes` or `$Elements` section, read from `body` (the bytes after
+/// the section's line end) the way `mshio` reads `size_t` values, or `None` where it cannot.
+fn section_counts(body: &[u8], numbers: Numbers) -> Option<[u64; 4]> {
+    let mut v = [0u64; 4];
+    match numbers {
+        Numbers::Binary { big_endian } => {
+            for (x, c) in v.iter_mut().zip(body.chunks_exact(8)) {
+                let c: [u8; 8] = c.try_into().ok()?;
+                *x = if big_endian {
+                    u64::from_be_bytes(c)
+                } else {
+                    u64::from_le_bytes(c)
+                };
+            }
+            (body.len() >= 32).then_some(v)
+        }
+        Numbers::Text => {
+            // `mshio`: whitespace (space, tab, CR, LF), one or more digits, whitespace.
+            let space = |b: &u8| b" \t\r\n".contains(b);
+            let mut rest = body;
+            for x in &mut v {
+                let start = rest.iter().position(|b| !space(b))?;
+                rest = &rest[start..];
+                let len = rest
+                    .iter()
+                    .position(|b| !b.is_ascii_digit())
+                    .unwrap_or(rest.len());
+                *x = std::str::from_utf8(&rest[..len]).ok()?.parse().ok()?;
+                rest = &rest[len..];
+            }
+            Some(v)
+        }
+    }
+}
+
+/// The file through `mshio`. The input is checked before for what `mshio` is known to panic on
+/// (the header, [`check_version`]; the section counts, [`check_section_counts`]); a panic that
+/// remains is caught and reported as an error rather than taking the program down (the fuzz
+/// target `msh`, whose panic hook aborts, still finds them).
 fn parse_with_mshio(bytes: &[u8]) -> Result<MshFile, String> {
     match std::panic::catch_unwind(|| {
         mshio::parse_msh_bytes(bytes).map_err(|e| mshio_message(bytes, &e))
@@ -177,12 +251,18 @@ fn mshio_message(bytes: &[u8], e: &mshio::MshParserError<&[u8]>) -> String {
     )
 }
 
-/// Node coordinates and gmsh tags, in file order.
-fn read_nodes(msh: &MshFile) -> (Vec<[f64; 3]>, Vec<u64>) {
+/// Node coordinates and gmsh tags, in file order. A dense numbering (no tags stored) counts up
+/// from the section's smallest tag; one that would pass 2⁶⁴ − 1 is an error.
+fn read_nodes(msh: &MshFile) -> Result<(Vec<[f64; 3]>, Vec<u64>), String> {
     let mut nodes = Vec::new();
     let mut node_tags = Vec::new();
     if let Some(nd) = &msh.data.nodes {
         let mut next_tag = nd.min_node_tag;
+        let past = |tag: u64, n: usize| {
+            tag.checked_add(n as u64).ok_or_else(|| {
+                format!("$Nodes: {n} nodes numbered from {tag} pass the largest tag 2^64 - 1")
+            })
+        };
         for b in &nd.node_blocks {
             let mut tags: Vec<u64> = match &b.node_tags {
                 Some(map) => {
@@ -193,16 +273,19 @@ fn read_nodes(msh: &MshFile) -> (Vec<[f64; 3]>, Vec<u64>) {
                     t
                 }
                 // Dense numbering: gmsh writes the tags of a dense file in block order.
-                None => (0..b.nodes.len() as u64).map(|i| next_tag + i).collect(),
+                None => {
+                    past(next_tag, b.nodes.len())?;
+                    (0..b.nodes.len() as u64).map(|i| next_tag + i).collect()
+                }
             };
-            next_tag += b.nodes.len() as u64;
+            next_tag = past(next_tag, b.nodes.len())?;
             for n in &b.nodes {
                 nodes.push([n.x, n.y, n.z]);
             }
             node_tags.append(&mut tags);
         }
     }
-    (nodes, node_tags)
+    Ok((nodes, node_tags))
 }
 
 /// The cell blocks of the types rubsim reads, connectivity mapped to node indices through
@@ -382,12 +465,74 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(
-            e.contains("tags.msh") && e.contains("$Nodes: smallest tag 5"),
+            e.contains("tags.msh") && e.contains("$Nodes (line 4): smallest tag 5"),
             "{e}"
         );
         let e = Mesh::parse(Path::new("x.msh"), b"hello")
             .unwrap_err()
             .to_string();
         assert!(e.contains("x.msh"), "{e}");
+    }
+
+    /// A binary header with the byte-order test value written `order`, then `body`.
+    fn binary(big_endian: bool, body: &[u8]) -> Vec<u8> {
+        let one = if big_endian {
+            1i32.to_be_bytes()
+        } else {
+            1i32.to_le_bytes()
+        };
+        let mut b = b"$MeshFormat\n4.1 1 8\n".to_vec();
+        b.extend(one);
+        b.extend(b"\n$EndMeshFormat\n");
+        b.extend(body);
+        b
+    }
+
+    #[test]
+    fn section_counts_are_read_in_the_files_byte_order() {
+        let counts = |v: [u64; 4], big: bool| -> Vec<u8> {
+            v.iter()
+                .flat_map(|x| {
+                    if big {
+                        x.to_be_bytes()
+                    } else {
+                        x.to_le_bytes()
+                    }
+                })
+                .collect()
+        };
+        for big in [false, true] {
+            let file = binary(big, b"");
+            let numbers = check_version(&file).unwrap();
+            assert_eq!(numbers, Numbers::Binary { big_endian: big });
+            let body = counts([1, 0, 1, 1], big);
+            assert_eq!(section_counts(&body, numbers), Some([1, 0, 1, 1]));
+            let mut file = binary(big, b"$Nodes\n");
+            file.extend(&body);
+            let e = check_section_counts(&file, numbers).unwrap_err();
+            assert_eq!(e, "$Nodes (byte 40) declares 0 nodes");
+            // Too short to hold the counts: left to mshio.
+            assert_eq!(section_counts(&body[..31], numbers), None);
+        }
+        // Neither byte order reads the test value as 1.
+        let mut file = binary(false, b"");
+        file[20..24].copy_from_slice(&2i32.to_le_bytes());
+        assert!(check_version(&file).unwrap_err().contains("byte-order"));
+    }
+
+    #[test]
+    fn text_counts_are_read_like_mshio_reads_them() {
+        let n = Numbers::Text;
+        assert_eq!(section_counts(b" 1\r\n2\t3 4\n", n), Some([1, 2, 3, 4]));
+        assert_eq!(section_counts(b"1 2 3", n), None);
+        assert_eq!(section_counts(b"1 2 3 x", n), None);
+        assert_eq!(section_counts(b"1 2 3 99999999999999999999", n), None);
+        // A name not followed by a line end is no section start; one after a section's end
+        // on the same line is.
+        let ok = b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodesx\n1 0 1 1\n";
+        assert!(check_section_counts(ok, n).is_ok());
+        let bad = b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$EndEntities$Elements\r\n1 0 1 1\n";
+        let e = check_section_counts(bad, n).unwrap_err();
+        assert_eq!(e, "$Elements (line 4) declares 0 elements");
     }
 }

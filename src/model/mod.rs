@@ -9,6 +9,7 @@
 //!
 //! The model does no file I/O and runs no mesher: meshes come read with the resolved data.
 
+mod blame;
 pub mod fe_rotor;
 pub mod rotor;
 pub mod speed_profile;
@@ -581,7 +582,8 @@ impl Model {
     /// Resolves a loaded scene ([`crate::resolve::resolve`]: checks, meshes) and builds its
     /// model.
     pub fn from_scene(ls: &LoadedScene) -> Result<Self, Error> {
-        Self::build(&crate::resolve::resolve(ls)?)
+        let r = crate::resolve::resolve(ls)?;
+        Self::build(&r).map_err(|e| blame::stators(ls, blame::bearings(ls, &r, e)))
     }
 
     /// Index of a station by name.
@@ -604,7 +606,12 @@ impl Model {
         let stators = self
             .stators
             .iter()
-            .map(|plan| self.stator_at(plan, omega, kr, &forced))
+            .enumerate()
+            .map(|(i, plan)| {
+                // A placement that never meets the rotor names the stator's `approach_deg`.
+                self.stator_at(plan, omega, kr, &forced)
+                    .map_err(|e| blame::approach(i, e))
+            })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Case {
             omega,

@@ -88,7 +88,12 @@ pub fn jeffcott(ls: &LoadedScene, s: &JeffcottSpec) -> Result<JeffcottData, Scen
         ("damping_ratio", s.damping_ratio),
         "rotor",
     )? {
-        OneOf::First(c) => c,
+        OneOf::First(c) => {
+            // The ratio `rotor.damping` makes (`rotor.damping_ratio` is bounded in validation).
+            let xi = c / (2.0 * (mass * stiffness).sqrt());
+            crate::scene::validate::damping_ratio_bound(ls, "rotor.damping", xi)?;
+            c
+        }
         OneOf::Second(xi) => 2.0 * xi * (mass * stiffness).sqrt(),
     };
     Ok(JeffcottData {

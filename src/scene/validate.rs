@@ -13,6 +13,7 @@ mod stator;
 use super::*;
 use crate::element::solid2d::Plane;
 use crate::error::SceneError;
+pub(crate) use rotor::damping_ratio_bound;
 use rotor::*;
 use run::*;
 use stator::*;
@@ -28,6 +29,15 @@ pub const MAX_REVOLUTIONS: usize = 100_000_000;
 pub const MAX_ROTOR_NODES: usize = 100_000;
 /// Most elements of a rod stator (`stator.*.elements`).
 pub const MAX_ROD_ELEMENTS: usize = 100_000;
+
+/// Largest damping ratio of a rotor (`rotor.damping_ratio`, the ratio that `rotor.damping`
+/// gives, c / (2√(m k)), and `rotor.modal_damping.ratio`). Rotor-bearing systems have ratios of
+/// a few percent to about 0.3, squeeze-film dampers up to about 1; at ξ = 10 the rotor has no
+/// resonance left (its slow pole sits at ω_n/(2ξ) = ω_n/20, its fast one at 2ξω_n) and the
+/// response is the damper's — a larger value is a unit mistake (a damping coefficient in N·s/m
+/// given as a ratio) or a typo, and its runs measure nothing (with ξ = 10⁹⁰ the orbit is 10⁻⁹⁰
+/// of the clearance scale and the error estimate 10⁸³).
+pub const MAX_DAMPING_RATIO: f64 = 10.0;
 
 /// Largest magnitude of any number in a scene: beyond it squares and fourth powers (areas,
 /// second moments, stiffnesses) overflow or lose every digit, and no physical value is near it.

@@ -70,7 +70,9 @@ pub use budget::{estimate, Budget};
 pub use compliance::EAGER_DOFS;
 pub use frame::{Frame, FrameSink, PairForce};
 pub use newmark::Alpha;
-pub use plan::{plan_duration, plan_steps, Scheme, StepParams, StepPlan, MAX_STEPS};
+pub use plan::{
+    plan_duration, plan_steps, Scheme, StepParams, StepPlan, CONTACT_SWITCHING_FACTOR, MAX_STEPS,
+};
 pub use record::{ContactStats, Record, RunStats};
 pub use stepper::{Initial, Sink, Stepper};
 

@@ -33,6 +33,7 @@ pub(super) fn validate_jeffcott(ls: &LoadedScene, j: &JeffcottSpec) -> Result<()
     }
     if let Some(z) = j.damping_ratio {
         non_negative(ls, "rotor.damping_ratio", z)?;
+        damping_ratio_bound(ls, "rotor.damping_ratio", z)?;
     }
     if let Some(d) = &j.disk {
         positive(ls, "rotor.disk.diameter", d.diameter)?;
@@ -124,6 +125,7 @@ pub(super) fn validate_fe_rotor(ls: &LoadedScene, f: &FeRotorSpec) -> Result<(),
     }
     if let Some(md) = &f.modal_damping {
         non_negative(ls, "rotor.modal_damping.ratio", md.ratio)?;
+        damping_ratio_bound(ls, "rotor.modal_damping.ratio", md.ratio)?;
         if let Some(w) = md.max_frequency {
             positive(ls, "rotor.modal_damping.max_frequency", w)?;
         }
@@ -399,6 +401,20 @@ pub(super) fn validate_supports(
                 ));
             }
         }
+    }
+    Ok(())
+}
+
+/// Refuses a damping ratio above [`MAX_DAMPING_RATIO`] at `key` (`xi` is the ratio the key
+/// gives, for `rotor.damping` the one it makes with the rotor's mass and stiffness).
+pub(crate) fn damping_ratio_bound(ls: &LoadedScene, key: &str, xi: f64) -> Result<(), SceneError> {
+    if xi > MAX_DAMPING_RATIO {
+        return Err(ls.invalid(
+            key,
+            format!(
+                "a damping ratio of {xi:e} is above {MAX_DAMPING_RATIO} (rotors have a few percent to about 1; at 10 no resonance is left): is it a damping coefficient in N·s/m?"
+            ),
+        ));
     }
     Ok(())
 }
