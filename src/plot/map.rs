@@ -10,8 +10,8 @@ use plotters::prelude::*;
 
 use super::chart::{no_data_figure, render_titled, Axes, Frame};
 use super::geom::finite_range;
-use super::mesh_field::{viridis, BAR_FRAME};
-use super::style::{fitting_font, font, tick_formatter, FIG_H, FIG_W, PALETTE, TICK_SIZE};
+use super::mesh_field::{colour_bar, viridis};
+use super::style::{font, tick_formatter, FIG_H, FIG_W, PALETTE};
 use crate::error::Result;
 
 /// Frame of the map chart.
@@ -148,26 +148,7 @@ pub fn field_map(
                 .iter()
                 .map(|s| PathElement::new(vec![s.0, s.1], BLACK.stroke_width(2))),
         )?;
-        let mut cb = BAR_FRAME
-            .builder(&bar)
-            .caption(value_label, fitting_font(&bar, value_label, 18.0)?)
-            .build_cartesian_2d(0.0..1.0, v0..v1)?;
-        cb.configure_mesh()
-            .disable_x_axis()
-            .disable_mesh()
-            .y_labels(6)
-            .y_label_formatter(&fv)
-            .label_style(font(TICK_SIZE))
-            .draw()?;
-        let n = 200;
-        cb.draw_series((0..n).map(|i| {
-            let a = v0 + (v1 - v0) * i as f64 / n as f64;
-            let b = v0 + (v1 - v0) * (i + 1) as f64 / n as f64;
-            Rectangle::new(
-                [(0.0, a), (1.0, b)],
-                viridis(0.5 * (a + b), v0, v1).filled(),
-            )
-        }))?;
+        colour_bar(&bar, value_label, (v0, v1), &fv, |v| viridis(v, v0, v1))?;
         Ok(())
     })
 }

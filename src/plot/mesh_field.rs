@@ -7,7 +7,7 @@ use plotters::prelude::*;
 
 use super::chart::{no_data_figure, render_titled, Axes, Frame};
 use super::geom::{finite_range, padded};
-use super::style::{fitting_font, font, tick_formatter, FIG_H, FIG_W, TICK_SIZE};
+use super::style::{fitting_font, font, tick_formatter, DrawResult, Root, FIG_H, FIG_W, TICK_SIZE};
 use crate::error::Result;
 
 /// Frame of the mesh chart (left of the colour bar).
@@ -79,26 +79,38 @@ pub fn mesh_field(
                 .iter()
                 .map(|m| Cross::new((1e3 * m.0, 1e3 * m.1), 5, BLACK.stroke_width(2))),
         )?;
-        // Colour bar.
-        let mut cb = BAR_FRAME
-            .builder(&bar)
-            .caption(value_label, fitting_font(&bar, value_label, 18.0)?)
-            .build_cartesian_2d(0.0..1.0, v0..v1)?;
-        cb.configure_mesh()
-            .disable_x_axis()
-            .disable_mesh()
-            .y_labels(6)
-            .y_label_formatter(&fv)
-            .label_style(font(TICK_SIZE))
-            .draw()?;
-        let n = 200;
-        cb.draw_series((0..n).map(|i| {
-            let a = v0 + (v1 - v0) * i as f64 / n as f64;
-            let b = v0 + (v1 - v0) * (i + 1) as f64 / n as f64;
-            Rectangle::new([(0.0, a), (1.0, b)], colour(0.5 * (a + b)).filled())
-        }))?;
+        colour_bar(&bar, value_label, (v0, v1), &fv, colour)?;
         Ok(())
     })
+}
+
+/// Draws a vertical colour bar filling `bar` ([`BAR_FRAME`]): `value_label` as its caption, the
+/// values `v0 … v1` on its axis (labelled by `fv`), 200 bands coloured by `colour(v)`.
+pub(super) fn colour_bar(
+    bar: &Root<'_>,
+    value_label: &str,
+    (v0, v1): (f64, f64),
+    fv: &dyn Fn(&f64) -> String,
+    colour: impl Fn(f64) -> RGBColor,
+) -> DrawResult {
+    let mut cb = BAR_FRAME
+        .builder(bar)
+        .caption(value_label, fitting_font(bar, value_label, 18.0)?)
+        .build_cartesian_2d(0.0..1.0, v0..v1)?;
+    cb.configure_mesh()
+        .disable_x_axis()
+        .disable_mesh()
+        .y_labels(6)
+        .y_label_formatter(fv)
+        .label_style(font(TICK_SIZE))
+        .draw()?;
+    let n = 200;
+    cb.draw_series((0..n).map(|i| {
+        let a = v0 + (v1 - v0) * i as f64 / n as f64;
+        let b = v0 + (v1 - v0) * (i + 1) as f64 / n as f64;
+        Rectangle::new([(0.0, a), (1.0, b)], colour(0.5 * (a + b)).filled())
+    }))?;
+    Ok(())
 }
 
 /// Colour of value `v` on the viridis scale over `v0..v1` (five stops, linear in between;
