@@ -80,7 +80,7 @@ pub fn category_map(
     let fy = tick_formatter(ey[0], ey[ey.len() - 1], 8);
     render_titled(path, (FIG_W, FIG_H), title, |body| {
         let (w, _) = body.dim_in_pixel();
-        let (plot, legend) = body.split_horizontally(w.saturating_sub(260));
+        let (plot, legend) = body.split_horizontally(w.saturating_sub(320));
         let mut chart = MAP_FRAME
             .builder(&plot)
             .build_cartesian_2d(ex[0]..ex[ex.len() - 1], ey[0]..ey[ey.len() - 1])?;
@@ -98,7 +98,7 @@ pub fn category_map(
                 continue;
             }
             legend.draw(&Rectangle::new([(20, y), (44, y + 24)], colour(k).filled()))?;
-            legend.draw_text(label, &font(20.0), (54, y + 2))?;
+            legend.draw_text(label, &font(18.0), (54, y + 3))?;
             y += 36;
         }
         Ok(())
