@@ -174,7 +174,9 @@ impl CaseStore {
         let plan_path = dir.join(PLAN);
         if !plan_path.exists() {
             let text = serde_json::to_string_pretty(&plan).map_err(|e| Error::output(&dir, e))?;
-            write_atomic(&plan_path, text.as_bytes())?;
+            let name = plan_path.file_name().unwrap_or_default().to_string_lossy();
+            let tmp = plan_path.with_file_name(format!("{TMP_PREFIX}{name}"));
+            write_atomic(&tmp, &plan_path, text.as_bytes())?;
         }
         let store = Self {
             dir,
@@ -241,8 +243,7 @@ impl CaseStore {
             std::process::id(),
             self.written.fetch_add(1, Ordering::SeqCst)
         ));
-        fs::write(&tmp, text).map_err(|e| Error::output(&tmp, e))?;
-        fs::rename(&tmp, &p).map_err(|e| Error::output(&p, e))?;
+        write_atomic(&tmp, &p, text.as_bytes())?;
         test_hooks(&rec.id);
         Ok(())
     }
@@ -366,12 +367,11 @@ fn remove_temporaries(dir: &Path) {
     }
 }
 
-/// Writes `bytes` to `path` by a temporary file and a rename.
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let name = path.file_name().unwrap_or_default().to_string_lossy();
-    let tmp = path.with_file_name(format!("{TMP_PREFIX}{name}"));
-    fs::write(&tmp, bytes).map_err(|e| Error::output(&tmp, e))?;
-    fs::rename(&tmp, path).map_err(|e| Error::output(path, e))
+/// Writes `bytes` to `path` through the temporary file `tmp` (in the same folder, named with
+/// [`TMP_PREFIX`] so an interrupted write is swept away) and a rename.
+fn write_atomic(tmp: &Path, path: &Path, bytes: &[u8]) -> Result<()> {
+    fs::write(tmp, bytes).map_err(|e| Error::output(tmp, e))?;
+    fs::rename(tmp, path).map_err(|e| Error::output(path, e))
 }
 
 /// The test hooks of the module docs, after the case file of `id` is in place.
