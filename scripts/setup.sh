@@ -2,7 +2,9 @@
 # Installs what rubsim needs on a fresh Debian machine (idempotent, quick when done):
 #   - Debian: gmsh (stator meshing), libhdf5-dev + pkg-config (HDF5 output), build tools
 #   - Python venv .venv with pyvista, vtk, meshio, h5py, pytest (post-processing scripts and
-#     tests) and imageio + imageio-ffmpeg (GIF/MP4 movies of post/animate.py)
+#     tests), imageio + imageio-ffmpeg (GIF/MP4 movies of post/animate.py) and ROSS
+#     (ross-rotordynamics, the version pip resolves; with plotly<6, which ROSS 2.3.0 needs to
+#     import) for tests/post/test_ross.py — about 65 s more on a fresh venv (docs/VALIDATION.md §7.3)
 # Needs root (or sudo) for apt-get. Skip parts with RUBSIM_SKIP_APT=1 / RUBSIM_SKIP_PY=1.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,5 +24,9 @@ if [ "${RUBSIM_SKIP_PY:-0}" != 1 ]; then
     python3 -m venv .venv
     .venv/bin/pip install -q --upgrade pip
     .venv/bin/pip install -q pyvista vtk meshio h5py pytest imageio imageio-ffmpeg
+  fi
+  if ! .venv/bin/python -c "import ross" >/dev/null 2>&1; then
+    echo "setup: installing ROSS (ross-rotordynamics, plotly<6) into .venv for tests/post/test_ross.py" >&2
+    .venv/bin/pip install -q ross-rotordynamics 'plotly<6'
   fi
 fi

@@ -218,8 +218,38 @@ fn import_ross_rotor_example_and_refusals() {
     for (g, w) in r.modes.iter().zip(ROSS_WD[2].1) {
         assert!((g.omega_d / w - 1.0).abs() < 1e-7, "{} vs {w}", g.omega_d);
     }
+    // A tapered element is read (its right end's diameters), and Rayleigh factors on every
+    // element come through as numbers.
+    let tapered =
+        rubsim::scene::ross::import(&path, &text.replacen("odr = 0.05", "odr = 0.06", 1)).unwrap();
+    assert!(tapered.contains("outer_diameter = 0.05\ninner_diameter = 0.0\nouter_diameter_right = 0.06\ninner_diameter_right = 0.0\n"), "{tapered}");
+    let damped = rubsim::scene::ross::import(
+        &path,
+        &text
+            .replace("alpha = 0.0", "alpha = 8.0501")
+            .replace("beta = 0.0", "beta = 1e-5"),
+    )
+    .unwrap();
+    assert!(damped.contains("rayleigh = [8.0501, 1e-5]\n"), "{damped}");
+    build(&common::parse(&tapered, NO_SETS));
+    build(&common::parse(&damped, NO_SETS));
     let cases = [
-        (text.replacen("odr = 0.05", "odr = 0.06", 1), "tapered"),
+        (
+            text.replacen("axial_force = 0", "axial_force = 10.0", 1),
+            "axial_force",
+        ),
+        (
+            text.replacen(
+                "shear_method_calc = \"cowper\"",
+                "shear_method_calc = \"hutchinson\"",
+                1,
+            ),
+            "hutchinson",
+        ),
+        (
+            text.replacen("n = 6\nscale_factor", "n = 6\nn_link = 7\nscale_factor", 1),
+            "n_link",
+        ),
         (
             text.replacen("mxx = [ 0,]", "mxx = [ 1.0,]", 1),
             "mass coefficient",

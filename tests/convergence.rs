@@ -133,16 +133,16 @@ fn simply_supported_frequencies_and_convergence_rate() {
 fn pinned_beam_first_frequency(n: usize, shear: bool, rotary_inertia: bool) -> f64 {
     use nalgebra::DMatrix;
     use rubsim::element::timoshenko::{shaft_element, ShaftSection};
-    let s = ShaftSection {
-        length: 2.0 / n as f64,
-        outer_diameter: 0.2,
-        inner_diameter: 0.0,
-        youngs_modulus: 2.1e11,
-        poisson: 0.3,
-        density: 7800.0,
+    let s = ShaftSection::cylinder(
+        2.0 / n as f64,
+        0.2,
+        0.0,
+        2.1e11,
+        0.3,
+        7800.0,
         shear,
         rotary_inertia,
-    };
+    );
     let e = shaft_element(&s);
     const XZ: [usize; 4] = [0, 3, 4, 7];
     let nd = 2 * (n + 1);

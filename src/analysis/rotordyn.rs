@@ -100,6 +100,12 @@ pub struct Mode {
     pub kind: ModeKind,
     /// Shares of the kinetic energy `φᴴ M φ` in the lateral, axial and torsional DOFs (sum 1).
     pub energy: [f64; 3],
+    /// The orbit of every node as ROSS's κ: `(R_f − R_b)/(R_f + R_b)` with the forward and
+    /// backward circle radii `R_f = |φ_x + iφ_y|/2`, `R_b = |φ_x − iφ_y|/2` — ± minor/major
+    /// semi-axis, positive for a forward orbit (sign of `Im(φ_x φ̄_y)`), 0 for a straight line or
+    /// a node at rest. ROSS calls a mode forward (backward) when every node's κ is > 0 (≤ 0),
+    /// else mixed; [`Mode::whirl`] weighs the nodes by their motion instead.
+    pub kappa: Vec<f64>,
     /// Normalised displacement shape `[φ_x, φ_y]` per node (largest component of the mode,
     /// lateral, axial or torsional, is 1).
     #[serde(skip)]
@@ -143,6 +149,22 @@ pub struct ModalResults {
     pub rigid_body: Vec<ModeKind>,
     /// Modes sorted by ω_d (positive-frequency members of the conjugate pairs).
     pub modes: Vec<Mode>,
+}
+
+/// [`Mode::kappa`] of each node of `shape`.
+fn orbit_kappa(shape: &[[Complex64; 2]]) -> Vec<f64> {
+    let i = Complex64::new(0.0, 1.0);
+    shape
+        .iter()
+        .map(|[x, y]| {
+            let (f, b) = ((x + i * y).norm(), (x - i * y).norm());
+            if f + b > 0.0 {
+                (f - b) / (f + b)
+            } else {
+                0.0
+            }
+        })
+        .collect()
 }
 
 fn whirl_of(shape: &[[Complex64; 2]]) -> Whirl {
@@ -266,9 +288,11 @@ fn elastic_modes(
 }
 
 /// Rotors with at most this many (elastic) DOFs are solved on the full modal basis: exact, and
-/// cheap at that size (the reduction's truncation error grows with Ω², 4e-7 of ω_d at
-/// 1000 rad/s on ROSS's `rotor_example` with 34 of its 40 modes).
-pub const FULL_BASIS: usize = 160;
+/// cheap at that size (the reduction's truncation error grows with Ω² and with damping that
+/// couples the modes: 4e-7 of ω_d at 1000 rad/s on ROSS's `rotor_example` with 34 of its 40
+/// modes, 1.6e-5 at 3000 rad/s on ROSS's `rotor_example_with_damping`, 202 elastic DOFs, with
+/// 34).
+pub const FULL_BASIS: usize = 256;
 
 /// Damped modes at spin speed `omega` (rad/s): at most `nmodes`, lowest ω_d first.
 ///
@@ -290,16 +314,26 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
     let ctot = dense(&Csc::lin_comb(1.0, &c, omega, &g));
     let cr = phi.transpose() * ctot * &phi;
     let n = nr;
+    // State [s_r η_r; η̇_r] with s_r = ω_r = √λ_r (1 for a mode at zero frequency): the
+    // first-order matrix [0, diag(s); −diag(λ/s), −Φᵀ(C + ΩG)Φ] has entries of the order of ω
+    // rather than ω², so its eigenvalues keep their relative accuracy next to very stiff modes
+    // (in the plain form [0, I; −Λ, −D] the low damped modes of ROSS's
+    // `rotor_example_with_damping`, ω²_max ~ 1e13, lost 2e-7 of ω_d and 2e-6 of ζ).
+    let scale: Vec<f64> = lam
+        .iter()
+        .take(n)
+        .map(|&l| if l > 0.0 { l.sqrt() } else { 1.0 })
+        .collect();
     let a = faer::Mat::<f64>::from_fn(2 * n, 2 * n, |i, j| {
         if i < n {
             if j == i + n {
-                1.0
+                scale[i]
             } else {
                 0.0
             }
         } else if j < n {
             if i - n == j {
-                -lam[j]
+                -lam[j] / scale[j]
             } else {
                 0.0
             }
@@ -331,7 +365,9 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
         if lam.im <= 1e-8 * (1.0 + lam.norm()) {
             continue;
         }
-        let full = |dof: usize| -> Complex64 { (0..n).map(|r| u[(r, j)] * phi[(dof, r)]).sum() };
+        let full = |dof: usize| -> Complex64 {
+            (0..n).map(|r| u[(r, j)] / scale[r] * phi[(dof, r)]).sum()
+        };
         let mut shape: Vec<[Complex64; 2]> = (0..nodes)
             .map(|i| {
                 let d = rotor.node_dofs(i);
@@ -371,6 +407,7 @@ pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, M
             whirl,
             kind,
             energy,
+            kappa: orbit_kappa(&shape),
             shape,
             shape_axial,
             shape_torsion,
@@ -468,11 +505,13 @@ fn split_degenerate_pairs(modes: &mut [Mode]) {
         modes[i].shape_torsion = to_bw;
         modes[i].shape_tilt = ti_bw;
         modes[i].whirl = whirl_of(&modes[i].shape);
+        modes[i].kappa = orbit_kappa(&modes[i].shape);
         modes[i2].shape = fw;
         modes[i2].shape_axial = ax_fw;
         modes[i2].shape_torsion = to_fw;
         modes[i2].shape_tilt = ti_fw;
         modes[i2].whirl = whirl_of(&modes[i2].shape);
+        modes[i2].kappa = orbit_kappa(&modes[i2].shape);
         if reshare {
             modes[i].energy = energy;
             modes[i2].energy = energy;

@@ -571,23 +571,23 @@ fn check(d: &FeRotorData) -> Result<(Vec<f64>, Vec<f64>), ModelError> {
     let mut z = vec![0.0; nn];
     let mut node_diameter = vec![0.0_f64; nn];
     for (i, e) in d.elements.iter().enumerate() {
+        let bad_end = |o: f64, d: f64| o.is_nan() || o <= d || d.is_nan() || d < 0.0;
         if e.length.is_nan()
             || e.length <= 0.0
-            || e.outer_diameter.is_nan()
-            || e.outer_diameter <= e.inner_diameter
-            || e.inner_diameter < 0.0
+            || bad_end(e.outer_diameter, e.inner_diameter)
+            || bad_end(e.outer_diameter_right, e.inner_diameter_right)
         {
             return Err(err(
                     format!("rotor shaft element {i}"),
                     format!(
-                        "needs length > 0 and outer diameter > inner diameter ≥ 0 (L = {}, D = {}, d = {})",
-                        e.length, e.outer_diameter, e.inner_diameter
+                        "needs length > 0 and outer diameter > inner diameter ≥ 0 at both ends (L = {}, D = {} … {}, d = {} … {})",
+                        e.length, e.outer_diameter, e.outer_diameter_right, e.inner_diameter, e.inner_diameter_right
                     ),
                 ));
         }
         z[i + 1] = z[i] + e.length;
         node_diameter[i] = node_diameter[i].max(e.outer_diameter);
-        node_diameter[i + 1] = e.outer_diameter;
+        node_diameter[i + 1] = e.outer_diameter_right;
     }
     let check_node = |what: String, n: usize| -> Result<(), ModelError> {
         if n >= nn {
@@ -689,7 +689,7 @@ impl Triplets {
             scatter(&mut gt, &dofs, el.g.as_flattened());
             rayleigh(&dofs, el.m.as_flattened(), el.k.as_flattened());
             total_mass += e.mass();
-            total_ip += e.density * 2.0 * e.inertia() * e.length;
+            total_ip += e.spin_inertia();
         }
         for dk in &d.disks {
             let (m, g) = disk(dk.mass, dk.id, dk.ip);

@@ -197,11 +197,11 @@ pub fn write_campbell(out: &mut OutDir, speeds: &[f64], res: &CampbellResults) -
     out.write("campbell.csv", csv.as_bytes())
 }
 
-/// Writes `unbalance.csv`: one row per speed and node.
+/// Writes `unbalance.csv`: one row per speed and node (10 significant digits, phases to 1e-6°).
 pub fn write_unbalance(out: &mut OutDir, res: &[ResponsePoint]) -> Result<()> {
     let rows = res.iter().map(|r| {
         format!(
-            "{:.6e},{},{:.6e},{:.3},{:.6e},{:.3},{:.6e}",
+            "{:.9e},{},{:.9e},{:.6},{:.9e},{:.6},{:.9e}",
             r.speed, r.node, r.x_amp, r.x_phase_deg, r.y_amp, r.y_phase_deg, r.major
         )
     });

@@ -268,17 +268,34 @@ pub fn fe_rotor(ls: &LoadedScene, s: &FeRotorSpec) -> Result<FeRotorData, SceneE
                 "give `material` or `youngs_modulus` and `density`",
             ));
         };
-        let section = ShaftSection {
-            length: seg.length / seg.elements as f64,
-            outer_diameter: seg.outer_diameter,
-            inner_diameter: seg.inner_diameter,
+        let section = ShaftSection::cylinder(
+            seg.length / seg.elements as f64,
+            seg.outer_diameter,
+            seg.inner_diameter,
             youngs_modulus,
-            poisson: seg.poisson.or(named.map(|m| m.1)).unwrap_or(0.3),
+            seg.poisson.or(named.map(|m| m.1)).unwrap_or(0.3),
             density,
-            shear: s.shear,
-            rotary_inertia: s.rotary_inertia,
-        };
-        elements.extend(std::iter::repeat_n(section, seg.elements));
+            s.shear,
+            s.rotary_inertia,
+        );
+        let (od_r, id_r) = (
+            seg.outer_diameter_right.unwrap_or(seg.outer_diameter),
+            seg.inner_diameter_right.unwrap_or(seg.inner_diameter),
+        );
+        if od_r == seg.outer_diameter && id_r == seg.inner_diameter {
+            elements.extend(std::iter::repeat_n(section, seg.elements));
+        } else {
+            // A conical segment: equal elements, diameters linear in z along the segment.
+            let n = seg.elements as f64;
+            let at = |l: f64, r: f64, j: usize| l + (r - l) * j as f64 / n;
+            elements.extend((0..seg.elements).map(|j| ShaftSection {
+                outer_diameter: at(seg.outer_diameter, od_r, j),
+                inner_diameter: at(seg.inner_diameter, id_r, j),
+                outer_diameter_right: at(seg.outer_diameter, od_r, j + 1),
+                inner_diameter_right: at(seg.inner_diameter, id_r, j + 1),
+                ..section
+            }));
+        }
     }
     let mut disks = Vec::with_capacity(s.disk.len());
     for (i, d) in s.disk.iter().enumerate() {

@@ -6,15 +6,15 @@
 //! and a `material` sub-table with `rho`, `E`, `G_s`), `DiskElement_…` (`n`, `m`, `Id`, `Ip`),
 //! `BearingElement_…` (`n`, coefficient lists `kxx … kzz`, `cxx … czz`, `mxx … mzz`, and
 //! `frequency` when they are tabulated), `PointMass_…` (`n`, `m` or `mx`, `my`). They map to
-//! `[[rotor.shaft]]` segments of one element each (ν = E/(2G) − 1), `[[rotor.disk]]` by
+//! `[[rotor.shaft]]` segments of one element each (ν = E/(2G) − 1; a tapered element, `idl ≠ idr`
+//! or `odl ≠ odr`, with `outer_diameter_right`, `inner_diameter_right`), `[[rotor.disk]]` by
 //! inertias, `[[rotor.bearing]]` with `kxx … cyy` (tables over `speeds` when ROSS gives a
 //! `frequency`), `[[rotor.point_mass]]`. ROSS's rotor is 6-DOF: the scene has `axial = true`,
 //! `torsion = true`; a bearing's `kzz`, `czz` becomes an `[[rotor.axial_support]]` (kzz = 0
 //! everywhere leaves u_z free), θ_z is always free. Rayleigh `alpha`, `beta` act on the shaft
 //! elements (`rayleigh_on = "shaft"`).
 //!
-//! What rubsim cannot represent is refused by the element's table name: tapered elements,
-//! elements that differ in their switches or Rayleigh factors, axial force or torque on an
+//! What rubsim cannot represent is refused by the element's table name: elements that differ in their switches or Rayleigh factors, axial force or torque on an
 //! element, bearing mass coefficients, speed-dependent kzz, bearings linked to another node
 //! (`n_link`), point masses with mx ≠ my, and every other element class (seals, magnetic
 //! bearings, …).
@@ -106,6 +106,7 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
         }
     }
     let (shear, rot, gyro, alpha, beta) = first.2.flags;
+    let (alpha, beta) = (f64::from_bits(alpha), f64::from_bits(beta));
     let _ = writeln!(
         out,
         "# Imported from ROSS ({}) by `rubsim import-ross`.\ntitle = \"ROSS rotor {}\"\n[rotor]\nkind = \"fe\"\naxial = true\ntorsion = true\nshear = {shear}\nrotary_inertia = {rot}\ngyroscopic = {gyro}\nrayleigh = [{alpha:?}, {beta:?}]\nrayleigh_on = \"shaft\"",
@@ -134,9 +135,11 @@ fn shaft(
     let flag = |k: &str| t.get(k).and_then(Value::as_bool).unwrap_or(true);
     let (idl, odl, idr, odr) = (num("idl")?, num("odl")?, num("idr")?, num("odr")?);
     let refuse = |m: String| Err(bad(m));
-    if idl != idr || odl != odr {
-        return refuse(format!("tapered element (idl {idl}, idr {idr}, odl {odl}, odr {odr}): rubsim's shaft elements are cylindrical"));
-    }
+    let right = if idl != idr || odl != odr {
+        format!("outer_diameter_right = {odr:?}\ninner_diameter_right = {idr:?}\n")
+    } else {
+        String::new()
+    };
     for k in ["axial_force", "torque"] {
         if num(k).unwrap_or(0.0) != 0.0 {
             return refuse(format!(
@@ -165,7 +168,7 @@ fn shaft(
     let beta = num("beta").unwrap_or(0.0);
     Ok(Shaft {
         toml: format!(
-            "[[rotor.shaft]]\nlength = {:?}\nouter_diameter = {odl:?}\ninner_diameter = {idl:?}\nelements = 1\nyoungs_modulus = {e:?}\npoisson = {:?}\ndensity = {rho:?}\n",
+            "[[rotor.shaft]]\nlength = {:?}\nouter_diameter = {odl:?}\ninner_diameter = {idl:?}\n{right}elements = 1\nyoungs_modulus = {e:?}\npoisson = {:?}\ndensity = {rho:?}\n",
             num("L")?,
             e / (2.0 * g) - 1.0
         ),

@@ -127,7 +127,8 @@ pub struct GroundSpringSpec {
     pub damping: f64,
 }
 
-/// A uniform shaft segment. Material by `material` name (`steel`: E 211 GPa, ν 0.3,
+/// A shaft segment, uniform or conical (`outer_diameter_right`, `inner_diameter_right`: the
+/// diameters at its right end, linear in z from the left ones; ROSS's tapered elements). Material by `material` name (`steel`: E 211 GPa, ν 0.3,
 /// ρ 7810 kg/m³; `aluminium`: 69 GPa, 0.33, 2700; `titanium`: 110 GPa, 0.34, 4430) or by
 /// `youngs_modulus`, `poisson`, `density` (these override the named values).
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -140,6 +141,12 @@ pub struct ShaftSegmentSpec {
     /// Inner diameter (m), 0 for solid.
     #[serde(default)]
     pub inner_diameter: f64,
+    /// Outer diameter at the segment's right end (m); default `outer_diameter` (uniform).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outer_diameter_right: Option<f64>,
+    /// Inner diameter at the segment's right end (m); default `inner_diameter`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inner_diameter_right: Option<f64>,
     /// Number of equal elements.
     #[serde(default = "one")]
     pub elements: usize,

@@ -159,6 +159,27 @@ pub(super) fn validate_shaft(ls: &LoadedScene, f: &FeRotorSpec) -> Result<usize,
         if seg.inner_diameter >= seg.outer_diameter {
             return Err(ls.invalid(&k("inner_diameter"), "must be smaller than outer_diameter"));
         }
+        if let Some(od) = seg.outer_diameter_right {
+            positive(ls, &k("outer_diameter_right"), od)?;
+        }
+        if let Some(id) = seg.inner_diameter_right {
+            non_negative(ls, &k("inner_diameter_right"), id)?;
+        }
+        let (od_r, id_r) = (
+            seg.outer_diameter_right.unwrap_or(seg.outer_diameter),
+            seg.inner_diameter_right.unwrap_or(seg.inner_diameter),
+        );
+        if id_r >= od_r {
+            let key = if seg.inner_diameter_right.is_some() {
+                "inner_diameter_right"
+            } else {
+                "outer_diameter_right"
+            };
+            return Err(ls.invalid(
+                &k(key),
+                format!("the right end needs inner diameter {id_r} < outer diameter {od_r}"),
+            ));
+        }
         if seg.elements == 0 {
             return Err(ls.invalid(&k("elements"), "must be at least 1"));
         }
