@@ -36,6 +36,7 @@
 //! `A(ξ) = π(D(ξ)² − d(ξ)²)/4`, `I(ξ) = π(D(ξ)⁴ − d(ξ)⁴)/64` (quadratic and quartic in ξ):
 //! * `K = ∫ E I(ξ) N_φ′ᵀN_φ′ dz + ∫ κ_s G A(ξ) γᵀγ dz`, γ = N_w′ − N_φ (constant along z);
 //! * `M_t = ∫ ρ A(ξ) N_wᵀN_w dz`, `M_r = ∫ ρ I(ξ) N_φᵀN_φ dz`, `G` from `M_r` as above;
+//!
 //! integrands of degree ≤ 8 in ξ, integrated exactly by 5-point Gauss–Legendre. These are
 //! ROSS's closed-form tapered matrices (its a₁, b₁, a₂, b₂, γ, δ polynomial coefficients),
 //! checked entry by entry to 1e-15. A cylindrical element (equal ends) uses the closed forms
