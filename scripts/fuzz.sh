@@ -12,6 +12,11 @@
 # missing). Runs on the stable toolchain: cargo-fuzz passes nightly `-Z` flags to rustc, which
 # RUSTC_BOOTSTRAP=1 lets the stable compiler accept. FUZZ_SANITIZER=none builds without
 # AddressSanitizer (faster; panics and aborts are still caught).
+#
+# FUZZ_BUILD=quick (CI, .ci/run) builds cheaply for a short run: no sanitizer, opt-level 1,
+# line tables only, 16 codegen units, in its own target directory fuzz/target/quick (so it never
+# invalidates the full build's artifacts). The coverage instrumentation, debug assertions and
+# overflow checks stay; the inputs run slower than in the full build.
 set -euo pipefail
 cd "$(dirname "$0")/../fuzz"
 export RUSTC_BOOTSTRAP=1
@@ -23,6 +28,16 @@ if [ ${#targets[@]} -eq 0 ]; then
   targets=(scene msh manifest)
 fi
 sanitizer="${FUZZ_SANITIZER:-address}"
+build=()
+case "${FUZZ_BUILD:-full}" in
+  full) ;;
+  quick)
+    sanitizer="${FUZZ_SANITIZER:-none}"
+    export CARGO_PROFILE_RELEASE_OPT_LEVEL=1 CARGO_PROFILE_RELEASE_DEBUG=line-tables-only
+    build=(--codegen-units 16 --target-dir target/quick)
+    ;;
+  *) echo "scripts/fuzz.sh: FUZZ_BUILD is full or quick, not ${FUZZ_BUILD}" >&2; exit 2 ;;
+esac
 limit=(-max_total_time="${FUZZ_TIME:-30}")
 if [ -n "${FUZZ_RUNS:-}" ]; then
   limit=(-runs="$FUZZ_RUNS")
@@ -35,8 +50,8 @@ for t in "${targets[@]}"; do
     *) echo "scripts/fuzz.sh: unknown target $t (scene, msh, manifest)" >&2; exit 2 ;;
   esac
   mkdir -p "corpus/$t"
-  echo "== fuzz $t (${limit[*]}, sanitizer $sanitizer)"
+  echo "== fuzz $t (${limit[*]}, sanitizer $sanitizer, ${FUZZ_BUILD:-full} build)"
   # -timeout: an input running 10 s is a hang; -rss_limit_mb: 2 GB of memory is a failure.
-  cargo fuzz run --sanitizer "$sanitizer" "$t" "corpus/$t" "seeds/$t" -- \
+  cargo fuzz run --sanitizer "$sanitizer" "${build[@]}" "$t" "corpus/$t" "seeds/$t" -- \
     "${limit[@]}" -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1
 done

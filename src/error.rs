@@ -278,6 +278,13 @@ pub enum SolveError {
         /// Why.
         reason: String,
     },
+    /// An implicit scheme asked to run a speed transient of a gyroscopic rotor: the Ω(t) G and
+    /// Ω̇ K_st terms are corrected on the central-difference factor M̃ only (`time::spin`).
+    #[error("the {integrator} integrator does not run speed transients of a gyroscopic rotor yet (the Ω(t)G and Ω̇ K_st terms are corrected for the explicit schemes only): use forward_increment or collocated (`run.integrator`) with `run.speed_profile`")]
+    GyroscopicTransient {
+        /// Integrator name.
+        integrator: String,
+    },
     /// The step plan needs more steps than one run may take (`run.max_steps`).
     #[error("the run needs {steps:.3e} steps ({steps_per_rev:.3e} per revolution × {revolutions} revolutions; Δt = {dt:.3e} s, set by {why}), above the limit of {max} steps (`run.max_steps`): {advice}")]
     TooManySteps {

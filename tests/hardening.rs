@@ -316,3 +316,33 @@ fn a_damping_ratio_without_physical_meaning_is_refused_naming_the_key() {
         assert!(ok, "{set}: {err}");
     }
 }
+
+#[test]
+fn the_last_mutants_refused_without_their_key_now_name_it() {
+    // A zero bearing stiffness on Friswell's two-disk rotor: K's factorisation missed the
+    // singularity by round-off (ω_n = 1.5e-4 rad/s), and only the step budget refused the run,
+    // naming `run.max_steps`. The bearings are now checked on the data: a rotor held at fewer
+    // than two nodes pivots.
+    let err = refused(
+        "scenes/fe/friswell_5_9_1.toml",
+        &["rotor.bearing.1.stiffness=0"],
+        &[
+            "friswell_5_9_1.toml:34: key `rotor.bearing.1.stiffness`",
+            "the rotor pivots",
+        ],
+    );
+    assert!(!err.contains("run.max_steps"), "{err}");
+    // The segmented casing without its support beams: the segments float, and the
+    // factorisation said only "free rigid-body or mechanism mode" for the stator. The supports
+    // are now found to hold no node of the stator's elements, on a curve group that lacks its
+    // `frames` entry.
+    refused(
+        "scenes/stators/segmented_casing_beams.toml",
+        &["stator.0.frames=[]"],
+        &[
+            "segmented_casing_beams.toml:38: key `stator.0.frames`",
+            "the group(s) support",
+            "rigid-body mode",
+        ],
+    );
+}

@@ -366,9 +366,32 @@ fn implicit_schemes_refuse_gyroscopic_transients_by_name() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("run.integrator") && e.contains("gyroscopic"),
+        e.contains("`run.integrator`") && e.contains("gyroscopic"),
         "{e}"
     );
+    // The stepper refuses it too, typed, when it is driven directly (not through
+    // `prepare_transient`); the same stepper runs the profile with an explicit scheme.
+    let s = settings(&ls);
+    let case = model.case(110.0).unwrap();
+    let profile = rubsim::model::SpeedProfile::ramp(100.0, 120.0, 2.0, 0.0).unwrap();
+    let plan = rubsim::time::plan_duration(&case, &s.step, 120.0, 2.0).unwrap();
+    let stepper = |scheme| {
+        rubsim::time::Stepper::with_profile(
+            &case,
+            scheme,
+            &plan,
+            Default::default(),
+            Some(&profile),
+        )
+    };
+    let Err(e) = stepper(s.step.integrator) else {
+        panic!("an implicit gyroscopic transient was accepted by the stepper");
+    };
+    assert!(
+        matches!(&e, rubsim::error::SolveError::GyroscopicTransient { integrator } if integrator == "generalized_alpha"),
+        "{e}"
+    );
+    assert!(stepper(rubsim::time::Scheme::Collocated).is_ok());
     let plain = text.replace("kind = \"fe\"\n", "kind = \"fe\"\ngyroscopic = false\n");
     assert_ne!(plain, text);
     let r = run(&plain, &[]);

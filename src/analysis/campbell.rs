@@ -27,6 +27,7 @@
 use crate::analysis::rotordyn::{modal, mode_label, mode_mac, Mode, ModeKind, Whirl};
 use crate::error::ModelError;
 use crate::model::Rotor;
+use crate::scene::SpeedUnit;
 use serde::Serialize;
 
 /// Track cost above which a match is refined.
@@ -279,7 +280,7 @@ fn critical_speeds(speeds: &[f64], tracks: &[Track]) -> Vec<CriticalSpeed> {
                     whirl: track.whirls[i],
                     kind: track.kind,
                     speed: s,
-                    rpm: s * 30.0 / std::f64::consts::PI,
+                    rpm: SpeedUnit::rpm(s),
                 });
             }
         }

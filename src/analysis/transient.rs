@@ -8,7 +8,7 @@
 
 use super::speed::Fanout;
 use super::RunSettings;
-use crate::error::{ModelError, Result};
+use crate::error::{ModelError, Result, SolveError};
 use crate::model::{Case, Model, SpeedProfile};
 use crate::scene::SpeedProfileSpec;
 use crate::time::{plan_duration, FrameSink, Record, RunStats, StepPlan, Stepper};
@@ -74,10 +74,10 @@ pub fn prepare_transient(
     let case = model.case(omega_ref)?;
     if case.rotor.gyro.is_some() && settings.step.integrator.implicit().is_some() {
         // `time::spin` corrects the central-difference prediction on M̃'s factor; the implicit
-        // operator S would need Ω(t)G inside it (refactored as Ω moves), not built yet.
-        return Err(ModelError::Inconsistent {
-            what: "run.integrator".into(),
-            message: "the implicit schemes do not run speed transients of a gyroscopic rotor yet (the Ω(t)G and Ω̇ K_st terms are corrected for the explicit schemes only) — use forward_increment or collocated with run.speed_profile".into(),
+        // operator S would need Ω(t)G inside it (refactored as Ω moves), not built yet. The
+        // stepper refuses it too (`Stepper::with_profile`); here before anything is planned.
+        return Err(SolveError::GyroscopicTransient {
+            integrator: settings.step.integrator.name().into(),
         }
         .into());
     }

@@ -5,6 +5,7 @@ use super::{default_out, finish, load, Common, UnitArg};
 use anyhow::{Context, Result};
 use rubsim::analysis::{campbell, rotordyn};
 use rubsim::output::{csv, figures, summary};
+use rubsim::scene::SpeedUnit;
 use std::path::PathBuf;
 
 /// Modes at one speed (in its unit, default 0) and the static deflection under gravity.
@@ -24,7 +25,7 @@ pub fn modal(
     println!("rotor: {}", model.rotor.describe());
     println!(
         "modes at Ω = {omega} rad/s ({} rpm, ω/ωn = {}):",
-        omega * 30.0 / std::f64::consts::PI,
+        SpeedUnit::rpm(omega),
         omega / wn
     );
     println!(

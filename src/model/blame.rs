@@ -87,7 +87,8 @@ pub(super) fn bearings(ls: &LoadedScene, r: &Resolved, e: Error) -> Error {
 /// A stator error of the model stage blamed on the key that made it, with the file and line,
 /// where one can tell: a meshed stator that is a mechanism — `stator.<i>.springs.<j>.stiffness`
 /// for a grounded spring of zero stiffness, `stator.<i>.fixed` when it has no support at all
-/// (no `fixed`, `fixed_x`, `fixed_y`, `fixed_z`, no spring); a placement along `approach_deg`
+/// (no `fixed`, `fixed_x`, `fixed_y`, `fixed_z`, no spring) or its supports hold no node of its
+/// elements, `stator.<i>.frames` when they lie on curve groups without a `frames` entry; a placement along `approach_deg`
 /// that never meets the rotor — `stator.<i>.approach_deg`. Otherwise `e` as it is.
 pub(super) fn stators(ls: &LoadedScene, e: Error) -> Error {
     use crate::scene::StatorSpec;
@@ -107,6 +108,16 @@ pub(super) fn stators(ls: &LoadedScene, e: Error) -> Error {
                 Some(j) => format!("stator.{i}.springs.{j}.stiffness"),
                 None if m.fixed.is_empty() => format!("stator.{i}.fixed"),
                 None => return e,
+            }
+        }
+        Error::Model(ModelError::Inconsistent { what, message })
+            if message.contains("hold no node of the stator's cells or frames") =>
+        {
+            let Some(i) = index(what) else { return e };
+            if message.contains("carry no `frames` entry") {
+                format!("stator.{i}.frames")
+            } else {
+                format!("stator.{i}.fixed")
             }
         }
         Error::Model(ModelError::Inconsistent { what, message })

@@ -543,12 +543,7 @@ impl FeRotor {
         let lu = k.lu();
         let mut e = DVector::zeros(nl);
         e[4 * node + 1] = 1.0;
-        let singular = || {
-            ModelError::Singular {
-            what: "rotor stiffness".into(),
-            detail: "singular: the bearings do not hold the rotor in every direction (`rotor.bearing` stiffnesses: a rotor on one bearing, or on a bearing of zero stiffness, pivots)".into(),
-        }
-        };
+        let singular = pivots;
         let x = lu.solve(&e).ok_or_else(singular)?;
         let kd = 1.0 / x[4 * node + 1];
         // A numerically singular K solves to a huge flexibility: the reference stiffness is then
@@ -558,6 +553,38 @@ impl FeRotor {
         }
         Ok(kd)
     }
+}
+
+/// The error of a rotor its bearings do not hold laterally: its stiffness matrix is singular
+/// (`model::blame` names the bearing key behind it).
+pub(crate) fn pivots() -> ModelError {
+    ModelError::Singular {
+        what: "rotor stiffness".into(),
+        detail: "singular: the bearings do not hold the rotor in every direction (`rotor.bearing` stiffnesses: a rotor on one bearing, or on a bearing of zero stiffness, pivots)".into(),
+    }
+}
+
+/// Whether the bearings hold the rotor laterally: in x and in y, bearings with a non-zero
+/// direct stiffness (`k_xx`, resp. `k_yy`, at some tabulated speed; a pedestal of non-zero
+/// stiffness between bearing and ground) on at least two distinct nodes. The bearings are the
+/// rotor's only lateral supports and the shaft is one connected beam, so this is exact: held
+/// at one node, the rotor pivots about it. Decided on the data, not on K, whose factorisation
+/// can miss the singularity by round-off (a pivoting rotor then had a first "frequency" of
+/// 1.5e-4 rad/s and was refused only by the step budget).
+pub(crate) fn held_laterally(bearings: &[Bearing]) -> bool {
+    let holds = |b: &Bearing, d: usize| {
+        b.k.iter().any(|k| k[d] != 0.0) && b.pedestal.is_none_or(|(_, ks, _)| ks != 0.0)
+    };
+    [0, 3].iter().all(|&d| {
+        let mut nodes: Vec<usize> = bearings
+            .iter()
+            .filter(|b| holds(b, d))
+            .map(|b| b.node)
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes.len() >= 2
+    })
 }
 
 /// Checks what [`FeRotor::build`] needs of the data; returns the node positions z (m) and the

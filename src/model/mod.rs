@@ -473,6 +473,9 @@ impl FeModel {
     /// Assembles the FE rotor and the quantities the non-dimensional inputs refer to.
     pub fn build(f: &FeRotorInput) -> Result<Self, ModelError> {
         let mut rotor = fe_rotor::FeRotor::build(&f.data)?;
+        if !fe_rotor::held_laterally(&f.data.bearings) {
+            return Err(fe_rotor::pivots());
+        }
         if !f.gyroscopic {
             rotor.g = crate::linalg::Csc::zeros(rotor.ndof, rotor.ndof);
         }

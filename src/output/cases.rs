@@ -368,10 +368,10 @@ fn remove_temporaries(dir: &Path) {
 }
 
 /// Writes `bytes` to `path` through the temporary file `tmp` (in the same folder, named with
-/// [`TMP_PREFIX`] so an interrupted write is swept away) and a rename.
+/// [`TMP_PREFIX`] so an interrupted write is swept away), synced, renamed, the folder synced
+/// ([`super::durable::write_atomic`]): a case file that exists after a power loss is whole.
 fn write_atomic(tmp: &Path, path: &Path, bytes: &[u8]) -> Result<()> {
-    fs::write(tmp, bytes).map_err(|e| Error::output(tmp, e))?;
-    fs::rename(tmp, path).map_err(|e| Error::output(path, e))
+    super::durable::write_atomic(tmp, path, bytes, || {})
 }
 
 /// The test hooks of the module docs, after the case file of `id` is in place.

@@ -8,11 +8,14 @@
 //! `summary.json` — the run's marker — last: at every instant, a directory that holds
 //! `summary.json` holds exactly one run's complete results. A run locks the directory for its
 //! whole life, so a second run into it fails at once; a killed commit is completed or
-//! discarded by the next run. The protocol, step by step, is in [`outdir`]. The directory is
-//! checked for writability before any computation starts ([`OutDir::prepare`]).
+//! discarded by the next run; file data and directories are synced to the disk in the order
+//! that keeps this true after a power loss ([`durable`]). The protocol, step by step, is in
+//! [`outdir`]. The directory is checked for writability before any computation starts
+//! ([`OutDir::prepare`]).
 
 pub mod cases;
 pub mod csv;
+pub mod durable;
 pub mod figures;
 pub mod manifest;
 pub mod outdir;

@@ -15,30 +15,36 @@
 //!
 //! **Commit** (each step is a rename or a removal, in this order):
 //! 0. the new manifest is written into the staging folder, and every destination checked (no
-//!    symbolic link, no directory where a file goes) — a failure here changes nothing;
-//! 1. the journal is written (temporary file + rename) — the commit point;
+//!    symbolic link, no directory where a file goes) — a failure here changes nothing; every
+//!    staged file and folder is synced to the disk (`fsync`);
+//! 1. the journal is written (temporary file, synced, renamed; the directory synced) — the
+//!    commit point;
 //! 2. the old `summary.json` is removed: the directory stops looking complete;
 //! 3. the files of the old manifest that the new run does not produce are removed, and the
 //!    folders they leave empty;
 //! 4. the new manifest is renamed into place;
 //! 5. every new file is renamed into place;
-//! 6. the new `summary.json` is renamed into place, last;
-//! 7. the journal and the staging folder are removed.
+//!    then every folder that gained or lost an entry is synced;
+//! 6. the new `summary.json` is renamed into place, last, and the directory synced;
+//! 7. the journal is removed (the directory synced) and the staging folder.
 //!
 //! Steps 2–7 are idempotent and keyed on what is still in the staging folder, so a commit
 //! killed anywhere is rolled forward by the next [`OutDir::prepare`] when its staging folder
 //! is complete, and discarded otherwise (the directory then holds no `summary.json`, or the
 //! previous run's intact results when the kill came before step 2); a one-line note says which.
 //! A commit that fails after its commit point (an I/O error) removes its journal and leaves a
-//! directory without `summary.json`. The protocol protects against the death of the process,
-//! not against a power loss (nothing is `fsync`ed).
+//! directory without `summary.json`. The syncs ([`super::durable`]) extend this to a power
+//! loss: the data of every file is on the disk before its name can appear beside a
+//! `summary.json`, and `summary.json` is on the disk before the journal goes.
 //!
 //! **Test hook.** With `RUBSIM_FAULT_AFTER_STEPS=N` in the environment the process aborts (as
 //! if killed) before the commit step N + 1 (every rename and removal of steps 1–7 counts, the
 //! temporary journal write included), so tests can kill a commit at every point.
 
+use super::durable;
 use super::manifest::{check_relative, parse_manifest, MANIFEST, PROTOCOL_PREFIX};
 use crate::error::{Error, Result};
+use std::collections::BTreeSet;
 use std::fs::{self, File};
 use std::io::{ErrorKind, Write};
 use std::path::{Path, PathBuf};
@@ -158,7 +164,7 @@ impl OutDir {
         Ok(())
     }
 
-    /// Writes bytes to `name` in the staging area.
+    /// Writes bytes to `name` in the staging area (synced to the disk by the commit).
     ///
     /// # Errors
     /// [`Error::Output`] naming the file.
@@ -186,6 +192,7 @@ impl OutDir {
         self.preflight(&names)?;
         let staged = self.staging.join(MANIFEST);
         fs::write(&staged, names.join("\n") + "\n").map_err(|e| Error::output(&staged, e))?;
+        sync_staged(&self.staging, &names)?;
         let staging_name = self.staging.file_name().unwrap_or_default();
         let mut text = staging_name.to_string_lossy().into_owned();
         text.push('\n');
@@ -338,13 +345,34 @@ fn remove_if_present(p: &Path) -> Result<()> {
     }
 }
 
-/// Writes `bytes` to `path` through a temporary file and a rename (one commit step).
+/// Writes `bytes` to `path` through a synced temporary file and a rename (one commit step:
+/// the fault point sits between the two), the directory synced after.
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    fs::write(&tmp, bytes).map_err(|e| Error::output(&tmp, e))?;
-    rename(&tmp, path)
+    durable::write_atomic(&PathBuf::from(tmp), path, bytes, fault_point)
+}
+
+/// Syncs the staged files `names` and the manifest, then every folder of the staging tree
+/// holding them (deepest first), before the commit point: a commit rolled forward after a
+/// power loss moves only data that reached the disk.
+fn sync_staged(staging: &Path, names: &[String]) -> Result<()> {
+    let mut dirs = BTreeSet::new();
+    for name in names.iter().map(String::as_str).chain([MANIFEST]) {
+        let p = staging.join(name);
+        // A name staged but never written is not committed either (`roll_forward`).
+        if !p.is_file() {
+            continue;
+        }
+        durable::sync_file(&p)?;
+        dirs.extend(
+            p.ancestors()
+                .skip(1)
+                .take_while(|a| a.starts_with(staging))
+                .map(Path::to_path_buf),
+        );
+    }
+    dirs.iter().rev().try_for_each(|d| durable::sync_dir(d))
 }
 
 /// Steps 2–7 of the commit of `staging` into `dir`, each skipped when already done.
@@ -373,20 +401,34 @@ fn roll_forward(dir: &Path, staging: &Path) -> Result<()> {
         }
         rename(&staged, &dir.join(MANIFEST))?;
     }
+    // Every folder that gains or loses an entry: synced before the marker goes in.
+    let mut touched = BTreeSet::from([dir.to_path_buf()]);
     for name in new.iter().filter(|n| *n != MARKER) {
         let from = staging.join(name);
         if fs::symlink_metadata(&from).is_ok() {
             let to = dir.join(name);
             if let Some(parent) = to.parent() {
                 fs::create_dir_all(parent).map_err(|e| Error::output(parent, e))?;
+                touched.extend(
+                    parent
+                        .ancestors()
+                        .take_while(|a| a.starts_with(dir))
+                        .map(Path::to_path_buf),
+                );
             }
             rename(&from, &to)?;
         }
     }
+    touched
+        .iter()
+        .rev()
+        .try_for_each(|d| durable::sync_dir(d))?;
     if marker_staged {
         rename(&staging.join(MARKER), &dir.join(MARKER))?;
+        durable::sync_dir(dir)?;
     }
     remove_if_present(&dir.join(JOURNAL))?;
+    durable::sync_dir(dir)?;
     fault_point();
     let _ = fs::remove_dir_all(staging);
     Ok(())

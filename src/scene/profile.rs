@@ -43,6 +43,9 @@ pub enum SpeedUnit {
     SpeedRatio,
 }
 
+/// rad/s per revolution per minute: 2π/60.
+const RAD_PER_S_PER_RPM: f64 = std::f64::consts::PI / 30.0;
+
 impl SpeedUnit {
     /// Name as written in scene files.
     pub fn name(self) -> &'static str {
@@ -56,9 +59,14 @@ impl SpeedUnit {
     pub fn to_rad_per_s(self, omega_n: f64) -> f64 {
         match self {
             SpeedUnit::RadPerS => 1.0,
-            SpeedUnit::Rpm => std::f64::consts::PI / 30.0,
+            SpeedUnit::Rpm => RAD_PER_S_PER_RPM,
             SpeedUnit::SpeedRatio => omega_n,
         }
+    }
+    /// A speed `omega` (rad/s) in revolutions per minute, n = 60 Ω/(2π): the inverse of
+    /// [`SpeedUnit::Rpm`]'s factor (the one rad/s ↔ rpm conversion of the program).
+    pub fn rpm(omega: f64) -> f64 {
+        omega / RAD_PER_S_PER_RPM
     }
 }
 

@@ -111,7 +111,8 @@ impl<'a> Stepper<'a> {
     /// sign of Ω, which a profile keeps.
     ///
     /// # Errors
-    /// As [`Stepper::new`].
+    /// As [`Stepper::new`]; [`SolveError::GyroscopicTransient`] for a profile on a gyroscopic
+    /// rotor with an implicit scheme (the correction needs M̃'s factor).
     pub fn with_profile(
         case: &'a Case,
         scheme: Scheme,
@@ -119,6 +120,11 @@ impl<'a> Stepper<'a> {
         init: Initial,
         spin: Option<&'a SpeedProfile>,
     ) -> Result<Self, SolveError> {
+        if spin.is_some() && case.rotor.gyro.is_some() && scheme.implicit().is_some() {
+            return Err(SolveError::GyroscopicTransient {
+                integrator: scheme.name().into(),
+            });
+        }
         let dt = plan.dt;
         let factor_err = |what: String| {
             move |source: LinalgError| SolveError::Factorization {

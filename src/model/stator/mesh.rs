@@ -103,6 +103,7 @@ pub fn from_mesh(
         .iter()
         .map(|s| Ok((mesh.group_nodes(&s.group)?, s.stiffness)))
         .collect::<Result<_, MeshError>>()?;
+    supports_hold(mesh, p, cells, &lines)?;
     let dofs = Dofs::number(mesh, p, solid, cells, &lines)?;
     let ndof = dofs.ndof;
     let mut asm = Assembly::new(ndof, if solid { 3 } else { 2 }, cells, &lines);
@@ -204,6 +205,77 @@ pub fn from_mesh(
         is_ring: false,
         mesh: Some(Arc::new(data)),
     })
+}
+
+/// Refuses a stator whose supports certainly hold nothing — no spring, and no node of the
+/// `fixed`, `fixed_x`, `fixed_y`, `fixed_z` groups on an element that carries stiffness (a cell
+/// of the body, a line of a `frames` entry): its stiffness matrix would be singular, and the
+/// factorisation could not tell why. Names the curve groups the supports lie on that carry no
+/// `frames` entry (the bars or frames that would attach them; `model::blame` then blames
+/// `stator.<i>.frames`), else the `fixed` groups.
+fn supports_hold(
+    mesh: &Mesh,
+    p: &MeshStatorParams,
+    cells: &[Cell],
+    lines: &[Line],
+) -> Result<(), Error> {
+    if !p.springs.is_empty() {
+        return Ok(());
+    }
+    let mut supported = vec![false; mesh.nodes.len()];
+    for name in p
+        .fixed
+        .iter()
+        .chain(&p.fixed_x)
+        .chain(&p.fixed_y)
+        .chain(&p.fixed_z)
+    {
+        for n in mesh.group_nodes(name)? {
+            supported[n] = true;
+        }
+    }
+    let on_elements = cells
+        .iter()
+        .flat_map(|c| c.nodes.iter())
+        .chain(lines.iter().flat_map(|(l, _)| l.iter()))
+        .any(|&n| supported[n]);
+    if on_elements {
+        return Ok(());
+    }
+    let loose: Vec<&str> = mesh
+        .groups
+        .iter()
+        .filter(|g| g.dim == 1 && !p.frames.iter().any(|f| f.group == g.name))
+        .filter(|g| {
+            mesh.group_blocks(g)
+                .any(|b| b.conn.iter().any(|&n| supported[n]))
+        })
+        .map(|g| g.name.as_str())
+        .collect();
+    let groups = p
+        .fixed
+        .iter()
+        .chain(&p.fixed_x)
+        .chain(&p.fixed_y)
+        .chain(&p.fixed_z)
+        .map(String::as_str)
+        .collect::<Vec<_>>()
+        .join(", ");
+    let message = if loose.is_empty() {
+        format!(
+            "the supports ({groups}) hold no node of the stator's cells or frames: the stator is free (a rigid-body mode); fix a group of its own nodes"
+        )
+    } else {
+        format!(
+            "the supports ({groups}) hold no node of the stator's cells or frames: they lie on the line elements of the group(s) {}, which carry no `frames` entry (bars or frames that would attach the body to them), so the stator is free (a rigid-body mode)",
+            loose.join(", ")
+        )
+    };
+    Err(ModelError::Inconsistent {
+        what: format!("stator `{}` ({})", p.name, mesh.file.display()),
+        message,
+    }
+    .into())
 }
 
 /// The line elements of the `frames` groups (2-D): a 3-node line (second-order mesh) is one

@@ -1,0 +1,87 @@
+//! Durable file operations of the output protocol ([`super::outdir`]) and the case store
+//! ([`super::cases`]): a file's data reaches the disk (`fsync`) before the rename that makes
+//! it visible, and a directory is synced after the renames and removals in it, so that after a
+//! power loss a name never points to data that was not written — in particular, a
+//! `summary.json` never stands beside results whose bytes were lost.
+//!
+//! POSIX makes a rename durable only once its directory is synced; Linux syncs a directory
+//! with `fsync(2)` on a descriptor opened read-only. File systems that cannot sync a directory
+//! (they answer `EINVAL`) are taken as they are: the protocol still holds against a killed
+//! process there, as before.
+
+use crate::error::{Error, Result};
+use std::fs::{self, File};
+use std::io::{ErrorKind, Write};
+use std::path::Path;
+
+/// Flushes the data and metadata of the file `path` to the disk.
+///
+/// # Errors
+/// [`Error::Output`] naming the file when it cannot be opened or synced (`EIO`: the data may
+/// be lost).
+pub fn sync_file(path: &Path) -> Result<()> {
+    File::open(path)
+        .and_then(|f| f.sync_all())
+        .map_err(|e| Error::output(path, format!("cannot sync it to the disk: {e}")))
+}
+
+/// Makes the entries of the directory `dir` (files created, renamed or removed in it) durable.
+///
+/// # Errors
+/// [`Error::Output`] naming the directory when it cannot be opened or synced; a file system
+/// that does not sync directories (`EINVAL`, unsupported) is not an error.
+pub fn sync_dir(dir: &Path) -> Result<()> {
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    match File::open(dir).and_then(|f| f.sync_all()) {
+        Err(e) if !matches!(e.kind(), ErrorKind::InvalidInput | ErrorKind::Unsupported) => Err(
+            Error::output(dir, format!("cannot sync the directory to the disk: {e}")),
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// Writes `bytes` to `path` atomically and durably: into the temporary file `tmp` (same
+/// folder), synced, then `before_rename()` (the output protocol's fault-injection point), the
+/// rename onto `path`, and the folder synced. A reader sees the old file or the whole new
+/// one; after a power loss, the new name never holds unwritten data.
+///
+/// # Errors
+/// [`Error::Output`] naming the temporary file (write, sync) or `path` (rename, folder sync).
+pub fn write_atomic(tmp: &Path, path: &Path, bytes: &[u8], before_rename: fn()) -> Result<()> {
+    let mut f = File::create(tmp).map_err(|e| Error::output(tmp, e))?;
+    f.write_all(bytes)
+        .and_then(|()| f.sync_all())
+        .map_err(|e| Error::output(tmp, e))?;
+    drop(f);
+    before_rename();
+    fs::rename(tmp, path).map_err(|e| Error::output(path, e))?;
+    sync_dir(path.parent().unwrap_or(Path::new(".")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn write_atomic_replaces_the_file_and_leaves_no_temporary() {
+        let d = tempfile::tempdir().unwrap();
+        let (tmp, p) = (d.path().join(".x.tmp"), d.path().join("x"));
+        write_atomic(&tmp, &p, b"one", || {}).unwrap();
+        write_atomic(&tmp, &p, b"two", || {}).unwrap();
+        assert_eq!(fs::read(&p).unwrap(), b"two");
+        assert!(!tmp.exists());
+        sync_file(&p).unwrap();
+        sync_dir(d.path()).unwrap();
+        // A missing file is an error naming it.
+        let e = sync_file(&d.path().join("absent")).unwrap_err().to_string();
+        assert!(e.contains("absent") && e.contains("cannot sync"), "{e}");
+        let e = write_atomic(&d.path().join("no/such/.t"), &p, b"x", || {})
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no/such/.t"), "{e}");
+    }
+}
