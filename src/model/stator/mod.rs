@@ -16,7 +16,7 @@ pub mod ring;
 pub mod rod;
 
 use crate::assembly::scatter;
-use crate::contact::Target;
+use crate::contact::{Dashpot, Target};
 use crate::error::ModelError;
 use crate::linalg::{Cholesky, Csc, LinalgError};
 use crate::math::V2;
@@ -109,6 +109,8 @@ pub struct StatorModel {
     pub is_ring: bool,
     /// Meshed stators: the mesh's provenance and quantities shared by every speed.
     pub mesh: Option<Arc<MeshStatorData>>,
+    /// The contact dashpot (`contact_damping`; massless stators only).
+    pub dashpot: Dashpot,
 }
 
 /// What a meshed stator keeps beyond [`StatorModel`]: where its mesh came from and the
@@ -391,6 +393,7 @@ impl Lumped<'_> {
             angle_deg: None,
             is_ring: false,
             mesh: None,
+            dashpot: Default::default(),
         };
         if ndof > 0 {
             Cholesky::new(&model.k).map_err(|e| ModelError::Factorisation {

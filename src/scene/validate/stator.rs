@@ -59,7 +59,7 @@ pub(super) fn validate_ring(ls: &LoadedScene, i: usize, r: &RingSpec) -> Result<
     if r.mass == 0.0 && r.damping > 0.0 {
         return Err(ls.invalid(
             &k("damping"),
-            "a massless ring (mass = 0) has no support damping: give `mass` or leave `damping` out",
+            "a massless ring (mass = 0) has no support to damp: for a dashpot that acts while the rotor touches the ring (ROSS's contact damping) use `contact_damping` (N·s/m); for support damping give the ring `mass`",
         ));
     }
     Ok(())
@@ -295,6 +295,33 @@ pub(super) fn validate_clearance(
     }
     if let Some(v) = c_nd {
         positive(ls, &format!("stator.{i}.clearance_nd"), v)?;
+    }
+    Ok(())
+}
+
+/// The contact dashpot of any stator kind: `contact_damping` ≥ 0 (N·s/m) and
+/// `contact_damping_mode` one of `"normal"`, `"full"` (`"full"` without a dashpot is refused: it
+/// would do nothing). Whether the stator is massless is checked when it is built.
+pub(super) fn validate_contact_damping(
+    ls: &LoadedScene,
+    i: usize,
+    s: &StatorSpec,
+) -> Result<(), SceneError> {
+    let (c, mode) = s.contact_damping();
+    let key = format!("stator.{i}.contact_damping");
+    non_negative(ls, &key, c)?;
+    let mode_key = format!("{key}_mode");
+    if !matches!(mode, "normal" | "full") {
+        return Err(ls.invalid(
+            &mode_key,
+            format!("must be \"normal\" or \"full\", got {mode:?}"),
+        ));
+    }
+    if mode == "full" && c == 0.0 {
+        return Err(ls.invalid(
+            &mode_key,
+            "a contact dashpot mode without a dashpot: give `contact_damping` (N·s/m) or leave the mode out",
+        ));
     }
     Ok(())
 }
