@@ -50,7 +50,9 @@ fn bounce(c: f64, mode: &str, scheme: Scheme, dt: f64) -> (f64, f64, f64) {
         format!("stator.0.contact_damping_mode=\"{mode}\""),
     ];
     let (_, model) = scene_model(BOUNCE, &sets);
-    let case = model.case(model.rotor.natural_frequency() * 1000.0).unwrap();
+    let case = model
+        .case(model.rotor.natural_frequency() * 1000.0)
+        .unwrap();
     let step = StepParams {
         integrator: scheme,
         dt: Some(dt),
@@ -72,11 +74,17 @@ fn bounce(c: f64, mode: &str, scheme: Scheme, dt: f64) -> (f64, f64, f64) {
     // shaft's 1 N/m changes it by < 1e-5 over it).
     let touching = |i: usize| rec.force_at(i, 0)[1] != 0.0;
     let first = (0..rec.len()).find(|&i| touching(i)).expect("no contact");
-    let left = (first..rec.len()).find(|&i| !touching(i)).expect("no release") + 2;
+    let left = (first..rec.len())
+        .find(|&i| !touching(i))
+        .expect("no release")
+        + 2;
     let back = (left..rec.len()).find(|&i| touching(i)).expect("no return") - 2;
     let y = |i: usize| rec.disp_at(i, 0)[1];
     let v1 = (y(back) - y(left)) / (rec.t[back] - rec.t[left]);
-    assert!(v1 < 0.0, "{scheme:?}: the rotor did not come back ({v1} m/s)");
+    assert!(
+        v1 < 0.0,
+        "{scheme:?}: the rotor did not come back ({v1} m/s)"
+    );
     // The energy the rotor and ring lost over the whole run (several bounces): kinetic from
     // the last two samples (one per step), the shaft's and the ring's elastic energy.
     let last = rec.len() - 1;
@@ -94,20 +102,24 @@ fn a_bounce_has_the_restitution_of_a_mass_spring_dashpot_impact() {
         // e = exp(−ζπ/√(1−ζ²)).
         let e_exact = (-zeta * std::f64::consts::PI / (1.0 - zeta * zeta).sqrt()).exp();
         for scheme in SCHEMES {
-            let dt = if scheme.implicit().is_some() { 2e-6 } else { 1e-6 };
+            let dt = if scheme.implicit().is_some() {
+                2e-6
+            } else {
+                1e-6
+            };
             let (v1, ed, lost) = bounce(c, "normal", scheme, dt);
             let e = -v1 / 0.1;
             eprintln!(
                 "ζ {zeta}, {scheme:?}: e = {e:.5} (closed form {e_exact:.5}); dashpot energy {ed:.4e} J, kinetic energy lost {lost:.4e} J"
             );
             assert!(
-                (e - e_exact).abs() < 0.01 * e_exact,
+                (e - e_exact).abs() < 2e-3 * e_exact,
                 "{scheme:?} ζ {zeta}: e {e} against {e_exact}"
             );
-            // What the rotor lost is what the dashpot took (within what the discrete impact
-            // itself loses, O(Δt)).
+            // What the rotor lost over the run is what the dashpot took (measured: equal to
+            // 4 digits in every scheme, e to 5 digits).
             assert!(
-                (ed - lost).abs() < 0.02 * lost,
+                (ed - lost).abs() < 1e-3 * lost,
                 "{scheme:?} ζ {zeta}: dashpot {ed} J, lost {lost} J"
             );
         }
@@ -169,7 +181,10 @@ fn a_persistent_rub_dissipates_c_v_squared_in_the_full_mode_and_nothing_normal()
     let cd = 0.3;
     let r_free = closed_form_radius(0.0);
     let r_exact = closed_form_radius(cd);
-    assert!(r_exact > 1e-3 && r_free > r_exact * 1.02, "{r_free} {r_exact}");
+    assert!(
+        r_exact > 1e-3 && r_free > r_exact * 1.02,
+        "{r_free} {r_exact}"
+    );
     for scheme in SCHEMES {
         for (mode, r_want) in [("full", r_exact), ("normal", r_free)] {
             let sets = [
@@ -217,7 +232,10 @@ fn a_persistent_rub_dissipates_c_v_squared_in_the_full_mode_and_nothing_normal()
                     "{scheme:?}: dashpot took {got} J over 20 revolutions, c ∫v² dt = {want} J"
                 );
             } else {
-                assert!(got.abs() < 1e-4 * want, "{scheme:?}: normal dashpot took {got} J");
+                assert!(
+                    got.abs() < 1e-4 * want,
+                    "{scheme:?}: normal dashpot took {got} J"
+                );
             }
         }
     }
@@ -253,12 +271,21 @@ fn bad_contact_damping_is_refused_with_its_key() {
         assert!(err.contains(want), "{sets:?}: {err}");
         assert!(err.contains("bad.toml"), "{sets:?}: no file in {err}");
     };
-    bad(&["stator.0.contact_damping=-1.0"], "stator.0.contact_damping");
     bad(
-        &["stator.0.contact_damping=1.0", "stator.0.contact_damping_mode=\"tangent\""],
+        &["stator.0.contact_damping=-1.0"],
+        "stator.0.contact_damping",
+    );
+    bad(
+        &[
+            "stator.0.contact_damping=1.0",
+            "stator.0.contact_damping_mode=\"tangent\"",
+        ],
         "stator.0.contact_damping_mode",
     );
-    bad(&["stator.0.contact_damping_mode=\"full\""], "without a dashpot");
+    bad(
+        &["stator.0.contact_damping_mode=\"full\""],
+        "without a dashpot",
+    );
     // A stator with mass: refused, and the key named.
     bad(
         &["stator.0.contact_damping=1.0", "stator.0.mass=0.1"],

@@ -15,8 +15,8 @@ pub mod rotor;
 pub mod speed_profile;
 pub mod stator;
 
-use crate::error::{Error, ModelError};
 use crate::contact::Dashpot;
+use crate::error::{Error, ModelError};
 use crate::resolve::{
     Clearance, FeRotorInput, FeStatorInput, Placement, Resolved, RingInput, RodInput, RotorInput,
     StatorInput,

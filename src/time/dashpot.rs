@@ -31,10 +31,11 @@ use super::workspace::{ForceSet, Held};
 impl Stepper<'_> {
     /// True when a selected pair belongs to a stator with a contact dashpot.
     pub(crate) fn any_dashpot(&self) -> bool {
-        self.ws
-            .sel
-            .iter()
-            .any(|&ci| self.case.stators[self.pairs.cands[ci].stator].dashpot.active())
+        self.ws.sel.iter().any(|&ci| {
+            self.case.stators[self.pairs.cands[ci].stator]
+                .dashpot
+                .active()
+        })
     }
 
     /// The rotor's displacement at the solve's instant and at the instant before: the
@@ -131,10 +132,17 @@ impl Stepper<'_> {
             let a = self.ws.states[ci].a;
             let rd = self.pairs.station_dofs[cand.station];
             let (now, before) = self.instants(held);
-            let vt = (a[0] * (now[rd[0]] - before[rd[0]]) + a[1] * (now[rd[1]] - before[rd[1]])) / dt;
+            let vt =
+                (a[0] * (now[rd[0]] - before[rd[0]]) + a[1] * (now[rd[1]] - before[rd[1]])) / dt;
             let force = dp.c * vt;
             energy += force * vt * dt;
-            self.push_rotor(held, into, cand.station, [-a[0] * force, -a[1] * force], [0.0; 2]);
+            self.push_rotor(
+                held,
+                into,
+                cand.station,
+                [-a[0] * force, -a[1] * force],
+                [0.0; 2],
+            );
         }
         self.stats.dashpot_energy += energy;
     }

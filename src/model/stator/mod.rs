@@ -310,9 +310,9 @@ pub(super) struct Lumped<'a> {
 
 /// Why a massless stator refuses damping (`rayleigh`; a ring's `damping` is refused by the
 /// scene's validation for the same reason): it enters the loop as the static compliance of its
-/// contact boundary, which has no velocity to damp; a contact dashpot is not modelled yet
+/// contact boundary, which has no velocity to damp; `contact_damping` is the dashpot it can have
 /// (issue 15, item 3).
-pub(crate) const MASSLESS_DAMPING: &str = "`rayleigh` damping on a massless stator: a massless stator enters the time loop as the static compliance of its contact boundary and has no velocity to damp (a contact dashpot is not modelled yet); give it mass (`density`, `point_masses`) or leave `rayleigh` out";
+pub(crate) const MASSLESS_DAMPING: &str = "`rayleigh` damping on a massless stator: a massless stator enters the time loop as the static compliance of its contact boundary and has no velocity to damp (for damping at the contact use `contact_damping` (N·s/m)); give it mass (`density`, `point_masses`) or leave `rayleigh` out";
 
 impl Lumped<'_> {
     /// Numbers the free DOFs, assembles K, the lumped M and C = α M + β K, and checks that K

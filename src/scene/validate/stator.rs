@@ -33,7 +33,7 @@ pub(super) fn validate_rod(ls: &LoadedScene, i: usize, r: &RodSpec) -> Result<()
     if r.density == 0.0 && r.rayleigh != [0.0; 2] {
         return Err(ls.invalid(
             &k("rayleigh"),
-            "a massless rod (density = 0) enters the time loop as its static compliance and has no velocity to damp (a contact dashpot is not modelled yet): give `density` or leave `rayleigh` out",
+            "a massless rod (density = 0) enters the time loop as its static compliance and has no velocity to damp (for damping at the contact use `contact_damping`, N·s/m): give `density` or leave `rayleigh` out",
         ));
     }
     Ok(())
