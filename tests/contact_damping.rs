@@ -164,8 +164,8 @@ error_estimate = false
 /// `A = k − mω² + k_s + i((c_r + c_d)ω + μ k_s)`, `B = k_s δ (1 + iμ)`, F = m_u e ω² (the force
 /// on the rotor −(n + μa) k_s (R − δ) − a c_d ωR, n = e^{iωt}, a = i n); the root above δ.
 fn closed_form_radius(cd: f64) -> f64 {
-    let (m, k, ks, delta, mu, w) = (1.0, 1.0, 4.0, 1e-3, 0.1, 0.9_f64);
-    let cr = 2.0 * 0.05 * (k * m as f64).sqrt();
+    let (m, k, ks, delta, mu, w) = (1.0_f64, 1.0, 4.0, 1e-3, 0.1, 0.9);
+    let cr = 2.0 * 0.05 * (k * m).sqrt();
     let f = 1e-3 * w * w;
     let (ar, ai) = (k - m * w * w + ks, (cr + cd) * w + mu * ks);
     let (br, bi) = (ks * delta, ks * delta * mu);
