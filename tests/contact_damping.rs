@@ -282,10 +282,6 @@ fn bad_contact_damping_is_refused_with_its_key() {
         ],
         "stator.0.contact_damping_mode",
     );
-    bad(
-        &["stator.0.contact_damping_mode=\"full\""],
-        "without a dashpot",
-    );
     // A stator with mass: refused, and the key named.
     bad(
         &["stator.0.contact_damping=1.0", "stator.0.mass=0.1"],

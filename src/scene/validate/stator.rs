@@ -300,8 +300,8 @@ pub(super) fn validate_clearance(
 }
 
 /// The contact dashpot of any stator kind: `contact_damping` ≥ 0 (N·s/m) and
-/// `contact_damping_mode` one of `"normal"`, `"full"` (`"full"` without a dashpot is refused: it
-/// would do nothing). Whether the stator is massless is checked when it is built.
+/// `contact_damping_mode` one of `"normal"`, `"full"` (a mode with `contact_damping = 0` does
+/// nothing: a study may vary the coefficient down to 0). Whether the stator is massless is checked when it is built.
 pub(super) fn validate_contact_damping(
     ls: &LoadedScene,
     i: usize,
@@ -315,12 +315,6 @@ pub(super) fn validate_contact_damping(
         return Err(ls.invalid(
             &mode_key,
             format!("must be \"normal\" or \"full\", got {mode:?}"),
-        ));
-    }
-    if mode == "full" && c == 0.0 {
-        return Err(ls.invalid(
-            &mode_key,
-            "a contact dashpot mode without a dashpot: give `contact_damping` (N·s/m) or leave the mode out",
         ));
     }
     Ok(())
