@@ -25,6 +25,30 @@ pub mod target;
 use crate::math::{dot, norm, spin_tangent, V2};
 pub use target::Target;
 
+/// A dashpot at the contact of one stator (massless stators): while a pair carries force, a
+/// dashpot of coefficient `c` (N·s/m) between the rotor section and ground, in parallel with
+/// the contact, damps the normal velocity of the rotor section relative to the stator's
+/// undeformed surface — the rate of the stator's deflection at the contact point, ḋ — and, with
+/// `full`, the section's tangential velocity too (ROSS's rub model damps the whole velocity).
+/// The force on the rotor section is `−n c ḋ − a c (a·v_C)` (the second term with `full` only);
+/// `c ḋ` may pull while the section withdraws, as in a penalty law `k d + c ḋ`.
+/// Time discretisation: `time::solve` and docs/IMPLICIT.md §6.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Dashpot {
+    /// Coefficient c (N·s/m); 0: none.
+    pub c: f64,
+    /// Also damp the tangential velocity.
+    pub full: bool,
+}
+
+impl Dashpot {
+    /// True when there is a dashpot.
+    #[inline]
+    pub fn active(&self) -> bool {
+        self.c > 0.0
+    }
+}
+
 /// A pair that may come into contact: station `station` against target `target` of stator
 /// `stator`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -121,6 +121,12 @@ pub(super) fn stators(ls: &LoadedScene, e: Error) -> Error {
             }
         }
         Error::Model(ModelError::Inconsistent { what, message })
+            if message.starts_with("`contact_damping`") =>
+        {
+            let Some(i) = index(what) else { return e };
+            format!("stator.{i}.contact_damping")
+        }
+        Error::Model(ModelError::Inconsistent { what, message })
             if message.contains("approach_deg") =>
         {
             let Some(i) = index(what) else { return e };

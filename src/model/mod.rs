@@ -15,6 +15,7 @@ pub mod rotor;
 pub mod speed_profile;
 pub mod stator;
 
+use crate::contact::Dashpot;
 use crate::error::{Error, ModelError};
 use crate::resolve::{
     Clearance, FeRotorInput, FeStatorInput, Placement, Resolved, RingInput, RodInput, RotorInput,
@@ -283,6 +284,10 @@ impl Rotor {
     }
 }
 
+/// Why `contact_damping` is refused on a stator with mass (the key is named by
+/// `blame::stators`).
+const CONTACT_DAMPING_WITH_MASS: &str = "`contact_damping` on a stator with mass is not modelled: its contact with the rotor is rigid (the multipliers hold the relative normal velocity at zero while in contact), so a dashpot in parallel with it does nothing; damp the stator itself (`rayleigh`, or a ring's `damping`) or make it massless";
+
 /// Speed-independent model.
 #[derive(Debug, Clone)]
 pub struct Model {
@@ -292,6 +297,8 @@ pub struct Model {
     pub stations: Vec<Station>,
     /// Stators, in scene order, as far as they are speed independent.
     pub stators: Vec<StatorPlan>,
+    /// The contact dashpot of each stator (`contact_damping`), in scene order.
+    pub dashpots: Vec<Dashpot>,
     /// Rotor node the analysis observes (`output.node`); `None`: the first station's node.
     pub observed_node: Option<usize>,
 }
@@ -568,6 +575,7 @@ impl Model {
             rotor,
             stations: r.stations.clone(),
             stators,
+            dashpots: r.dashpots.clone(),
             observed_node: r.observed_node,
         };
         // An undamped rotor has no |Z0| at ω_n itself: that speed's runs say so; the model is
@@ -613,6 +621,7 @@ impl Model {
             .map(|(i, plan)| {
                 // A placement that never meets the rotor names the stator's `approach_deg`.
                 self.stator_at(plan, omega, kr, &forced)
+                    .and_then(|m| self.with_dashpot(i, m))
                     .map_err(|e| blame::approach(i, e))
             })
             .collect::<Result<Vec<_>, _>>()?;
@@ -637,6 +646,19 @@ impl Model {
             tilt0_max: forced.iter().map(|e| e[1]).fold(0.0, f64::max),
             unbalance_force: u[0].hypot(u[1]) * omega * omega,
         })
+    }
+
+    /// Stator `i` with its contact dashpot; refused on a stator with mass.
+    fn with_dashpot(&self, i: usize, mut m: StatorModel) -> Result<StatorModel, ModelError> {
+        let d = self.dashpots.get(i).copied().unwrap_or_default();
+        if d.active() && !m.massless() {
+            return Err(ModelError::Inconsistent {
+                what: format!("stator `{}`", m.name),
+                message: CONTACT_DAMPING_WITH_MASS.into(),
+            });
+        }
+        m.dashpot = d;
+        Ok(m)
     }
 
     /// One stator at speed ω, placed at its clearance, for a rotor of reference stiffness

@@ -33,6 +33,7 @@ pub use stator::{
     FeElement, FeStatorInput, RingInput, RingStiffness, RodInput, RodStiffness, StatorInput,
 };
 
+use crate::contact::Dashpot;
 use crate::error::Error;
 use crate::scene::validate::OneOf;
 use crate::scene::{validate, LoadedScene, StationSpec};
@@ -70,6 +71,8 @@ pub struct Resolved {
     pub stations: Vec<Station>,
     /// Stators, in scene order.
     pub stators: Vec<StatorInput>,
+    /// The contact dashpot of each stator, in scene order (`contact_damping`).
+    pub dashpots: Vec<Dashpot>,
     /// Rotor node the analysis observes (`output.node`); `None`: the first station's node.
     pub observed_node: Option<usize>,
 }
@@ -89,6 +92,17 @@ pub fn resolve(ls: &LoadedScene) -> Result<Resolved, Error> {
         rotor,
         stations: s.stations.iter().map(Station::from).collect(),
         stators,
+        dashpots: s
+            .stators
+            .iter()
+            .map(|spec| {
+                let (c, mode) = spec.contact_damping();
+                Dashpot {
+                    c,
+                    full: mode == "full",
+                }
+            })
+            .collect(),
         observed_node: s.output.node,
     })
 }

@@ -28,6 +28,15 @@ impl StatorSpec {
             StatorSpec::Mesh(s) => &s.name,
         }
     }
+    /// The contact dashpot: `(contact_damping, contact_damping_mode)`.
+    pub fn contact_damping(&self) -> (f64, &str) {
+        match self {
+            StatorSpec::Rod(s) => (s.contact_damping, &s.contact_damping_mode),
+            StatorSpec::Ring(s) => (s.contact_damping, &s.contact_damping_mode),
+            StatorSpec::Fe(s) => (s.contact_damping, &s.contact_damping_mode),
+            StatorSpec::Mesh(s) => (s.contact_damping, &s.contact_damping_mode),
+        }
+    }
     /// The station it faces.
     pub fn station(&self) -> &str {
         match self {
@@ -133,6 +142,16 @@ pub struct MeshStatorSpec {
     /// 3-D meshes: axial position along the rotor (m) of the mesh's z = 0.
     #[serde(default)]
     pub axial_origin: f64,
+    /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
+    /// force, a dashpot between the rotor section and ground in parallel with the contact damps
+    /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).
+    /// 0 (default): none.
+    #[serde(default)]
+    pub contact_damping: f64,
+    /// What the contact dashpot damps: `"normal"` (default, the normal velocity) or `"full"`
+    /// (also the tangential velocity of the rotor section, as ROSS's rub model does).
+    #[serde(default = "normal_mode")]
+    pub contact_damping_mode: String,
 }
 
 impl MeshStatorSpec {
@@ -248,6 +267,16 @@ pub struct RodSpec {
     /// Rayleigh damping `[α, β]`, C = α M + β K (only with mass).
     #[serde(default)]
     pub rayleigh: [f64; 2],
+    /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
+    /// force, a dashpot between the rotor section and ground in parallel with the contact damps
+    /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).
+    /// 0 (default): none.
+    #[serde(default)]
+    pub contact_damping: f64,
+    /// What the contact dashpot damps: `"normal"` (default, the normal velocity) or `"full"`
+    /// (also the tangential velocity of the rotor section, as ROSS's rub model does).
+    #[serde(default = "normal_mode")]
+    pub contact_damping_mode: String,
 }
 
 /// Rigid ring on isotropic springs: radial force k_s (R − δ) when the rotor displacement R
@@ -273,6 +302,16 @@ pub struct RingSpec {
     /// Support damping (N·s/m), only with mass.
     #[serde(default)]
     pub damping: f64,
+    /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
+    /// force, a dashpot between the rotor section and ground in parallel with the contact damps
+    /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).
+    /// 0 (default): none.
+    #[serde(default)]
+    pub contact_damping: f64,
+    /// What the contact dashpot damps: `"normal"` (default, the normal velocity) or `"full"`
+    /// (also the tangential velocity of the rotor section, as ROSS's rub model does).
+    #[serde(default = "normal_mode")]
+    pub contact_damping_mode: String,
 }
 
 /// General 2-D FE stator in the station plane, coordinates relative to the undeformed station
@@ -298,6 +337,16 @@ pub struct FeStatorSpec {
     /// Lumped point masses `[node, kg]` added to element masses.
     #[serde(default)]
     pub point_masses: Vec<(usize, f64)>,
+    /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
+    /// force, a dashpot between the rotor section and ground in parallel with the contact damps
+    /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).
+    /// 0 (default): none.
+    #[serde(default)]
+    pub contact_damping: f64,
+    /// What the contact dashpot damps: `"normal"` (default, the normal velocity) or `"full"`
+    /// (also the tangential velocity of the rotor section, as ROSS's rub model does).
+    #[serde(default = "normal_mode")]
+    pub contact_damping_mode: String,
 }
 
 /// Elements of the general FE stator.
@@ -325,6 +374,10 @@ pub enum FeElementSpec {
         /// Direction (degrees from +x).
         angle_deg: f64,
     },
+}
+
+fn normal_mode() -> String {
+    "normal".into()
 }
 
 fn ninety() -> f64 {

@@ -226,6 +226,7 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
             StatorSpec::Fe(f) => validate_fe_stator(ls, i, f)?,
             StatorSpec::Mesh(m) => validate_mesh_stator(ls, i, m)?,
         }
+        validate_contact_damping(ls, i, stator)?;
     }
     validate_run(ls)?;
     output_component(ls)?;

@@ -56,6 +56,7 @@
 mod body;
 pub mod budget;
 pub mod compliance;
+mod dashpot;
 pub mod frame;
 pub mod newmark;
 pub mod plan;

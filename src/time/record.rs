@@ -72,6 +72,10 @@ pub struct RunStats {
     pub contact_steps: usize,
     /// Total principal pivots of the complementarity solves.
     pub pivots: usize,
+    /// Energy taken by the contact dashpots over the run (J, `contact_damping`): Σ over steps
+    /// and pairs of `D Δd` (normal) and `c (a·v)² Δt` (tangential, mode `"full"`).
+    #[serde(default)]
+    pub dashpot_energy: f64,
     /// Contact over every instant tₖ = kΔt of the whole run, k = 0 … `steps`.
     pub whole: ContactStats,
     /// Contact over every instant of the analysed steady window, k = `plan.steady_from` …

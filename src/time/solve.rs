@@ -42,18 +42,20 @@ impl Stepper<'_> {
                         }
                     }
                 }
+                let mut ws_ij = 0.0;
                 if c.stator == d.stator {
                     let tdj = case.stators[d.stator].targets[d.target].dofs();
                     let body = &stators[c.stator];
                     for a in 0..2 {
                         for b in 0..2 {
                             if let (Some(x), Some(y)) = (tdi[a], tdj[b]) {
-                                w += si.n[a] * body.flex(x, y) * bj[b];
+                                ws_ij += si.n[a] * body.flex(x, y) * bj[b];
                             }
                         }
                     }
                 }
-                ws.wmat[i * q + j] = w;
+                ws.wstat[i * q + j] = ws_ij;
+                ws.wmat[i * q + j] = w + ws_ij;
             }
         }
     }
@@ -75,6 +77,10 @@ impl Stepper<'_> {
             self.stators[c.stator].prepare(self.case.stators[c.stator].targets[c.target].dofs());
         }
         self.assemble(held);
+        let dashpots = self.any_dashpot();
+        if dashpots {
+            self.dashpot_into_problem(held);
+        }
         let ws = &mut self.ws;
         // Warm start: the pairs that carried force when last solved start active.
         for (i, &ci) in ws.sel.iter().enumerate() {
@@ -98,6 +104,9 @@ impl Stepper<'_> {
             ws.carried[ci] = ws.pvec[i] > 0.0;
         }
         self.apply_forces(held, into);
+        if dashpots {
+            self.apply_dashpots(held, into);
+        }
         Ok(piv)
     }
 

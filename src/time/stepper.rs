@@ -48,7 +48,7 @@ pub struct Stepper<'a> {
     spin: Option<&'a SpeedProfile>,
     /// A gyroscopic rotor's load of the speed's change (a transient run only).
     gyro: Option<GyroLoad>,
-    plan: StepPlan,
+    pub(crate) plan: StepPlan,
     scheme: Scheme,
     pub(crate) pairs: Pairs,
     /// Collocated static phase: massless stators, undeformed, rotor at uⁿ.
@@ -59,7 +59,7 @@ pub struct Stepper<'a> {
     pub(crate) stators: Vec<StatorDyn>,
     pub(crate) ws: StepWorkspace,
     recorder: Recorder,
-    stats: RunStats,
+    pub(crate) stats: RunStats,
     /// Divergence bound of each rotor DOF (m or rad, [`divergence_bounds`]).
     bound: Vec<f64>,
     /// Elastic energy in the massless stators after the last solve (J).

@@ -89,6 +89,14 @@ pub(crate) struct StepWorkspace {
     pub(crate) gvec: Vec<f64>,
     /// Normal forces of the selected pairs (N).
     pub(crate) pvec: Vec<f64>,
+    /// The stators' share of `W` (row-major q × q, m/N): a massless stator's deflection along
+    /// `n_i` per unit `p_j` (the contact dashpot's rate, `super::dashpot`).
+    pub(crate) wstat: Vec<f64>,
+    /// The rotor's normal–normal flexibility `n_i · F_r n_j` (row-major q × q, m/N).
+    pub(crate) rnn: Vec<f64>,
+    /// Penetration of each selected pair's section into the undeformed stator at the previous
+    /// instant (m).
+    pub(crate) dn: Vec<f64>,
     /// Station forces entering the prediction and the record.
     pub(crate) main: StationForces,
     /// Collocated scheme: forces of the stators with mass from the step ending now.
@@ -120,6 +128,9 @@ impl StepWorkspace {
             wmat: vec![0.0; cap0 * cap0],
             gvec: vec![0.0; cap0],
             pvec: vec![0.0; cap0],
+            wstat: vec![0.0; cap0 * cap0],
+            rnn: vec![0.0; cap0 * cap0],
+            dn: vec![0.0; cap0],
             main: StationForces::new(nst),
             with_mass: StationForces::new(nst),
             recorded: StationForces::new(nst),
@@ -137,6 +148,9 @@ impl StepWorkspace {
             self.wmat.resize(q * q, 0.0);
             self.gvec.resize(q, 0.0);
             self.pvec.resize(q, 0.0);
+            self.wstat.resize(q * q, 0.0);
+            self.rnn.resize(q * q, 0.0);
+            self.dn.resize(q, 0.0);
         }
     }
 

@@ -204,6 +204,7 @@ pub fn from_mesh(
         angle_deg: None,
         is_ring: false,
         mesh: Some(Arc::new(data)),
+        dashpot: Default::default(),
     })
 }
 

@@ -16,7 +16,7 @@ pub mod ring;
 pub mod rod;
 
 use crate::assembly::scatter;
-use crate::contact::Target;
+use crate::contact::{Dashpot, Target};
 use crate::error::ModelError;
 use crate::linalg::{Cholesky, Csc, LinalgError};
 use crate::math::V2;
@@ -109,6 +109,8 @@ pub struct StatorModel {
     pub is_ring: bool,
     /// Meshed stators: the mesh's provenance and quantities shared by every speed.
     pub mesh: Option<Arc<MeshStatorData>>,
+    /// The contact dashpot (`contact_damping`; massless stators only).
+    pub dashpot: Dashpot,
 }
 
 /// What a meshed stator keeps beyond [`StatorModel`]: where its mesh came from and the
@@ -308,9 +310,9 @@ pub(super) struct Lumped<'a> {
 
 /// Why a massless stator refuses damping (`rayleigh`; a ring's `damping` is refused by the
 /// scene's validation for the same reason): it enters the loop as the static compliance of its
-/// contact boundary, which has no velocity to damp; a contact dashpot is not modelled yet
+/// contact boundary, which has no velocity to damp; `contact_damping` is the dashpot it can have
 /// (issue 15, item 3).
-pub(crate) const MASSLESS_DAMPING: &str = "`rayleigh` damping on a massless stator: a massless stator enters the time loop as the static compliance of its contact boundary and has no velocity to damp (a contact dashpot is not modelled yet); give it mass (`density`, `point_masses`) or leave `rayleigh` out";
+pub(crate) const MASSLESS_DAMPING: &str = "`rayleigh` damping on a massless stator: a massless stator enters the time loop as the static compliance of its contact boundary and has no velocity to damp (for damping at the contact use `contact_damping` (N·s/m)); give it mass (`density`, `point_masses`) or leave `rayleigh` out";
 
 impl Lumped<'_> {
     /// Numbers the free DOFs, assembles K, the lumped M and C = α M + β K, and checks that K
@@ -391,6 +393,7 @@ impl Lumped<'_> {
             angle_deg: None,
             is_ring: false,
             mesh: None,
+            dashpot: Default::default(),
         };
         if ndof > 0 {
             Cholesky::new(&model.k).map_err(|e| ModelError::Factorisation {

@@ -45,6 +45,7 @@ impl StatorModel {
             angle_deg: None,
             is_ring: true,
             mesh: None,
+            dashpot: Default::default(),
         }
     }
 }

@@ -33,7 +33,7 @@ pub(super) fn validate_rod(ls: &LoadedScene, i: usize, r: &RodSpec) -> Result<()
     if r.density == 0.0 && r.rayleigh != [0.0; 2] {
         return Err(ls.invalid(
             &k("rayleigh"),
-            "a massless rod (density = 0) enters the time loop as its static compliance and has no velocity to damp (a contact dashpot is not modelled yet): give `density` or leave `rayleigh` out",
+            "a massless rod (density = 0) enters the time loop as its static compliance and has no velocity to damp (for damping at the contact use `contact_damping`, N·s/m): give `density` or leave `rayleigh` out",
         ));
     }
     Ok(())
@@ -59,7 +59,7 @@ pub(super) fn validate_ring(ls: &LoadedScene, i: usize, r: &RingSpec) -> Result<
     if r.mass == 0.0 && r.damping > 0.0 {
         return Err(ls.invalid(
             &k("damping"),
-            "a massless ring (mass = 0) has no support damping: give `mass` or leave `damping` out",
+            "a massless ring (mass = 0) has no support to damp: for a dashpot that acts while the rotor touches the ring (ROSS's contact damping) use `contact_damping` (N·s/m); for support damping give the ring `mass`",
         ));
     }
     Ok(())
@@ -295,6 +295,27 @@ pub(super) fn validate_clearance(
     }
     if let Some(v) = c_nd {
         positive(ls, &format!("stator.{i}.clearance_nd"), v)?;
+    }
+    Ok(())
+}
+
+/// The contact dashpot of any stator kind: `contact_damping` ≥ 0 (N·s/m) and
+/// `contact_damping_mode` one of `"normal"`, `"full"` (a mode with `contact_damping = 0` does
+/// nothing: a study may vary the coefficient down to 0). Whether the stator is massless is checked when it is built.
+pub(super) fn validate_contact_damping(
+    ls: &LoadedScene,
+    i: usize,
+    s: &StatorSpec,
+) -> Result<(), SceneError> {
+    let (c, mode) = s.contact_damping();
+    let key = format!("stator.{i}.contact_damping");
+    non_negative(ls, &key, c)?;
+    let mode_key = format!("{key}_mode");
+    if !matches!(mode, "normal" | "full") {
+        return Err(ls.invalid(
+            &mode_key,
+            format!("must be \"normal\" or \"full\", got {mode:?}"),
+        ));
     }
     Ok(())
 }
