@@ -284,7 +284,8 @@ pub fn choose(
     let pilots = pilot_speeds(speeds);
     let target = SAFETY * s.tolerance;
     let rho = rho_inf.or(Some(DEFAULT_RHO_INF));
-    // The candidates by the cost of their coarsest step: the cheapest at best first.
+    // The candidates in their order (the first wins a tie), each with the cost of its coarsest
+    // step: a scheme that cannot beat the best found is not piloted.
     let mut order = Vec::new();
     for kind in candidates(run_integrator) {
         let sch = scheme(kind, rho);
@@ -292,7 +293,6 @@ pub fn choose(
             order.push((kind, c));
         }
     }
-    order.sort_by(|a, b| a.1.total_cmp(&b.1));
     let mut best: Option<Outcome> = None;
     let (mut pilot_steps, mut pilot_wall, mut piloted) = (0u64, 0.0, 0usize);
     let mut last_err: Option<Error> = None;

@@ -66,6 +66,17 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
         s.step.integrator.name(), r.stats.steps, r.plan.dt, r.stats.wall_s,
         r.error.map(|e| format!("{:.1e}", e.extents_rel)).unwrap_or_else(|| "not estimated".into())
     );
+    if let (Some(e), Some(c)) = (r.error, r.step_choice) {
+        if e.extents_rel.max(e.lines_rel) > c.tolerance {
+            eprintln!(
+                "warning: ω/ωn = {:.3}: the run's 2Δt error estimate {:.1e} is above `run.tolerance` = {:e} although the pilots predicted {:.1e} for the chosen step: their short window did not represent this steady response; give a smaller `run.dt` (docs/VALIDATION.md §16)",
+                r.speed_ratio,
+                e.extents_rel.max(e.lines_rel),
+                c.tolerance,
+                c.error_predicted
+            );
+        }
+    }
     if !r.steady {
         eprintln!(
             "warning: ω/ωn = {:.3}: the steady state was not proven within {} transient revolutions (`run.max_transient_revolutions`): the analysed window still changes by {:.1e} of the orbit's size, above `run.tolerance` = {:e}; the results carry that error (summary.json: `steady = false`)",
