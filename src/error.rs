@@ -303,6 +303,15 @@ pub enum SolveError {
         /// Which keys to change.
         advice: String,
     },
+    /// The step chosen from `run.tolerance` (`analysis::autostep`) cannot be met within the
+    /// budget.
+    #[error("`run.tolerance` = {tolerance:e} cannot be met within the budget: {detail}")]
+    ToleranceUnreachable {
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// The figures: integrator, Δt, steps and the limit.
+        detail: String,
+    },
     /// The record of a run would not fit the memory limit.
     #[error("the run's record needs {bytes:.3e} bytes ({samples:.3e} samples), above the limit of {max:.3e} bytes: lower `run.samples_per_rev` or `run.revolutions`")]
     RecordTooLarge {

@@ -29,6 +29,7 @@
 //! probe), [`refine`] (mesh-refinement metrics), [`rotordyn`] (modes, Campbell, unbalance
 //! response).
 
+pub mod autostep;
 pub mod bench;
 pub mod campbell;
 pub mod convergence;
@@ -41,6 +42,7 @@ pub mod stress;
 pub mod sweep;
 pub mod transient;
 
+pub use autostep::{choose, StepChoice};
 pub use convergence::{convergence, ConvergencePoint, ConvergenceResults};
 pub use regimes::{
     quasi_resonances, regime_class, regime_name, regime_ranges, RegimeRange, REGIME_CLASSES,
@@ -77,6 +79,9 @@ pub struct RunSettings {
     /// Most transient revolutions while waiting for the steady state
     /// (`run.max_transient_revolutions`).
     pub max_transient_revolutions: usize,
+    /// The integrator and Δt chosen from the tolerance ([`autostep::choose`]), reported with
+    /// each run; `None` when the scene's rule or `run.dt` set the step.
+    pub choice: Option<StepChoice>,
 }
 
 impl RunSettings {
@@ -85,13 +90,14 @@ impl RunSettings {
     pub fn from_run(run: &RunSpec, component: &str) -> Self {
         Self {
             step: StepParams {
-                integrator: scheme(run.integrator, run.rho_inf),
+                integrator: scheme(run.integrator(), run.rho_inf),
                 dt: run.dt,
                 harmonics: run.harmonics,
                 revolutions: run.revolutions,
                 transient_revolutions: run.transient_revolutions,
                 samples_per_rev: run.samples_per_rev,
                 max_steps: run.max_steps.unwrap_or(crate::time::plan::MAX_STEPS),
+                dt_scale: 1.0,
             },
             error_estimate: run.error_estimate,
             initial: Initial {
@@ -103,6 +109,7 @@ impl RunSettings {
             max_transient_revolutions: run
                 .max_transient_revolutions
                 .unwrap_or(run.transient_revolutions * crate::scene::MAX_TRANSIENT_FACTOR),
+            choice: None,
         }
     }
 }

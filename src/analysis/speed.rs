@@ -89,6 +89,10 @@ pub struct SpeedResults {
     pub stats: RunStats,
     /// Error estimate (None when not asked or not possible).
     pub error: Option<ErrorEstimate>,
+    /// The integrator and Δt chosen from `run.tolerance` by pilot runs (None when `run.dt` or
+    /// the paper's rule set the step).
+    #[serde(default)]
+    pub step_choice: Option<super::StepChoice>,
     /// Poincaré points / |Z0| (analysis window).
     pub poincare_nd: Vec<V2>,
     /// Steady orbit / |Z0| (kept on request).
@@ -445,6 +449,7 @@ pub fn analyse(
         plan: *plan,
         stats,
         error: None,
+        step_choice: s.choice,
         poincare_nd: poincare,
         orbit_nd: if keep.orbit { window } else { Vec::new() },
         force_history: if keep.force_history {

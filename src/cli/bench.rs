@@ -1,6 +1,6 @@
 //! `rubsim bench`: time the scene's sweep, optionally against a converged reference.
 
-use super::{load, settings, Common};
+use super::{chosen_settings, load, Common};
 use anyhow::Result;
 use rubsim::analysis::bench;
 
@@ -8,16 +8,20 @@ use rubsim::analysis::bench;
 /// the largest estimated error; with `reference`, also the error against a converged sweep.
 pub fn bench(c: &Common, repeat: usize, reference: bool) -> Result<()> {
     let (ls, model) = load(c)?;
-    let s = settings(&ls);
     let speeds = bench::speeds(&ls.scene.run, &model);
+    let t0 = std::time::Instant::now();
+    let s = chosen_settings(&ls, &model, &speeds)?;
+    let choose_s = t0.elapsed().as_secs_f64();
     let r = bench::best_of(&model, &s, &speeds, repeat)?;
     println!(
-        "bench {}: {} speeds, threads {}, best of {}: wall {:.3} s, {} steps (main runs), {:.1} ns/step (loop time per step, main runs), largest estimated extents error {:.2e}{}",
+        "bench {}: {} speeds, threads {}, best of {}: wall {:.3} s ({:.3} s sweep + {:.3} s choosing the step), {} steps (main runs), {:.1} ns/step (loop time per step, main runs), largest estimated extents error {:.2e}{}",
         c.scene.display(),
         speeds.len(),
         rayon::current_num_threads(),
         repeat.max(1),
+        r.wall_s + choose_s,
         r.wall_s,
+        choose_s,
         r.total_steps(),
         bench::ns_per_step(&r),
         r.max_estimated_error(),

@@ -1,10 +1,10 @@
 //! `rubsim check`: validate a scene and print the resolved model.
 
-use super::{load, settings, Common};
+use super::{chosen_settings, describe_choice, load, settings, Common};
 use anyhow::Result;
 use rubsim::analysis;
 use rubsim::model::{Case, Model};
-use rubsim::scene::{self, IntegratorKind, Scene};
+use rubsim::scene::{self, Scene};
 use rubsim::time::StepPlan;
 
 /// Validates the scene and prints the resolved model: rotor, stations, stators, the run and
@@ -54,8 +54,13 @@ pub fn check(c: &Common) -> Result<()> {
         print_built(s, &model, &p.case, &p.plan);
         return Ok(());
     }
+    let speeds = match &s.run.sweep {
+        Some(w) => analysis::sweep_speeds(w.from, w.to, w.step),
+        None => vec![case.speed_ratio],
+    };
+    let st = chosen_settings(&ls, &model, &speeds)?;
     let plan = rubsim::time::plan_steps(&case, &st.step)?;
-    print_run(s, &case, &plan);
+    print_run(s, &st, &case, &plan);
     print_budget(s, &model, &st, &case, &plan)?;
     print_built(s, &model, &case, &plan);
     Ok(())
@@ -133,7 +138,7 @@ fn print_stators(s: &Scene, case: &Case) {
 }
 
 /// The run: speeds, integrator, revolutions, Δt at the checked speed.
-fn print_run(s: &Scene, case: &Case, plan: &StepPlan) {
+fn print_run(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &StepPlan) {
     let speeds = match &s.run.sweep {
         Some(w) => {
             let v = analysis::sweep_speeds(w.from, w.to, w.step);
@@ -154,7 +159,7 @@ fn print_run(s: &Scene, case: &Case, plan: &StepPlan) {
     println!("run: {speeds}");
     println!(
         "  integrator {}; {} revolutions, first {} cut as transient; {} samples/rev recorded; error estimate {}",
-        s.run.integrator.name(),
+        st.step.integrator.name(),
         s.run.revolutions,
         s.run.transient_revolutions,
         s.run.samples_per_rev,
@@ -166,10 +171,10 @@ fn print_run(s: &Scene, case: &Case, plan: &StepPlan) {
             plan.dt
         );
     }
-    let limit = if matches!(
-        s.run.integrator,
-        IntegratorKind::Newmark | IntegratorKind::GeneralizedAlpha
-    ) {
+    if let Some(c) = &st.choice {
+        println!("  {}", describe_choice(c));
+    }
+    let limit = if st.step.integrator.implicit().is_some() {
         format!(
             "explicit stability limit {:.4e} s (not applied: implicit, Δt by accuracy only)",
             plan.limit
@@ -204,7 +209,7 @@ fn print_transient(s: &Scene, p: &analysis::TransientPrepared) {
     );
     println!(
         "  integrator {}; Δt {:.4e} s ({} steps, {} steps/rev at the top speed), a sample every {} steps; paper rule (n = {}) {:.4e} s; stability limit {:.4e} s; orders tracked {:?} over {} revolutions per window",
-        s.run.integrator.name(),
+        s.run.integrator().name(),
         p.plan.dt,
         p.plan.steps,
         p.plan.steps_per_rev,

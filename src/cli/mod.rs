@@ -310,6 +310,40 @@ pub fn settings(ls: &LoadedScene) -> RunSettings {
     RunSettings::from_run(&ls.scene.run, &ls.scene.output.component)
 }
 
+/// The run settings of a scene whose runs are at `speeds` (ω/ω_n): [`settings`], with the
+/// integrator and Δt chosen from `run.tolerance` by pilot runs when the scene gives no
+/// `run.dt` (`analysis::autostep`); the choice is printed on stderr.
+pub fn chosen_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Result<RunSettings> {
+    let s = settings(ls);
+    let run = &ls.scene.run;
+    if run.dt.is_some() || run.speed_profile.is_some() {
+        return Ok(s);
+    }
+    let s = rubsim::analysis::choose(model, &s, run.integrator, run.rho_inf, speeds)
+        .with_context(|| format!("{}: choosing Δt for `run.tolerance`", ls.file.display()))?;
+    if let Some(c) = &s.choice {
+        eprintln!("{}", describe_choice(c));
+    }
+    Ok(s)
+}
+
+/// One line on the integrator and Δt chosen from the tolerance.
+pub fn describe_choice(c: &rubsim::analysis::StepChoice) -> String {
+    format!(
+        "step for run.tolerance = {:e}: integrator {}, Δt = {:.3} × the paper's rule, observed order {:.2} (used {:.2}), predicted error {:.2e}; pilots: {} scheme(s) at {} speed(s), {} steps, {:.3} s",
+        c.tolerance,
+        c.integrator.name(),
+        c.dt_scale,
+        c.order_observed,
+        c.order_used,
+        c.error_predicted,
+        c.schemes_piloted,
+        c.pilot_speeds,
+        c.pilot_steps,
+        c.pilot_wall_s
+    )
+}
+
 /// A progress bar over `n` speeds.
 pub fn progress_bar(n: usize) -> ProgressBar {
     let pb = ProgressBar::new(n as u64);

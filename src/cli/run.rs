@@ -1,6 +1,6 @@
 //! `rubsim run`: one speed, its summary, pictures and time series.
 
-use super::{default_out, load, settings, Common, Series, UnitArg};
+use super::{chosen_settings, default_out, load, settings, Common, Series, UnitArg};
 use anyhow::{Context, Result};
 use rubsim::analysis::{self, Keep};
 use rubsim::output::{figures, summary, transient as transient_out};
@@ -28,9 +28,9 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
             )
         })?;
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene)))?;
-    let s = settings(&ls);
-    let keep = Keep::single_run(&ls.scene.output, v);
     let t0 = std::time::Instant::now();
+    let s = chosen_settings(&ls, &model, &[v])?;
+    let keep = Keep::single_run(&ls.scene.output, v);
     let prep = analysis::prepare(&model, &s, v)?;
     // VTK/HDF5 time series (output.vtk, output.hdf5) stream into the staging folder.
     let scene_json = serde_json::to_string(&ls.scene)?;
@@ -58,14 +58,25 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
     sum["wall_s"] = t0.elapsed().as_secs_f64().into();
     let dir = summary::finish(outd, &sum)?;
     println!(
-        "ω/ωn = {:.3}: {} | x/|Z0| ∈ [{:.3}, {:.3}], y/|Z0| ∈ [{:.3}, {:.3}] | 1× {:.3}, 1/2× {:.3}, 1/3× {:.3} | {} steps (Δt = {:.3e} s) in {:.3} s | est. rel. error {}",
+        "ω/ωn = {:.3}: {} | x/|Z0| ∈ [{:.3}, {:.3}], y/|Z0| ∈ [{:.3}, {:.3}] | 1× {:.3}, 1/2× {:.3}, 1/3× {:.3} | {} {} steps (Δt = {:.3e} s) in {:.3} s | est. rel. error {}",
         r.speed_ratio,
         analysis::regime_name(r.period),
         r.extents_nd[0], r.extents_nd[1], r.extents_nd[2], r.extents_nd[3],
         r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd,
-        r.stats.steps, r.plan.dt, r.stats.wall_s,
+        s.step.integrator.name(), r.stats.steps, r.plan.dt, r.stats.wall_s,
         r.error.map(|e| format!("{:.1e}", e.extents_rel)).unwrap_or_else(|| "not estimated".into())
     );
+    if let (Some(e), Some(c)) = (r.error, r.step_choice) {
+        if e.extents_rel.max(e.lines_rel) > c.tolerance {
+            eprintln!(
+                "warning: ω/ωn = {:.3}: the run's 2Δt error estimate {:.1e} is above `run.tolerance` = {:e} although the pilots predicted {:.1e} for the chosen step: their short window did not represent this steady response; give a smaller `run.dt` (docs/VALIDATION.md §16)",
+                r.speed_ratio,
+                e.extents_rel.max(e.lines_rel),
+                c.tolerance,
+                c.error_predicted
+            );
+        }
+    }
     if !r.steady {
         eprintln!(
             "warning: ω/ωn = {:.3}: the steady state was not proven within {} transient revolutions (`run.max_transient_revolutions`): the analysed window still changes by {:.1e} of the orbit's size, above `run.tolerance` = {:e}; the results carry that error (summary.json: `steady = false`)",

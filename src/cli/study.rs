@@ -254,8 +254,25 @@ fn run_cases(
         Some((l, m)) => (l, m),
         None => (ls, model),
     };
+    // Each variant's integrator and Δt, chosen from the tolerance over the study's speeds.
+    let mut sets = Vec::with_capacity(models.len());
+    for (i, m) in models.iter().enumerate() {
+        sets.push(match m {
+            Some((l, m)) => Some(super::chosen_settings(l, m, &study.speeds)?),
+            None if todo.iter().any(|t| t.variant == i) => {
+                Some(super::chosen_settings(ls, model, &study.speeds)?)
+            }
+            None => None,
+        });
+    }
     let speeds: Vec<f64> = todo.iter().map(|t| t.speed_ratio).collect();
-    super::announce_sweep(model, &settings(ls), &speeds, todo.len());
+    let first = sets.iter().flatten().next().copied();
+    super::announce_sweep(
+        model,
+        &first.unwrap_or_else(|| settings(ls)),
+        &speeds,
+        todo.len(),
+    );
     let pb = progress_bar(todo.len());
     let scene_json = serde_json::to_string(&ls.scene)?;
     let written = Mutex::new(Vec::new());
@@ -264,7 +281,8 @@ fn run_cases(
     let run = |case: &&CaseSpec| -> rubsim::error::Result<()> {
         let (l, m) = of(case.variant);
         let v = case.speed_ratio;
-        let prep = analysis::prepare(m, &settings(l), v)?;
+        let st = sets[case.variant].unwrap_or_else(|| settings(l));
+        let prep = analysis::prepare(m, &st, v)?;
         let keep = study.keep(l, v);
         let r = if series.contains(&(case.variant, v.to_bits())) {
             let sr = Series {

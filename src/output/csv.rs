@@ -24,12 +24,12 @@ fn table(header: &str, rows: impl IntoIterator<Item = String>) -> String {
 }
 
 /// The `sweep.csv` header.
-pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved";
+pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted";
 
 /// One `sweep.csv` row.
 pub fn sweep_row(r: &SpeedResults) -> String {
     format!(
-        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{},{},{},{:.3e},{:.3e},{}",
+        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{},{},{},{:.3e},{:.3e},{},{}",
         r.speed_ratio,
         r.period,
         r.extents_nd[0],
@@ -56,6 +56,15 @@ pub fn sweep_row(r: &SpeedResults) -> String {
         r.stationarity.residual,
         r.classification.confidence,
         r.lines_resolved,
+        r.step_choice
+            .map(|c| format!(
+                "{},{:.4},{:.3},{:.3e}",
+                c.integrator.name(),
+                c.dt_scale,
+                c.order_observed,
+                c.error_predicted
+            ))
+            .unwrap_or_else(|| ",,,".into()),
     )
 }
 

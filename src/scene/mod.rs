@@ -273,7 +273,7 @@ speed_ratio = 1.7
     fn parses_a_valid_scene() {
         let s = p(OK, &[]).unwrap();
         assert_eq!(s.scene.stators.len(), 1);
-        assert_eq!(s.scene.run.integrator, IntegratorKind::Collocated);
+        assert_eq!(s.scene.run.integrator(), IntegratorKind::Collocated);
     }
 
     #[test]

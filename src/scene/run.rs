@@ -77,14 +77,17 @@ pub struct RunSpec {
     /// (default 5 × `transient_revolutions`); a run not steady by then is reported
     /// `steady = false`.
     pub max_transient_revolutions: Option<usize>,
-    /// Integrator; default `collocated` (see docs/VALIDATION.md for why).
-    #[serde(default = "default_integrator")]
-    pub integrator: IntegratorKind,
+    /// Integrator. Left out, a run without `dt` has it chosen with Δt from `run.tolerance`
+    /// (`analysis::autostep`, by the commands `run`, `sweep`, `map`, `bench` and `check`);
+    /// otherwise, and in the library's plain runs, `collocated` ([`RunSpec::integrator`]).
+    pub integrator: Option<IntegratorKind>,
     /// Spectral radius at infinite frequency ρ∞ ∈ [0, 1] of `integrator = "generalized_alpha"`
     /// (default [`DEFAULT_RHO_INF`]; refused with any other integrator): 1 keeps every mode,
     /// lower values damp the modes the step does not resolve.
     pub rho_inf: Option<f64>,
     /// Time step override (s). Rounded down so a revolution holds a whole number of steps.
+    /// Left out, the commands choose Δt (and the integrator, when not given) from
+    /// `run.tolerance` by pilot runs (`analysis::autostep`).
     pub dt: Option<f64>,
     /// The paper's rule Δt ≤ min(T_min/(32 n), 2π/(32 n ω)) with n = `harmonics`.
     #[serde(default = "default_harmonics")]
@@ -105,6 +108,14 @@ pub struct RunSpec {
     /// Initial rotor station velocity `[vx, vy]` (m/s) at node 0.
     #[serde(default)]
     pub initial_velocity: [f64; 2],
+}
+
+impl RunSpec {
+    /// The integrator of a run whose step is not chosen from the tolerance: `run.integrator`,
+    /// `collocated` when left out (see docs/VALIDATION.md for why).
+    pub fn integrator(&self) -> IntegratorKind {
+        self.integrator.unwrap_or(IntegratorKind::Collocated)
+    }
 }
 
 /// Speed sweep over ω/ω_n, inclusive of both ends.
@@ -209,9 +220,6 @@ fn default_tolerance() -> f64 {
 }
 /// Default of `run.max_transient_revolutions`: this many times `run.transient_revolutions`.
 pub const MAX_TRANSIENT_FACTOR: usize = 5;
-fn default_integrator() -> IntegratorKind {
-    IntegratorKind::Collocated
-}
 fn default_harmonics() -> f64 {
     4.0
 }

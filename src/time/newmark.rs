@@ -413,6 +413,7 @@ error_estimate = false
             transient_revolutions: 0,
             samples_per_rev: 8,
             max_steps: MAX_STEPS,
+            dt_scale: 1.0,
         };
         let plan = plan_steps(&case, &step).unwrap();
         let init = Initial {

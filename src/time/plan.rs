@@ -112,6 +112,11 @@ pub struct StepParams {
     pub samples_per_rev: usize,
     /// Most steps the run may take ([`MAX_STEPS`] unless `run.max_steps` says otherwise).
     pub max_steps: u64,
+    /// Without `dt`: Δt is this multiple of the paper's rule (1 by default; the error-target
+    /// choice `analysis::autostep` sets it), still capped at 0.8× the stability limit
+    /// (explicit) or at `T_min /` [`MIN_IMPLICIT_STEPS_PER_PERIOD`] (implicit), and at one
+    /// step per recorded sample.
+    pub dt_scale: f64,
 }
 
 /// Default of `run.max_steps`: the most integration steps one run may take. At the measured
@@ -280,7 +285,9 @@ fn choose_dt(case: &Case, p: &StepParams, omega: f64) -> Result<Chosen, SolveErr
             }
             dt
         }
-        None if p.integrator.implicit().is_some() => rule_dt,
+        None if p.integrator.implicit().is_some() => {
+            (p.dt_scale * rule_dt).min(t_min / MIN_IMPLICIT_STEPS_PER_PERIOD)
+        }
         Some(dt) => {
             if dt > limit {
                 return Err(SolveError::StepTooLarge {
@@ -292,7 +299,7 @@ fn choose_dt(case: &Case, p: &StepParams, omega: f64) -> Result<Chosen, SolveErr
             }
             dt
         }
-        None => rule_dt.min(0.8 * limit),
+        None => (p.dt_scale * rule_dt).min(0.8 * limit),
     };
     Ok(Chosen {
         dt,
@@ -317,9 +324,13 @@ fn check_steps(
     if steps.is_nan() || steps > p.max_steps as f64 {
         let why = match p.dt {
             Some(_) => "`run.dt`".to_string(),
-            None if 0.8 * c.limit < c.rule_dt && p.integrator.implicit().is_none() => {
+            None if 0.8 * c.limit < p.dt_scale * c.rule_dt && p.integrator.implicit().is_none() => {
                 format!("0.8 × the stability limit {:.3e} s: {}", c.limit, c.reason)
             }
+            None if p.dt_scale != 1.0 => format!(
+                "{:.3} × the paper's rule, the step `run.tolerance` asks for",
+                p.dt_scale
+            ),
             None => format!(
                 "the paper's rule with n = {} (`run.harmonics`)",
                 p.harmonics

@@ -112,12 +112,12 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
     }
     positive(ls, "run.harmonics", r.harmonics)?;
     if let Some(rho) = r.rho_inf {
-        if r.integrator != IntegratorKind::GeneralizedAlpha {
+        if r.integrator() != IntegratorKind::GeneralizedAlpha {
             return Err(ls.invalid(
                 "run.rho_inf",
                 format!(
                     "only `run.integrator = \"generalized_alpha\"` has a spectral radius ρ∞; the integrator is `{}`: leave `rho_inf` out or choose `generalized_alpha`",
-                    r.integrator.name()
+                    r.integrator().name()
                 ),
             ));
         }

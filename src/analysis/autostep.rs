@@ -1,0 +1,406 @@
+//! The integrator and Δt chosen from `run.tolerance` (issue 11, item 1): pilot runs on a short
+//! window at three steps, the observed order, the step that meets the target with a safety
+//! factor within the stability limit (explicit) or the accuracy limit (implicit), and the
+//! cheaper scheme for it.
+//!
+//! # Method
+//!
+//! For each candidate scheme (`run.integrator` when the scene gives one, else collocated,
+//! forward increment and generalised-α, ρ∞ = [`DEFAULT_RHO_INF`]) and each pilot speed
+//! ([`pilot_speeds`]: a single run's speed; a sweep's first, middle and last):
+//!
+//! 1. the coarsest step the scheme allows — 0.8× the explicit stability limit, or `T_min/4`
+//!    for an implicit scheme, and at most one step per recorded sample — then its halves
+//!    (whole samples per revolution): three steps, more (up to [`MAX_LEVELS`]) while the last
+//!    three show no convergence and differ by more than the target; `h₀ > h₁ > h₂` the last
+//!    three;
+//! 2. a pilot run at each over [`PILOT_TRANSIENT`] + [`PILOT_WINDOW`] revolutions, analysed as
+//!    a run is (orbit extents and the 1×, ½×, ⅓× lines, relative as the error estimate makes
+//!    them: [`difference`]);
+//! 3. the observed order `p_obs = log(d₀₁/d₁₂)/log(h₁/h₂)`, `dᵢⱼ` the differences of
+//!    successive pilots; the order used `p = clamp(p_obs, ½, p_nominal)` (a smaller order
+//!    predicts a larger error below the pilots' steps: the clamp errs on the safe side);
+//! 4. the error of the finest pilot `E₂ = d₁₂/((h₁/h₂)^p − 1)`, its constant `C = E₂/h₂^p`, and
+//!    the step `h* = (S·tol/C)^{1/p}` with the safety factor `S` = [`SAFETY`], at most `h₀`
+//!    (no extrapolation above the steps that showed the order), and at most the coarsest pilot
+//!    step from which on the run's own 2Δt estimate, measured between the pilots
+//!    (`d(h, 2h)/(2^p_nominal − 1)`), is within the target: the estimate the run reports agrees
+//!    with the choice.
+//!
+//! Where the pilots predict that the paper's rule (Δt of `run.harmonics`) meets the tolerance
+//! itself, a step finer than the rule is not asked for: the rule is the validated default
+//! (docs/VALIDATION.md) and the safety factor only guards a step the pilots extrapolate to.
+//!
+//! The step is kept as a multiple of the paper's rule (`StepParams::dt_scale`, the smallest
+//! over the pilot speeds), so the other speeds of a sweep take the same fraction of their own
+//! rule. Each scheme's cost is its steps per revolution at the pilot speeds times its cost per
+//! step (the budget's cost model, [`crate::time::estimate`]: the schemes' steps cost the same
+//! within the pilots' timing noise, 124–158 ns on the paper's Jeffcott rotor and rod); the
+//! cheapest wins, the first candidate on a tie. A scheme whose coarsest step already costs more than the best found is not piloted.
+//! The pilots' steps and wall time are counted and reported ([`StepChoice`]).
+
+use super::{analyse, prepare, scheme, sweep::run_all, Keep, RunSettings, SpeedResults};
+use super::{extents_error, ExtentsScale};
+use crate::error::{Error, Result, SolveError};
+use crate::model::Model;
+use crate::scene::{IntegratorKind, DEFAULT_RHO_INF};
+use crate::time::{estimate, plan_steps, Scheme};
+use serde::{Deserialize, Serialize};
+
+/// Transient revolutions of a pilot run before its analysed window.
+pub const PILOT_TRANSIENT: usize = 10;
+/// Analysed revolutions of a pilot run (the shortest window, [`crate::time::WINDOW_MULTIPLE`]).
+pub const PILOT_WINDOW: usize = 6;
+/// The chosen step's predicted error is this fraction of `run.tolerance`.
+pub const SAFETY: f64 = 0.5;
+/// Most pilot steps per scheme and speed (the coarsest and five halvings).
+pub const MAX_LEVELS: usize = 6;
+/// The last three pilots show convergence when their second difference is below the first over
+/// this factor (an observed order above log₂ 1.5 ≈ 0.58).
+pub const CONVERGING: f64 = 1.5;
+/// A multiple of the rule large enough that only the caps (stability, accuracy, one step per
+/// sample) bound the step: the coarsest step a scheme allows.
+const COARSEST: f64 = 1e12;
+
+/// What the error-target choice settled on, reported with every run it chose for.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct StepChoice {
+    /// The chosen integrator.
+    pub integrator: IntegratorKind,
+    /// Δt as a multiple of the paper's rule (`StepParams::dt_scale`).
+    pub dt_scale: f64,
+    /// Observed order of the chosen scheme (fitted on the pilots; the smallest over the pilot
+    /// speeds); NaN when the pilots did not differ.
+    pub order_observed: f64,
+    /// Order the step was chosen with, `clamp(order_observed, ½, nominal)`.
+    pub order_used: f64,
+    /// Predicted relative error (extents and lines) at the chosen step, the largest over the
+    /// pilot speeds.
+    pub error_predicted: f64,
+    /// The tolerance aimed at (`run.tolerance`).
+    pub tolerance: f64,
+    /// Pilot speeds ω/ω_n: how many, the first and the last.
+    pub pilot_speeds: usize,
+    /// Steps of every pilot run together.
+    pub pilot_steps: u64,
+    /// Wall time of the pilots' loops together (s).
+    pub pilot_wall_s: f64,
+    /// Schemes piloted.
+    pub schemes_piloted: usize,
+}
+
+/// The pilot speeds of a run over `speeds`: all of up to two speeds, else the first, the
+/// middle and the last.
+pub fn pilot_speeds(speeds: &[f64]) -> Vec<f64> {
+    match speeds.len() {
+        0..=2 => speeds.to_vec(),
+        n => vec![speeds[0], speeds[n / 2], speeds[n - 1]],
+    }
+}
+
+/// One scheme's fit at one speed.
+#[derive(Debug, Clone, Copy)]
+struct Fit {
+    /// Observed order (NaN when undefined).
+    p_obs: f64,
+    /// Order used.
+    p: f64,
+    /// Error constant: error ≈ c·h^p.
+    c: f64,
+    /// The paper's rule at this speed (s).
+    rule_dt: f64,
+    /// The coarsest step the choice may take (s): the coarsest of the three pilots fitted (no
+    /// extrapolation above the steps that showed the order), and no coarser than the pilot
+    /// step from which on the 2Δt estimate the run will make, as the pilots measure it, is
+    /// within the target.
+    h0: f64,
+    /// Pilot steps and loop wall time.
+    steps: u64,
+    wall_s: f64,
+}
+
+impl Fit {
+    /// The multiple of the rule that meets `target` (at most the coarsest step's).
+    fn scale_for(&self, target: f64) -> f64 {
+        let h = if self.c > 0.0 {
+            (target / self.c).powf(1.0 / self.p).min(self.h0)
+        } else {
+            self.h0
+        };
+        h / self.rule_dt
+    }
+    fn error_at(&self, h: f64) -> f64 {
+        self.c * h.powf(self.p)
+    }
+}
+
+/// The relative difference of two runs' results: the largest of the orbit-extents difference
+/// (relative to the largest extent of `b`) and the 1×, ½×, ⅓× line differences (relative to
+/// the largest line of `b`) — the measure of [`super::ErrorEstimate`].
+pub fn difference(a: &SpeedResults, b: &SpeedResults) -> f64 {
+    let ext = extents_error(&a.extents_nd, &b.extents_nd, ExtentsScale::Largest);
+    let la = [a.amp_1x_nd, a.amp_half_nd, a.amp_third_nd];
+    let lb = [b.amp_1x_nd, b.amp_half_nd, b.amp_third_nd];
+    let lmax = lb.iter().fold(1e-300_f64, |m, v| m.max(*v));
+    let lines = la
+        .iter()
+        .zip(lb)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+        / lmax;
+    ext.max(lines)
+}
+
+/// The pilot settings of `s` with `kind`: a short window, no error estimate, no adaptation.
+fn pilot_settings(s: &RunSettings, kind: Scheme, scale: f64) -> RunSettings {
+    let mut p = *s;
+    p.step.integrator = kind;
+    p.step.dt = None;
+    p.step.dt_scale = scale;
+    p.step.transient_revolutions = PILOT_TRANSIENT;
+    p.step.revolutions = PILOT_TRANSIENT + PILOT_WINDOW;
+    p.error_estimate = false;
+    p
+}
+
+/// Pilots `kind` at speed `v` at halving steps from the coarsest it allows — three, and more
+/// (up to [`MAX_LEVELS`]) while the last three show no convergence (`d₁₂ ≥ d₀₁/`
+/// [`CONVERGING`]) and their last difference is above `target` — and fits its order and error
+/// constant on the last three.
+fn fit(model: &Model, s: &RunSettings, kind: Scheme, v: f64, target: f64) -> Result<Fit> {
+    let ps = pilot_settings(s, kind, COARSEST);
+    let mut prep = prepare(model, &ps, v)?;
+    let coarsest = prep.plan.dt;
+    let rule_dt = prep.plan.rule_dt;
+    let mut res: Vec<(f64, SpeedResults)> = Vec::with_capacity(MAX_LEVELS);
+    let (mut steps, mut wall_s) = (0u64, 0.0);
+    let mut k = 0;
+    let (d01, d12) = loop {
+        let mut st = ps.step;
+        st.dt_scale = coarsest / rule_dt / (1u64 << k) as f64 * (1.0 + 1e-9);
+        prep.plan = plan_steps(&prep.case, &st)?;
+        let (rec, stats) = prep.integrate(&mut [])?;
+        steps += stats.steps as u64;
+        wall_s += stats.wall_s;
+        let r = analyse(&prep.case, &ps, &prep.plan, &rec, stats, Keep::default());
+        res.push((prep.plan.dt, r));
+        k += 1;
+        let n = res.len();
+        if n < 3 {
+            continue;
+        }
+        let d01 = difference(&res[n - 3].1, &res[n - 2].1);
+        let d12 = difference(&res[n - 2].1, &res[n - 1].1);
+        if n >= MAX_LEVELS || d12 * CONVERGING < d01 || d12 <= target {
+            break (d01, d12);
+        }
+    };
+    let n = res.len();
+    let (h0, h1, h2) = (res[n - 3].0, res[n - 2].0, res[n - 1].0);
+    let ratio = h1 / h2;
+    let nominal = kind.nominal_order();
+    // The run's own 2Δt estimate at a pilot step, d(h, 2h)/(2^p_nominal − 1), as measured: the
+    // step may not exceed the coarsest pilot step from which on every such estimate is within
+    // the target.
+    let mut cap = h2;
+    for k in (1..n).rev() {
+        let r = res[k - 1].0 / res[k].0;
+        let est = difference(&res[k - 1].1, &res[k].1) / (r.powf(nominal) - 1.0);
+        if est > target {
+            break;
+        }
+        cap = res[k].0;
+    }
+    let p_obs = (d01 / d12).ln() / ratio.ln();
+    let p = if p_obs.is_finite() {
+        p_obs.clamp(0.5, nominal)
+    } else {
+        nominal
+    };
+    let e2 = if d12 > 0.0 {
+        d12 / (ratio.powf(p) - 1.0)
+    } else {
+        0.0
+    };
+    Ok(Fit {
+        p_obs: if p_obs.is_finite() { p_obs } else { f64::NAN },
+        p,
+        c: e2 / h2.powf(p),
+        rule_dt,
+        h0: h0.min(cap),
+        steps,
+        wall_s,
+    })
+}
+
+/// A scheme's outcome over the pilot speeds.
+struct Outcome {
+    kind: IntegratorKind,
+    fits: Vec<Fit>,
+    scale: f64,
+    cost: f64,
+}
+
+/// The candidate schemes: the scene's integrator, or the three that take any scene.
+fn candidates(run_integrator: Option<IntegratorKind>) -> Vec<IntegratorKind> {
+    match run_integrator {
+        Some(k) => vec![k],
+        None => vec![
+            IntegratorKind::Collocated,
+            IntegratorKind::ForwardIncrement,
+            IntegratorKind::GeneralizedAlpha,
+        ],
+    }
+}
+
+/// Cost (s) of one revolution at each pilot speed of `kind` at `scale`, summed.
+fn cost(model: &Model, s: &RunSettings, kind: Scheme, speeds: &[f64], scale: f64) -> Result<f64> {
+    let mut total = 0.0;
+    for &v in speeds {
+        let prep = prepare(model, &pilot_settings(s, kind, scale), v)?;
+        let b = estimate(&prep.case, &prep.plan, false);
+        total += b.step_s * prep.plan.steps_per_rev as f64;
+    }
+    Ok(total)
+}
+
+/// Chooses the integrator (unless `run_integrator` names one) and Δt of runs of `model` at
+/// `speeds` from `s.tolerance`, and returns `s` with them set (`step.integrator`,
+/// `step.dt_scale`, `choice`). Settings with a `dt` are returned unchanged.
+///
+/// # Errors
+/// [`SolveError::ToleranceUnreachable`] when no scheme meets the tolerance within
+/// `run.max_steps`, naming `run.tolerance`; a model error of a pilot speed's case.
+pub fn choose(
+    model: &Model,
+    s: &RunSettings,
+    run_integrator: Option<IntegratorKind>,
+    rho_inf: Option<f64>,
+    speeds: &[f64],
+) -> Result<RunSettings> {
+    if s.step.dt.is_some() || speeds.is_empty() {
+        return Ok(*s);
+    }
+    let pilots = pilot_speeds(speeds);
+    let target = SAFETY * s.tolerance;
+    let rho = rho_inf.or(Some(DEFAULT_RHO_INF));
+    // The candidates in their order (the first wins a tie), each with the cost of its coarsest
+    // step: a scheme that cannot beat the best found is not piloted.
+    let mut order = Vec::new();
+    for kind in candidates(run_integrator) {
+        let sch = scheme(kind, rho);
+        if let Ok(c) = cost(model, s, sch, &pilots, COARSEST) {
+            order.push((kind, c));
+        }
+    }
+    let mut best: Option<Outcome> = None;
+    let (mut pilot_steps, mut pilot_wall, mut piloted) = (0u64, 0.0, 0usize);
+    let mut last_err: Option<Error> = None;
+    for (kind, floor) in order {
+        if best.as_ref().is_some_and(|b| b.cost <= floor) {
+            continue;
+        }
+        let sch = scheme(kind, rho);
+        let fits = run_all(&pilots, &|&v| fit(model, s, sch, v, target), &|| {});
+        let fits = match fits {
+            Ok(f) => f,
+            Err(e) => {
+                last_err = Some(e);
+                continue;
+            }
+        };
+        piloted += 1;
+        pilot_steps += fits.iter().map(|f| f.steps).sum::<u64>();
+        pilot_wall += fits.iter().map(|f| f.wall_s).sum::<f64>();
+        let mut scale = fits
+            .iter()
+            .map(|f| f.scale_for(target))
+            .fold(f64::INFINITY, f64::min);
+        // The paper's rule is kept where the pilots predict it meets the tolerance itself.
+        let rule_meets = fits
+            .iter()
+            .all(|f| f.error_at(f.rule_dt.min(f.h0)) <= s.tolerance);
+        if scale < 1.0 && rule_meets {
+            scale = 1.0;
+        }
+        let c = match cost(model, s, sch, &pilots, scale) {
+            Ok(c) => c,
+            Err(e) => {
+                last_err = Some(unreachable(s.tolerance, sch, e));
+                continue;
+            }
+        };
+        if best.as_ref().is_none_or(|b| c < b.cost) {
+            best = Some(Outcome {
+                kind,
+                fits,
+                scale,
+                cost: c,
+            });
+        }
+    }
+    let Some(b) = best else {
+        return Err(last_err.unwrap_or_else(|| {
+            SolveError::ToleranceUnreachable {
+                tolerance: s.tolerance,
+                detail: "no integrator could be piloted".into(),
+            }
+            .into()
+        }));
+    };
+    let mut out = *s;
+    out.step.integrator = scheme(b.kind, rho);
+    out.step.dt_scale = b.scale;
+    check_budget(model, &out, speeds)?;
+    let error_predicted = b
+        .fits
+        .iter()
+        .map(|f| f.error_at((b.scale * f.rule_dt).min(f.h0)))
+        .fold(0.0, f64::max);
+    let order_observed = b.fits.iter().map(|f| f.p_obs).fold(f64::NAN, f64::min);
+    out.choice = Some(StepChoice {
+        integrator: b.kind,
+        dt_scale: b.scale,
+        order_observed,
+        order_used: b.fits.iter().map(|f| f.p).fold(f64::INFINITY, f64::min),
+        error_predicted,
+        tolerance: s.tolerance,
+        pilot_speeds: pilots.len(),
+        pilot_steps,
+        pilot_wall_s: pilot_wall,
+        schemes_piloted: piloted,
+    });
+    Ok(out)
+}
+
+/// A plan refused for its steps, as the tolerance that asked for them; other errors as they
+/// are.
+fn unreachable(tolerance: f64, kind: Scheme, e: Error) -> Error {
+    match e {
+        Error::Solve(SolveError::TooManySteps {
+            steps, dt, max, ..
+        }) => SolveError::ToleranceUnreachable {
+            tolerance,
+            detail: format!(
+                "the {} integrator needs Δt = {dt:.3e} s for it, {steps:.3e} steps, above `run.max_steps` = {max}; raise `run.tolerance` or `run.max_steps`, or give `run.dt`",
+                kind.name()
+            ),
+        }
+        .into(),
+        e => e,
+    }
+}
+
+/// Refuses a choice whose runs at the sweep's ends need more than `run.max_steps` steps,
+/// naming `run.tolerance`.
+fn check_budget(model: &Model, s: &RunSettings, speeds: &[f64]) -> Result<()> {
+    let ends = [speeds[0], speeds[speeds.len() - 1]];
+    for v in ends {
+        let omega = v * model.rotor.natural_frequency();
+        let case = model.case(omega)?;
+        if let Err(e) = plan_steps(&case, &s.step) {
+            return Err(unreachable(s.tolerance, s.step.integrator, e.into()));
+        }
+    }
+    Ok(())
+}
