@@ -56,7 +56,9 @@
 mod body;
 pub mod budget;
 pub mod compliance;
+mod drive;
 pub mod frame;
+mod guard;
 pub mod newmark;
 pub mod plan;
 pub mod record;
