@@ -331,3 +331,120 @@ fn driven_scheme_is_second_order() {
     assert!(c > 100, "the run must rub: {c}");
     assert!(pphi > 1.7 && pu > 1.7, "rub: {pphi}, {pu}");
 }
+
+/// The error of `text`, which must fail to load; and the 1-based line starting with `needle`.
+fn load_error(text: &str) -> String {
+    rubsim::scene::parse(std::path::Path::new("t.toml"), text, &[])
+        .expect_err("a bad driven profile loads")
+        .to_string()
+}
+
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines().position(|l| l.starts_with(needle)).unwrap() + 1
+}
+
+#[test]
+fn bad_driven_profiles_name_the_key_and_line() {
+    let base = "unit = \"speed_ratio\"\nspeed = 1.0\nduration = 1.0\n";
+    let cases: &[(&str, &str, &str, &str)] = &[
+        // (keys after the base, key in the message, what it says, the line's start)
+        (
+            "drive_torque = 1.0\ndrive_curve = [[0.0, 1.0], [1.0, 0.0]]",
+            "run.speed_profile.drive_curve",
+            "not both",
+            "drive_curve = ",
+        ),
+        (
+            "drive_curve = [\n  [0.0, 1.0],\n  [2.0, 0.5],\n  [1.0, 0.0],\n]",
+            "run.speed_profile.drive_curve.2",
+            "increase strictly",
+            "  [1.0, 0.0]",
+        ),
+        (
+            "drive_torque = 1.0\ndrive_off = 2.0",
+            "run.speed_profile.drive_off",
+            "a time in the run",
+            "drive_off = ",
+        ),
+        (
+            "drive_off = 0.5",
+            "run.speed_profile.drive_off",
+            "no drive to switch off",
+            "drive_off = ",
+        ),
+        (
+            "drag_torque = -0.1",
+            "run.speed_profile.drag_torque",
+            "zero or positive",
+            "drag_torque = ",
+        ),
+        (
+            "polar_inertia = 0.0",
+            "run.speed_profile.polar_inertia",
+            "positive",
+            "polar_inertia = ",
+        ),
+        (
+            "drive_torque = nan",
+            "run.speed_profile.drive_torque",
+            "finite",
+            "drive_torque = ",
+        ),
+        (
+            "hold = 1.0",
+            "run.speed_profile.hold",
+            "does not apply",
+            "hold = ",
+        ),
+    ];
+    for (keys, key, what, line) in cases {
+        let text = driven(&format!("{base}{keys}"), "", true);
+        let e = load_error(&text);
+        let at = format!("t.toml:{}: key `{key}`", line_of(&text, line));
+        assert!(
+            e.contains(&at) && e.contains(what),
+            "expected `{at}` … `{what}`, got: {e}"
+        );
+    }
+    // A driven key in a prescribed profile.
+    let text = PAPER.replace(
+        "[run.sweep]\nfrom = 0.5\nto = 6.0\nstep = 0.1",
+        "[run.speed_profile]\nkind = \"constant\"\nunit = \"rpm\"\nspeed = 1000.0\nduration = 1.0\ndrive_torque = 1.0",
+    );
+    let e = load_error(&text);
+    assert!(
+        e.contains("run.speed_profile.drive_torque") && e.contains("does not apply"),
+        "{e}"
+    );
+    // A Jeffcott rotor given by its mass has no inertia: refused, naming the key and the table.
+    let text = driven(base, "", true).replace(
+        "disk = { diameter = 0.12, thickness = 0.03, density = 7800.0 }",
+        "mass = 2.646",
+    );
+    let e = load_error(&text);
+    let at = format!(
+        "t.toml:{}: key `run.speed_profile`",
+        line_of(&text, "[run.speed_profile]")
+    );
+    assert!(e.contains(&at) && e.contains("polar_inertia"), "{e}");
+    // … and accepted with `polar_inertia`.
+    let ok = text.replace(
+        "kind = \"driven\"\n",
+        "kind = \"driven\"\npolar_inertia = 0.005\n",
+    );
+    let r = run(&ok, &[]);
+    // Without drive the unbalance's reaction brakes it by the power its whirl dissipates:
+    // T_u = m_u e Ω² |Z0| sin(lag), |Z0| = e ν²/D, sin(lag) = 2ξν/D, D = |1 − ν² + 2iξν|.
+    let last = r.spin.last().unwrap();
+    let (m, ..) = rotor();
+    let (me, nu) = (0.008 * 0.045, last[1] / r.omega_n);
+    let dd = ((1.0 - nu * nu).powi(2) + (0.4 * nu).powi(2)).sqrt();
+    let tu = me * last[1] * last[1] * (me / m) * nu * nu / dd * (0.4 * nu / dd);
+    let rel = (last[3] + tu / 0.005).abs() / (tu / 0.005);
+    eprintln!(
+        "unbalance braking: Ω̇ = {:.5} rad/s² vs −{:.5} (relative {rel:.2e})",
+        last[3],
+        tu / 0.005
+    );
+    assert!(rel < 0.01, "unbalance braking off by {rel}");
+}
