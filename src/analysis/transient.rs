@@ -9,8 +9,8 @@
 use super::speed::Fanout;
 use super::RunSettings;
 use crate::error::{ModelError, Result};
-use crate::model::{Case, Drive, Model, SpeedProfile, SpinState};
-use crate::scene::{ProfileKind, SpeedProfileSpec};
+use crate::model::{Case, Drive, Events, Model, SpeedProfile, SpinState};
+use crate::scene::{EventSpec, ProfileKind, SpeedProfileSpec};
 use crate::time::{plan_duration, FrameSink, Record, RunStats, StepPlan, Stepper};
 use num_complex::Complex64;
 use serde::Serialize;
@@ -24,6 +24,8 @@ pub struct TransientPrepared {
     pub profile: SpeedProfile,
     /// A driven rotor's spin data (`kind = "driven"`), else `None`.
     pub drive: Option<Drive>,
+    /// The run's scheduled events (`[[run.event]]`, [`TransientPrepared::with_events`]).
+    pub events: Events,
     /// The run's settings (its `revolutions` do not apply: the profile sets the length).
     pub settings: RunSettings,
     /// The case at the reference speed Ω_ref (clearance, stators, |Z0(Ω_ref)|).
@@ -108,6 +110,7 @@ pub fn prepare_transient(
     Ok(TransientPrepared {
         profile,
         drive,
+        events: Events::default(),
         settings: *settings,
         case,
         plan,
@@ -178,6 +181,15 @@ pub struct TransientResults {
 }
 
 impl TransientPrepared {
+    /// The run with the events `specs` (`[[run.event]]`) scheduled on its case.
+    ///
+    /// # Errors
+    /// [`ModelError::Inconsistent`] as [`Events::from_specs`].
+    pub fn with_events(mut self, specs: &[EventSpec]) -> Result<Self> {
+        self.events = Events::from_specs(specs, &self.case)?;
+        Ok(self)
+    }
+
     /// Integrates the whole profile with `sinks` and analyses the record.
     ///
     /// # Errors
@@ -205,6 +217,10 @@ impl TransientPrepared {
                 Some(&self.profile),
             )?,
         };
+        let mut stepper = stepper;
+        if !self.events.is_empty() {
+            stepper.set_events(self.events.clone(), s.initial)?;
+        }
         Ok(match sinks {
             [] => stepper.run(None)?,
             [one] => stepper.run(Some(&mut **one))?,

@@ -49,7 +49,7 @@ pub fn check(c: &Common) -> Result<()> {
     print_stators(s, &case);
     let st = settings(&ls);
     if let Some(spec) = &s.run.speed_profile {
-        let p = analysis::prepare_transient(&model, &st, spec)?;
+        let p = analysis::prepare_transient(&model, &st, spec)?.with_events(&s.run.event)?;
         print_transient(s, &p);
         print_built(s, &model, &p.case, &p.plan);
         return Ok(());

@@ -110,7 +110,7 @@ fn transient(
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene)))?;
     let s = settings(ls);
     let t0 = std::time::Instant::now();
-    let prep = analysis::prepare_transient(model, &s, spec)?;
+    let prep = analysis::prepare_transient(model, &s, spec)?.with_events(&ls.scene.run.event)?;
     println!(
         "speed profile: {:.3} s, {:.1} revolutions, Ω ≤ {:.3} ωn; Δt = {:.3e} s, {} steps",
         prep.profile.duration(),

@@ -11,6 +11,7 @@
 
 mod blame;
 pub mod drive;
+pub mod events;
 pub mod fe_rotor;
 pub mod rotor;
 pub mod speed_profile;
@@ -23,6 +24,7 @@ use crate::resolve::{
 };
 use crate::scene::LoadedScene;
 pub use drive::{Drive, DriveLaw};
+pub use events::{ClearanceEvent, Events, UnbalanceEvent};
 pub use rotor::{Jeffcott, RotorBody, UnbalanceLoad};
 pub use speed_profile::{SpeedProfile, SpinState};
 pub use stator::StatorModel;

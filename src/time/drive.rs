@@ -31,8 +31,9 @@
 //! stays stopped while the torques do not drive it.
 
 use super::body::DynBody;
+use super::select::Pairs;
 use crate::error::SolveError;
-use crate::model::{Case, Drive, SpeedProfile, SpinState};
+use crate::model::{Case, Drive, Events, SpeedProfile, SpinState};
 
 /// How a run's spin is given.
 #[derive(Debug)]
@@ -111,9 +112,11 @@ impl<'a> SpinDof<'a> {
     ///
     /// # Errors
     /// [`SolveError::SpinOverspeed`] when Ω passes 1.5 × the speed the step was planned for.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn advance(
         &mut self,
         case: &Case,
+        events: &Events,
         rotor: &DynBody,
         friction: f64,
         n: usize,
@@ -121,11 +124,13 @@ impl<'a> SpinDof<'a> {
     ) -> Result<(), SolveError> {
         let (d, dt) = (self.drive, self.dt);
         let inv_dt2 = 1.0 / (dt * dt);
+        let acc = |i: usize| (rotor.u_next[i] - 2.0 * rotor.u[i] + rotor.u_prev[i]) * inv_dt2;
+        let loads = (case.rotor.unbalance.iter().map(|u| (u, 1.0)))
+            .chain(events.unbalance.iter().map(|e| (&e.load, e.share(t))));
         let mut tu = 0.0;
-        for u in &case.rotor.unbalance {
+        for (u, share) in loads {
             let (s, c) = (self.cur.phi + u.phase).sin_cos();
-            let acc = |i: usize| (rotor.u_next[i] - 2.0 * rotor.u[i] + rotor.u_prev[i]) * inv_dt2;
-            tu += u.me * (c * acc(u.dofs[1]) - s * acc(u.dofs[0]));
+            tu += share * u.me * (c * acc(u.dofs[1]) - s * acc(u.dofs[0]));
         }
         let torque = self.drive_torque(t) - d.drag - friction - tu;
         // The first step starts from Ω₀ over half a step (the velocity form's start): its
@@ -156,4 +161,44 @@ impl<'a> SpinDof<'a> {
         }
         Ok(())
     }
+}
+
+/// Adds the unbalance events' load at `t` (s) to `rhs`: each event's share `s(t)` of its
+/// unbalance force at the spin state `spin` (the case's constant speed when `None`).
+#[inline]
+pub(crate) fn add_event_unbalance(
+    events: &Events,
+    case: &Case,
+    spin: Option<SpinState>,
+    t: f64,
+    rhs: &mut [f64],
+) {
+    let spin = spin.unwrap_or(SpinState {
+        phi: case.omega * t,
+        omega: case.omega,
+        omega_dot: 0.0,
+    });
+    let (w2, a) = (spin.omega * spin.omega, spin.omega_dot);
+    for e in &events.unbalance {
+        let share = e.share(t);
+        if share > 0.0 {
+            let u = &e.load;
+            let (s, c) = (spin.phi + u.phase).sin_cos();
+            rhs[u.dofs[0]] += share * u.me * (w2 * c + a * s);
+            rhs[u.dofs[1]] += share * u.me * (w2 * s - a * c);
+        }
+    }
+}
+
+/// Sets the clearance events' gap offsets of `pairs` at `t` (s).
+#[inline]
+pub(crate) fn set_clearance(events: &Events, pairs: &mut Pairs, t: f64) {
+    if events.clearance.is_empty() {
+        return;
+    }
+    pairs.offset.fill(0.0);
+    for e in &events.clearance {
+        pairs.offset[e.stator] += e.offset(t);
+    }
+    pairs.closer = pairs.offset.iter().fold(0.0_f64, |m, o| m.max(-o));
 }

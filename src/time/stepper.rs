@@ -3,7 +3,7 @@
 
 use super::body::{DynBody, Ops, StatorDyn};
 use super::compliance::Compliance;
-use super::drive::{Spin, SpinDof};
+use super::drive::{add_event_unbalance, set_clearance, Spin, SpinDof};
 use super::frame::{Frame, FrameSink};
 use super::guard::{divergence_bounds, dof_name};
 use super::plan::{Scheme, StepPlan};
@@ -14,7 +14,7 @@ use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::error::{LinalgError, SolveError};
 use crate::linalg::Cholesky;
 use crate::math::V2;
-use crate::model::{Case, Drive, SpeedProfile};
+use crate::model::{Case, Drive, Events, SpeedProfile};
 use std::time::Instant;
 
 /// Initial state of the rotor, on station 0's node (node 0 without stations).
@@ -50,6 +50,8 @@ pub struct Stepper<'a> {
     spin: Spin<'a>,
     /// A gyroscopic rotor's load of the speed's change (a transient run only).
     gyro: Option<GyroLoad>,
+    /// Scheduled unbalances and clearance changes ([`Stepper::set_events`]).
+    events: Events,
     plan: StepPlan,
     scheme: Scheme,
     pub(crate) pairs: Pairs,
@@ -221,6 +223,7 @@ impl<'a> Stepper<'a> {
             case,
             spin,
             gyro,
+            events: Events::default(),
             plan: *plan,
             scheme,
             ws: StepWorkspace::new(pairs.len(), case.stations.len()),
@@ -268,6 +271,7 @@ impl<'a> Stepper<'a> {
         let mdiag = case.rotor.m.diagonal();
         let mut f0 = vec![0.0; n];
         add_unbalance(case, self.spin.state(0.0), 0.0, &mut f0);
+        add_event_unbalance(&self.events, case, self.spin.state(0.0), 0.0, &mut f0);
         let mut u0 = vec![0.0; n];
         let mut v0 = vec![0.0; n];
         for c in 0..2 {
@@ -309,6 +313,24 @@ impl<'a> Stepper<'a> {
             self.rotor.u_prev[i] = u0[i] - dt * v0[i] + 0.5 * dt * dt * a0[i];
         }
         Ok(())
+    }
+
+    /// Schedules `events` (`[[run.event]]`, [`crate::model::Events`]): the unbalances join
+    /// the load from their t₀ (and a driven rotor's reaction torque), the clearance changes
+    /// offset their stators' gaps; the initial state is recomputed with them at t = 0.
+    ///
+    /// # Errors
+    /// As [`Stepper::new`] (the initial acceleration's factor).
+    pub fn set_events(&mut self, events: Events, init: Initial) -> Result<(), SolveError> {
+        self.events = events;
+        let node0 = self.case.stations.first().map_or(0, |s| s.node);
+        let dt = self.plan.dt;
+        self.set_initial(init, node0)
+            .map_err(|source| SolveError::Factorization {
+                what: "rotor mass matrix (initial acceleration)".into(),
+                dt,
+                source,
+            })
     }
 
     /// Runs every step of the plan, handing frames to `sink`; returns the record and counters.
@@ -406,6 +428,7 @@ impl<'a> Stepper<'a> {
         let t = n as f64 * dt;
         self.begin_step();
         if self.scheme.collocated() {
+            set_clearance(&self.events, &mut self.pairs, t);
             self.static_contact(n, t)?;
             self.record_collocated(sink, n, t)?;
             if n == self.plan.steps {
@@ -416,6 +439,7 @@ impl<'a> Stepper<'a> {
             return Ok(false);
         }
         self.predict(t);
+        set_clearance(&self.events, &mut self.pairs, t + dt);
         self.increment_contact(n, t)?;
         if self.active > 0 {
             self.stats.contact_steps += 1;
@@ -423,7 +447,8 @@ impl<'a> Stepper<'a> {
         }
         self.guard(n + 1, t + dt)?;
         if let Spin::Driven(d) = &mut self.spin {
-            d.advance(self.case, &self.rotor, self.ws.friction_torque, n, t)?;
+            let f = self.ws.friction_torque;
+            d.advance(self.case, &self.events, &self.rotor, f, n, t)?;
         }
         self.advance();
         if !self.scheme.collocated() {
@@ -524,6 +549,13 @@ impl<'a> Stepper<'a> {
             Ops::Implicit(_) => t + self.plan.dt,
         };
         add_unbalance(self.case, self.spin.state(at), at, &mut self.rotor.rhs);
+        add_event_unbalance(
+            &self.events,
+            self.case,
+            self.spin.state(at),
+            at,
+            &mut self.rotor.rhs,
+        );
         self.rotor.predict();
         if let (Some(g), Some(s)) = (&mut self.gyro, self.spin.state(t)) {
             g.correct(s, &mut self.rotor);
