@@ -188,3 +188,58 @@ fn bad_events_name_the_key_and_line() {
     );
     let _ = line_of;
 }
+
+#[test]
+fn cli_driven_blade_off_writes_the_torques_and_bad_events_fail() {
+    use common::cli::{fails, ok};
+    let tmp = tempfile::TempDir::new().unwrap();
+    // The Jeffcott paper rotor driven at 2 ω_n (free orbit 1.29 e inside δ = 1.5 e), a blade-off at 0.2 s onto the rod, coasting.
+    let text = PAPER.replace(
+        "[run.sweep]\nfrom = 0.5\nto = 6.0\nstep = 0.1",
+        "[run.speed_profile]\nkind = \"driven\"\nunit = \"speed_ratio\"\nspeed = 2.0\nduration = 0.6\nreference = 1.0\n\n[[run.event]]\nkind = \"unbalance\"\ntime = 0.2\nmass = 0.03\nradius = 0.045\nphase_deg = 90.0\n",
+    ).replace("orbit_grids", "png = false\norbit_grids");
+    let scene = tmp.path().join("bo.toml");
+    std::fs::write(&scene, &text).unwrap();
+    let out = tmp.path().join("o");
+    ok(
+        tmp.path(),
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let csv = std::fs::read_to_string(out.join("speed_history.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t_s,omega_rad_s,speed_ratio,phi_rad,omega_dot_rad_s2,drive_torque_nm,friction_torque_nm"
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let rub_before = rows
+        .iter()
+        .filter(|r| r[0] > 0.1 && r[0] < 0.2)
+        .any(|r| r[6] > 0.0);
+    let rub_after = rows.iter().filter(|r| r[0] > 0.25).any(|r| r[6] > 0.0);
+    assert!(!rub_before && rub_after, "the blade-off must start the rub");
+    let (w0, w1) = (rows[0][1], rows[rows.len() - 1][1]);
+    assert!(w1 < 0.99 * w0, "the rub must slow the rotor: {w0} → {w1}");
+    // An event after the run's end: exit 2, the key and line named.
+    std::fs::write(&scene, text.replace("time = 0.2", "time = 0.7")).unwrap();
+    let e = fails(
+        tmp.path(),
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        e.contains("key `run.event.0.time`") && e.contains("ends after the run"),
+        "{e}"
+    );
+}
