@@ -151,7 +151,7 @@ impl<'a> SpinDof<'a> {
         self.cur.omega_dot = a_hat;
         self.friction = friction;
         self.unbalance = tu;
-        if !(self.cur.omega <= self.limit) {
+        if self.cur.omega.is_nan() || self.cur.omega > self.limit {
             return Err(SolveError::SpinOverspeed {
                 step: n + 1,
                 time: t + dt,
