@@ -254,6 +254,19 @@ pub enum SolveError {
         /// Stability limit (s).
         limit: f64,
     },
+    /// A driven rotor's spin speed passed 1.5 × the speed its step was planned for
+    /// ([`crate::model::Drive::speed_bound`]): the unbalance's reaction torque drove it.
+    #[error("the driven rotor's speed reached {omega:.4e} rad/s at step {step} (t = {time:.6e} s), above {bound:.4e} rad/s, 1.5 × the speed its time step was planned for (Ω₀ + max drive torque × drive time / J): lower the unbalance or raise `run.speed_profile.polar_inertia`")]
+    SpinOverspeed {
+        /// Step index.
+        step: usize,
+        /// Time (s).
+        time: f64,
+        /// Ω reached (rad/s).
+        omega: f64,
+        /// The bound (rad/s).
+        bound: f64,
+    },
     /// A requested time step exceeds the explicit stability limit.
     #[error("time step {dt:.4e} s exceeds the stability limit {limit:.4e} s of the {integrator} integrator ({reason})")]
     StepTooLarge {

@@ -61,6 +61,7 @@ fn bounce(c: f64, mode: &str, scheme: Scheme, dt: f64) -> (f64, f64, f64) {
         transient_revolutions: 0,
         samples_per_rev: 1_000_000,
         max_steps: MAX_STEPS,
+        dt_scale: 1.0,
     };
     let plan = plan_steps(&case, &step).unwrap();
     let v0 = 0.1;

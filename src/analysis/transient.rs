@@ -9,8 +9,8 @@
 use super::speed::Fanout;
 use super::RunSettings;
 use crate::error::{ModelError, Result, SolveError};
-use crate::model::{Case, Model, SpeedProfile};
-use crate::scene::SpeedProfileSpec;
+use crate::model::{Case, Drive, Events, Model, SpeedProfile, SpinState};
+use crate::scene::{EventSpec, ProfileKind, SpeedProfileSpec};
 use crate::time::{plan_duration, FrameSink, Record, RunStats, StepPlan, Stepper};
 use num_complex::Complex64;
 use serde::Serialize;
@@ -19,8 +19,13 @@ use std::f64::consts::PI;
 /// A transient run ready to integrate.
 #[derive(Debug)]
 pub struct TransientPrepared {
-    /// Ω(t), Ω̇(t), φ(t).
+    /// Ω(t), Ω̇(t), φ(t); a driven run: Ω₀ held over the run's length (its speed is the
+    /// record's, [`crate::time::Record::spin`]).
     pub profile: SpeedProfile,
+    /// A driven rotor's spin data (`kind = "driven"`), else `None`.
+    pub drive: Option<Drive>,
+    /// The run's scheduled events (`[[run.event]]`, [`TransientPrepared::with_events`]).
+    pub events: Events,
     /// The run's settings (its `revolutions` do not apply: the profile sets the length).
     pub settings: RunSettings,
     /// The case at the reference speed Ω_ref (clearance, stators, |Z0(Ω_ref)|).
@@ -59,8 +64,15 @@ pub fn prepare_transient(
         .into());
     }
     let omega_n = model.rotor.natural_frequency();
-    let profile = SpeedProfile::from_spec(spec, omega_n)?;
-    let top = profile.max_speed();
+    let (profile, drive, top) = if spec.kind == ProfileKind::Driven {
+        let d = Drive::from_spec(spec, omega_n, &model.rotor)?;
+        let top = d.speed_bound();
+        (SpeedProfile::constant(d.speed0, d.duration)?, Some(d), top)
+    } else {
+        let p = SpeedProfile::from_spec(spec, omega_n)?;
+        let top = p.max_speed();
+        (p, None, top)
+    };
     if top <= 0.0 {
         return Err(ModelError::Inconsistent {
             what: "run.speed_profile".into(),
@@ -72,6 +84,13 @@ pub fn prepare_transient(
         .reference
         .map_or(omega_n, |r| r * spec.unit.to_rad_per_s(omega_n));
     let case = model.case(omega_ref)?;
+    if drive.is_some() && settings.step.integrator.implicit().is_some() {
+        return Err(ModelError::Inconsistent {
+            what: "run.integrator".into(),
+            message: "a driven rotor's spin is integrated by the explicit central difference only — use forward_increment or collocated with kind = \"driven\"".into(),
+        }
+        .into());
+    }
     if case.rotor.gyro.is_some() && settings.step.integrator.implicit().is_some() {
         // `time::spin` corrects the central-difference prediction on M̃'s factor; the implicit
         // operator S would need Ω(t)G inside it (refactored as Ω moves), not built yet. The
@@ -90,6 +109,8 @@ pub fn prepare_transient(
     }
     Ok(TransientPrepared {
         profile,
+        drive,
+        events: Events::default(),
         settings: *settings,
         case,
         plan,
@@ -150,12 +171,25 @@ pub struct TransientResults {
     /// Per recorded sample: |F| on station 0 (N), friction power (W), friction energy so far (J).
     #[serde(skip)]
     pub contact: Vec<[f64; 3]>,
+    /// A driven run, per recorded sample: the drive torque T_d and the rub's friction torque
+    /// Σ R μ p (N·m); empty for a prescribed profile.
+    #[serde(skip)]
+    pub torque: Vec<[f64; 2]>,
     /// Order-tracking windows, one per revolution.
     #[serde(skip)]
     pub windows: Vec<OrderWindow>,
 }
 
 impl TransientPrepared {
+    /// The run with the events `specs` (`[[run.event]]`) scheduled on its case.
+    ///
+    /// # Errors
+    /// [`ModelError::Inconsistent`] as [`Events::from_specs`].
+    pub fn with_events(mut self, specs: &[EventSpec]) -> Result<Self> {
+        self.events = Events::from_specs(specs, &self.case)?;
+        Ok(self)
+    }
+
     /// Integrates the whole profile with `sinks` and analyses the record.
     ///
     /// # Errors
@@ -171,13 +205,22 @@ impl TransientPrepared {
     /// As [`TransientPrepared::run`].
     pub fn integrate(&self, sinks: &mut [&mut dyn FrameSink]) -> Result<(Record, RunStats)> {
         let s = &self.settings;
-        let stepper = Stepper::with_profile(
-            &self.case,
-            s.step.integrator,
-            &self.plan,
-            s.initial,
-            Some(&self.profile),
-        )?;
+        let stepper = match &self.drive {
+            Some(d) => {
+                Stepper::with_drive(&self.case, s.step.integrator, &self.plan, s.initial, d)?
+            }
+            None => Stepper::with_profile(
+                &self.case,
+                s.step.integrator,
+                &self.plan,
+                s.initial,
+                Some(&self.profile),
+            )?,
+        };
+        let mut stepper = stepper;
+        if !self.events.is_empty() {
+            stepper.set_events(self.events.clone(), s.initial)?;
+        }
         Ok(match sinks {
             [] => stepper.run(None)?,
             [one] => stepper.run(Some(&mut **one))?,
@@ -196,14 +239,20 @@ pub fn analyse_transient(
     rec: &Record,
     stats: RunStats,
 ) -> Result<TransientResults> {
-    let spin: Vec<[f64; 4]> = rec
-        .t
-        .iter()
-        .map(|&t| {
-            let s = p.profile.at(t);
-            [t, s.omega, s.phi, s.omega_dot]
-        })
-        .collect();
+    let spin: Vec<[f64; 4]> = if rec.spin.is_empty() {
+        rec.t
+            .iter()
+            .map(|&t| {
+                let s = p.profile.at(t);
+                [t, s.omega, s.phi, s.omega_dot]
+            })
+            .collect()
+    } else {
+        (rec.t.iter().zip(&rec.spin))
+            .map(|(&t, s)| [t, s[1], s[0], s[2]])
+            .collect()
+    };
+    let torque: Vec<[f64; 2]> = rec.spin.iter().map(|s| [s[3], s[4]]).collect();
     let contact = friction(p, rec, &spin);
     let comp = p.settings.component;
     let x: Vec<f64> = rec.observed.iter().map(|d| d[comp]).collect();
@@ -211,7 +260,7 @@ pub fn analyse_transient(
     let dof = p.rotor.node_dofs(p.case.observed_node)[comp];
     let mut windows = Vec::new();
     for (t, lines) in track_orders(&rec.t, &phi, &x, &p.orders, p.window_revolutions) {
-        let spin = p.profile.at(t);
+        let spin = spin_at(p, &spin, t);
         let omega = spin.omega;
         let q = if omega > 0.0 {
             p.rotor.unbalance_response(omega)?[dof]
@@ -234,7 +283,7 @@ pub fn analyse_transient(
     Ok(TransientResults {
         omega_n: p.omega_n,
         duration,
-        revolutions: p.profile.total_angle() / (2.0 * PI),
+        revolutions: spin.last().map_or(0.0, |s| s[2]) / (2.0 * PI),
         node: p.case.observed_node,
         component: comp,
         orders: p.orders.clone(),
@@ -246,8 +295,35 @@ pub fn analyse_transient(
         spin,
         response: rec.observed.clone(),
         contact,
+        torque,
         windows,
     })
+}
+
+/// Ω, Ω̇, φ at `t`: the profile's, or a driven run's recorded spin (`[t, Ω, φ, Ω̇]` per
+/// sample) interpolated linearly.
+fn spin_at(p: &TransientPrepared, spin: &[[f64; 4]], t: f64) -> SpinState {
+    if p.drive.is_none() || spin.is_empty() {
+        return p.profile.at(t);
+    }
+    let i = spin
+        .partition_point(|s| s[0] < t)
+        .clamp(1, spin.len().max(2) - 1);
+    let (a, b) = (
+        spin[(i - 1).min(spin.len() - 1)],
+        spin[i.min(spin.len() - 1)],
+    );
+    let f = if b[0] > a[0] {
+        (t - a[0]) / (b[0] - a[0])
+    } else {
+        0.0
+    };
+    let lerp = |k: usize| a[k] + f * (b[k] - a[k]);
+    SpinState {
+        phi: lerp(2),
+        omega: lerp(1),
+        omega_dot: lerp(3),
+    }
 }
 
 /// Per sample: |F| on station 0 (N), the friction power summed over stations (W) and its

@@ -49,7 +49,7 @@ pub fn check(c: &Common) -> Result<()> {
     print_stators(s, &case);
     let st = settings(&ls);
     if let Some(spec) = &s.run.speed_profile {
-        let p = analysis::prepare_transient(&model, &st, spec)?;
+        let p = analysis::prepare_transient(&model, &st, spec)?.with_events(&s.run.event)?;
         print_transient(s, &p);
         print_built(s, &model, &p.case, &p.plan);
         return Ok(());
@@ -192,12 +192,27 @@ fn print_run(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &StepPlan
 fn print_transient(s: &Scene, p: &analysis::TransientPrepared) {
     let wn = p.omega_n;
     let spec = s.run.speed_profile.as_ref();
-    println!(
+    if let Some(d) = &p.drive {
+        println!(
+            "run: driven rotor: J = {:.4e} kg·m², Ω₀/ωn = {:.4}, {:.4} s, drive {:?} (off at {} s), drag {:.3e} N·m + {:.3e} N·m·s/rad × Ω; Δt planned for Ω/ωn ≤ {:.4}; stators placed at Ω_ref/ωn = {:.4}",
+            d.inertia,
+            d.speed0 / wn,
+            d.duration,
+            d.law,
+            d.off,
+            d.drag,
+            d.drag_viscous,
+            d.speed_bound() / wn,
+            p.case.speed_ratio
+        );
+    } else {
+        println!(
         "run: speed profile ({}, unit {}): {:.4} s, {:.1} revolutions, Ω/ωn {:.4} → {:.4} (max {:.4}); stators placed at Ω_ref/ωn = {:.4}",
         spec.map_or("", |x| match x.kind {
             rubsim::scene::ProfileKind::Constant => "constant",
             rubsim::scene::ProfileKind::Ramp => "ramp",
             rubsim::scene::ProfileKind::Table => "table",
+            rubsim::scene::ProfileKind::Driven => "driven",
         }),
         spec.map_or("", |x| x.unit.name()),
         p.profile.duration(),
@@ -207,6 +222,7 @@ fn print_transient(s: &Scene, p: &analysis::TransientPrepared) {
         p.profile.max_speed() / wn,
         p.case.speed_ratio
     );
+    }
     println!(
         "  integrator {}; Δt {:.4e} s ({} steps, {} steps/rev at the top speed), a sample every {} steps; paper rule (n = {}) {:.4e} s; stability limit {:.4e} s; orders tracked {:?} over {} revolutions per window",
         s.run.integrator().name(),

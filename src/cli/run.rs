@@ -121,15 +121,26 @@ fn transient(
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene)))?;
     let s = settings(ls);
     let t0 = std::time::Instant::now();
-    let prep = analysis::prepare_transient(model, &s, spec)?;
-    println!(
-        "speed profile: {:.3} s, {:.1} revolutions, Ω ≤ {:.3} ωn; Δt = {:.3e} s, {} steps",
-        prep.profile.duration(),
-        prep.profile.total_angle() / (2.0 * std::f64::consts::PI),
-        prep.profile.max_speed() / prep.omega_n,
-        prep.plan.dt,
-        prep.plan.steps
-    );
+    let prep = analysis::prepare_transient(model, &s, spec)?.with_events(&ls.scene.run.event)?;
+    match &prep.drive {
+        Some(d) => println!(
+            "speed profile: driven rotor, {:.3} s from Ω₀ = {:.3} ωn (J = {:.4e} kg·m², Δt planned for Ω ≤ {:.3} ωn); Δt = {:.3e} s, {} steps",
+            d.duration,
+            d.speed0 / prep.omega_n,
+            d.inertia,
+            d.speed_bound() / prep.omega_n,
+            prep.plan.dt,
+            prep.plan.steps
+        ),
+        None => println!(
+            "speed profile: {:.3} s, {:.1} revolutions, Ω ≤ {:.3} ωn; Δt = {:.3e} s, {} steps",
+            prep.profile.duration(),
+            prep.profile.total_angle() / (2.0 * std::f64::consts::PI),
+            prep.profile.max_speed() / prep.omega_n,
+            prep.plan.dt,
+            prep.plan.steps
+        ),
+    }
     let r = prep.run(&mut [])?;
     transient_out::write_csv(&mut outd, &r)?;
     if ls.scene.output.png {

@@ -10,6 +10,8 @@
 //! The model does no file I/O and runs no mesher: meshes come read with the resolved data.
 
 mod blame;
+pub mod drive;
+pub mod events;
 pub mod fe_rotor;
 pub mod rotor;
 pub mod speed_profile;
@@ -22,6 +24,8 @@ use crate::resolve::{
     StatorInput,
 };
 use crate::scene::LoadedScene;
+pub use drive::{Drive, DriveLaw};
+pub use events::{ClearanceEvent, Events, UnbalanceEvent};
 pub use rotor::{Jeffcott, RotorBody, UnbalanceLoad};
 pub use speed_profile::{SpeedProfile, SpinState};
 pub use stator::StatorModel;
@@ -61,6 +65,18 @@ pub enum Rotor {
 }
 
 impl Rotor {
+    /// The polar moment of inertia of the rotor about its axis (kg·m²): the Jeffcott disk's
+    /// `m D²/8`, or an FE rotor's shaft elements `ρ I_p ℓ` and disks `I_p`; `None` when the
+    /// scene gives no geometry to compute it from (a Jeffcott `mass`, an FE rotor of
+    /// massless elements).
+    pub fn polar_inertia(&self) -> Option<f64> {
+        match self {
+            Rotor::Jeffcott(j) => j.polar_inertia,
+            Rotor::Fe(f) => Some(f.rotor.total_polar_inertia),
+        }
+        .filter(|j| j.is_finite() && *j > 0.0)
+    }
+
     /// First natural frequency ω_n (rad/s) used to normalise speeds.
     pub fn natural_frequency(&self) -> f64 {
         match self {

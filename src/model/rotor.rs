@@ -148,6 +148,8 @@ pub struct Jeffcott {
     pub damping: f64,
     /// Unbalances.
     pub unbalance: Vec<UnbalanceLoad>,
+    /// Polar moment of inertia of the disk (kg·m²), when the scene gave its geometry.
+    pub polar_inertia: Option<f64>,
 }
 
 impl Jeffcott {
@@ -167,6 +169,7 @@ impl Jeffcott {
                     phase,
                 })
                 .collect(),
+            polar_inertia: d.polar_inertia,
         }
     }
 

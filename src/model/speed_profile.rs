@@ -194,7 +194,8 @@ impl SpeedProfile {
     /// of first natural frequency `omega_n` (rad/s).
     ///
     /// # Errors
-    /// [`ModelError::Inconsistent`] when a key its kind needs is missing, or as the
+    /// [`ModelError::Inconsistent`] for a driven profile (its speed is integrated,
+    /// [`crate::model::Drive`]), when a key its kind needs is missing, or as the
     /// constructors (the scene's validation reports these first, with the key's line).
     pub fn from_spec(p: &SpeedProfileSpec, omega_n: f64) -> Result<Self, ModelError> {
         let u = p.unit.to_rad_per_s(omega_n);
@@ -226,6 +227,9 @@ impl SpeedProfile {
                     .collect();
                 Self::table_with(&pts, p.hold, p.interpolation)
             }
+            ProfileKind::Driven => Err(bad(
+                "kind = \"driven\": the speed is integrated with the rotor, not prescribed (crate::model::Drive)".into(),
+            )),
         }
     }
 

@@ -2,7 +2,8 @@
 //!
 //! CSV (SI units, speeds also as ω/ω_n):
 //! * `speed_history.csv` — `t_s, omega_rad_s, speed_ratio, phi_rad, omega_dot_rad_s2` per
-//!   recorded sample;
+//!   recorded sample; a driven rotor's also `drive_torque_nm, friction_torque_nm` (the drive
+//!   T_d and the rub's Σ R μ p);
 //! * `response.csv` — `t_s, speed_ratio, x_m, y_m, contact_force_n, friction_power_w,
 //!   friction_energy_j` per recorded sample (the analysed node; the force on station 0; the
 //!   friction summed over the stations);
@@ -23,16 +24,26 @@ use crate::plot::{self, Curve};
 /// Writes the three CSV tables of a transient.
 pub fn write_csv(out: &mut OutDir, r: &TransientResults) -> Result<()> {
     let wn = r.omega_n;
-    let mut s = String::from("t_s,omega_rad_s,speed_ratio,phi_rad,omega_dot_rad_s2\n");
-    for v in &r.spin {
+    let driven = !r.torque.is_empty();
+    let mut s = String::from("t_s,omega_rad_s,speed_ratio,phi_rad,omega_dot_rad_s2");
+    s.push_str(if driven {
+        ",drive_torque_nm,friction_torque_nm\n"
+    } else {
+        "\n"
+    });
+    for (i, v) in r.spin.iter().enumerate() {
         s.push_str(&format!(
-            "{:.9e},{:.9e},{:.6},{:.9e},{:.6e}\n",
+            "{:.9e},{:.9e},{:.6},{:.9e},{:.6e}",
             v[0],
             v[1],
             v[1] / wn,
             v[2],
             v[3]
         ));
+        match r.torque.get(i) {
+            Some(t) => s.push_str(&format!(",{:.9e},{:.9e}\n", t[0], t[1])),
+            None => s.push('\n'),
+        }
     }
     out.write("speed_history.csv", s.as_bytes())?;
     let mut s = String::from(

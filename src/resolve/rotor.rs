@@ -31,6 +31,9 @@ pub struct JeffcottData {
     pub damping: f64,
     /// Unbalances `(m_u e (kg·m), phase φ (rad))`.
     pub unbalances: Vec<(f64, f64)>,
+    /// Polar moment of inertia of the disk about the axis, `m D²/8` (kg·m²); `None` when the
+    /// mass was given without a disk's geometry.
+    pub polar_inertia: Option<f64>,
 }
 
 /// An FE rotor with what the model needs beside its matrices.
@@ -66,10 +69,14 @@ pub fn resolve(ls: &LoadedScene) -> Result<RotorInput, SceneError> {
 /// `damping` or `damping_ratio` (c = 2ξ√(m k)). Errors name the pair of keys when not exactly
 /// one of each is given (as [`crate::scene::validate()`]).
 pub fn jeffcott(ls: &LoadedScene, s: &JeffcottSpec) -> Result<JeffcottData, SceneError> {
-    let mass = match one_of(ls, ("mass", s.mass), ("disk", s.disk.as_ref()), "rotor")? {
-        OneOf::First(m) => m,
-        OneOf::Second(d) => d.density * PI * d.diameter * d.diameter / 4.0 * d.thickness,
-    };
+    let (mass, polar_inertia) =
+        match one_of(ls, ("mass", s.mass), ("disk", s.disk.as_ref()), "rotor")? {
+            OneOf::First(m) => (m, None),
+            OneOf::Second(d) => {
+                let m = d.density * PI * d.diameter * d.diameter / 4.0 * d.thickness;
+                (m, Some(m * d.diameter * d.diameter / 8.0))
+            }
+        };
     let stiffness = match one_of(
         ls,
         ("stiffness", s.stiffness),
@@ -105,6 +112,7 @@ pub fn jeffcott(ls: &LoadedScene, s: &JeffcottSpec) -> Result<JeffcottData, Scen
             .iter()
             .map(|u| (u.mass * u.radius, u.phase_deg.to_radians()))
             .collect(),
+        polar_inertia,
     })
 }
 

@@ -13,6 +13,7 @@
 //! [`load`] reads a file, applies `--set key=value` overrides, deserialises and validates. Errors
 //! name the file, the dotted key and the line ([`crate::error::SceneError`]).
 
+pub mod event;
 mod output;
 mod overrides;
 pub mod profile;
@@ -22,6 +23,7 @@ mod run;
 mod stator;
 pub mod validate;
 
+pub use event::{EventKind, EventSpec};
 pub use output::*;
 pub use overrides::{apply_override, key_at_span, locate_key, toml_number, ALTERNATIVE_KEYS};
 pub use profile::{Interpolation, ProfileKind, SpeedProfileSpec, SpeedUnit};

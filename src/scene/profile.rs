@@ -18,6 +18,12 @@ pub enum ProfileKind {
     /// `points` = `[[t, speed], …]` (s, unit), times from 0 strictly increasing,
     /// interpolated by the monotone cubic (PCHIP), then `hold` seconds at the last speed.
     Table,
+    /// A driven rotor: the spin angle is a degree of freedom, `J φ̈ = T_drive − T_drag −
+    /// T_rub − T_unbalance`, from `speed` at t = 0 for `duration` seconds; `polar_inertia`
+    /// (default: the rotor's, from its disks and shaft elements), the drive `drive_torque` or
+    /// `drive_curve` (none: a free coast-down), switched off at `drive_off`, and the drag
+    /// `drag_torque` + `drag_coefficient` Ω ([`crate::model::Drive`]).
+    Driven,
 }
 
 /// How a table's points are joined (`run.speed_profile.interpolation`).
@@ -108,6 +114,23 @@ pub struct SpeedProfileSpec {
     /// angle domain); orders k/`window_revolutions` fall on bins exactly. Default 6.
     #[serde(default = "default_window")]
     pub window_revolutions: usize,
+    /// Driven: the polar moment of inertia J of everything that spins (kg·m²); default the
+    /// rotor's own (disks `½ m (R² + r²)`, shaft elements `ρ I_p ℓ`).
+    pub polar_inertia: Option<f64>,
+    /// Driven: a constant drive torque (N·m, about +z: > 0 speeds the rotor up).
+    pub drive_torque: Option<f64>,
+    /// Driven: a motor curve `[[speed, torque], …]` (speed in `unit`, torque N·m), speeds
+    /// strictly increasing, interpolated linearly and held beyond its ends.
+    pub drive_curve: Option<Vec<[f64; 2]>>,
+    /// Driven: the time (s) the drive is switched off (a coast-down from then on).
+    pub drive_off: Option<f64>,
+    /// Driven: a constant bearing drag torque (N·m, ≥ 0) resisting the spin while Ω > 0.
+    #[serde(default)]
+    pub drag_torque: f64,
+    /// Driven: a viscous drag coefficient c_t (N·m·s/rad, ≥ 0): the torque c_t Ω resists the
+    /// spin.
+    #[serde(default)]
+    pub drag_coefficient: f64,
 }
 
 fn default_window() -> usize {
@@ -172,6 +195,12 @@ pub fn validate(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError
                     ("points", p.points.is_some()),
                     ("hold", p.hold != 0.0),
                     ("interpolation", p.interpolation != Interpolation::Pchip),
+                    ("polar_inertia", p.polar_inertia.is_some()),
+                    ("drive_torque", p.drive_torque.is_some()),
+                    ("drive_curve", p.drive_curve.is_some()),
+                    ("drive_off", p.drive_off.is_some()),
+                    ("drag_torque", p.drag_torque != 0.0),
+                    ("drag_coefficient", p.drag_coefficient != 0.0),
                 ],
             )?;
             speed_ok(ls, &k("speed"), required(ls, "constant", "speed", p.speed)?)?;
@@ -185,7 +214,16 @@ pub fn validate(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError
             unused(
                 ls,
                 "ramp",
-                &[("speed", p.speed.is_some()), ("points", p.points.is_some())],
+                &[
+                    ("speed", p.speed.is_some()),
+                    ("points", p.points.is_some()),
+                    ("polar_inertia", p.polar_inertia.is_some()),
+                    ("drive_torque", p.drive_torque.is_some()),
+                    ("drive_curve", p.drive_curve.is_some()),
+                    ("drive_off", p.drive_off.is_some()),
+                    ("drag_torque", p.drag_torque != 0.0),
+                    ("drag_coefficient", p.drag_coefficient != 0.0),
+                ],
             )?;
             let from = required(ls, "ramp", "from", p.from)?;
             let to = required(ls, "ramp", "to", p.to)?;
@@ -219,6 +257,12 @@ pub fn validate(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError
                     ("to", p.to.is_some()),
                     ("duration", p.duration.is_some()),
                     ("acceleration", p.acceleration.is_some()),
+                    ("polar_inertia", p.polar_inertia.is_some()),
+                    ("drive_torque", p.drive_torque.is_some()),
+                    ("drive_curve", p.drive_curve.is_some()),
+                    ("drive_off", p.drive_off.is_some()),
+                    ("drag_torque", p.drag_torque != 0.0),
+                    ("drag_coefficient", p.drag_coefficient != 0.0),
                 ],
             )?;
             let pts = p.points.as_deref().unwrap_or_default();
@@ -227,6 +271,7 @@ pub fn validate(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError
             }
             table_ok(ls, pts)?;
         }
+        ProfileKind::Driven => driven_ok(ls, p)?,
     }
     if let Some(r) = p.reference {
         positive(ls, &k("reference"), r)?;
@@ -262,5 +307,88 @@ fn table_ok(ls: &LoadedScene, pts: &[[f64; 2]]) -> Result<(), SceneError> {
         }
         speed_ok(ls, &key, *w)?;
     }
+    Ok(())
+}
+
+/// A driven profile: `speed` (Ω at t = 0, ≥ 0) and a positive `duration`; no ramp or table
+/// keys; a positive finite `polar_inertia` when given; at most one of `drive_torque` (finite)
+/// and `drive_curve` (at least two points, speeds finite, ≥ 0 and strictly increasing, torques
+/// finite); `drive_off` finite in `(0, duration]` and only with a drive; drags finite and ≥ 0.
+fn driven_ok(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError> {
+    let k = |s: &str| format!("{AT}.{s}");
+    unused(
+        ls,
+        "driven",
+        &[
+            ("from", p.from.is_some()),
+            ("to", p.to.is_some()),
+            ("acceleration", p.acceleration.is_some()),
+            ("points", p.points.is_some()),
+            ("hold", p.hold != 0.0),
+            ("interpolation", p.interpolation != Interpolation::Pchip),
+        ],
+    )?;
+    speed_ok(ls, &k("speed"), required(ls, "driven", "speed", p.speed)?)?;
+    let duration = required(ls, "driven", "duration", p.duration)?;
+    positive(ls, &k("duration"), duration)?;
+    match (p.polar_inertia, &ls.scene.rotor) {
+        (Some(j), _) => positive(ls, &k("polar_inertia"), j)?,
+        (None, super::RotorSpec::Jeffcott(j)) if j.disk.is_none() => {
+            return Err(ls.invalid(
+                AT,
+                "a driven rotor needs its polar inertia: give `polar_inertia` (kg·m²), or the Jeffcott rotor's `disk` to compute it from (the rotor's `mass` alone has no radius)",
+            ))
+        }
+        (None, _) => {}
+    }
+    match (p.drive_torque, &p.drive_curve) {
+        (Some(_), Some(_)) => {
+            return Err(ls.invalid(
+                &k("drive_curve"),
+                "give `drive_torque` (constant) or `drive_curve` (over speed), not both",
+            ))
+        }
+        (Some(t), None) => super::validate::finite(ls, &k("drive_torque"), t)?,
+        (None, Some(curve)) => {
+            if curve.len() < 2 {
+                return Err(ls.invalid(
+                    &k("drive_curve"),
+                    "needs at least two [speed, torque] points",
+                ));
+            }
+            for (i, [w, t]) in curve.iter().enumerate() {
+                let key = format!("{AT}.drive_curve.{i}");
+                speed_ok(ls, &key, *w)?;
+                super::validate::finite(ls, &key, *t)?;
+                if i > 0 && *w <= curve[i - 1][0] {
+                    return Err(ls.invalid(
+                        &key,
+                        format!(
+                            "speeds must increase strictly: {w} follows {}",
+                            curve[i - 1][0]
+                        ),
+                    ));
+                }
+            }
+        }
+        (None, None) => {
+            if p.drive_off.is_some() {
+                return Err(ls.invalid(
+                    &k("drive_off"),
+                    "there is no drive to switch off (give `drive_torque` or `drive_curve`)",
+                ));
+            }
+        }
+    }
+    if let Some(off) = p.drive_off {
+        if !(off.is_finite() && off > 0.0 && off <= duration) {
+            return Err(ls.invalid(
+                &k("drive_off"),
+                format!("must be a time in the run, 0 < t ≤ duration = {duration} s, got {off}"),
+            ));
+        }
+    }
+    non_negative(ls, &k("drag_torque"), p.drag_torque)?;
+    non_negative(ls, &k("drag_coefficient"), p.drag_coefficient)?;
     Ok(())
 }

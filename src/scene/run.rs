@@ -61,6 +61,10 @@ pub struct RunSpec {
     /// integrates the whole profile, whose length sets the run's; `revolutions` and
     /// `transient_revolutions` do not apply.
     pub speed_profile: Option<super::SpeedProfileSpec>,
+    /// Scheduled changes of a transient run (`[[run.event]]`): a sudden unbalance, a
+    /// stator's clearance changing.
+    #[serde(default)]
+    pub event: Vec<super::EventSpec>,
     /// Total simulated revolutions.
     #[serde(default = "default_revs")]
     pub revolutions: usize,

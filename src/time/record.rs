@@ -23,6 +23,9 @@ pub struct Record {
     pub stator_energy: Vec<f64>,
     /// Active pairs per sample.
     pub active: Vec<u32>,
+    /// A driven rotor's spin per sample: `[φ (rad), Ω (rad/s), Ω̇ (rad/s²), drive torque
+    /// T_d (N·m), rub friction torque Σ R μ p (N·m)]` (`time::drive`); empty otherwise.
+    pub spin: Vec<[f64; 5]>,
 }
 
 impl Record {
@@ -36,6 +39,7 @@ impl Record {
             force_normal: Vec::with_capacity(samples * nstations),
             stator_energy: Vec::with_capacity(samples),
             active: Vec::with_capacity(samples),
+            spin: Vec::new(),
         }
     }
     /// Number of samples.

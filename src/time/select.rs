@@ -42,6 +42,12 @@ pub(crate) struct Pairs {
     dynamic: Vec<usize>,
     /// Spin (rad/s), for the tangent `a = Ω × n`.
     omega: f64,
+    /// Per stator: the offset Δ (m) added to every gap of its pairs — a clearance event
+    /// ([`crate::model::ClearanceEvent`]); 0 without.
+    pub(crate) offset: Vec<f64>,
+    /// `max(0, −min Δ)` (m): how much nearer the stators are than placed, widening the
+    /// broad phase's reach.
+    pub(crate) closer: f64,
 }
 
 impl Pairs {
@@ -83,6 +89,8 @@ impl Pairs {
             station_radius: case.stations.iter().map(|s| s.radius).collect(),
             dynamic,
             omega: case.omega,
+            offset: vec![0.0; case.stators.len()],
+            closer: 0.0,
         }
     }
 
@@ -105,7 +113,9 @@ impl Pairs {
         let c = &self.cands[ci];
         let tg = &case.stators[c.stator].targets[c.target];
         let us = stator_u.map_or([0.0; 2], |s| target_disp(tg.dofs(), s));
-        pair_state(tg, c.radius, self.centre(ci, u), us, self.omega)
+        let mut st = pair_state(tg, c.radius, self.centre(ci, u), us, self.omega);
+        st.g += self.offset[c.stator];
+        st
     }
 
     /// The candidates that may have `g < margin` with the stations displaced as in `u`: from
@@ -116,7 +126,7 @@ impl Pairs {
         if phase.use_index && !self.broad.is_empty() {
             for (s, d) in self.station_dofs.iter().enumerate() {
                 ws.centre[s] = [u[d[0]], u[d[1]]];
-                ws.reach[s] = self.station_radius[s] + margin;
+                ws.reach[s] = self.station_radius[s] + margin + self.closer;
             }
             self.broad.query(&ws.centre, &ws.reach, &mut ws.near);
         }
@@ -179,7 +189,7 @@ impl Pairs {
             let c = &self.cands[ci];
             let tg = &case.stators[c.stator].targets[c.target];
             let us = target_disp(tg.dofs(), stators[c.stator].disp());
-            min = min.min(exact_gap(tg, c.radius, self.centre(ci, u), us));
+            min = min.min(exact_gap(tg, c.radius, self.centre(ci, u), us) + self.offset[c.stator]);
         }
         min
     }

@@ -136,9 +136,10 @@ impl Stepper<'_> {
             // θ_z is uncoupled from the lateral DOFs in M̃ (M, C + ΩG, bearings have no entries
             // between them), so the torque moves no gap and W above is unchanged. Collocated
             // static solve (rotor held): the torque joins the step's load like the force.
+            let tau = -c.radius * (n[0] * b[1] - n[1] * b[0]) * p;
+            ws.friction_torque -= tau;
             let tz = case.rotor.node_torsion.get(case.stations[c.station].node);
             if let Some(&Some(tz)) = tz {
-                let tau = -c.radius * (n[0] * b[1] - n[1] * b[0]) * p;
                 if rotor_in {
                     rotor.apply(tz, tau);
                 } else {

@@ -3,7 +3,9 @@
 
 use super::body::{DynBody, Ops, StatorDyn};
 use super::compliance::Compliance;
+use super::drive::{add_event_unbalance, set_clearance, Spin, SpinDof};
 use super::frame::{Frame, FrameSink};
+use super::guard::{divergence_bounds, dof_name};
 use super::plan::{Scheme, StepPlan};
 use super::record::{ContactStats, Record, Recorder, RunStats};
 use super::select::{Pairs, Phase};
@@ -12,7 +14,7 @@ use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::error::{LinalgError, SolveError};
 use crate::linalg::Cholesky;
 use crate::math::V2;
-use crate::model::{Case, SpeedProfile};
+use crate::model::{Case, Drive, Events, SpeedProfile};
 use std::time::Instant;
 
 /// Initial state of the rotor, on station 0's node (node 0 without stations).
@@ -43,11 +45,13 @@ pub type Sink<'s> = Option<&'s mut dyn FrameSink>;
 #[derive(Debug)]
 pub struct Stepper<'a> {
     pub(crate) case: &'a Case,
-    /// The speed of a transient run; `None`: the case's constant speed (the constant-speed
-    /// path, unchanged).
-    spin: Option<&'a SpeedProfile>,
+    /// The speed: the case's constant speed (the constant-speed path, unchanged), a profile
+    /// Ω(t), or a driven rotor's spin DOF (`time::drive`).
+    spin: Spin<'a>,
     /// A gyroscopic rotor's load of the speed's change (a transient run only).
     gyro: Option<GyroLoad>,
+    /// Scheduled unbalances and clearance changes ([`Stepper::set_events`]).
+    events: Events,
     pub(crate) plan: StepPlan,
     scheme: Scheme,
     pub(crate) pairs: Pairs,
@@ -120,7 +124,44 @@ impl<'a> Stepper<'a> {
         init: Initial,
         spin: Option<&'a SpeedProfile>,
     ) -> Result<Self, SolveError> {
-        if spin.is_some() && case.rotor.gyro.is_some() && scheme.implicit().is_some() {
+        Self::build(
+            case,
+            scheme,
+            plan,
+            init,
+            spin.map_or(Spin::Constant, Spin::Profile),
+        )
+    }
+
+    /// [`Stepper::new`] for a driven rotor: the spin angle φ is integrated with the lateral
+    /// DOFs under the drive, drag, rub friction and unbalance reaction torques of `drive`
+    /// (`time::drive`); the unbalance load and a gyroscopic rotor's correction take its
+    /// φ, Ω, Ω̇. Explicit schemes only (the caller refuses the implicit ones).
+    ///
+    /// # Errors
+    /// As [`Stepper::new`].
+    pub fn with_drive(
+        case: &'a Case,
+        scheme: Scheme,
+        plan: &StepPlan,
+        init: Initial,
+        drive: &'a Drive,
+    ) -> Result<Self, SolveError> {
+        let spin = Spin::Driven(SpinDof::new(drive, plan.dt));
+        Self::build(case, scheme, plan, init, spin)
+    }
+
+    fn build(
+        case: &'a Case,
+        scheme: Scheme,
+        plan: &StepPlan,
+        init: Initial,
+        spin: Spin<'a>,
+    ) -> Result<Self, SolveError> {
+        if !matches!(spin, Spin::Constant)
+            && case.rotor.gyro.is_some()
+            && scheme.implicit().is_some()
+        {
             return Err(SolveError::GyroscopicTransient {
                 integrator: scheme.name().into(),
             });
@@ -183,14 +224,15 @@ impl<'a> Stepper<'a> {
             case.rotor.node_dofs[node0],
             plan.steps / plan.record_every + 2,
         );
-        let gyro = match (spin, &case.rotor.gyro) {
-            (Some(_), Some(g)) => Some(GyroLoad::new(g, case.omega, dt)),
+        let gyro = match (&spin, &case.rotor.gyro) {
+            (Spin::Profile(_) | Spin::Driven(_), Some(g)) => Some(GyroLoad::new(g, case.omega, dt)),
             _ => None,
         };
         let mut st = Self {
             case,
             spin,
             gyro,
+            events: Events::default(),
             plan: *plan,
             scheme,
             ws: StepWorkspace::new(pairs.len(), case.stations.len()),
@@ -214,6 +256,12 @@ impl<'a> Stepper<'a> {
             started: false,
             n: 0,
         };
+        if let Spin::Driven(_) = st.spin {
+            st.recorder
+                .rec
+                .spin
+                .reserve(plan.steps / plan.record_every + 2);
+        }
         st.boundary = st.next_boundary(0);
         st.set_initial(init, node0).map_err(factor_err(
             "rotor mass matrix (initial acceleration)".into(),
@@ -231,7 +279,8 @@ impl<'a> Stepper<'a> {
         let d0 = case.rotor.node_dofs[node];
         let mdiag = case.rotor.m.diagonal();
         let mut f0 = vec![0.0; n];
-        add_unbalance(case, self.spin, 0.0, &mut f0);
+        add_unbalance(case, self.spin.state(0.0), 0.0, &mut f0);
+        add_event_unbalance(&self.events, case, self.spin.state(0.0), 0.0, &mut f0);
         let mut u0 = vec![0.0; n];
         let mut v0 = vec![0.0; n];
         for c in 0..2 {
@@ -244,8 +293,8 @@ impl<'a> Stepper<'a> {
         if let Some(lr) = &case.rotor.c_low {
             lr.mul_add(-1.0, &v0, &mut f0, &mut vec![0.0; lr.rank()]);
         }
-        if let (Some(g), Some(p)) = (&mut self.gyro, self.spin) {
-            g.add_initial(p.at(0.0), &u0, &v0, &mut f0);
+        if let (Some(g), Some(s)) = (&mut self.gyro, self.spin.state(0.0)) {
+            g.add_initial(s, &u0, &v0, &mut f0);
         }
         if let Ops::Implicit(imp) = &mut self.rotor.ops {
             self.rotor.u.copy_from_slice(&u0);
@@ -273,6 +322,24 @@ impl<'a> Stepper<'a> {
             self.rotor.u_prev[i] = u0[i] - dt * v0[i] + 0.5 * dt * dt * a0[i];
         }
         Ok(())
+    }
+
+    /// Schedules `events` (`[[run.event]]`, [`crate::model::Events`]): the unbalances join
+    /// the load from their t₀ (and a driven rotor's reaction torque), the clearance changes
+    /// offset their stators' gaps; the initial state is recomputed with them at t = 0.
+    ///
+    /// # Errors
+    /// As [`Stepper::new`] (the initial acceleration's factor).
+    pub fn set_events(&mut self, events: Events, init: Initial) -> Result<(), SolveError> {
+        self.events = events;
+        let node0 = self.case.stations.first().map_or(0, |s| s.node);
+        let dt = self.plan.dt;
+        self.set_initial(init, node0)
+            .map_err(|source| SolveError::Factorization {
+                what: "rotor mass matrix (initial acceleration)".into(),
+                dt,
+                source,
+            })
     }
 
     /// Runs every step of the plan, handing frames to `sink`; returns the record and counters.
@@ -370,6 +437,7 @@ impl<'a> Stepper<'a> {
         let t = n as f64 * dt;
         self.begin_step();
         if self.scheme.collocated() {
+            set_clearance(&self.events, &mut self.pairs, t);
             self.static_contact(n, t)?;
             self.record_collocated(sink, n, t)?;
             if n == self.plan.steps {
@@ -380,12 +448,17 @@ impl<'a> Stepper<'a> {
             return Ok(false);
         }
         self.predict(t);
+        set_clearance(&self.events, &mut self.pairs, t + dt);
         self.increment_contact(n, t)?;
         if self.active > 0 {
             self.stats.contact_steps += 1;
             self.stats.max_active = self.stats.max_active.max(self.active);
         }
         self.guard(n + 1, t + dt)?;
+        if let Spin::Driven(d) = &mut self.spin {
+            let f = self.ws.friction_torque;
+            d.advance(self.case, &self.events, &self.rotor, f, n, t)?;
+        }
         self.advance();
         if !self.scheme.collocated() {
             self.observe(n + 1, ForceSet::Main, self.active);
@@ -403,6 +476,7 @@ impl<'a> Stepper<'a> {
         self.ws.frame_pairs.clear();
         self.ws.main.clear();
         self.rotor.rhs.fill(0.0);
+        self.ws.friction_torque = 0.0;
         self.active = 0;
     }
 
@@ -483,10 +557,17 @@ impl<'a> Stepper<'a> {
             Ops::Central(_) => t,
             Ops::Implicit(_) => t + self.plan.dt,
         };
-        add_unbalance(self.case, self.spin, at, &mut self.rotor.rhs);
+        add_unbalance(self.case, self.spin.state(at), at, &mut self.rotor.rhs);
+        add_event_unbalance(
+            &self.events,
+            self.case,
+            self.spin.state(at),
+            at,
+            &mut self.rotor.rhs,
+        );
         self.rotor.predict();
-        if let (Some(g), Some(p)) = (&mut self.gyro, self.spin) {
-            g.correct(p.at(t), &mut self.rotor);
+        if let (Some(g), Some(s)) = (&mut self.gyro, self.spin.state(t)) {
+            g.correct(s, &mut self.rotor);
         }
         let collocated = self.scheme.collocated();
         for st in self.stators.iter_mut() {
@@ -610,6 +691,12 @@ impl<'a> Stepper<'a> {
         let f = self.ws.instant_forces(forces);
         self.recorder
             .sample(t, &self.rotor.u, &f.total, &f.normal, self.energy, active);
+        if let Spin::Driven(d) = &self.spin {
+            let c = d.cur;
+            let td = d.drive_torque(t);
+            let rec = &mut self.recorder.rec;
+            rec.spin.push([c.phi, c.omega, c.omega_dot, td, d.friction]);
+        }
     }
 
     /// Counts instant tₖ, `k` = `n`, in the contact statistics (the whole run and, for
@@ -682,11 +769,11 @@ impl<'a> Stepper<'a> {
 }
 
 /// Adds the unbalance load at time `t` (s) to `rhs`: of the case's constant speed, or of the
-/// speed profile `spin` (φ(t), Ω(t), Ω̇(t), [`crate::model::RotorBody::add_unbalance_spin`]).
+/// spin state `spin` (φ, Ω, Ω̇ at `t`, [`crate::model::RotorBody::add_unbalance_spin`]).
 #[inline]
-fn add_unbalance(case: &Case, spin: Option<&SpeedProfile>, t: f64, rhs: &mut [f64]) {
+fn add_unbalance(case: &Case, spin: Option<crate::model::SpinState>, t: f64, rhs: &mut [f64]) {
     match spin {
-        Some(p) => case.rotor.add_unbalance_spin(p.at(t), rhs),
+        Some(s) => case.rotor.add_unbalance_spin(s, rhs),
         None => case.rotor.add_unbalance(case.omega, t, rhs),
     }
 }
@@ -707,75 +794,4 @@ fn rotor_contact_dofs(case: &Case) -> Vec<usize> {
     cd.sort_unstable();
     cd.dedup();
     cd
-}
-
-/// Factor between a DOF's divergence bound and the run's scale for it.
-const DIVERGENCE_FACTOR: f64 = 1e4;
-
-/// The divergence bound of every rotor DOF: 10⁴ times the run's scale for it, so that a
-/// response that grows past it can only be an instability, wherever the stations and the
-/// observed node are.
-///
-/// * displacements (`u_x`, `u_y`, `u_z`, pedestals; m): the length scale `L`, the largest of |Z0(ω)| over
-///   every rotor node, the finite clearances and the initial displacement (at least 1 nm);
-/// * rotations (`θ_x`, `θ_y`, `θ_z`; rad): the largest forced tilt over every node, and at
-///   least `L / ℓ`, ℓ the shortest distance between two rotor nodes (a relative displacement
-///   `L` across the shortest element; `L` per metre for a rotor of one node).
-fn divergence_bounds(case: &Case, init: Initial) -> Vec<f64> {
-    let length = case
-        .z0_max
-        .max(
-            case.stators
-                .iter()
-                .map(|s| s.clearance)
-                .filter(|c| c.is_finite())
-                .fold(0.0, f64::max),
-        )
-        .max(init.u[0].hypot(init.u[1]))
-        .max(1e-9);
-    let z = &case.rotor.node_z;
-    let spacing = z
-        .windows(2)
-        .map(|w| (w[1] - w[0]).abs())
-        .filter(|d| *d > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    let per_metre = if spacing.is_finite() { spacing } else { 1.0 };
-    let tilt = case.tilt0_max.max(length / per_metre);
-    let r = &case.rotor;
-    let mut bound = vec![DIVERGENCE_FACTOR * length; r.ndof];
-    let rotations = r
-        .node_tilt
-        .iter()
-        .flatten()
-        .flatten()
-        .chain(r.node_torsion.iter().flatten());
-    for &i in rotations {
-        bound[i] = DIVERGENCE_FACTOR * tilt;
-    }
-    bound
-}
-
-/// The name of rotor DOF `i` (`u_y of rotor node 4`) and its unit (`m` or `rad`).
-fn dof_name(case: &Case, i: usize) -> (String, &'static str) {
-    let r = &case.rotor;
-    let find = |list: &[Option<usize>]| list.iter().position(|d| *d == Some(i));
-    let pair = |n: usize, d: [usize; 2]| d.iter().position(|x| *x == i).map(|c| (n, c));
-    if let Some((n, c)) = r
-        .node_dofs
-        .iter()
-        .enumerate()
-        .find_map(|(n, d)| pair(n, *d))
-    {
-        (format!("u_{} of rotor node {n}", ["x", "y"][c]), "m")
-    } else if let Some((n, c)) =
-        (r.node_tilt.iter().enumerate()).find_map(|(n, d)| d.and_then(|d| pair(n, d)))
-    {
-        (format!("θ_{} of rotor node {n}", ["x", "y"][c]), "rad")
-    } else if let Some(n) = find(&r.node_axial) {
-        (format!("u_z of rotor node {n}"), "m")
-    } else if let Some(n) = find(&r.node_torsion) {
-        (format!("θ_z of rotor node {n}"), "rad")
-    } else {
-        (format!("rotor DOF {i} (a pedestal)"), "m")
-    }
 }

@@ -109,6 +109,9 @@ pub(crate) struct StepWorkspace {
     pub(crate) with_mass_active: usize,
     /// Pairs in contact at the frame's instant.
     pub(crate) frame_pairs: Vec<PairForce>,
+    /// The rub's friction torque on the rotor of the step, `Σ R μ p` over the pairs of its
+    /// contact solves (N·m, resisting a positive spin).
+    pub(crate) friction_torque: f64,
 }
 
 impl StepWorkspace {
@@ -137,6 +140,7 @@ impl StepWorkspace {
             with_mass_pairs: Vec::with_capacity(nc),
             with_mass_active: 0,
             frame_pairs: Vec::with_capacity(nc),
+            friction_torque: 0.0,
         }
     }
 

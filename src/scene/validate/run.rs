@@ -47,6 +47,7 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
     if let Some(p) = &r.speed_profile {
         super::super::profile::validate(ls, p)?;
     }
+    super::super::event::validate(ls, &r.event)?;
     if let Some(v) = r.speed_ratio {
         positive(ls, "run.speed_ratio", v)?;
     }
