@@ -164,7 +164,17 @@ fn chosen_scheme_is_reported_by_check_run_and_sweep() {
     let scene = tmp.path().join("paper.toml");
     std::fs::write(&scene, paper_single()).unwrap();
     let sc = scene.to_str().unwrap();
-    let out = ok(tmp.path(), &["check", sc, "--set", "run.speed_ratio=2.0"]);
+    let out = ok(
+        tmp.path(),
+        &[
+            "check",
+            sc,
+            "--set",
+            "run.speed_ratio=2.0",
+            "--set",
+            "run.auto_step=true",
+        ],
+    );
     assert!(
         out.contains("step for run.tolerance = 1e-3: integrator "),
         "{out}"
@@ -177,6 +187,8 @@ fn chosen_scheme_is_reported_by_check_run_and_sweep() {
         "run.revolutions=40",
         "--set",
         "run.transient_revolutions=20",
+        "--set",
+        "run.auto_step=true",
     ];
     let mut args = vec!["run", sc, "--out", dir.to_str().unwrap()];
     args.extend(short);
@@ -240,6 +252,8 @@ fn unreachable_tolerance_is_refused_naming_the_key() {
             "run.tolerance=1e-12",
             "--set",
             "run.max_steps=1000000",
+            "--set",
+            "run.auto_step=true",
         ],
     );
     assert!(

@@ -286,16 +286,21 @@ pub fn choose(
     let rho = rho_inf.or(Some(DEFAULT_RHO_INF));
     // The candidates in their order (the first wins a tie), each with the cost of its coarsest
     // step: a scheme that cannot beat the best found is not piloted.
+    // A scheme that cannot even be planned keeps its reason: when none can, that reason (a
+    // speed, clearance or stator the run itself would refuse, naming its key) is the error.
     let mut order = Vec::new();
+    let mut last_err: Option<Error> = None;
     for kind in candidates(run_integrator) {
         let sch = scheme(kind, rho);
-        if let Ok(c) = cost(model, s, sch, &pilots, COARSEST) {
-            order.push((kind, c));
+        match cost(model, s, sch, &pilots, COARSEST) {
+            Ok(c) => order.push((kind, c)),
+            Err(e) => {
+                last_err.get_or_insert(e);
+            }
         }
     }
     let mut best: Option<Outcome> = None;
     let (mut pilot_steps, mut pilot_wall, mut piloted) = (0u64, 0.0, 0usize);
-    let mut last_err: Option<Error> = None;
     for (kind, floor) in order {
         if best.as_ref().is_some_and(|b| b.cost <= floor) {
             continue;

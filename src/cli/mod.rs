@@ -316,7 +316,7 @@ pub fn settings(ls: &LoadedScene) -> RunSettings {
 pub fn chosen_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Result<RunSettings> {
     let s = settings(ls);
     let run = &ls.scene.run;
-    if run.dt.is_some() || run.speed_profile.is_some() {
+    if !run.auto_step || run.dt.is_some() || run.speed_profile.is_some() {
         return Ok(s);
     }
     let s = rubsim::analysis::choose(model, &s, run.integrator, run.rho_inf, speeds)

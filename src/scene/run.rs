@@ -77,6 +77,12 @@ pub struct RunSpec {
     /// line).
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
+    /// Choose Δt and the integrator from `tolerance` by pilot runs (`analysis::autostep`)
+    /// when `dt` is not given. Default `false`: Δt from the paper's rule (`harmonics`), capped
+    /// by the stability limit. Opt-in while the pilots' order fit is unreliable on some meshed
+    /// stators (it can ask for an absurd step there, docs/VALIDATION.md §16).
+    #[serde(default)]
+    pub auto_step: bool,
     /// Most revolutions the transient may grow to while the run waits for the steady state
     /// (default 5 × `transient_revolutions`); a run not steady by then is reported
     /// `steady = false`.
