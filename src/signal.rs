@@ -8,6 +8,14 @@ use crate::math::V2;
 use realfft::RealFftPlanner;
 use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;
+use std::cell::RefCell;
+
+thread_local! {
+    /// The FFT planners of this thread: they keep the plans they made, so the spectra of a
+    /// sweep's windows (all of one length) are planned once per thread.
+    static REAL_PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    static PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
+}
 
 /// Single-sided amplitude spectrum of `x` with a periodic Hann window, after removing the mean.
 ///
@@ -28,8 +36,7 @@ pub fn hann_spectrum(x: &[f64]) -> Vec<f64> {
         })
         .collect();
     let wsum = n as f64 / 2.0;
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(n);
+    let fft = REAL_PLANNER.with(|p| p.borrow_mut().plan_fft_forward(n));
     let mut out = fft.make_output_vec();
     fft.process(&mut buf, &mut out)
         .expect("buffer sizes from the planner");
@@ -103,7 +110,9 @@ impl FullSpectrum {
             .iter()
             .map(|p| Complex64::new((p[0] - mean[0] * inv) * inv, (p[1] - mean[1] * inv) * inv))
             .collect();
-        FftPlanner::<f64>::new().plan_fft_forward(n).process(&mut c);
+        PLANNER
+            .with(|p| p.borrow_mut().plan_fft_forward(n))
+            .process(&mut c);
         Self { c }
     }
 
@@ -149,14 +158,21 @@ impl FullSpectrum {
         if n < 3 || count == 0 {
             return Vec::new();
         }
-        let top = self.c.iter().map(|c| c.norm()).fold(0.0, f64::max);
+        // Squared amplitudes, compared once each.
+        let sq: Vec<f64> = self.c.iter().map(|c| c.norm_sqr()).collect();
+        let top = sq.iter().copied().fold(0.0, f64::max);
         if top <= 0.0 {
             return Vec::new();
         }
-        let mut lines: Vec<Line> = self
-            .signed()
-            .filter(|&(k, a)| a > floor * top && self.amp(k - 1) <= a && self.amp(k + 1) < a)
-            .map(|(k, a)| self.refine(k, a))
+        let cut = floor * floor * top;
+        let ni = n as isize;
+        let mut lines: Vec<Line> = (-(ni - 1) / 2..=ni / 2)
+            .filter(|&k| {
+                let i = k.rem_euclid(ni) as usize;
+                let a = sq[i];
+                a > cut && sq[(i + n - 1) % n] <= a && sq[(i + 1) % n] < a
+            })
+            .map(|k| self.refine(k, self.amp(k)))
             .collect();
         lines.sort_by(|p, q| q.amp.total_cmp(&p.amp).then(p.bin.total_cmp(&q.bin)));
         lines.truncate(count);
