@@ -263,11 +263,19 @@ mod tests {
         let s = FullSpectrum::new(&bwd);
         assert!((s.amp(-12) - 1.5).abs() < 1e-12 && s.amp(12) < 1e-12);
         let p = s.peaks(4, 1e-6);
-        assert_eq!(p, vec![Line { bin: -12.0, amp: s.amp(-12) }]);
+        assert_eq!(
+            p,
+            vec![Line {
+                bin: -12.0,
+                amp: s.amp(-12)
+            }]
+        );
         // Ellipse a = 3 (x), b = 1 (y), traced forward: (a+b)/2 = 2 forward, (a−b)/2 = 1
         // backward; traced backward the two swap.
         for (sign, f, b) in [(1.0, 2.0, 1.0), (-1.0, 1.0, 2.0)] {
-            let e = orbit(768, 12.0, |t| [3.0 * (t + 0.4).cos(), sign * (t + 0.4).sin()]);
+            let e = orbit(768, 12.0, |t| {
+                [3.0 * (t + 0.4).cos(), sign * (t + 0.4).sin()]
+            });
             let s = FullSpectrum::new(&e);
             assert!((s.amp(12) - f).abs() < 1e-12, "{sign}: {}", s.amp(12));
             assert!((s.amp(-12) - b).abs() < 1e-12, "{sign}: {}", s.amp(-12));
@@ -282,14 +290,20 @@ mod tests {
         // forward 1× of 0.3, over 24 revolutions: −50.83 bins.
         let w = -2.118;
         let z = orbit(24 * 64, 24.0, |t| {
-            [0.8 * (w * t).cos() + 0.3 * t.cos(), 0.8 * (w * t).sin() + 0.3 * t.sin()]
+            [
+                0.8 * (w * t).cos() + 0.3 * t.cos(),
+                0.8 * (w * t).sin() + 0.3 * t.sin(),
+            ]
         });
         let s = FullSpectrum::new(&z);
         let p = s.peaks(2, 1e-3);
         assert!((p[0].bin / 24.0 - w).abs() < 1e-6, "{p:?}");
         assert!((p[0].amp - 0.8).abs() < 1e-6, "{p:?}");
         // The 1× on its bin carries a little of the whip's leakage.
-        assert!((p[1].bin - 24.0).abs() < 1e-3 && (p[1].amp - 0.3).abs() < 3e-3, "{p:?}");
+        assert!(
+            (p[1].bin - 24.0).abs() < 1e-3 && (p[1].amp - 0.3).abs() < 3e-3,
+            "{p:?}"
+        );
         // Without the refinement the nearest bin (0.17 bin away) reads 5 % low.
         assert!(s.amp(-51) < 0.77, "{}", s.amp(-51));
         assert!(FullSpectrum::new(&[]).peaks(3, 0.0).is_empty());

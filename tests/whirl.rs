@@ -71,7 +71,10 @@ fn a_free_run_up_whirls_forward_through_its_resonance() {
         "[run.sweep]\nfrom = 0.5\nto = 6.0\nstep = 0.1",
         "[run.speed_profile]\nkind = \"ramp\"\nunit = \"speed_ratio\"\nfrom = 0.5\nto = 3.0\nduration = 20.0",
     );
-    let (a, b) = (text.find("[[stator]]").unwrap(), text.find("[run]").unwrap());
+    let (a, b) = (
+        text.find("[[stator]]").unwrap(),
+        text.find("[run]").unwrap(),
+    );
     text = format!("{}{}", &text[..a], &text[b..]);
     let (ls, model) = scene_model(&text, NO_SETS);
     let spec = ls.scene.run.speed_profile.as_ref().unwrap();
@@ -86,9 +89,10 @@ fn a_free_run_up_whirls_forward_through_its_resonance() {
         assert!(w.backward_1x < 1e-2 * w.forward_1x, "{w:?}");
         assert!((w.lines[0].0 - 1.0).abs() < 5e-3, "{w:?}");
     }
-    let peak = wf
-        .iter()
-        .fold(&wf[0], |m, w| if w.forward_1x > m.forward_1x { w } else { m });
+    let peak = wf.iter().fold(
+        &wf[0],
+        |m, w| if w.forward_1x > m.forward_1x { w } else { m },
+    );
     let nu = peak.omega / r.omega_n;
     assert!((nu - 1.0426).abs() < 0.03, "peak at ν = {nu}");
 }
@@ -101,7 +105,14 @@ fn run_and_transient_write_their_full_spectra() {
     let o = out.display().to_string();
     let text = ok(
         tmp.path(),
-        &["run", scene.to_str().unwrap(), "--speed", "1.7", "--out", &o],
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--speed",
+            "1.7",
+            "--out",
+            &o,
+        ],
     );
     assert!(text.contains("whirl forward (+1.000×"), "{text}");
     let csv = read(&out.join("full_spectrum.csv"));

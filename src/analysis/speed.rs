@@ -2,8 +2,8 @@
 //! frame sinks ([`Prepared::run`]), analyse the record ([`analyse`]) and estimate the
 //! discretisation error by a companion run.
 
-use super::whirl::{signed_orders, whirl_lines, WhirlLines};
 use super::steady::{classify, lines_revolutions, stationarity, Classification, Stationarity};
+use super::whirl::{signed_orders, whirl_lines, WhirlLines};
 use super::{Keep, RunSettings, MAX_PERIOD};
 use crate::error::Result;
 use crate::math::{gcd, V2};

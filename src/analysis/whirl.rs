@@ -209,7 +209,9 @@ mod tests {
         let (still, _) = whirl_lines(&[[1.0, 2.0]; 64], 1);
         assert_eq!(still.direction, WhirlDirection::NoWhirl);
         // A straight line (b = 0): forward and backward equal.
-        let line: Vec<V2> = (0..64).map(|i| [0.0, (PI * i as f64 / 32.0).cos()]).collect();
+        let line: Vec<V2> = (0..64)
+            .map(|i| [0.0, (PI * i as f64 / 32.0).cos()])
+            .collect();
         let (planar, _) = whirl_lines(&line, 1);
         assert_eq!(planar.direction, WhirlDirection::Planar);
         assert!((planar.forward_1x_nd - 0.5).abs() < 1e-12);

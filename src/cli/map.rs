@@ -222,7 +222,12 @@ fn full_cascades(
         whirl_out::draw_cascade(
             outd,
             &format!("full_cascade/{name}_{}.png", toml_number(*v)),
-            &format!("{} [{} = {}]", ls.scene.title, axes.keys[per], toml_number(*v)),
+            &format!(
+                "{} [{} = {}]",
+                ls.scene.title,
+                axes.keys[per],
+                toml_number(*v)
+            ),
             &row,
             &desc(&axes.keys[along]),
             fmax,

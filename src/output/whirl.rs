@@ -131,9 +131,8 @@ pub fn write_waterfall(
     omega_n: f64,
     png: bool,
 ) -> Result<()> {
-    let mut s = String::from(
-        "t_s,omega_rad_s,speed_ratio,fwd_1x_m,bwd_1x_m,rank,order,freq_nd,amp_m\n",
-    );
+    let mut s =
+        String::from("t_s,omega_rad_s,speed_ratio,fwd_1x_m,bwd_1x_m,rank,order,freq_nd,amp_m\n");
     for w in windows {
         let nu = w.omega / omega_n;
         for (k, (o, a)) in w.lines.iter().enumerate() {

@@ -75,7 +75,10 @@ pub fn full_spectrum(
             draw_no_data(chart.plotting_area())?;
             return Ok(());
         }
-        for (s, c, label) in [(speed, FORWARD, "+1× forward"), (-speed, BACKWARD, "−1× backward")] {
+        for (s, c, label) in [
+            (speed, FORWARD, "+1× forward"),
+            (-speed, BACKWARD, "−1× backward"),
+        ] {
             chart
                 .draw_series(DashedLineSeries::new(
                     vec![(s, 0.0), (s, ytop)],
@@ -144,9 +147,7 @@ pub fn full_cascade(
     render_titled(path, (FIG_W, FIG_H), title, |body| {
         let (w, _) = body.dim_in_pixel();
         let (plot, bar) = body.split_horizontally(w.saturating_sub(170));
-        let mut chart = FRAME
-            .builder(&plot)
-            .build_cartesian_2d(-fm..fm, ylo..yhi)?;
+        let mut chart = FRAME.builder(&plot).build_cartesian_2d(-fm..fm, ylo..yhi)?;
         Axes::page(
             "f / ωn   (< 0: backward whirl, > 0: forward whirl)",
             y_desc,
@@ -162,14 +163,22 @@ pub fn full_cascade(
             vec![(0.0, ylo), (0.0, yhi)],
             BLACK.mix(0.4).stroke_width(1),
         )))?;
-        for (sign, c, label) in [(1.0, FORWARD, "+1× forward"), (-1.0, BACKWARD, "−1× backward")] {
+        for (sign, c, label) in [
+            (1.0, FORWARD, "+1× forward"),
+            (-1.0, BACKWARD, "−1× backward"),
+        ] {
             let pts: Vec<(f64, f64)> = guides
                 .iter()
                 .map(|&(s, y)| (sign * s, y))
                 .filter(|(f, _)| f.abs() <= fm)
                 .collect();
             chart
-                .draw_series(DashedLineSeries::new(pts, 10, 6, c.mix(0.8).stroke_width(2)))?
+                .draw_series(DashedLineSeries::new(
+                    pts,
+                    10,
+                    6,
+                    c.mix(0.8).stroke_width(2),
+                ))?
                 .label(label)
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3))
