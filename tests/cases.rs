@@ -196,11 +196,37 @@ fn shards_merge_into_the_one_machine_results_and_missing_ones_are_listed() {
         without_timing(&read(&dist.join("sweep.csv"))),
         without_timing(&one_csv)
     );
+    // The full-spectrum cascade's table, drawn from the case files alone: the same lines.
+    assert_eq!(
+        read(&dist.join("full_cascade.csv")),
+        read(&one.join("full_cascade.csv"))
+    );
+    let cascade = read(&one.join("full_cascade.csv"));
+    assert!(cascade.starts_with("speed_ratio,rank,order,freq_nd,amp_nd\n"));
+    // The rod pushes up and down only: the 1× orbit is an ellipse, forward with a backward part
+    // (near 1.3 ω_n nearly a straight line: planar).
+    let header: Vec<&str> = one_csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let row: Vec<&str> = one_csv
+        .lines()
+        .find(|l| l.starts_with("2.0000,"))
+        .unwrap()
+        .split(',')
+        .collect();
+    assert_eq!(row[col("period")], "1", "{row:?}");
+    assert_eq!(row[col("whirl")], "forward", "{row:?}");
+    assert_eq!(row[col("whirl_order")], "1.000000", "{row:?}");
+    let (f, b): (f64, f64) = (
+        row[col("fwd_1x_nd")].parse().unwrap(),
+        row[col("bwd_1x_nd")].parse().unwrap(),
+    );
+    assert!(f > 2.0 * b && b > 0.05, "1× forward {f}, backward {b}");
     for f in [
         "cascade.png",
         "bifurcation.png",
         "regime_map.png",
         "orbits_1.png",
+        "full_cascade.png",
     ] {
         assert_eq!(
             std::fs::read(dist.join(f)).unwrap(),
@@ -306,9 +332,19 @@ fn a_map_writes_its_table_and_pictures_and_its_shards_merge_identically() {
         "regime_map.png",
         "orbit_size_map.png",
         "contact_force_map.png",
+        "full_cascade/clearance_nd_0.4.png",
+        "full_cascade/clearance_nd_0.8.png",
     ] {
         assert!(common::cli::is_png(&one.join(f)), "{f}");
     }
+    let cascade = read(&one.join("full_cascade.csv"));
+    assert!(cascade.starts_with("speed_ratio,stator.0.clearance_nd,rank,order,"));
+    // Every case keeps its lines, the strongest first.
+    assert_eq!(
+        cascade.lines().filter(|l| l.contains(",1,")).count(),
+        12,
+        "{cascade}"
+    );
     // Two shards and a merge: the same table and pictures.
     let dist = tmp.path().join("dist");
     for s in ["1/2", "2/2"] {
@@ -323,10 +359,12 @@ fn a_map_writes_its_table_and_pictures_and_its_shards_merge_identically() {
         without_timing(&read(&dist.join("map.csv"))),
         without_timing(&csv)
     );
+    assert_eq!(read(&dist.join("full_cascade.csv")), cascade);
     for f in [
         "regime_map.png",
         "orbit_size_map.png",
         "contact_force_map.png",
+        "full_cascade/clearance_nd_0.6.png",
     ] {
         assert_eq!(
             std::fs::read(dist.join(f)).unwrap(),

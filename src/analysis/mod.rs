@@ -41,6 +41,7 @@ pub mod steady;
 pub mod stress;
 pub mod sweep;
 pub mod transient;
+pub mod whirl;
 
 pub use autostep::{choose, StepChoice};
 pub use convergence::{convergence, ConvergencePoint, ConvergenceResults};
@@ -136,6 +137,8 @@ pub struct Keep {
     pub force_history: bool,
     /// The spectrum up to this frequency (f/ω_n); 0 keeps none.
     pub spectrum_up_to: Option<u32>,
+    /// The full spectrum of x + iy too (up to the same frequency, both signs).
+    pub full_spectrum: bool,
 }
 
 impl Keep {
@@ -150,6 +153,7 @@ impl Keep {
             orbit: true,
             force_history: true,
             spectrum_up_to: Some(fmax.ceil() as u32),
+            full_spectrum: true,
         }
     }
 }

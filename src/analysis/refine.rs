@@ -60,6 +60,7 @@ pub fn refine_point(
         orbit: true,
         force_history: true,
         spectrum_up_to: None,
+        full_spectrum: false,
     };
     let t0 = std::time::Instant::now();
     let prep = prepare(model, s, speed_ratio)?;

@@ -3,6 +3,7 @@
 //! discretisation error by a companion run.
 
 use super::steady::{classify, lines_revolutions, stationarity, Classification, Stationarity};
+use super::whirl::{signed_orders, whirl_lines, WhirlLines};
 use super::{Keep, RunSettings, MAX_PERIOD};
 use crate::error::Result;
 use crate::math::{gcd, V2};
@@ -74,6 +75,10 @@ pub struct SpeedResults {
     pub amp_half_nd: f64,
     /// 1/3× amplitude / |Z0|.
     pub amp_third_nd: f64,
+    /// The whirl: forward and backward 1×, the dominant line with its sign and the strongest
+    /// lines of the full spectrum of x + iy over the same revolutions as the lines above
+    /// ([`super::whirl::whirl_lines`]).
+    pub whirl: WhirlLines,
     /// Largest contact-force magnitude on station 0 over every step of the analysed steady
     /// window (after the transient) / |U|ω² ([`RunStats::steady`]).
     pub contact_force_max_nd: f64,
@@ -104,6 +109,10 @@ pub struct SpeedResults {
     /// Spectrum: (f/ω_n, amplitude/|Z0|) (kept on request).
     #[serde(skip)]
     pub spectrum: Vec<(f64, f64)>,
+    /// Full spectrum of (x + iy)/|Z0| over the lines' revolutions: (signed f/ω_n, amplitude /
+    /// |Z0|), ascending, within the spectrum's frequency (kept on request, [`Keep::full_spectrum`]).
+    #[serde(skip)]
+    pub full_spectrum: Vec<(f64, f64)>,
 }
 
 /// A run at one speed, ready to integrate: the case and the step plan, built once.
@@ -413,6 +422,17 @@ pub fn analyse(
     let (lrev, resolved) = lines_revolutions(nrev, period);
     let lines = &comp[(nrev - lrev) * spr..nrev * spr];
     let amp = |order: f64| line_exact(lines, spr, order);
+    let (whirl, full) = whirl_lines(&window[(nrev - lrev) * spr..nrev * spr], lrev);
+    let full_spectrum = match keep.spectrum_up_to {
+        Some(fm) if keep.full_spectrum => {
+            let nu = case.speed_ratio;
+            signed_orders(&full, lrev, fm as f64 / nu.max(1e-300))
+                .into_iter()
+                .map(|(o, a)| (o * nu, a))
+                .collect()
+        }
+        _ => Vec::new(),
+    };
     let nrev_f = (last - first) as f64 / spr as f64;
     let spectrum = match keep.spectrum_up_to {
         Some(fm) => hann_spectrum(&comp)
@@ -443,6 +463,7 @@ pub fn analyse(
         amp_1x_nd: amp(1.0),
         amp_half_nd: amp(0.5),
         amp_third_nd: amp(1.0 / 3.0),
+        whirl,
         contact_force_max_nd: stats.steady.force_max / fu,
         contact_fraction: stats.steady.fraction(),
         penetration_max_m: stats.whole.penetration_max,
@@ -460,5 +481,6 @@ pub fn analyse(
             Vec::new()
         },
         spectrum,
+        full_spectrum,
     }
 }

@@ -334,6 +334,7 @@ impl SweepKeep {
             orbit: self.orbits.iter().any(|w| (w - v).abs() < 1e-6) || self.orbits.is_empty(),
             force_history: self.force_histories.iter().any(|w| (w - v).abs() < 1e-6),
             spectrum_up_to: Some(self.spectrum_up_to),
+            full_spectrum: false,
         }
     }
 }

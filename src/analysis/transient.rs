@@ -433,7 +433,7 @@ pub fn track_orders(
 }
 
 /// x at angle `a` from the samples around index `i` (φ[i] ≤ a ≤ φ[i+1] where possible).
-fn interp(phi: &[f64], x: &[f64], i: usize, a: f64) -> f64 {
+pub(super) fn interp(phi: &[f64], x: &[f64], i: usize, a: f64) -> f64 {
     let n = phi.len();
     let lo = i.saturating_sub(1).min(n - 4);
     let p = &phi[lo..lo + 4];

@@ -8,6 +8,7 @@ use anyhow::{bail, Context, Result};
 use rubsim::analysis::sweep::Variant;
 use rubsim::analysis::{SpeedResults, REGIME_CLASSES};
 use rubsim::output::csv::{self, MapCell};
+use rubsim::output::whirl::{self as whirl_out, CascadeCase};
 use rubsim::output::{figures, OutDir};
 use rubsim::plot::{Boundary, MapGrid};
 use rubsim::scene::{toml_number, LoadedScene};
@@ -127,6 +128,7 @@ pub fn assemble(
         .collect::<Option<Vec<_>>>()
         .context("a map cell without its case")?;
     csv::write_map(outd, [&axes.keys[0], &axes.keys[1]], &cells)?;
+    full_cascades(outd, ls, study, axes, &cells, &grid)?;
     if ls.scene.output.png {
         figures::write_map(
             outd,
@@ -161,6 +163,77 @@ pub fn assemble(
         "cases": runs.len(),
         "regime_cells": regimes,
     }))
+}
+
+/// The map's `full_cascade.csv` (the leading columns of `map.csv`) and, with `output.png`, one
+/// `full_cascade/<key>_<value>.png` per value of the axis that is not the speed (the vertical
+/// one when neither is), its rows along the other axis.
+fn full_cascades(
+    outd: &mut OutDir,
+    ls: &LoadedScene,
+    study: &Study,
+    axes: &MapAxes,
+    cells: &[MapCell<'_>],
+    grid: &[Vec<&SpeedResults>],
+) -> Result<()> {
+    let speed_col = axes.speed.is_none();
+    let lead = |x: f64, y: f64, r: &SpeedResults| {
+        let mut s = format!("{},{}", toml_number(x), toml_number(y));
+        if speed_col {
+            s.push_str(&format!(",{}", toml_number(r.speed_ratio)));
+        }
+        s
+    };
+    let cases: Vec<CascadeCase<'_>> = cells
+        .iter()
+        .map(|c| CascadeCase {
+            columns: lead(c.x, c.y, c.run),
+            y: c.x,
+            run: c.run,
+        })
+        .collect();
+    let header = format!(
+        "{},{}{}",
+        axes.keys[0],
+        axes.keys[1],
+        if speed_col { ",speed_ratio" } else { "" }
+    );
+    whirl_out::write_cascade_csv(outd, "", &header, &cases)?;
+    if !ls.scene.output.png {
+        return Ok(());
+    }
+    let along = axes.speed.unwrap_or(0);
+    let per = 1 - along;
+    let fmax = rubsim::analysis::sweep::cascade_max(&ls.scene.output, &study.speeds);
+    let name = axes.keys[per].rsplit('.').next().unwrap_or("value");
+    for (j, v) in axes.values[per].iter().enumerate() {
+        let row: Vec<CascadeCase<'_>> = axes.values[along]
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                let r = if along == 0 { grid[j][i] } else { grid[i][j] };
+                CascadeCase {
+                    columns: String::new(),
+                    y: *a,
+                    run: r,
+                }
+            })
+            .collect();
+        whirl_out::draw_cascade(
+            outd,
+            &format!("full_cascade/{name}_{}.png", toml_number(*v)),
+            &format!(
+                "{} [{} = {}]",
+                ls.scene.title,
+                axes.keys[per],
+                toml_number(*v)
+            ),
+            &row,
+            &desc(&axes.keys[along]),
+            fmax,
+        )?;
+    }
+    Ok(())
 }
 
 /// An axis description: `ω/ωn` for the speed, else the key.

@@ -3,7 +3,7 @@
 use super::{chosen_settings, default_out, load, settings, Common, Series, UnitArg};
 use anyhow::{Context, Result};
 use rubsim::analysis::{self, Keep};
-use rubsim::output::{figures, summary, transient as transient_out};
+use rubsim::output::{figures, summary, transient as transient_out, whirl as whirl_out};
 use std::path::PathBuf;
 
 /// Runs the scene at `speed` (default: its own single speed) and writes `summary.json`,
@@ -52,17 +52,19 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
             &ls.scene.output.component,
         )?;
     }
+    whirl_out::write_run(&mut outd, &ls.scene.title, &r, ls.scene.output.png)?;
     let mut sum = summary::base(&ls, &model, "run");
     sum["result"] = serde_json::to_value(&r)?;
     sum["regime"] = analysis::regime_name(r.period).into();
     sum["wall_s"] = t0.elapsed().as_secs_f64().into();
     let dir = summary::finish(outd, &sum)?;
     println!(
-        "ω/ωn = {:.3}: {} | x/|Z0| ∈ [{:.3}, {:.3}], y/|Z0| ∈ [{:.3}, {:.3}] | 1× {:.3}, 1/2× {:.3}, 1/3× {:.3} | {} {} steps (Δt = {:.3e} s) in {:.3} s | est. rel. error {}",
+        "ω/ωn = {:.3}: {} | x/|Z0| ∈ [{:.3}, {:.3}], y/|Z0| ∈ [{:.3}, {:.3}] | 1× {:.3}, 1/2× {:.3}, 1/3× {:.3} | whirl {} ({:+.3}×; 1× forward {:.3}, backward {:.3}) | {} {} steps (Δt = {:.3e} s) in {:.3} s | est. rel. error {}",
         r.speed_ratio,
         analysis::regime_name(r.period),
         r.extents_nd[0], r.extents_nd[1], r.extents_nd[2], r.extents_nd[3],
         r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd,
+        r.whirl.direction.name(), r.whirl.dominant_order, r.whirl.forward_1x_nd, r.whirl.backward_1x_nd,
         s.step.integrator.name(), r.stats.steps, r.plan.dt, r.stats.wall_s,
         r.error.map(|e| format!("{:.1e}", e.extents_rel)).unwrap_or_else(|| "not estimated".into())
     );
@@ -143,11 +145,27 @@ fn transient(
     }
     let r = prep.run(&mut [])?;
     transient_out::write_csv(&mut outd, &r)?;
+    let waterfall = analysis::whirl::full_waterfall(&r, prep.window_revolutions);
+    whirl_out::write_waterfall(
+        &mut outd,
+        &ls.scene.title,
+        &waterfall,
+        r.omega_n,
+        ls.scene.output.png,
+    )?;
     if ls.scene.output.png {
         transient_out::write_figures(&mut outd, &ls.scene.title, &r, &ls.scene.output.component)?;
     }
     let mut sum = summary::base(ls, model, "run");
     sum["transient"] = serde_json::to_value(&r)?;
+    sum["full_waterfall"] = serde_json::json!({
+        "windows": waterfall.len(),
+        "window_revolutions": prep.window_revolutions,
+        "backward_dominant_windows": waterfall
+            .iter()
+            .filter(|w| w.lines.first().is_some_and(|l| l.0 < 0.0))
+            .count(),
+    });
     sum["wall_s"] = t0.elapsed().as_secs_f64().into();
     let dir = summary::finish(outd, &sum)?;
     println!(

@@ -5,6 +5,7 @@ use super::study::Study;
 use anyhow::Result;
 use rubsim::analysis::sweep::{self as sw, Variant};
 use rubsim::analysis::{self, SpeedResults, SweepResults};
+use rubsim::output::whirl::{self as whirl_out, CascadeCase};
 use rubsim::output::{csv, figures, summary, OutDir};
 use rubsim::plot::Boundary;
 use rubsim::scene::LoadedScene;
@@ -66,6 +67,26 @@ fn write_variant(
             component: &o.component,
         },
     )?;
+    let cases: Vec<CascadeCase<'_>> = res
+        .speeds
+        .iter()
+        .map(|r| CascadeCase {
+            columns: format!("{:.4}", r.speed_ratio),
+            y: r.speed_ratio,
+            run: r,
+        })
+        .collect();
+    whirl_out::write_cascade_csv(outd, prefix, "speed_ratio", &cases)?;
+    if o.png {
+        whirl_out::draw_cascade(
+            outd,
+            &format!("{prefix}full_cascade.png"),
+            &variant.title(&ls.scene.title),
+            &cases,
+            "ω/ωn",
+            sw::cascade_max(o, speeds),
+        )?;
+    }
     let regimes = analysis::regime_ranges(&res.speeds);
     let peaks = analysis::quasi_resonances(&res.speeds);
     report(variant, res, &regimes, &peaks);

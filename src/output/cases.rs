@@ -44,8 +44,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 pub const CASES_DIR: &str = "cases";
 /// The store's plan inside [`CASES_DIR`].
 pub const PLAN: &str = "plan.json";
-/// Version of the case-file format.
-pub const FORMAT: u32 = 1;
+/// Version of the case-file format (2: the results carry the whirl of the full spectrum).
+pub const FORMAT: u32 = 2;
 /// Test hook: append every case id written to this file.
 pub const CASE_LOG_ENV: &str = "RUBSIM_CASE_LOG";
 /// Test hook: SIGKILL the process after this many case files.

@@ -1,5 +1,6 @@
 //! Every CSV table rubsim writes: `sweep.csv`, `convergence.csv`, `stress.csv`, `refine.csv`,
-//! `modes.csv`, `static_deflection.csv`, `campbell.csv`, `unbalance.csv`.
+//! `modes.csv`, `static_deflection.csv`, `campbell.csv`, `unbalance.csv` (the full spectra's
+//! tables are [`super::whirl`]'s).
 //!
 //! One header line, then one row per record; numbers in SI units (or the `_nd`
 //! normalisations of [`crate::analysis`]), formatted with a fixed precision per column.
@@ -24,12 +25,12 @@ fn table(header: &str, rows: impl IntoIterator<Item = String>) -> String {
 }
 
 /// The `sweep.csv` header.
-pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted";
+pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl";
 
 /// One `sweep.csv` row.
 pub fn sweep_row(r: &SpeedResults) -> String {
     format!(
-        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{},{},{},{:.3e},{:.3e},{},{}",
+        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{},{},{},{:.3e},{:.3e},{},{},{}",
         r.speed_ratio,
         r.period,
         r.extents_nd[0],
@@ -65,6 +66,22 @@ pub fn sweep_row(r: &SpeedResults) -> String {
                 c.error_predicted
             ))
             .unwrap_or_else(|| ",,,".into()),
+        whirl_columns(r),
+    )
+}
+
+/// The whirl columns of `sweep.csv` and `map.csv`: forward and backward 1× / |Z0|, the signed
+/// order f/Ω and amplitude / |Z0| of the dominant line, and its sense (`forward`, `backward`,
+/// `no_whirl`).
+pub fn whirl_columns(r: &SpeedResults) -> String {
+    let w = &r.whirl;
+    format!(
+        "{:.6},{:.6},{:.6},{:.6},{}",
+        w.forward_1x_nd,
+        w.backward_1x_nd,
+        w.dominant_order,
+        w.dominant_nd,
+        w.direction.name()
     )
 }
 
@@ -243,11 +260,11 @@ pub fn orbit_size_nd(r: &SpeedResults) -> f64 {
 /// amplitudes, contact fraction and peak force, the error estimate (relative extents error and
 /// whether the companion run found the same period), the steady-state proof (`steady`, the
 /// transient residual, the period's confidence, whether the lines are resolved: as in
-/// `sweep.csv`), steps and wall time.
+/// `sweep.csv`), steps and wall time, then the whirl columns ([`whirl_columns`]).
 pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Result<()> {
     let speed_col = !keys.contains(&"speed_ratio");
     let header = format!(
-        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s",
+        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl",
         keys[0],
         keys[1],
         if speed_col { ",speed_ratio" } else { "" }
@@ -255,7 +272,7 @@ pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Re
     let rows = cells.iter().map(|c| {
         let r = c.run;
         format!(
-            "{},{}{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.6},{},{},{},{:.3e},{:.3e},{},{},{:.6}",
+            "{},{}{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.6},{},{},{},{:.3e},{:.3e},{},{},{:.6},{}",
             crate::scene::toml_number(c.x),
             crate::scene::toml_number(c.y),
             if speed_col {
@@ -284,7 +301,8 @@ pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Re
             r.classification.confidence,
             r.lines_resolved,
             r.stats.steps,
-            r.stats.wall_s
+            r.stats.wall_s,
+            whirl_columns(r)
         )
     });
     out.write("map.csv", table(&header, rows).as_bytes())

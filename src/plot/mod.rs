@@ -14,7 +14,8 @@
 //! The module is split by concern: `style` (font, palette, sizes, tick labels, writing the
 //! PNG), `chart` (the frame and axes every chart is built with, shared drawing helpers), `geom`
 //! (data ranges, clipping, equal aspect, markers), and one file per kind of figure: `orbit`,
-//! `cascade`, `xy` (bifurcation, stacked series, log–log, lines) and `mesh_field`.
+//! `cascade`, `whirl` (full spectra of x + iy and their cascades), `xy` (bifurcation, stacked
+//! series, log–log, lines) and `mesh_field`.
 
 mod cascade;
 mod chart;
@@ -25,10 +26,12 @@ mod orbit;
 mod style;
 #[cfg(test)]
 mod tests;
+mod whirl;
 mod xy;
 
 pub use cascade::{cascade, CascadeLine};
 pub use map::{category_map, field_map, MapGrid};
 pub use mesh_field::mesh_field;
 pub use orbit::{orbit_grid, Boundary, OrbitPanel};
+pub use whirl::{full_cascade, full_spectrum, WhirlRow};
 pub use xy::{bifurcation, lines, loglog, stacked_series, Curve, Series};

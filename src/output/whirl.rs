@@ -1,0 +1,178 @@
+//! The full spectra of x + iy (forward whirl at positive, backward whirl at negative
+//! frequencies; [`crate::analysis::whirl`]) as tables and pictures:
+//!
+//! * a run: `full_spectrum.csv` (`order, freq_nd, amp_nd`: signed f/Ω, signed f/ω_n, amplitude
+//!   / |Z0| per bin, ascending) and `full_spectrum.png`;
+//! * a sweep (per variant) and a map: `full_cascade.csv` (per case its strongest lines:
+//!   the case's parameters, then `rank, order, freq_nd, amp_nd`) and the cascade
+//!   `full_cascade.png` — a map draws one per row of its vertical axis,
+//!   `full_cascade/<key>_<value>.png`;
+//! * a speed transient: `full_waterfall.csv` (per window of whole revolutions `t_s,
+//!   omega_rad_s, speed_ratio, fwd_1x_m, bwd_1x_m`, then per line `rank, order, freq_nd,
+//!   amp_m`) and `full_waterfall.png`.
+//!
+//! The cascades are drawn from the lines each case keeps in its results
+//! ([`crate::analysis::whirl::WhirlLines::lines`]), so they are assembled from the case files
+//! alone.
+
+use super::OutDir;
+use crate::analysis::whirl::WaterfallWindow;
+use crate::analysis::SpeedResults;
+use crate::error::Result;
+use crate::plot::{self, WhirlRow};
+
+/// Writes a run's `full_spectrum.csv` and, with `png`, `full_spectrum.png`.
+pub fn write_run(out: &mut OutDir, title: &str, r: &SpeedResults, png: bool) -> Result<()> {
+    let nu = r.speed_ratio;
+    let mut s = String::from("order,freq_nd,amp_nd\n");
+    for (f, a) in &r.full_spectrum {
+        s.push_str(&format!("{:.6},{:.6},{:.6e}\n", f / nu, f, a));
+    }
+    out.write("full_spectrum.csv", s.as_bytes())?;
+    if png {
+        let w = &r.whirl;
+        let p = out.stage("full_spectrum.png")?;
+        plot::full_spectrum(
+            &p,
+            &format!(
+                "{title} — full spectrum of (x + iy)/|Z0| at ω/ωn = {:.3}: 1× forward {:.3}, \
+                 backward {:.3}; dominant {:+.3}× ({})",
+                nu,
+                w.forward_1x_nd,
+                w.backward_1x_nd,
+                w.dominant_order,
+                w.direction.name()
+            ),
+            &r.full_spectrum,
+            nu,
+            "amplitude / |Z0|",
+        )?;
+    }
+    Ok(())
+}
+
+/// One case of a full-spectrum cascade: its leading CSV columns (already formatted, without
+/// a trailing comma), the height its row is drawn at and its results.
+pub struct CascadeCase<'a> {
+    /// The leading columns of its rows in `full_cascade.csv`.
+    pub columns: String,
+    /// Where its row is drawn (the speed, or the parameter of a map's row).
+    pub y: f64,
+    /// Its results.
+    pub run: &'a SpeedResults,
+}
+
+/// Writes `<prefix>full_cascade.csv` (header `<lead_header>,rank,order,freq_nd,amp_nd`, one
+/// row per kept line of each case, strongest first).
+pub fn write_cascade_csv(
+    out: &mut OutDir,
+    prefix: &str,
+    lead_header: &str,
+    cases: &[CascadeCase<'_>],
+) -> Result<()> {
+    let mut s = format!("{lead_header},rank,order,freq_nd,amp_nd\n");
+    for c in cases {
+        let nu = c.run.speed_ratio;
+        for (k, (o, a)) in c.run.whirl.lines.iter().enumerate() {
+            s.push_str(&format!(
+                "{},{},{:.6},{:.6},{:.6e}\n",
+                c.columns,
+                k + 1,
+                o,
+                o * nu,
+                a
+            ));
+        }
+    }
+    out.write(&format!("{prefix}full_cascade.csv"), s.as_bytes())
+}
+
+/// Draws the full-spectrum cascade of `cases` into `file`: each case's lines at signed
+/// `f/ω_n`, its row at `case.y` (axis `y_desc`), within `±freq_max`.
+pub fn draw_cascade(
+    out: &mut OutDir,
+    file: &str,
+    title: &str,
+    cases: &[CascadeCase<'_>],
+    y_desc: &str,
+    freq_max: f64,
+) -> Result<()> {
+    let rows: Vec<WhirlRow> = cases
+        .iter()
+        .map(|c| WhirlRow {
+            y: c.y,
+            speed: c.run.speed_ratio,
+            lines: c
+                .run
+                .whirl
+                .lines
+                .iter()
+                .map(|(o, a)| (o * c.run.speed_ratio, *a))
+                .collect(),
+        })
+        .collect();
+    let p = out.stage(file)?;
+    plot::full_cascade(
+        &p,
+        &format!("{title} — full-spectrum cascade of (x + iy)/|Z0|"),
+        &rows,
+        y_desc,
+        freq_max,
+        "amplitude / |Z0|",
+    )
+}
+
+/// Writes a transient's `full_waterfall.csv` and, with `png`, `full_waterfall.png` (the
+/// windows' lines against the speed Ω/ω_n).
+pub fn write_waterfall(
+    out: &mut OutDir,
+    title: &str,
+    windows: &[WaterfallWindow],
+    omega_n: f64,
+    png: bool,
+) -> Result<()> {
+    let mut s =
+        String::from("t_s,omega_rad_s,speed_ratio,fwd_1x_m,bwd_1x_m,rank,order,freq_nd,amp_m\n");
+    for w in windows {
+        let nu = w.omega / omega_n;
+        for (k, (o, a)) in w.lines.iter().enumerate() {
+            s.push_str(&format!(
+                "{:.9e},{:.6e},{:.6},{:.6e},{:.6e},{},{:.6},{:.6},{:.6e}\n",
+                w.t,
+                w.omega,
+                nu,
+                w.forward_1x,
+                w.backward_1x,
+                k + 1,
+                o,
+                o * nu,
+                a
+            ));
+        }
+    }
+    out.write("full_waterfall.csv", s.as_bytes())?;
+    if !png {
+        return Ok(());
+    }
+    let rows: Vec<WhirlRow> = windows
+        .iter()
+        .map(|w| {
+            let nu = w.omega / omega_n;
+            WhirlRow {
+                y: nu,
+                speed: nu,
+                lines: w.lines.iter().map(|(o, a)| (o * nu, *a)).collect(),
+            }
+        })
+        .collect();
+    let fmax = rows.iter().map(|r| r.speed).fold(1.0, f64::max) * 1.5;
+    let p = out.stage("full_waterfall.png")?;
+    plot::full_cascade(
+        &p,
+        &format!("{title} — full-spectrum waterfall of x + iy"),
+        &rows,
+        "Ω / ωn",
+        fmax,
+        "amplitude (m)",
+    )
+}
