@@ -1,6 +1,7 @@
 //! Writing results: the output directory ([`OutDir`]) and its manifest ([`manifest`]),
-//! `summary.json` ([`summary`]), every CSV table ([`csv`]), the PNG pictures ([`figures`]) and a
-//! speed transient's tables and pictures ([`transient`]). The VTK/HDF5 time series are written by
+//! `summary.json` ([`summary`]), every CSV table ([`csv`]), the PNG pictures ([`figures`]; mode
+//! shapes and the critical speed map: [`rotordyn`]) and a speed transient's tables and pictures
+//! ([`transient`]). The VTK/HDF5 time series are written by
 //! the frame sinks of [`crate::results`] into the same staging folder.
 //!
 //! Every file is first written into a staging folder inside the output directory and moved
@@ -16,6 +17,7 @@ pub mod csv;
 pub mod figures;
 pub mod manifest;
 pub mod outdir;
+pub mod rotordyn;
 pub mod summary;
 pub mod transient;
 
