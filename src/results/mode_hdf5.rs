@@ -5,7 +5,7 @@
 //! `pyvista.read`/ParaView animate. Layout: `docs/OUTPUTS.md`, "Mode shapes".
 
 use super::hdf5::{attr, attr_str, close_on_exec, static_ds, VTKHDF_VERSION};
-use super::modes::{frame_displacement, phases, shape_arrays, FRAMES};
+use super::modes::{frame_displacement, phases, shape_arrays, ShapeArrays, FRAMES};
 use crate::analysis::mode_shape::{node_shape, RotorLine};
 use crate::analysis::rotordyn::Mode;
 use crate::error::{Error, Result};
@@ -135,7 +135,7 @@ fn vtkhdf(f: &h5::File, line: &RotorLine, mode: &Mode) -> h5::Result<()> {
         static_ds(&pd, "twist", &[FRAMES * n], &twist, "rad")?;
         static_ds(&pdo, "twist", &[FRAMES], &per_step, "")?;
     }
-    let (scalars, [re, im]) = shape_arrays(mode);
+    let ShapeArrays { scalars, re, im } = shape_arrays(mode);
     static_ds(&pd, "shape_re", &[n, 3], &re, "")?;
     static_ds(&pdo, "shape_re", &[FRAMES], &zeros, "")?;
     static_ds(&pd, "shape_im", &[n, 3], &im, "")?;

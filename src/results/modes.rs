@@ -30,11 +30,21 @@ pub fn mode_name(index: usize) -> String {
     format!("mode_{:02}", index + 1)
 }
 
-/// The static point arrays of a mode: the real and imaginary parts of `u_x`, `u_y`, `θ_x`,
-/// `θ_y` (and of `u_z`, `θ_z` when the rotor has them), the vectors `shape_re`, `shape_im`
-/// (`[φ_x, φ_y, φ_z]`), and the whirl ellipse's `major` and signed `minor` semi-axes
-/// (positive forward).
-pub fn shape_arrays(mode: &Mode) -> (Vec<(String, Vec<f64>)>, [Vec<f64>; 2]) {
+/// The static point arrays of a mode, one value (or 3-vector) per node.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapeArrays {
+    /// `(name, values)`: the real and imaginary parts of `u_x`, `u_y`, `θ_x`, `θ_y` (and of
+    /// `u_z`, `θ_z` when the rotor has them), then the whirl ellipse's `major` and signed
+    /// `minor` semi-axes (positive forward).
+    pub scalars: Vec<(String, Vec<f64>)>,
+    /// `shape_re`: `[Re φ_x, Re φ_y, Re φ_z]` per node, flattened.
+    pub re: Vec<f64>,
+    /// `shape_im`: the imaginary parts, likewise.
+    pub im: Vec<f64>,
+}
+
+/// The [`ShapeArrays`] of a mode.
+pub fn shape_arrays(mode: &Mode) -> ShapeArrays {
     let shape = node_shape(mode);
     let mut scalars = Vec::new();
     for (c, name) in ["ux", "uy", "theta_x", "theta_y"].iter().enumerate() {
@@ -69,7 +79,11 @@ pub fn shape_arrays(mode: &Mode) -> (Vec<(String, Vec<f64>)>, [Vec<f64>; 2]) {
             .flat_map(|(i, p)| [f(p[0]), f(p[1]), f(axial(i))])
             .collect()
     };
-    (scalars, [vec3(|c| c.re), vec3(|c| c.im)])
+    ShapeArrays {
+        scalars,
+        re: vec3(|c| c.re),
+        im: vec3(|c| c.im),
+    }
 }
 
 /// The displacement `[u_x, u_y, u_z]` of every node at phase `alpha` (and θ_z when the rotor
@@ -102,7 +116,7 @@ pub fn phases() -> Vec<f64> {
 fn mode_vtk(line: &RotorLine, mode: &Mode, title: String, frame: Option<f64>) -> Vtk {
     let n = line.z.len();
     let points: Vec<f64> = line.z.iter().flat_map(|z| [0.0, 0.0, *z]).collect();
-    let (scalars, [re, im]) = shape_arrays(mode);
+    let ShapeArrays { scalars, re, im } = shape_arrays(mode);
     let mut point: Vec<Attribute> = Vec::new();
     if let Some(alpha) = frame {
         let (d, twist) = frame_displacement(mode, alpha);
