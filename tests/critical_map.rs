@@ -220,3 +220,33 @@ fn the_command_writes_the_map_and_refuses_a_bad_range() {
     let e = common::cli::fails(&repo("."), &["critical-map", s, "--from", "0", "--out", o]);
     assert!(e.contains("--from 0"), "{e}");
 }
+
+/// The uniform shaft without gyroscopics at rest has double eigenvalues, whose modal solve
+/// rotates each pair into its forward and backward combinations: those are normalised like
+/// every other mode (largest entry exactly 1), as `mode_shapes.csv` and the VTK/HDF5 mode files
+/// say (docs/OUTPUTS.md).
+#[test]
+fn modal_shapes_of_split_degenerate_pairs_keep_their_largest_entry_one() {
+    use rubsim::analysis::rotordyn::{modal, Whirl};
+    let m = model(&shaft("gyroscopic = false"));
+    let res = modal(&m.rotor, 0.0, 4).unwrap();
+    let whirls: Vec<Whirl> = res.modes.iter().map(|x| x.whirl).collect();
+    assert!(
+        whirls.contains(&Whirl::Forward) && whirls.contains(&Whirl::Backward),
+        "{whirls:?}"
+    );
+    for md in &res.modes {
+        let big = md
+            .shape
+            .iter()
+            .flatten()
+            .fold(num_complex::Complex64::new(0.0, 0.0), |b, v| {
+                if v.norm() > b.norm() {
+                    *v
+                } else {
+                    b
+                }
+            });
+        assert!((big - 1.0).norm() < 1e-12, "{big}");
+    }
+}

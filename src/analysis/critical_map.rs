@@ -125,13 +125,14 @@ fn with_bearings(fe: &FeRotor, swept: Swept, k: f64) -> FeRotor {
 ///
 /// # Errors
 /// [`ModelError::Singular`] when the lateral stiffness is not positive definite (a rotor its
-/// bearings do not hold) or the problem is larger than the dense solver is meant for.
+/// bearings do not hold); [`ModelError::Inconsistent`] when the problem is larger than the
+/// dense solver is meant for.
 pub fn synchronous(fe: &FeRotor, nmodes: usize) -> Result<CriticalSpeeds, ModelError> {
     let nl = fe.ndof_lateral;
     if nl > 8 * FULL_BASIS {
-        return Err(ModelError::Singular {
-            what: "critical speed map".into(),
-            detail: format!(
+        return Err(ModelError::Inconsistent {
+            what: "rotor".into(),
+            message: format!(
                 "{nl} lateral DOFs: the dense synchronous eigenproblem is limited to {}",
                 8 * FULL_BASIS
             ),
@@ -201,8 +202,8 @@ pub fn synchronous(fe: &FeRotor, nmodes: usize) -> Result<CriticalSpeeds, ModelE
 /// lowest `nmodes` critical speeds of each whirl.
 ///
 /// # Errors
-/// [`ModelError::Singular`] for a Jeffcott rotor (it has no bearings to sweep), a bearing
-/// index out of range, or as [`synchronous`].
+/// [`ModelError::Inconsistent`] for a Jeffcott rotor (it has no bearings to sweep) or a
+/// bearing index out of range; as [`synchronous`].
 pub fn critical_map(
     rotor: &Rotor,
     stiffness: &[f64],
@@ -210,18 +211,20 @@ pub fn critical_map(
     nmodes: usize,
 ) -> Result<CriticalMapResults, ModelError> {
     let Rotor::Fe(f) = rotor else {
-        return Err(ModelError::Singular {
-            what: "critical speed map".into(),
-            detail: "needs an FE rotor with bearings (rotor.kind = \"fe\")".into(),
+        return Err(ModelError::Inconsistent {
+            what: "rotor".into(),
+            message: "a Jeffcott rotor has no bearings to sweep: the map needs an FE rotor \
+                      (rotor.kind = \"fe\")"
+                .into(),
         });
     };
     let fe = &f.rotor;
     if let Swept::One(j) = swept {
         if j >= fe.bearings.len() {
-            return Err(ModelError::Singular {
-                what: "critical speed map".into(),
-                detail: format!(
-                    "bearing {j} does not exist (the rotor has {} bearings, 0..={})",
+            return Err(ModelError::Inconsistent {
+                what: format!("bearing {j}"),
+                message: format!(
+                    "does not exist (the rotor has {} bearings, 0..={})",
                     fe.bearings.len(),
                     fe.bearings.len().saturating_sub(1)
                 ),

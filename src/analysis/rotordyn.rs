@@ -522,6 +522,15 @@ fn split_degenerate_pairs(modes: &mut [Mode]) {
             modes[i].energy = energy;
             modes[i2].energy = energy;
         }
+        // The combinations are unit combinations of normalised shapes: scale them back so that
+        // their largest entry is 1, as every other mode's.
+        for j in [i, i2] {
+            let md = &mut modes[j];
+            let scale = normalise(&mut md.shape, &mut md.shape_axial, &mut md.shape_torsion);
+            for t in md.shape_tilt.iter_mut().flatten() {
+                *t /= scale;
+            }
+        }
         k += 2;
     }
 }
