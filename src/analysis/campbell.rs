@@ -18,13 +18,17 @@
 //! reported. A track that still finds no candidate below [`LOST_COST`] is `NaN` at that speed
 //! and keeps its last mode for the next one.
 //!
+//! The undamped basis of the modal solve ([`ModalBasis`]) is built once for the whole diagram
+//! when the bearings are not tabulated over speed (K independent of Ω), else at every speed.
+//!
 //! # Critical speeds
 //!
 //! A track crossing the 1× line `ω_d = Ω` between two speeds of the diagram (linear
 //! interpolation) is a critical speed, with the whirl of the mode at the speed after the
 //! crossing: only crossings inside the diagram's speed range are found.
 
-use crate::analysis::rotordyn::{modal, mode_label, mode_mac, Mode, ModeKind, Whirl};
+use crate::analysis::rotordyn::{modal, modal_in, mode_label, mode_mac, ModalBasis, Mode};
+use crate::analysis::rotordyn::{ModeKind, Whirl};
 use crate::error::ModelError;
 use crate::model::Rotor;
 use crate::scene::SpeedUnit;
@@ -99,6 +103,8 @@ struct State {
 /// The tracker: the rotor, how many candidates per speed, and the count of refinements.
 struct Tracker<'a> {
     rotor: &'a Rotor,
+    /// The undamped basis of every speed when K does not depend on Ω.
+    basis: Option<ModalBasis>,
     candidates: usize,
     tiny: f64,
     refined: usize,
@@ -108,7 +114,10 @@ impl Tracker<'_> {
     /// Modes at Ω (a tiny spin instead of 0, so that pairs start split the way they go).
     fn solve(&self, omega: f64) -> Result<Vec<Mode>, ModelError> {
         let w = if omega == 0.0 { self.tiny } else { omega };
-        Ok(modal(self.rotor, w, self.candidates)?.modes)
+        Ok(match &self.basis {
+            Some(b) => modal_in(self.rotor, w, self.candidates, b)?.modes,
+            None => modal(self.rotor, w, self.candidates)?.modes,
+        })
     }
 
     /// The tracks at `b` from their states at `a`, halving the step where matching is
@@ -205,8 +214,13 @@ pub fn campbell(
     nmodes: usize,
 ) -> Result<CampbellResults, ModelError> {
     let top = speeds.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
+    let basis = match speeds.first() {
+        Some(&s) if ModalBasis::reusable(rotor) => Some(ModalBasis::new(rotor, s)?),
+        _ => None,
+    };
     let mut tracker = Tracker {
         rotor,
+        basis,
         candidates: 2 * nmodes + 4,
         tiny: 1e-6 * top.max(1.0),
         refined: 0,

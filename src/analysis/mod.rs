@@ -27,12 +27,15 @@
 //! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),
 //! [`bench`](mod@bench) (timing and the comparison with a converged sweep), [`stress`] (stator stress
 //! probe), [`refine`] (mesh-refinement metrics), [`rotordyn`] (modes, Campbell, unbalance
-//! response).
+//! response), [`mode_shape`] (whirl ellipses and shaft lines of a mode), [`critical_map`]
+//! (undamped critical speeds against bearing stiffness).
 
 pub mod autostep;
 pub mod bench;
 pub mod campbell;
 pub mod convergence;
+pub mod critical_map;
+pub mod mode_shape;
 pub mod refine;
 pub mod regimes;
 pub mod rotordyn;

@@ -303,8 +303,53 @@ pub const FULL_BASIS: usize = 256;
 /// [`ModalResults::rigid_body`] (exact when the damping does not couple them to the elastic
 /// modes: Rayleigh damping of the assembly; ROSS's shaft-only α with disks does, weakly).
 pub fn modal(rotor: &Rotor, omega: f64, nmodes: usize) -> Result<ModalResults, ModelError> {
-    let (m, k, c, g) = rotor.matrices(omega)?;
-    let (lam, phi_all, rigid_body) = elastic_modes(rotor, &m, &k)?;
+    modal_in(rotor, omega, nmodes, &ModalBasis::new(rotor, omega)?)
+}
+
+/// The undamped modes a modal solve works in: the elastic modes `(ω², Φ)` of `K(Ω) φ = ω² M φ`
+/// (mass-normalised, ascending) without the rigid-body modes of free axial and torsional DOFs,
+/// and the kinds of those. It depends on Ω only through bearings tabulated over speed
+/// ([`Rotor::speed_tabulated`]); otherwise one basis serves every speed
+/// ([`ModalBasis::reusable`]), which is what makes a Campbell diagram of a large rotor cheap
+/// (one dense symmetric eigenproblem instead of one per speed).
+#[derive(Debug, Clone)]
+pub struct ModalBasis {
+    lam: Vec<f64>,
+    phi: DMatrix<f64>,
+    rigid_body: Vec<ModeKind>,
+}
+
+impl ModalBasis {
+    /// The basis at spin speed `omega` (rad/s).
+    ///
+    /// # Errors
+    /// [`ModelError::Singular`] when M is not positive definite.
+    pub fn new(rotor: &Rotor, omega: f64) -> Result<Self, ModelError> {
+        let (m, k, _, _) = rotor.matrices(omega)?;
+        let (lam, phi, rigid_body) = elastic_modes(rotor, &m, &k)?;
+        Ok(Self {
+            lam,
+            phi,
+            rigid_body,
+        })
+    }
+
+    /// True when the basis of one speed is the basis of every speed: K does not depend on Ω.
+    pub fn reusable(rotor: &Rotor) -> bool {
+        !rotor.speed_tabulated()
+    }
+}
+
+/// [`modal`] in a given basis (built by [`ModalBasis::new`] at `omega`, or at any speed when
+/// [`ModalBasis::reusable`]).
+pub fn modal_in(
+    rotor: &Rotor,
+    omega: f64,
+    nmodes: usize,
+    basis: &ModalBasis,
+) -> Result<ModalResults, ModelError> {
+    let (m, _, c, g) = rotor.matrices(omega)?;
+    let (lam, phi_all, rigid_body) = (&basis.lam, &basis.phi, basis.rigid_body.clone());
     let nr = if lam.len() <= FULL_BASIS {
         lam.len()
     } else {
@@ -515,6 +560,15 @@ fn split_degenerate_pairs(modes: &mut [Mode]) {
         if reshare {
             modes[i].energy = energy;
             modes[i2].energy = energy;
+        }
+        // The combinations are unit combinations of normalised shapes: scale them back so that
+        // their largest entry is 1, as every other mode's.
+        for j in [i, i2] {
+            let md = &mut modes[j];
+            let scale = normalise(&mut md.shape, &mut md.shape_axial, &mut md.shape_torsion);
+            for t in md.shape_tilt.iter_mut().flatten() {
+                *t /= scale;
+            }
         }
         k += 2;
     }

@@ -250,6 +250,31 @@ pub enum Cmd {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Undamped critical speed map: the synchronous critical speeds (forward and backward
+    /// whirl) against the stiffness of the bearings, with the scene's bearing lines.
+    CriticalMap {
+        #[command(flatten)]
+        c: Common,
+        /// Lowest bearing stiffness (N/m).
+        #[arg(long, default_value_t = 1e5)]
+        from: f64,
+        /// Highest bearing stiffness (N/m).
+        #[arg(long, default_value_t = 1e10)]
+        to: f64,
+        /// Number of stiffnesses (log spaced).
+        #[arg(long, default_value_t = 40)]
+        points: usize,
+        /// Critical speeds per whirl direction.
+        #[arg(long, default_value_t = 4)]
+        modes: usize,
+        /// Sweep only this bearing (its index in `[[rotor.bearing]]`; the others keep their
+        /// stiffness at rest); default: all bearings together.
+        #[arg(long)]
+        bearing: Option<usize>,
+        /// Output directory (default: out/<scene name>/critical_map).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Read a rotor saved by ROSS (`Rotor.save`, TOML) and write the equivalent rubsim scene
     /// (what rubsim cannot represent is refused by the element's name).
     ImportRoss {
@@ -580,6 +605,15 @@ pub fn run() -> Result<()> {
             nodes,
             out,
         } => rotordyn::unbalance(c, (*from, *to, *unit), *points, nodes, out.clone()),
+        Cmd::CriticalMap {
+            c,
+            from,
+            to,
+            points,
+            modes,
+            bearing,
+            out,
+        } => rotordyn::critical_map(c, (*from, *to, *points), *modes, *bearing, out.clone()),
         Cmd::Convergence {
             c,
             speeds,

@@ -1,10 +1,14 @@
-//! `rubsim modal`, `rubsim campbell`, `rubsim unbalance`: linear rotordynamics of the rotor
-//! alone (no stator), written as CSV, summary.json and PNG.
+//! `rubsim modal`, `rubsim campbell`, `rubsim unbalance`, `rubsim critical-map`: linear
+//! rotordynamics of the rotor alone (no stator), written as CSV, summary.json and PNG (and the
+//! mode shapes as VTK and HDF5).
 
 use super::{default_out, finish, load, Common, UnitArg};
 use anyhow::{Context, Result};
+use rubsim::analysis::critical_map::{self, Swept};
+use rubsim::analysis::mode_shape::{self, RotorLine};
+use rubsim::analysis::rotordyn::ModalResults;
 use rubsim::analysis::{campbell, rotordyn};
-use rubsim::output::{csv, figures, summary};
+use rubsim::output::{csv, figures, summary, OutDir};
 use rubsim::scene::SpeedUnit;
 use std::path::PathBuf;
 
@@ -50,6 +54,10 @@ pub fn modal(
         );
     }
     csv::write_modes(&mut outd, &res)?;
+    let line = mode_shape::rotor_line(&model.rotor);
+    csv::write_mode_shapes(&mut outd, &res, &line)?;
+    rubsim::output::rotordyn::write_mode_shapes(&mut outd, &ls.scene.title, &res, &line)?;
+    write_mode_series(&mut outd, &res, &line)?;
     let nodes = rotordyn::lateral_at_nodes(&model.rotor, &stat);
     let ymax = nodes.iter().fold(0.0_f64, |m, u| m.max(u[1].abs()));
     println!("static deflection under g = {gravity} m/s²: largest |u_y| = {ymax:.4e} m");
@@ -138,5 +146,74 @@ pub fn unbalance(
     }
     let mut sum = summary::base(&ls, &model, "unbalance");
     sum["unbalance_response"] = serde_json::to_value(&res)?;
+    finish(outd, &sum)
+}
+
+/// The mode shapes as VTK (`modes/mode_NN.vtu`, `.pvd` and frames) and, with the `hdf5`
+/// feature, HDF5 (`modes/mode_NN.vtkhdf`).
+fn write_mode_series(outd: &mut OutDir, res: &ModalResults, line: &RotorLine) -> Result<()> {
+    for (i, m) in res.modes.iter().enumerate() {
+        for (name, bytes) in rubsim::results::modes::vtk_files(line, m, i)? {
+            outd.write(&name, &bytes)?;
+        }
+        #[cfg(feature = "hdf5")]
+        {
+            let name = format!("modes/{}.vtkhdf", rubsim::results::modes::mode_name(i));
+            let p = outd.stage(&name)?;
+            rubsim::results::mode_hdf5::write_mode(&p, line, m, i, res.speed)?;
+        }
+    }
+    Ok(())
+}
+
+/// Undamped critical speed map over `points` bearing stiffnesses from `from` to `to` (N/m, log
+/// spaced), all bearings together or only `bearing`.
+pub fn critical_map(
+    c: &Common,
+    (from, to, points): (f64, f64, usize),
+    nmodes: usize,
+    bearing: Option<usize>,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    if !(from.is_finite() && to.is_finite() && from > 0.0 && to > from) {
+        anyhow::bail!(
+            "--from {from} --to {to}: the stiffness range must be positive and finite with --to > --from (N/m)"
+        );
+    }
+    if nmodes == 0 {
+        anyhow::bail!("--modes 0: ask for at least one critical speed");
+    }
+    let (ls, model) = load(c)?;
+    let mut outd =
+        super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("critical_map")))?;
+    let ks = critical_map::log_range(from, to, points);
+    let swept = bearing.map_or(Swept::All, Swept::One);
+    let res = critical_map::critical_map(&model.rotor, &ks, swept, nmodes)
+        .with_context(|| format!("{}: critical speed map", c.scene.display()))?;
+    csv::write_critical_map(&mut outd, &res)?;
+    rubsim::output::rotordyn::write_critical_map(&mut outd, &ls.scene.title, &res)?;
+    let what = match swept {
+        Swept::All => "all bearings".to_string(),
+        Swept::One(j) => format!("bearing {j}"),
+    };
+    println!(
+        "undamped synchronous critical speeds (forward whirl, rad/s) against the stiffness of {what}:"
+    );
+    for (k, cs) in res.stiffness.iter().zip(&res.speeds) {
+        let row: Vec<String> = cs.forward.iter().map(|v| format!("{v:12.4}")).collect();
+        println!("  k = {k:10.4e} N/m: {}", row.join(" "));
+    }
+    for x in &res.crossings {
+        println!(
+            "  {} crosses forward mode {} at k = {:.4e} N/m, Ω = {:.3} rad/s ({:.1} rpm)",
+            x.bearing,
+            x.mode,
+            x.stiffness,
+            x.speed,
+            x.speed * 30.0 / std::f64::consts::PI
+        );
+    }
+    let mut sum = summary::base(&ls, &model, "critical-map");
+    sum["critical_map"] = serde_json::to_value(&res)?;
     finish(outd, &sum)
 }

@@ -1,6 +1,6 @@
 //! Every CSV table rubsim writes: `sweep.csv`, `convergence.csv`, `stress.csv`, `refine.csv`,
-//! `modes.csv`, `static_deflection.csv`, `campbell.csv`, `unbalance.csv` (the full spectra's
-//! tables are [`super::whirl`]'s).
+//! `modes.csv`, `mode_shapes.csv`, `static_deflection.csv`, `campbell.csv`, `unbalance.csv`,
+//! `critical_map.csv` (the full spectra's tables are [`super::whirl`]'s).
 //!
 //! One header line, then one row per record; numbers in SI units (or the `_nd`
 //! normalisations of [`crate::analysis`]), formatted with a fixed precision per column.
@@ -8,6 +8,8 @@
 
 use super::OutDir;
 use crate::analysis::campbell::CampbellResults;
+use crate::analysis::critical_map::CriticalMapResults;
+use crate::analysis::mode_shape::{ellipse, node_shape, RotorLine};
 use crate::analysis::refine::RefinePoint;
 use crate::analysis::rotordyn::{ModalResults, ResponsePoint};
 use crate::analysis::{ConvergenceResults, SpeedResults, StressResults, SweepResults};
@@ -189,6 +191,62 @@ pub fn write_modes(out: &mut OutDir, res: &ModalResults) -> Result<()> {
         rows,
     );
     out.write("modes.csv", csv.as_bytes())
+}
+
+/// Writes `mode_shapes.csv`: one row per mode and node — the node's axial position (m), the
+/// real and imaginary parts of its normalised shape `[u_x, u_y, θ_x, θ_y]` (the mode's largest
+/// entry is 1; rotations in rad per unit of it) and its whirl ellipse (major and signed minor
+/// semi-axes, positive forward; [`crate::analysis::mode_shape::ellipse`]).
+pub fn write_mode_shapes(out: &mut OutDir, res: &ModalResults, line: &RotorLine) -> Result<()> {
+    let mut rows = Vec::new();
+    for (i, m) in res.modes.iter().enumerate() {
+        for (n, p) in node_shape(m).iter().enumerate() {
+            let e = ellipse(p[0], p[1]);
+            let mut row = format!(
+                "{},{},{:.8e}",
+                i + 1,
+                n,
+                line.z.get(n).copied().unwrap_or(0.0)
+            );
+            for c in p {
+                row.push_str(&format!(",{:.10e},{:.10e}", c.re, c.im));
+            }
+            row.push_str(&format!(",{:.10e},{:.10e}", e.major, e.minor));
+            rows.push(row);
+        }
+    }
+    let csv = table(
+        "mode,node,z_m,ux_re,ux_im,uy_re,uy_im,theta_x_re,theta_x_im,theta_y_re,theta_y_im,major,minor",
+        rows,
+    );
+    out.write("mode_shapes.csv", csv.as_bytes())
+}
+
+/// Writes `critical_map.csv`: per swept bearing stiffness (N/m), the forward and then the
+/// backward synchronous critical speeds (rad/s), lowest first (empty where there are fewer).
+pub fn write_critical_map(out: &mut OutDir, res: &CriticalMapResults) -> Result<()> {
+    let mut header = String::from("stiffness_n_m");
+    for w in ["forward", "backward"] {
+        for m in 1..=res.modes {
+            header.push_str(&format!(",{w}_{m}_rad_s"));
+        }
+    }
+    let num = |v: f64| {
+        if v.is_finite() {
+            format!("{v:.8e}")
+        } else {
+            String::new()
+        }
+    };
+    let rows = res.stiffness.iter().zip(&res.speeds).map(|(k, c)| {
+        let mut row = format!("{k:.6e}");
+        for v in c.forward.iter().chain(&c.backward) {
+            row.push(',');
+            row.push_str(&num(*v));
+        }
+        row
+    });
+    out.write("critical_map.csv", table(&header, rows).as_bytes())
 }
 
 /// Writes `static_deflection.csv`: `[u_x, u_y]` (m) of every rotor node.

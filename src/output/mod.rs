@@ -1,7 +1,8 @@
 //! Writing results: the output directory ([`OutDir`]) and its manifest ([`manifest`]),
-//! `summary.json` ([`summary`]), every CSV table ([`csv`]), the PNG pictures ([`figures`]), a
-//! speed transient's tables and pictures ([`transient`]) and the full spectra of x + iy
-//! ([`whirl`]). The VTK/HDF5 time series are written by
+//! `summary.json` ([`summary`]), every CSV table ([`csv`]), the PNG pictures ([`figures`]; mode
+//! shapes and the critical speed map: [`rotordyn`]), a speed transient's tables and pictures
+//! ([`transient`]) and the full spectra of x + iy ([`whirl`]). The VTK/HDF5 time series are
+//! written by
 //! the frame sinks of [`crate::results`] into the same staging folder.
 //!
 //! Every file is first written into a staging folder inside the output directory and moved
@@ -20,6 +21,7 @@ pub mod durable;
 pub mod figures;
 pub mod manifest;
 pub mod outdir;
+pub mod rotordyn;
 pub mod summary;
 pub mod transient;
 pub mod whirl;

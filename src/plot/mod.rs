@@ -15,13 +15,15 @@
 //! PNG), `chart` (the frame and axes every chart is built with, shared drawing helpers), `geom`
 //! (data ranges, clipping, equal aspect, markers), and one file per kind of figure: `orbit`,
 //! `cascade`, `whirl` (full spectra of x + iy and their cascades), `xy` (bifurcation, stacked
-//! series, log–log, lines) and `mesh_field`.
+//! series, log–log, lines), `mesh_field` and `mode_shape` (a mode along the rotor axis, 2-D
+//! and 3-D).
 
 mod cascade;
 mod chart;
 mod geom;
 mod map;
 mod mesh_field;
+mod mode_shape;
 mod orbit;
 mod style;
 #[cfg(test)]
@@ -32,6 +34,7 @@ mod xy;
 pub use cascade::{cascade, CascadeLine};
 pub use map::{category_map, field_map, MapGrid};
 pub use mesh_field::mesh_field;
+pub use mode_shape::{mode_shape_2d, mode_shape_3d, Shape3d, ShapeLine};
 pub use orbit::{orbit_grid, Boundary, OrbitPanel};
 pub use whirl::{full_cascade, full_spectrum, WhirlRow};
-pub use xy::{bifurcation, lines, loglog, stacked_series, Curve, Series};
+pub use xy::{bifurcation, lines, loglog, loglog_marked, stacked_series, Curve, Series};

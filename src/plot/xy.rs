@@ -168,6 +168,26 @@ pub fn loglog(
     x_label: &str,
     y_label: &str,
 ) -> Result<()> {
+    loglog_marked(
+        path,
+        title,
+        curves,
+        &vec![true; curves.len()],
+        x_label,
+        y_label,
+    )
+}
+
+/// [`loglog`] with markers only on the curves whose entry of `marked` is true (the others are
+/// plain lines, e.g. bearing stiffness lines on a critical speed map).
+pub fn loglog_marked(
+    path: &Path,
+    title: &str,
+    curves: &[Curve],
+    marked: &[bool],
+    x_label: &str,
+    y_label: &str,
+) -> Result<()> {
     let valid = |&(x, y): &(f64, f64)| x.is_finite() && y.is_finite() && x > 0.0 && y > 0.0;
     let kept: Vec<Vec<(f64, f64)>> = curves
         .iter()
@@ -198,16 +218,18 @@ pub fn loglog(
         }
         for (i, (curve, pts)) in curves.iter().zip(&kept).enumerate() {
             let color = PALETTE[i % PALETTE.len()];
-            let shape = marker_shape(i, 6);
+            let mark = marked.get(i).copied().unwrap_or(true);
+            let shape = marker_shape(i, if mark { 6 } else { 0 });
             if pts.len() > 1 {
                 chart.draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))?;
             }
             let anno = chart.draw_series(
                 pts.iter()
+                    .filter(|_| mark)
                     .map(|&p| EmptyElement::at(p) + Polygon::new(shape.clone(), color.filled())),
             )?;
             if !curve.label.is_empty() {
-                let legend_shape = marker_shape(i, 6);
+                let legend_shape = marker_shape(i, if mark { 6 } else { 0 });
                 anno.label(curve.label.as_str()).legend(move |(x, y)| {
                     EmptyElement::at((x + 12, y))
                         + PathElement::new(vec![(-12, 0), (12, 0)], color.stroke_width(2))

@@ -112,7 +112,7 @@ impl<T: H5Type + Copy> Column<T> {
     }
 }
 
-fn attr_str(loc: &h5::Location, name: &str, v: &str) -> h5::Result<()> {
+pub(super) fn attr_str(loc: &h5::Location, name: &str, v: &str) -> h5::Result<()> {
     let s: VarLenUnicode = v
         .parse()
         .map_err(|e: h5::types::StringError| h5::Error::from(e.to_string().as_str()))?;
@@ -121,11 +121,11 @@ fn attr_str(loc: &h5::Location, name: &str, v: &str) -> h5::Result<()> {
         .write_scalar(&s)
 }
 
-fn attr<T: H5Type>(loc: &h5::Location, name: &str, v: T) -> h5::Result<()> {
+pub(super) fn attr<T: H5Type>(loc: &h5::Location, name: &str, v: T) -> h5::Result<()> {
     loc.new_attr::<T>().create(name)?.write_scalar(&v)
 }
 
-fn static_ds<T: H5Type>(
+pub(super) fn static_ds<T: H5Type>(
     g: &h5::Group,
     name: &str,
     shape: &[usize],
@@ -727,7 +727,7 @@ fn cell_columns(
 /// mesher, another rubsim) would inherit the descriptor and keep the lock after this run
 /// closes the file: readers then fail with "unable to lock file". Best effort: a driver
 /// without a POSIX descriptor is left alone.
-fn close_on_exec(f: &h5::File) {
+pub(super) fn close_on_exec(f: &h5::File) {
     let mut handle: *mut std::ffi::c_void = std::ptr::null_mut();
     // SAFETY: `f.id()` is a valid open file id; H5P_DEFAULT selects the default (sec2) driver,
     // whose handle is a pointer to the `int` descriptor, valid while the file is open.

@@ -1,6 +1,7 @@
 //! Time series for ParaView and pyvista: VTK XML frames (`.vtu` files and a `.pvd` collection,
 //! [`vtk`]) and one HDF5 file per run with a transient VTKHDF group ([`hdf5`], cargo feature
-//! `hdf5`). The layout of both is documented in `docs/OUTPUTS.md`.
+//! `hdf5`); and the mode shapes of `rubsim modal` in both formats ([`modes`], `mode_hdf5`),
+//! animatable over one period. The layout of both is documented in `docs/OUTPUTS.md`.
 //!
 //! [`ResultsSink`] is a [`FrameSink`](crate::time::FrameSink): the integrator hands it the full state every few steps
 //! and it streams frames to disk while the run goes, so memory does not grow with the run.
@@ -41,11 +42,14 @@
 
 pub mod frame;
 pub mod layout;
+pub mod modes;
 pub mod sink;
 pub mod vtk;
 
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
+#[cfg(feature = "hdf5")]
+pub mod mode_hdf5;
 
 pub use frame::FrameState;
 pub use layout::{
