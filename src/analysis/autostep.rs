@@ -49,7 +49,7 @@ use serde::{Deserialize, Serialize};
 
 /// Transient revolutions of a pilot run before its analysed window.
 pub const PILOT_TRANSIENT: usize = 10;
-/// Analysed revolutions of a pilot run (the shortest window, [`crate::time::WINDOW_MULTIPLE`]).
+/// Analysed revolutions of a pilot run (the shortest window, [`crate::time::plan::WINDOW_MULTIPLE`]).
 pub const PILOT_WINDOW: usize = 6;
 /// The chosen step's predicted error is this fraction of `run.tolerance`.
 pub const SAFETY: f64 = 0.5;
