@@ -140,7 +140,7 @@ fn manifest_naming_files_outside_the_directory_deletes_nothing() {
     assert!(out.join("summary.json").is_file());
     // The new manifest lists only this run's files.
     let m = std::fs::read_to_string(out.join(".rubsim-files")).unwrap();
-    assert_eq!(m, "summary.json\n");
+    assert_eq!(m, "full_spectrum.csv\nsummary.json\n");
 }
 
 /// The commit is killed (test hook) before each of its steps in turn, from the first to the
@@ -266,7 +266,10 @@ fn second_run_into_a_busy_directory_fails_at_once() {
     );
     assert!(first.wait().unwrap().success());
     let got = results(&dir);
-    assert_eq!(got.keys().collect::<Vec<_>>(), ["summary.json"]);
+    assert_eq!(
+        got.keys().collect::<Vec<_>>(),
+        ["full_spectrum.csv", "summary.json"]
+    );
     let sum: serde_json::Value = serde_json::from_slice(&got["summary.json"]).unwrap();
     assert_eq!(sum["overrides"], serde_json::json!([LONG]));
     assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
@@ -304,12 +307,14 @@ fn two_runs_raced_into_one_directory_one_wins() {
     let got = results(&dir);
     let sum: serde_json::Value = serde_json::from_slice(&got["summary.json"]).unwrap();
     assert_eq!(sum["overrides"], serde_json::json!(sets[won[0]]));
-    let pictures = ["contact_force.png", "orbit.png", "spectrum.png"];
-    let want: Vec<&str> = if won[0] == 1 {
-        pictures.iter().copied().chain(["summary.json"]).collect()
-    } else {
-        vec!["summary.json"]
-    };
+    // Every run writes its full spectrum's table; the winner with pictures, its PNGs too.
+    let pictures = ["full_spectrum.png", "orbit.png", "spectrum.png"];
+    let mut want: Vec<&str> = vec!["full_spectrum.csv", "summary.json"];
+    if won[0] == 1 {
+        want.extend(pictures);
+        want.push("contact_force.png");
+    }
+    want.sort_unstable();
     assert_eq!(got.keys().collect::<Vec<_>>(), want);
     assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
 }
