@@ -404,3 +404,107 @@ fn map_keys_and_values_are_checked_naming_the_key() {
         assert!(err.contains(says), "{set}: {err}");
     }
 }
+
+/// Every file below `dir`, relative, sorted.
+fn files(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push(p.strip_prefix(dir).unwrap().display().to_string());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Issue 12, item 4: cases whose per-speed VTK series are asked for used to run again on every
+/// rerun. Their series are kept with the case, so a sweep killed halfway loses none and computes
+/// none twice; only changed time-series settings run those cases again.
+#[test]
+fn per_speed_series_are_kept_with_their_cases_and_not_recomputed_on_resume() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (s, log) = (scene(), tmp.path().join("log"));
+    let series = [
+        "--set",
+        "output.vtk={ from_revolution = 119.5 }",
+        "--set",
+        "output.per_speed=[0.6, 1.5]",
+    ];
+    let out = tmp.path().join("killed");
+    let out_s = out.display().to_string();
+    let killed = command(tmp.path())
+        .args(sweep_args(&s, &out_s, &series))
+        .env("RUBSIM_CASE_LOG", &log)
+        .env("RUBSIM_KILL_AFTER_CASES", "12")
+        .output()
+        .unwrap();
+    use std::os::unix::process::ExitStatusExt;
+    assert_eq!(killed.status.signal(), Some(9), "{}", text(&killed.stderr));
+    // Both series cases (the 2nd and the 11th) finished before the kill.
+    let c = counts(&log);
+    assert!(
+        c.contains_key("speed_ratio=0.6") && c.contains_key("speed_ratio=1.5"),
+        "{c:?}"
+    );
+    let o = command(tmp.path())
+        .args(sweep_args(&s, &out_s, &series))
+        .env("RUBSIM_CASE_LOG", &log)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("12 of 16 cases already finished"),
+        "{}",
+        text(&o.stderr)
+    );
+    let c = counts(&log);
+    assert_eq!(c.len(), 16, "{c:?}");
+    assert!(c.values().all(|n| *n == 1), "a case computed twice: {c:?}");
+    // The same series as an uninterrupted run, byte for byte.
+    let whole = tmp.path().join("whole");
+    ok(
+        tmp.path(),
+        &sweep_args(&s, &whole.display().to_string(), &series),
+    );
+    for sp in ["speed_0.6", "speed_1.5"] {
+        let (a, b) = (files(&out.join(sp)), files(&whole.join(sp)));
+        assert!(a.iter().any(|f| f.ends_with(".vtu")), "{a:?}");
+        assert_eq!(a, b);
+        for f in a
+            .iter()
+            .filter(|f| f.ends_with(".vtu") || f.ends_with(".pvd"))
+        {
+            assert_eq!(
+                std::fs::read(out.join(sp).join(f)).unwrap(),
+                std::fs::read(whole.join(sp).join(f)).unwrap(),
+                "{sp}/{f}"
+            );
+        }
+    }
+    // Other series settings run exactly the two series cases again.
+    let other = [
+        "--set",
+        "output.vtk={ from_revolution = 119.0 }",
+        "--set",
+        "output.per_speed=[0.6, 1.5]",
+    ];
+    let o = command(tmp.path())
+        .args(sweep_args(&s, &out_s, &other))
+        .env("RUBSIM_CASE_LOG", &log)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let c = counts(&log);
+    let twice: Vec<&String> = c.iter().filter(|(_, n)| **n == 2).map(|(k, _)| k).collect();
+    assert_eq!(twice, ["speed_ratio=0.6", "speed_ratio=1.5"], "{c:?}");
+    assert!(files(&out.join("speed_1.5")).len() > files(&whole.join("speed_1.5")).len());
+    // Without series, none is left in the results or in the store.
+    ok(tmp.path(), &sweep_args(&s, &out_s, &[]));
+    assert!(!out.join("speed_0.6").exists() && !out.join("cases/series").exists());
+}

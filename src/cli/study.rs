@@ -13,7 +13,6 @@ use rubsim::plot::Boundary;
 use rubsim::results::{per_speed_selection, speed_folder};
 use rubsim::scene::LoadedScene;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 
 /// The options every study command shares.
 #[derive(clap::Args, Clone, Debug)]
@@ -157,10 +156,22 @@ pub fn run(c: &Common, kind: Kind, a: &StudyArgs) -> Result<()> {
         .map(|(_, c)| c)
         .collect();
     let series = series_wanted(&ls, &study)?;
+    let stamp = series_stamp(&ls);
+    let with_series: Vec<&CaseSpec> = mine
+        .iter()
+        .copied()
+        .filter(|c| series.contains(&(c.variant, c.speed_ratio.to_bits())))
+        .collect();
+    let keep: Vec<&str> = with_series.iter().map(|c| c.id.as_str()).collect();
+    store.prune_series(&keep)?;
     let mut todo = Vec::new();
     for case in &mine {
-        let wants_series = series.contains(&(case.variant, case.speed_ratio.to_bits()));
-        if wants_series || !store.finished(&case.id)? {
+        // A finished case whose series are asked for is done only when the store keeps them,
+        // written with this run's output settings.
+        let done = store.finished(&case.id)?
+            && (!keep.contains(&case.id.as_str())
+                || store.series_files(&case.id, &stamp)?.is_some());
+        if !done {
             todo.push(*case);
         }
     }
@@ -173,7 +184,10 @@ pub fn run(c: &Common, kind: Kind, a: &StudyArgs) -> Result<()> {
             todo.len()
         );
     }
-    let ran = run_cases(c, &ls, &model, &study, &todo, &store, &mut outd, &series)?;
+    let ran = run_cases(c, &ls, &model, &study, &todo, &store, &series, &stamp)?;
+    for case in &with_series {
+        link_series(&store, &case.id, &stamp, &mut outd)?;
+    }
     match shard {
         Some(s) => {
             let mut sum = summary::base_with(&ls, model_rec, &format!("{} shard", kind.name()));
@@ -197,8 +211,8 @@ pub fn run(c: &Common, kind: Kind, a: &StudyArgs) -> Result<()> {
 }
 
 /// The (variant, speed bits) pairs whose per-speed VTK/HDF5 time series are asked for
-/// (`output.per_speed`, sweeps only): those cases always run, their series being staged
-/// with the run's other results.
+/// (`output.per_speed`, sweeps only): their series are kept with the cases
+/// (`cases/series/<id>/`) and linked into the results.
 fn series_wanted(ls: &LoadedScene, study: &Study) -> Result<Vec<(usize, u64)>> {
     if study.kind != Kind::Sweep {
         return Ok(Vec::new());
@@ -218,8 +232,42 @@ fn series_wanted(ls: &LoadedScene, study: &Study) -> Result<Vec<(usize, u64)>> {
         .collect())
 }
 
-/// Runs `todo` in parallel, each case's record written to `store` when done; per-speed time
-/// series are staged in `outd`. Returns the number of cases run.
+/// What the kept series of a case depend on besides the case itself: the scene's
+/// `output.vtk` and `output.hdf5` (the scene hash of the store leaves them out).
+fn series_stamp(ls: &LoadedScene) -> String {
+    let o = &ls.scene.output;
+    let mut h = rubsim::math::Fnv128::new();
+    h.write(
+        serde_json::to_string(&(&o.vtk, &o.hdf5))
+            .unwrap_or_default()
+            .as_bytes(),
+    );
+    h.hex()
+}
+
+/// Links (or, across file systems, copies) the kept series of case `id` into the staging
+/// folder of `outd` under their names in the results, and registers them for the commit.
+fn link_series(store: &CaseStore, id: &str, stamp: &str, outd: &mut OutDir) -> Result<()> {
+    let files = store
+        .series_files(id, stamp)?
+        .with_context(|| format!("the time series of case {id} are missing from the store"))?;
+    let from = store.series_path(id);
+    for name in &files {
+        let (src, dst) = (from.join(name), outd.staging_dir().join(name));
+        if let Some(d) = dst.parent() {
+            std::fs::create_dir_all(d).with_context(|| d.display().to_string())?;
+        }
+        if std::fs::hard_link(&src, &dst).is_err() {
+            std::fs::copy(&src, &dst).with_context(|| format!("{}", src.display()))?;
+        }
+        outd.adopt(name)?;
+    }
+    Ok(())
+}
+
+/// Runs `todo` in parallel, each case's record written to `store` when done, after the
+/// case's per-speed time series (when `series` asks for them) are kept in the store stamped
+/// `stamp`. Returns the number of cases run.
 #[allow(clippy::too_many_arguments)]
 fn run_cases(
     c: &Common,
@@ -228,8 +276,8 @@ fn run_cases(
     study: &Study,
     todo: &[&CaseSpec],
     store: &CaseStore,
-    outd: &mut OutDir,
     series: &[(usize, u64)],
+    stamp: &str,
 ) -> Result<usize> {
     if todo.is_empty() {
         return Ok(0);
@@ -275,9 +323,7 @@ fn run_cases(
     );
     let pb = progress_bar(todo.len());
     let scene_json = serde_json::to_string(&ls.scene)?;
-    let written = Mutex::new(Vec::new());
     let hash = &store.plan().scene_hash;
-    let staging = outd.staging_dir().to_path_buf();
     let run = |case: &&CaseSpec| -> rubsim::error::Result<()> {
         let (l, m) = of(case.variant);
         let v = case.speed_ratio;
@@ -285,14 +331,15 @@ fn run_cases(
         let prep = analysis::prepare(m, &st, v)?;
         let keep = study.keep(l, v);
         let r = if series.contains(&(case.variant, v.to_bits())) {
+            let staging = store.stage_series(&case.id)?;
             let sr = Series {
                 output: &l.scene.output,
                 scene_json: &scene_json,
                 staging: &staging,
             };
             let prefix = &study.variants[case.variant].prefix;
-            let (r, names) = sr.run(m, &prep, keep, &format!("{prefix}{}", speed_folder(v)))?;
-            written.lock().expect("no writer panicked").extend(names);
+            let (r, _) = sr.run(m, &prep, keep, &format!("{prefix}{}", speed_folder(v)))?;
+            store.keep_series(&case.id, stamp)?;
             r
         } else {
             prep.run(keep, &mut [])?
@@ -313,11 +360,6 @@ fn run_cases(
     let res = sw::run_all(todo, &run_named, &|| pb.inc(1));
     pb.finish_and_clear();
     res?;
-    let mut names = written.into_inner().expect("no writer panicked");
-    names.sort();
-    for name in &names {
-        outd.adopt(name)?;
-    }
     Ok(todo.len())
 }
 

@@ -20,6 +20,13 @@
 //! `# end <FNV-1a of everything above>`; a file without a matching end line is reported as
 //! half-written or damaged, naming it — never silently recomputed or read.
 //!
+//! **Time series.** A case whose per-speed VTK/HDF5 series are asked for (`output.per_speed`)
+//! writes them into `cases/series/.tmp-<id>/`, which is synced and renamed to
+//! `cases/series/<id>/` before the case file is written, stamped with the output settings it
+//! was written with (`output.vtk`, `output.hdf5`, which the scene hash leaves out); the results
+//! link them (`speed_<ν>/…`). A rerun keeps a finished case whose series carry this run's stamp,
+//! and runs it again otherwise; series no case asks for any more are removed.
+//!
 //! **With the output protocol** ([`super::outdir`]): the folder is written only by the holder
 //! of the output directory's lock, directly (not staged): it is a journal of finished work,
 //! not a result. The commit's manifest never lists it, so a commit neither moves nor removes
@@ -279,6 +286,124 @@ impl CaseStore {
         }
         Ok(Some(rec))
     }
+}
+
+/// The folder, inside [`CASES_DIR`], of the per-speed VTK/HDF5 time series kept with their
+/// cases (`cases/series/<id>/`, the files under the names they have in the results).
+pub const SERIES_DIR: &str = "series";
+/// The file in a kept series folder that names the output settings it was written with.
+const SERIES_STAMP: &str = ".stamp";
+
+impl CaseStore {
+    /// The folder of case `id`'s kept time series.
+    pub fn series_path(&self, id: &str) -> PathBuf {
+        self.dir.join(SERIES_DIR).join(id)
+    }
+
+    /// A new empty folder in which to write case `id`'s time series; [`CaseStore::keep_series`]
+    /// puts it in place. A folder left by a killed run is removed first.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the folder.
+    pub fn stage_series(&self, id: &str) -> Result<PathBuf> {
+        let p = self.dir.join(SERIES_DIR).join(format!("{TMP_PREFIX}{id}"));
+        if p.exists() {
+            fs::remove_dir_all(&p).map_err(|e| Error::output(&p, e))?;
+        }
+        fs::create_dir_all(&p).map_err(|e| Error::output(&p, e))?;
+        Ok(p)
+    }
+
+    /// Puts the series staged for case `id` in place, stamped with `stamp` (the output settings
+    /// they were written with): its files and folders synced, then renamed over an older
+    /// series of the case. Call it before the case file is written, so that a finished case
+    /// whose series were asked for has them.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the folder.
+    pub fn keep_series(&self, id: &str, stamp: &str) -> Result<()> {
+        let tmp = self.dir.join(SERIES_DIR).join(format!("{TMP_PREFIX}{id}"));
+        let stamp_path = tmp.join(SERIES_STAMP);
+        fs::write(&stamp_path, stamp).map_err(|e| Error::output(&stamp_path, e))?;
+        let mut dirs = vec![tmp.clone()];
+        for f in files_below(&tmp)? {
+            let p = tmp.join(&f);
+            super::durable::sync_file(&p)?;
+            if let Some(d) = p.parent() {
+                if !dirs.iter().any(|x| x == d) {
+                    dirs.push(d.to_path_buf());
+                }
+            }
+        }
+        for d in &dirs {
+            super::durable::sync_dir(d)?;
+        }
+        let fin = self.series_path(id);
+        if fin.exists() {
+            fs::remove_dir_all(&fin).map_err(|e| Error::output(&fin, e))?;
+        }
+        fs::rename(&tmp, &fin).map_err(|e| Error::output(&fin, e))?;
+        super::durable::sync_dir(&self.dir.join(SERIES_DIR))
+    }
+
+    /// The files of case `id`'s kept series, relative to its folder, when it has series written
+    /// with the output settings `stamp`; `None` otherwise (none kept, or other settings).
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the folder when it cannot be read.
+    pub fn series_files(&self, id: &str, stamp: &str) -> Result<Option<Vec<String>>> {
+        let dir = self.series_path(id);
+        match fs::read_to_string(dir.join(SERIES_STAMP)) {
+            Ok(s) if s == stamp => {}
+            _ => return Ok(None),
+        }
+        let mut files = files_below(&dir)?;
+        files.retain(|f| f != SERIES_STAMP);
+        Ok(Some(files))
+    }
+
+    /// Removes the kept series of every case not in `keep`, and the series staged by a killed
+    /// run: series nobody asks for any more do not stay hidden in the store.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the folder.
+    pub fn prune_series(&self, keep: &[&str]) -> Result<()> {
+        let dir = self.dir.join(SERIES_DIR);
+        let Ok(rd) = fs::read_dir(&dir) else {
+            return Ok(());
+        };
+        for e in rd.flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if !keep.contains(&name.as_str()) {
+                fs::remove_dir_all(e.path()).map_err(|err| Error::output(e.path(), err))?;
+            }
+        }
+        if keep.is_empty() {
+            let _ = fs::remove_dir(&dir);
+        }
+        Ok(())
+    }
+}
+
+/// The files below `dir`, relative to it with `/` separators, sorted.
+fn files_below(dir: &Path) -> Result<Vec<String>> {
+    let mut out = Vec::new();
+    let mut stack = vec![PathBuf::new()];
+    while let Some(rel) = stack.pop() {
+        let here = dir.join(&rel);
+        for e in fs::read_dir(&here).map_err(|e| Error::output(&here, e))? {
+            let e = e.map_err(|err| Error::output(&here, err))?;
+            let r = rel.join(e.file_name());
+            let ft = e.file_type().map_err(|err| Error::output(e.path(), err))?;
+            if ft.is_dir() {
+                stack.push(r);
+            } else if ft.is_file() {
+                out.push(r.to_string_lossy().replace('\\', "/"));
+            }
+        }
+    }
+    out.sort();
+    Ok(out)
 }
 
 /// The text of a case file above its end line, when the end line matches it.
