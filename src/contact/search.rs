@@ -10,11 +10,14 @@
 //!
 //! The targets of each (station, stator) pair are binned by ρ and, within a bin, sorted by θ,
 //! so a query visits only the bins that reach the circle and, in each, the angular window of the
-//! bin's smallest radius (the widest). A query returns a superset of the nodes within reach,
+//! bin's smallest radius (the widest); a bin of a few nodes is taken whole. A query returns a superset of the nodes within reach,
 //! sorted by candidate index, with no allocation once the output buffer has grown.
 
 use crate::math::V2;
 use std::f64::consts::PI;
+
+/// Bins of at most this many nodes are returned whole, without their angular window.
+const FEW: usize = 4;
 
 /// One radial bin of targets, sorted by polar angle.
 #[derive(Debug, Clone)]
@@ -107,10 +110,16 @@ impl BroadPhase {
             let uc = centre[g.station];
             let big_r = reach[g.station];
             let rc = uc[0].hypot(uc[1]);
-            let phi = uc[1].atan2(uc[0]);
+            // The centre's angle, computed once a bin needs its angular window.
+            let mut phi = None;
             for b in &g.bins {
                 if b.rho_min - rc >= big_r {
                     continue; // the whole bin is beyond reach
+                }
+                if b.cand.len() <= FEW {
+                    // A window costs more (atan2, acos) than the exact gaps of a few nodes.
+                    out.extend_from_slice(&b.cand);
+                    continue;
                 }
                 // Widest half-window: smallest cos bound over the bin's radii.
                 let c = if rc == 0.0 {
@@ -136,6 +145,7 @@ impl BroadPhase {
                     continue;
                 }
                 let w = c.acos();
+                let phi = *phi.get_or_insert_with(|| uc[1].atan2(uc[0]));
                 let (a, z) = (phi - w, phi + w);
                 // The window [a, z] modulo 2π as at most two ranges in (−π, π].
                 let mut take = |lo: f64, hi: f64| {
