@@ -233,6 +233,31 @@ fn import_ross_rotor_example_and_refusals() {
     assert!(damped.contains("rayleigh = [8.0501, 1e-5]\n"), "{damped}");
     build(&common::parse(&tapered, NO_SETS));
     build(&common::parse(&damped, NO_SETS));
+    // A seal (ROSS's `SealElement`, here with its leakage) and a ball bearing are bearings in
+    // ROSS's matrices: read by the bearing rule, the leakage and the rolling-element geometry
+    // left aside: the same bearings (listed in another order), ROSS's frequencies.
+    let sealed = text
+        .replacen(
+            "[\"BearingElement_Bearing 0\"]",
+            "[SealElement_S]\nseal_leakage = 0.3",
+            1,
+        )
+        .replacen(
+            "[\"BearingElement_Bearing 1\"]",
+            "[BallBearingElement_B]\nn_balls = 8\nd_balls = 0.03\nfs = 500.0\nalpha = 0.5",
+            1,
+        );
+    let sealed = rubsim::scene::ross::import(&path, &sealed).unwrap();
+    assert_eq!(sealed.matches("[[rotor.bearing]]").count(), 2, "{sealed}");
+    assert!(
+        !sealed.contains("leakage") && !sealed.contains("balls"),
+        "{sealed}"
+    );
+    let m = build(&common::parse(&sealed, NO_SETS));
+    let r = rotordyn::modal(&m.rotor, 1000.0, 12).unwrap();
+    for (g, w) in r.modes.iter().zip(ROSS_WD[2].1) {
+        assert!((g.omega_d / w - 1.0).abs() < 1e-7, "{} vs {w}", g.omega_d);
+    }
     let cases = [
         (
             text.replacen("axial_force = 0", "axial_force = 10.0", 1),
@@ -256,7 +281,19 @@ fn import_ross_rotor_example_and_refusals() {
         ),
         (
             text.replacen("[\"DiskElement_Disk 0\"]", "[\"SealElement_Seal 0\"]", 1),
-            "SealElement",
+            "`kxx` missing",
+        ),
+        (
+            text.replacen("[\"DiskElement_Disk 0\"]", "[\"CouplingElement_C 0\"]", 1),
+            "CouplingElement",
+        ),
+        (
+            text.replacen(
+                "n = 6\nscale_factor",
+                "n = 6\nkp_pid = 1000\nscale_factor",
+                1,
+            ),
+            "magnetic bearing",
         ),
         (
             text.replacen("beta = 0.0", "beta = 1e-5", 1),
@@ -283,4 +320,51 @@ fn import_ross_rotor_example_and_refusals() {
     ]);
     assert!(ok, "{err}");
     assert_eq!(common::read(&out), scene);
+}
+
+/// Cross-coupled bearing stiffness with kxy ≠ kyx (a seal's destabilising ±k) is a skew part
+/// of K that the symmetric undamped basis does not carry: the modal solve adds Φᵀ(K − Kᵀ)Φ/2.
+/// Against the eigenvalues of the dense first-order matrix [0, I; −M⁻¹K, −M⁻¹(C + ΩG)] of
+/// ROSS's `rotor_example` (imported) with ±2e5 N/m cross-coupling and damping on one bearing,
+/// at rest and at 800 rad/s (before the skew part entered, ω_d was off by up to 1e-3; against
+/// ROSS, `tests/post/test_ross.py::test_seals_and_rolling_bearings_match_ross`, 8.5e-11).
+#[test]
+fn cross_coupled_bearing_stiffness_enters_the_modal_solve() {
+    let path = repo("tests/data/ross/rotor_example.toml");
+    let scene = rubsim::scene::ross::import(&path, &common::read(&path)).unwrap();
+    let bearing = "[[rotor.bearing]]\nnode = 0\nkxx = 1000000.0\nkxy = 0.0\nkyx = 0.0\nkyy = 800000.0\ncxx = 0.0\n";
+    assert!(scene.contains(bearing), "{scene}");
+    let seal = bearing
+        .replace("kxy = 0.0\nkyx = 0.0", "kxy = 200000.0\nkyx = -200000.0")
+        .replace("cxx = 0.0", "cxx = 300.0");
+    let m = build(&common::parse(&scene.replacen(bearing, &seal, 1), NO_SETS));
+    for speed in [0.0, 800.0] {
+        let r = rotordyn::modal(&m.rotor, speed, 12).unwrap();
+        let (mm, k, c, g) = m.rotor.matrices(speed).unwrap();
+        let dense = rubsim::model::fe_rotor::dense;
+        let minv = dense(&mm).try_inverse().unwrap();
+        let n = minv.nrows();
+        let mk = -&minv * dense(&k);
+        let mc = -&minv * (dense(&c) + dense(&g) * speed);
+        let a = nalgebra::DMatrix::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
+            (true, true) => 0.0,
+            (true, false) => f64::from(u8::from(j - n == i)),
+            (false, true) => mk[(i - n, j)],
+            (false, false) => mc[(i - n, j - n)],
+        });
+        let eig = a.complex_eigenvalues();
+        assert_eq!(r.modes.len(), 12);
+        for mode in &r.modes {
+            let best = eig
+                .iter()
+                .map(|l| (l.im - mode.omega_d).abs() / mode.omega_d)
+                .fold(f64::INFINITY, f64::min);
+            // The reference (explicit M⁻¹, unscaled, modes up to 1e6 rad/s) holds ~3e-8.
+            assert!(
+                best < 1e-6,
+                "Ω {speed}: ω_d {} off by {best:e}",
+                mode.omega_d
+            );
+        }
+    }
 }

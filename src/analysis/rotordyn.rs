@@ -296,7 +296,9 @@ pub const FULL_BASIS: usize = 256;
 
 /// Damped modes at spin speed `omega` (rad/s): at most `nmodes`, lowest ω_d first.
 ///
-/// Solved in the basis of the undamped modes: all of them up to [`FULL_BASIS`] DOFs, else the
+/// Solved in the basis of the undamped modes (of the symmetric part of K; a skew part
+/// (K − Kᵀ)/2 from cross-coupled bearing or seal stiffness, kxy ≠ kyx, enters the first-order
+/// matrix projected on that basis): all of them up to [`FULL_BASIS`] DOFs, else the
 /// lowest `max(2·nmodes + 10, 20)` (pseudo-modal reduction): the first-order matrix then spans only the
 /// frequencies of interest and stays well conditioned even with very stiff supports. The
 /// rigid-body modes of free axial or torsional DOFs are left out of the basis and listed in
@@ -348,7 +350,7 @@ pub fn modal_in(
     nmodes: usize,
     basis: &ModalBasis,
 ) -> Result<ModalResults, ModelError> {
-    let (m, _, c, g) = rotor.matrices(omega)?;
+    let (m, k, c, g) = rotor.matrices(omega)?;
     let (lam, phi_all, rigid_body) = (&basis.lam, &basis.phi, basis.rigid_body.clone());
     let nr = if lam.len() <= FULL_BASIS {
         lam.len()
@@ -358,6 +360,15 @@ pub fn modal_in(
     let phi = phi_all.columns(0, nr).into_owned();
     let ctot = dense(&Csc::lin_comb(1.0, &c, omega, &g));
     let cr = phi.transpose() * ctot * &phi;
+    // The basis diagonalises the symmetric part of K; the skew part (K − Kᵀ)/2 — bearings and
+    // seals with kxy ≠ kyx — enters as Φᵀ K_a Φ (zero, and skipped, for a symmetric K).
+    let kd = dense(&k);
+    let ka = (&kd - kd.transpose()) * 0.5;
+    let kar = if ka.iter().any(|v| *v != 0.0) {
+        Some(phi.transpose() * ka * &phi)
+    } else {
+        None
+    };
     let n = nr;
     // State [s_r η_r; η̇_r] with s_r = ω_r = √λ_r (1 for a mode at zero frequency): the
     // first-order matrix [0, diag(s); −diag(λ/s), −Φᵀ(C + ΩG)Φ] has entries of the order of ω
@@ -377,10 +388,11 @@ pub fn modal_in(
                 0.0
             }
         } else if j < n {
+            let skew = kar.as_ref().map_or(0.0, |ka| ka[(i - n, j)]);
             if i - n == j {
-                -lam[j] / scale[j]
+                -(lam[j] + skew) / scale[j]
             } else {
-                0.0
+                -skew / scale[j]
             }
         } else {
             -cr[(i - n, j - n)]

@@ -14,10 +14,37 @@
 //! everywhere leaves u_z free), θ_z is always free. Rayleigh `alpha`, `beta` act on the shaft
 //! elements (`rayleigh_on = "shaft"`).
 //!
-//! What rubsim cannot represent is refused by the element's table name: elements that differ in their switches or Rayleigh factors, axial force or torque on an
-//! element, bearing mass coefficients, speed-dependent kzz, bearings linked to another node
-//! (`n_link`), point masses with mx ≠ my, and every other element class (seals, magnetic
-//! bearings, …).
+//! **Seals and the other bearing classes.** Every bearing class of ROSS 2.3.0 — `SealElement`,
+//! `BallBearingElement`, `RollerBearingElement`, the fluid-film models (`CylindricalBearing`,
+//! `BearingFluidFlow`, `PlainJournal`, `TiltingPad`, `SqueezeFilmDamper`, `ThrustPad`) and the
+//! seal models (`LabyrinthSeal`, `HolePatternSeal`, `HybridSeal`) — inherits `M`, `K`, `C` of
+//! `BearingElement` unchanged: the saved coefficient lists over `frequency`, from the node to
+//! ground, enter ROSS's assembled M, K(Ω), C(Ω) exactly as a bearing's do. They are read by the
+//! bearing rule above. What else they save does not enter ROSS's matrices and is not read: a
+//! seal's `seal_leakage` (reported only), a ball or roller bearing's `n_balls`, `d_balls`,
+//! `n_rollers`, `l_rollers`, `fs`, `alpha` (used once, to compute the saved `kxx`, `kyy`, `cxx`,
+//! `cyy`), the fluid-film and seal models' geometry and fluid data (read back by ROSS as the
+//! saved coefficients, without recomputation), `color`, `scale_factor`, `tag`. One difference
+//! in use, not in the matrices: ROSS's static analysis (`run_static`) leaves seals out, while
+//! rubsim's scene has no such flag — a seal imported into a run with gravity carries load.
+//!
+//! **Tables over speed.** ROSS evaluates a table of four or more points through scipy's
+//! `UnivariateSpline` (a cubic smoothing spline with s = the number of points, extrapolated
+//! outside the table), of two or three points by linear or quadratic interpolation; rubsim
+//! interpolates linearly and holds the end values outside. The two agree at the table's speeds
+//! when the spline passes through the points (four points; points on one cubic) and at every
+//! speed inside the table when the coefficients are linear in speed; elsewhere they differ by
+//! the spline's curvature between points, and at a table speed ROSS's smoothing may move a
+//! value by up to √(number of points) in SI units (N/m, N·s/m). The scene says so above each
+//! tabulated bearing.
+//!
+//! What rubsim cannot represent is refused by the element's table name: elements that differ in
+//! their switches or Rayleigh factors, axial force or torque on an element, bearing mass
+//! coefficients (`mxx … mzz` ≠ 0), speed-dependent kzz, bearings linked to another node
+//! (`n_link`), magnetic bearings (`MagneticBearingElement`, saved by ROSS as a
+//! `BearingElement_…` table carrying its controller's `kp_pid`, `ki_pid`, `kd_pid`: in ROSS's
+//! time response the controller acts, not the saved coefficients), point masses with mx ≠ my,
+//! and every other element class (couplings, gears, …).
 
 use crate::error::SceneError;
 use std::fmt::Write as _;
@@ -41,7 +68,10 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
         key: table.to_string(),
         line: text
             .lines()
-            .position(|l| l.trim_start().starts_with(&format!("[\"{table}\"")))
+            .position(|l| {
+                let l = l.trim_start();
+                l.starts_with(&format!("[\"{table}\"")) || l.starts_with(&format!("[{table}]"))
+            })
             .map(|i| i + 1),
         message,
     };
@@ -74,7 +104,9 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
                     num("Ip")?
                 );
             }
-            "BearingElement" => bearing(&mut body, t, &num).map_err(|m| bad(name, m))?,
+            c if BEARING_CLASSES.contains(&c) => {
+                bearing(&mut body, name, t, &num).map_err(|m| bad(name, m))?;
+            }
             "PointMass" => {
                 let (mx, my) = match t.get("m") {
                     Some(_) => (num("m")?, num("m")?),
@@ -88,7 +120,7 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
             _ => {
                 return Err(bad(
                     name,
-                    format!("ROSS element class `{class}` cannot be represented in rubsim (shaft elements, disks, bearings and point masses can)"),
+                    format!("ROSS element class `{class}` cannot be represented in rubsim (shaft elements, disks, bearings, seals and point masses can)"),
                 ))
             }
         }
@@ -120,6 +152,24 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
     out.push_str("[run]\nspeed_ratio = 1.0\n");
     Ok(out)
 }
+
+/// ROSS 2.3.0's bearing classes whose `M`, `K`, `C` are `BearingElement`'s: coefficients over
+/// `frequency` between the node and ground.
+const BEARING_CLASSES: [&str; 13] = [
+    "BearingElement",
+    "SealElement",
+    "BallBearingElement",
+    "RollerBearingElement",
+    "CylindricalBearing",
+    "BearingFluidFlow",
+    "PlainJournal",
+    "TiltingPad",
+    "SqueezeFilmDamper",
+    "ThrustPad",
+    "LabyrinthSeal",
+    "HolePatternSeal",
+    "HybridSeal",
+];
 
 /// A shaft element: its `[[rotor.shaft]]` text and its switches and Rayleigh factors.
 struct Shaft {
@@ -185,6 +235,7 @@ fn shaft(
 /// A bearing's `[[rotor.bearing]]` (and `[[rotor.axial_support]]` for kzz, czz) text.
 fn bearing(
     body: &mut String,
+    name: &str,
     t: &Table,
     num: &dyn Fn(&str) -> Result<f64, SceneError>,
 ) -> Result<(), String> {
@@ -203,10 +254,24 @@ fn bearing(
                 .ok_or_else(|| format!("`{k}` must be a number or a list")),
         }
     };
+    if let Some(k) = ["kp_pid", "ki_pid", "kd_pid", "controller_transfer_function"]
+        .into_iter()
+        .find(|k| t.contains_key(*k))
+    {
+        return Err(format!("a magnetic bearing (`{k}`: ROSS's MagneticBearingElement, saved as a BearingElement table) cannot be represented: in ROSS's time response its controller acts, not the saved coefficients"));
+    }
     if t.get("n_link")
         .is_some_and(|v| !matches!(v, Value::String(s) if s == "None"))
     {
         return Err("a bearing linked to another node (`n_link`, pedestal or support mass) is not read yet; model the pedestal with `rotor.bearing.pedestal`".into());
+    }
+    if let Some(k) = ["n", "kxx", "cxx"]
+        .into_iter()
+        .find(|k| !t.contains_key(*k))
+    {
+        return Err(format!(
+            "`{k}` missing: every ROSS bearing or seal table has `n`, `kxx` and `cxx`"
+        ));
     }
     for k in ["mxx", "mxy", "myx", "myy", "mzz"] {
         if list(k)?.iter().any(|v| *v != 0.0) {
@@ -218,6 +283,12 @@ fn bearing(
     let node = num("n").map_err(|e| e.to_string())? as usize;
     let freq = list("frequency").unwrap_or_default();
     let tabulated = t.contains_key("frequency") && freq.len() > 1;
+    if tabulated {
+        let _ = writeln!(
+            body,
+            "# ROSS \"{name}\": ROSS interpolates this table with a cubic smoothing spline, rubsim linearly;\n# they agree at `speeds` when the spline passes through the points, and between them when the\n# coefficients are linear in speed."
+        );
+    }
     let _ = writeln!(body, "[[rotor.bearing]]\nnode = {node}");
     for k in ["kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy"] {
         let v = list(k)?;
