@@ -70,7 +70,7 @@ pub(crate) fn dof_name(case: &Case, i: usize) -> (String, &'static str) {
     } else if let Some(n) = find(&r.node_torsion) {
         (format!("θ_z of rotor node {n}"), "rad")
     } else if let Some(red) = &case.reduced {
-        let k = i - red.statics.len();
+        let k = i.saturating_sub(red.statics.len());
         (format!("internal mode {k} of the reduced rotor"), "m")
     } else {
         (format!("rotor DOF {i} (a pedestal)"), "m")
