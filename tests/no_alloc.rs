@@ -164,17 +164,22 @@ fn allocations_after_warm_up(c: &WarmCase) -> (usize, usize, usize) {
 
 /// Once the touched contact nodes of a meshed stator are known (its compliance columns are
 /// computed the first time a node touches), a step allocates nothing — for an FE rotor (sparse
-/// or block LU of M̃), a meshed massless stator, and with a frame sink reading every frame
-/// (which rebuilds the massless stators' whole displacement field).
+/// or block LU of M̃; reduced), a meshed massless stator, and with a frame sink reading every
+/// frame (which rebuilds the massless stators' whole displacement field and expands a reduced
+/// rotor's u = T q).
 #[test]
 fn steps_after_warm_up_allocate_nothing() {
     let fe = "scenes/fe/paper_rotor_rub.toml";
     let annulus = "scenes/stators/annulus.toml";
     let implicit = "run.integrator=\"generalized_alpha\"";
+    // The reduced rotor (`[run.reduction]`): dense r × r operators; a frame expands u = T q.
+    let reduced = "run.reduction={}";
     let cases = [
         (fe, 1.7, 40, 10, 0, ""),
         (fe, 1.7, 40, 10, 7, ""),
         (fe, 1.7, 40, 10, 7, implicit),
+        (fe, 1.7, 40, 10, 7, reduced),
+        (fe, 1.7, 40, 10, 0, reduced),
         (annulus, 1.2, 30, 3, 0, ""),
         (annulus, 1.2, 30, 3, 97, ""),
         (annulus, 1.2, 30, 3, 0, implicit),

@@ -282,6 +282,9 @@ fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
         case.stators.len(),
         case.stators.iter().map(|m| m.targets.len()).sum::<usize>()
     );
+    if let Some(red) = &case.reduced {
+        print_reduction(case, red);
+    }
     let mut left = Vec::new();
     if matches!(model.rotor, rubsim::model::Rotor::Jeffcott(_)) {
         left.push("FE rotor assembly and sparse LU of M̃ (Jeffcott M̃ is diagonal)");
@@ -327,4 +330,47 @@ fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
     for line in rubsim::results::describe(&s.output, plan, s.run.sweep.is_some()) {
         println!("  {line}");
     }
+}
+
+/// The reduced rotor of `[run.reduction]` at the case's speed: cut-off, modes, static columns,
+/// the stability data it changes and its frequencies against the full model's.
+fn print_reduction(case: &Case, red: &rubsim::model::ReducedRotor) {
+    let kept = &red.full_frequencies[..red.modes.min(red.full_frequencies.len())];
+    let names: Vec<String> = (red.statics.iter())
+        .map(|&d| {
+            let r = &case.rotor;
+            let node = |l: &[[usize; 2]]| l.iter().position(|x| x.contains(&d));
+            match (
+                node(&r.node_dofs),
+                r.node_torsion.iter().position(|t| *t == Some(d)),
+            ) {
+                (Some(n), _) => format!(
+                    "u_{} node {n}",
+                    ["x", "y"][usize::from(r.node_dofs[n][1] == d)]
+                ),
+                (None, Some(n)) => format!("θ_z node {n}"),
+                _ => format!("DOF {d}"),
+            }
+        })
+        .collect();
+    println!(
+        "reduction (`[run.reduction]`) at ω/ωn = {:.2}: cut-off ω_cut = {:.4e} rad/s; {} modes kept{}; {} static columns ({}); {} DOF in the loop instead of {}",
+        case.speed_ratio,
+        red.cutoff,
+        red.modes,
+        match (kept.first(), kept.last()) {
+            (Some(a), Some(b)) => format!(" ({a:.4e} … {b:.4e} rad/s)"),
+            _ => String::new(),
+        },
+        red.statics.len(),
+        names.join(", "),
+        red.body.ndof,
+        case.rotor.ndof,
+    );
+    println!(
+        "  reduced ω_max = {:.4e} rad/s (full model {:.4e}); largest relative error of the reduced frequencies below the cut-off {:.2e}; contact flexibility exact (static columns)",
+        red.omega_max(),
+        red.full_frequencies.last().copied().unwrap_or(0.0),
+        red.frequency_error,
+    );
 }

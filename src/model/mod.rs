@@ -13,6 +13,7 @@ mod blame;
 pub mod drive;
 pub mod events;
 pub mod fe_rotor;
+pub mod reduce;
 pub mod rotor;
 pub mod speed_profile;
 pub mod stator;
@@ -26,6 +27,7 @@ use crate::resolve::{
 use crate::scene::LoadedScene;
 pub use drive::{Drive, DriveLaw};
 pub use events::{ClearanceEvent, Events, UnbalanceEvent};
+pub use reduce::ReducedRotor;
 pub use rotor::{Jeffcott, RotorBody, UnbalanceLoad};
 pub use speed_profile::{SpeedProfile, SpinState};
 pub use stator::StatorModel;
@@ -317,6 +319,9 @@ pub struct Model {
     pub dashpots: Vec<Dashpot>,
     /// Rotor node the analysis observes (`output.node`); `None`: the first station's node.
     pub observed_node: Option<usize>,
+    /// The rotor's modal reduction for the time loop (`[run.reduction]`): every case is
+    /// reduced ([`Case::reduce`]); `None`: the full model.
+    pub reduction: Option<crate::resolve::ReductionInput>,
 }
 
 /// A stator before a speed is chosen: what [`Model::case`] makes a [`StatorModel`] of.
@@ -394,6 +399,9 @@ pub struct Case {
     pub tilt0_max: f64,
     /// Unbalance force magnitude |Σ m_u e e^{iφ}| ω² (N).
     pub unbalance_force: f64,
+    /// The rotor reduced for the time loop ([`Case::reduce`]); `None`: the loop integrates
+    /// `rotor` itself.
+    pub reduced: Option<Box<ReducedRotor>>,
 }
 
 impl Rotor {
@@ -593,6 +601,7 @@ impl Model {
             stators,
             dashpots: r.dashpots.clone(),
             observed_node: r.observed_node,
+            reduction: r.reduction,
         };
         // An undamped rotor has no |Z0| at ω_n itself: that speed's runs say so; the model is
         // fine.
@@ -641,7 +650,7 @@ impl Model {
                     .map_err(|e| blame::approach(i, e))
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(Case {
+        Case {
             omega,
             speed_ratio: omega / wn,
             rotor: body,
@@ -661,7 +670,9 @@ impl Model {
             z0_max: forced.iter().map(|e| e[0]).fold(0.0, f64::max),
             tilt0_max: forced.iter().map(|e| e[1]).fold(0.0, f64::max),
             unbalance_force: u[0].hypot(u[1]) * omega * omega,
-        })
+            reduced: None,
+        }
+        .reduced_by(self.reduction.as_ref())
     }
 
     /// Stator `i` with its contact dashpot; refused on a stator with mass.

@@ -75,6 +75,21 @@ pub struct Resolved {
     pub dashpots: Vec<Dashpot>,
     /// Rotor node the analysis observes (`output.node`); `None`: the first station's node.
     pub observed_node: Option<usize>,
+    /// The FE rotor's modal reduction (`[run.reduction]`); `None`: the full model.
+    pub reduction: Option<ReductionInput>,
+}
+
+/// `[run.reduction]` resolved: the cut-off ω_cut (rad/s) is `cutoff` when given, else
+/// `cutoff_factor × max(harmonics × ω, ω_c)` at each case's speed ω
+/// ([`crate::model::Case::reduce`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReductionInput {
+    /// A fixed cut-off (rad/s).
+    pub cutoff: Option<f64>,
+    /// κ of the default cut-off (≥ 1).
+    pub cutoff_factor: f64,
+    /// The paper rule's n (`run.harmonics`).
+    pub harmonics: f64,
 }
 
 /// Checks and resolves a loaded scene; meshes of meshed stators are found, made and read here.
@@ -104,6 +119,13 @@ pub fn resolve(ls: &LoadedScene) -> Result<Resolved, Error> {
             })
             .collect(),
         observed_node: s.output.node,
+        reduction: s.run.reduction.map(|r| ReductionInput {
+            cutoff: r.cutoff,
+            cutoff_factor: r
+                .cutoff_factor
+                .unwrap_or(crate::scene::DEFAULT_CUTOFF_FACTOR),
+            harmonics: s.run.harmonics,
+        }),
     })
 }
 

@@ -118,7 +118,26 @@ pub struct RunSpec {
     /// Initial rotor station velocity `[vx, vy]` (m/s) at node 0.
     #[serde(default)]
     pub initial_velocity: [f64; 2],
+    /// Integrate an FE rotor in a reduced basis (`[run.reduction]`, docs/IMPLICIT.md §7): its
+    /// lowest undamped modes up to a cut-off plus one static column per contact DOF, so the
+    /// contact flexibility stays the full model's. Left out: the full model.
+    pub reduction: Option<ReductionSpec>,
 }
+
+/// `[run.reduction]`: the cut-off of an FE rotor's modal reduction.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReductionSpec {
+    /// Cut-off ω_cut (rad/s): every undamped mode below it is kept. Left out: `cutoff_factor`
+    /// × the highest frequency the run resolves, max(n ω, ω_c) (n = `run.harmonics`, ω the
+    /// case's speed, ω_c the contact frequency √((k_r + Σk_s)/m_r)).
+    pub cutoff: Option<f64>,
+    /// κ of the default cut-off κ max(n ω, ω_c) (default [`DEFAULT_CUTOFF_FACTOR`], at least 1).
+    pub cutoff_factor: Option<f64>,
+}
+
+/// κ of `[run.reduction]`'s default cut-off.
+pub const DEFAULT_CUTOFF_FACTOR: f64 = 2.0;
 
 impl RunSpec {
     /// The integrator of a run whose step is not chosen from the tolerance: `run.integrator`,

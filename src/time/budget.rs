@@ -46,7 +46,7 @@ pub struct Budget {
 /// Estimates the cost of running `case` with `plan` (`companion`: with the error-estimate
 /// companion run at about 2Δt).
 pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
-    let n_rotor = case.rotor.ndof as f64;
+    let n_rotor = case.loop_rotor().ndof as f64;
     let mut n_mass = 0.0;
     let mut n_contact = 0.0;
     // Sparse matrices: about 12 bytes per stored entry (value and row index), six of them per

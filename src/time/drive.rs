@@ -125,7 +125,7 @@ impl<'a> SpinDof<'a> {
         let (d, dt) = (self.drive, self.dt);
         let inv_dt2 = 1.0 / (dt * dt);
         let acc = |i: usize| (rotor.u_next[i] - 2.0 * rotor.u[i] + rotor.u_prev[i]) * inv_dt2;
-        let loads = (case.rotor.unbalance.iter().map(|u| (u, 1.0)))
+        let loads = (case.loop_rotor().unbalance.iter().map(|u| (u, 1.0)))
             .chain(events.unbalance.iter().map(|e| (&e.load, e.share(t))));
         let mut tu = 0.0;
         for (u, share) in loads {

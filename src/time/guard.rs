@@ -35,7 +35,7 @@ pub(crate) fn divergence_bounds(case: &Case, init: Initial) -> Vec<f64> {
         .fold(f64::INFINITY, f64::min);
     let per_metre = if spacing.is_finite() { spacing } else { 1.0 };
     let tilt = case.tilt0_max.max(length / per_metre);
-    let r = &case.rotor;
+    let r = case.loop_rotor();
     let mut bound = vec![DIVERGENCE_FACTOR * length; r.ndof];
     let rotations = r
         .node_tilt
@@ -51,7 +51,7 @@ pub(crate) fn divergence_bounds(case: &Case, init: Initial) -> Vec<f64> {
 
 /// The name of rotor DOF `i` (`u_y of rotor node 4`) and its unit (`m` or `rad`).
 pub(crate) fn dof_name(case: &Case, i: usize) -> (String, &'static str) {
-    let r = &case.rotor;
+    let r = case.loop_rotor();
     let find = |list: &[Option<usize>]| list.iter().position(|d| *d == Some(i));
     let pair = |n: usize, d: [usize; 2]| d.iter().position(|x| *x == i).map(|c| (n, c));
     if let Some((n, c)) = r
@@ -69,6 +69,9 @@ pub(crate) fn dof_name(case: &Case, i: usize) -> (String, &'static str) {
         (format!("u_z of rotor node {n}"), "m")
     } else if let Some(n) = find(&r.node_torsion) {
         (format!("θ_z of rotor node {n}"), "rad")
+    } else if let Some(red) = &case.reduced {
+        let k = i.saturating_sub(red.statics.len());
+        (format!("internal mode {k} of the reduced rotor"), "m")
     } else {
         (format!("rotor DOF {i} (a pedestal)"), "m")
     }

@@ -60,6 +60,7 @@ mod dashpot;
 mod drive;
 pub mod frame;
 mod guard;
+mod loop_rotor;
 pub mod newmark;
 pub mod plan;
 pub mod record;

@@ -70,7 +70,7 @@ impl Pairs {
         let station_dofs: Vec<[usize; 2]> = case
             .stations
             .iter()
-            .map(|s| case.rotor.node_dofs[s.node])
+            .map(|s| case.loop_rotor().node_dofs[s.node])
             .collect();
         let mut indexed = Vec::new();
         let mut dynamic = Vec::new();

@@ -138,7 +138,10 @@ impl Stepper<'_> {
             // static solve (rotor held): the torque joins the step's load like the force.
             let tau = -c.radius * (n[0] * b[1] - n[1] * b[0]) * p;
             ws.friction_torque -= tau;
-            let tz = case.rotor.node_torsion.get(case.stations[c.station].node);
+            let tz = case
+                .loop_rotor()
+                .node_torsion
+                .get(case.stations[c.station].node);
             if let Some(&Some(tz)) = tz {
                 if rotor_in {
                     rotor.apply(tz, tau);

@@ -6,6 +6,7 @@ use super::compliance::Compliance;
 use super::drive::{add_event_unbalance, set_clearance, Spin, SpinDof};
 use super::frame::{Frame, FrameSink};
 use super::guard::{divergence_bounds, dof_name};
+use super::loop_rotor::{add_unbalance, full_displacement, full_len, rotor_contact_dofs};
 use super::plan::{Scheme, StepPlan};
 use super::record::{ContactStats, Record, Recorder, RunStats};
 use super::select::{Pairs, Phase};
@@ -158,10 +159,11 @@ impl<'a> Stepper<'a> {
         init: Initial,
         spin: Spin<'a>,
     ) -> Result<Self, SolveError> {
-        if !matches!(spin, Spin::Constant)
-            && case.rotor.gyro.is_some()
-            && scheme.implicit().is_some()
-        {
+        let lr = case.loop_rotor();
+        if !matches!(spin, Spin::Constant) && case.reduced.is_some() {
+            return Err(SolveError::ReducedTransient);
+        }
+        if !matches!(spin, Spin::Constant) && lr.gyro.is_some() && scheme.implicit().is_some() {
             return Err(SolveError::GyroscopicTransient {
                 integrator: scheme.name().into(),
             });
@@ -175,10 +177,10 @@ impl<'a> Stepper<'a> {
             }
         };
         let rotor = DynBody::new(
-            &case.rotor.m,
-            &case.rotor.c,
-            &case.rotor.k,
-            case.rotor.c_low.as_ref(),
+            &lr.m,
+            &lr.c,
+            &lr.k,
+            lr.c_low.as_ref(),
             dt,
             &rotor_contact_dofs(case),
             scheme.implicit(),
@@ -220,11 +222,11 @@ impl<'a> Stepper<'a> {
         let node0 = case.stations.first().map_or(0, |s| s.node);
         let recorder = Recorder::new(
             pairs.station_dofs.clone(),
-            case.rotor.node_dofs[case.observed_node],
-            case.rotor.node_dofs[node0],
+            lr.node_dofs[case.observed_node],
+            lr.node_dofs[node0],
             plan.steps / plan.record_every + 2,
         );
-        let gyro = match (&spin, &case.rotor.gyro) {
+        let gyro = match (&spin, &lr.gyro) {
             (Spin::Profile(_) | Spin::Driven(_), Some(g)) => Some(GyroLoad::new(g, case.omega, dt)),
             _ => None,
         };
@@ -235,7 +237,7 @@ impl<'a> Stepper<'a> {
             events: Events::default(),
             plan: *plan,
             scheme,
-            ws: StepWorkspace::new(pairs.len(), case.stations.len()),
+            ws: StepWorkspace::new(pairs.len(), case.stations.len(), full_len(case)),
             pairs,
             static_phase,
             increment_phase,
@@ -275,9 +277,9 @@ impl<'a> Stepper<'a> {
     /// u⁰, v⁰ and a⁰ (M factored once when it is not diagonal).
     fn set_initial(&mut self, init: Initial, node: usize) -> Result<(), LinalgError> {
         let (case, dt) = (self.case, self.plan.dt);
-        let n = self.rotor.n;
-        let d0 = case.rotor.node_dofs[node];
-        let mdiag = case.rotor.m.diagonal();
+        let (n, lr) = (self.rotor.n, case.loop_rotor());
+        let d0 = lr.node_dofs[node];
+        let mdiag = lr.m.diagonal();
         let mut f0 = vec![0.0; n];
         add_unbalance(case, self.spin.state(0.0), 0.0, &mut f0);
         add_event_unbalance(&self.events, case, self.spin.state(0.0), 0.0, &mut f0);
@@ -288,9 +290,9 @@ impl<'a> Stepper<'a> {
             v0[d0[c]] = init.v[c];
         }
         let fext = f0.clone();
-        case.rotor.k.mul_add(-1.0, &u0, &mut f0);
-        case.rotor.c.mul_add(-1.0, &v0, &mut f0);
-        if let Some(lr) = &case.rotor.c_low {
+        lr.k.mul_add(-1.0, &u0, &mut f0);
+        lr.c.mul_add(-1.0, &v0, &mut f0);
+        if let Some(lr) = &lr.c_low {
             lr.mul_add(-1.0, &v0, &mut f0, &mut vec![0.0; lr.rank()]);
         }
         if let (Some(g), Some(s)) = (&mut self.gyro, self.spin.state(0.0)) {
@@ -299,17 +301,17 @@ impl<'a> Stepper<'a> {
         if let Ops::Implicit(imp) = &mut self.rotor.ops {
             self.rotor.u.copy_from_slice(&u0);
             self.rotor.u_prev.copy_from_slice(&u0);
-            return imp.start(&case.rotor.m, &v0, &fext, f0);
+            return imp.start(&lr.m, &v0, &fext, f0);
         }
         // a⁰ = M⁻¹ f⁰: a consistent start keeps the scheme's second order (a⁰ = 0 would put
         // an O(Δt) error in the initial velocity).
-        let a0 = if case.rotor.m.is_diagonal() {
+        let a0 = if lr.m.is_diagonal() {
             f0.iter()
                 .zip(&mdiag)
                 .map(|(f, m)| if *m > 0.0 { f / m } else { 0.0 })
                 .collect()
         } else {
-            match Cholesky::new(&case.rotor.m) {
+            match Cholesky::new(&lr.m) {
                 Ok(ch) => {
                     ch.solve_in_place(&mut f0);
                     f0
@@ -756,7 +758,7 @@ impl<'a> Stepper<'a> {
         sink.frame(&Frame {
             step: n,
             t,
-            rotor_u: &self.rotor.u,
+            rotor_u: full_displacement(self.case, &self.rotor.u, &mut self.ws.full_u),
             pairs: &self.ws.frame_pairs,
             stators: &self.stators,
         })
@@ -766,32 +768,4 @@ impl<'a> Stepper<'a> {
             source: Box::new(e),
         })
     }
-}
-
-/// Adds the unbalance load at time `t` (s) to `rhs`: of the case's constant speed, or of the
-/// spin state `spin` (φ, Ω, Ω̇ at `t`, [`crate::model::RotorBody::add_unbalance_spin`]).
-#[inline]
-fn add_unbalance(case: &Case, spin: Option<crate::model::SpinState>, t: f64, rhs: &mut [f64]) {
-    match spin {
-        Some(s) => case.rotor.add_unbalance_spin(s, rhs),
-        None => case.rotor.add_unbalance(case.omega, t, rhs),
-    }
-}
-
-/// Rotor DOFs the contact acts on: every station node's `[u_x, u_y]` and, with torsional
-/// DOFs, its θ_z (the friction torque acts there); sorted.
-fn rotor_contact_dofs(case: &Case) -> Vec<usize> {
-    let mut cd: Vec<usize> = case
-        .stations
-        .iter()
-        .flat_map(|s| case.rotor.node_dofs[s.node])
-        .collect();
-    cd.extend(
-        case.stations
-            .iter()
-            .filter_map(|s| case.rotor.node_torsion.get(s.node).copied().flatten()),
-    );
-    cd.sort_unstable();
-    cd.dedup();
-    cd
 }

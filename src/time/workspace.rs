@@ -112,11 +112,14 @@ pub(crate) struct StepWorkspace {
     /// The rub's friction torque on the rotor of the step, `Σ R μ p` over the pairs of its
     /// contact solves (N·m, resisting a positive spin).
     pub(crate) friction_torque: f64,
+    /// A reduced rotor's full displacement `u = T q` for the frames (empty otherwise).
+    pub(crate) full_u: Vec<f64>,
 }
 
 impl StepWorkspace {
-    /// Buffers for `nc` candidate pairs and `nst` stations (at least one force slot).
-    pub(crate) fn new(nc: usize, nstations: usize) -> Self {
+    /// Buffers for `nc` candidate pairs and `nst` stations (at least one force slot), and a
+    /// reduced rotor's full displacement of `nfull` DOFs (0: none).
+    pub(crate) fn new(nc: usize, nstations: usize, nfull: usize) -> Self {
         let cap0 = nc.clamp(1, LCP_CAP);
         let nst = nstations.max(1);
         Self {
@@ -141,6 +144,7 @@ impl StepWorkspace {
             with_mass_active: 0,
             frame_pairs: Vec::with_capacity(nc),
             friction_torque: 0.0,
+            full_u: vec![0.0; nfull],
         }
     }
 

@@ -154,7 +154,48 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
             return Err(ls.invalid("run.max_steps", "must be at least 1"));
         }
     }
+    if let Some(red) = &r.reduction {
+        validate_reduction(ls, red)?;
+    }
     validate_initial(ls)
+}
+
+/// `[run.reduction]`: an FE rotor at a constant speed; a positive cut-off or a factor ≥ 1.
+fn validate_reduction(ls: &LoadedScene, red: &ReductionSpec) -> Result<(), SceneError> {
+    if !matches!(ls.scene.rotor, RotorSpec::Fe(_)) {
+        return Err(ls.invalid(
+            "run.reduction",
+            "only an FE rotor (`rotor.kind = \"fe\"`) is reduced; a Jeffcott rotor has two DOFs",
+        ));
+    }
+    if ls.scene.run.speed_profile.is_some() || !ls.scene.run.event.is_empty() {
+        return Err(ls.invalid(
+            "run.reduction",
+            "a reduced rotor runs at constant speed only: leave out `[run.speed_profile]` and \
+             `[[run.event]]`, or the reduction",
+        ));
+    }
+    if let Some(c) = red.cutoff {
+        positive(ls, "run.reduction.cutoff", c)?;
+        if red.cutoff_factor.is_some() {
+            return Err(ls.invalid(
+                "run.reduction.cutoff_factor",
+                "give `cutoff` (rad/s) or `cutoff_factor`, not both",
+            ));
+        }
+    }
+    if let Some(k) = red.cutoff_factor {
+        if !(k.is_finite() && (1.0..=1e3).contains(&k)) {
+            return Err(ls.invalid(
+                "run.reduction.cutoff_factor",
+                format!(
+                    "must lie in 1 ..= 1000 (the cut-off over the highest frequency the run resolves), got {}",
+                    show(k)
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// `run.initial_displacement` and `run.initial_velocity`: finite, and the displacement within
