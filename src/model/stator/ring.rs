@@ -39,6 +39,7 @@ impl StatorModel {
                 center0: [0.0, 0.0],
                 inner_radius: radius + clearance,
                 dofs: [Some(0), Some(1)],
+                radial: false,
             }],
             elements: vec![],
             clearance,
@@ -47,6 +48,16 @@ impl StatorModel {
             mesh: None,
             dashpot: Default::default(),
         }
+    }
+
+    /// Sets the ring's contact to the radially elastic law (`radial`, [`Target::Ring`]).
+    pub fn with_radial_kinematics(mut self, radial: bool) -> Self {
+        for t in &mut self.targets {
+            if let Target::Ring { radial: r, .. } = t {
+                *r = radial;
+            }
+        }
+        self
     }
 }
 
