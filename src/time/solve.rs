@@ -80,7 +80,7 @@ impl Stepper<'_> {
             self.stators[c.stator].prepare(self.case.stators[c.stator].targets[c.target].dofs());
         }
         let dashpots = self.any_dashpot();
-        let rings = self.ring_start(held);
+        let rings = self.pairs.exact_rings && self.ring_start(held);
         let mut pivots = 0;
         for k in 0..super::ring::MAX_SOLVES {
             self.assemble(held);
