@@ -1,5 +1,7 @@
-//! A rigid ring on isotropic radial springs around its station (scene `kind = "ring"`): the
-//! classic rub model, contact circle in circle.
+//! A rigid ring on isotropic springs around its station (scene `kind = "ring"`): the classic
+//! rub model, contact circle in circle. The ring's centre takes the whole contact force
+//! `(n + μa)p` and its gap is exact (`time::ring`); `kinematics = "radial"` gives the radially
+//! elastic stator instead (centre along `n` only, friction to ground).
 
 use super::StatorModel;
 use crate::contact::Target;
