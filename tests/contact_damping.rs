@@ -153,6 +153,7 @@ name = "ring"
 station = "s"
 clearance = 1.0e-3
 stiffness_ratio = 4.0
+kinematics = "radial"
 [run]
 speed_ratio = 0.9
 revolutions = 120

@@ -124,7 +124,8 @@ fn full_annular_rub_oracle_check_values() {
 
 #[test]
 fn coast_down_under_full_annular_rub_decelerates_by_the_friction_torque() {
-    // A massless ring on springs (κ = 25) at δ = 1.2 e, μ = 0.1, ξ = 0.2; no drive, no drag,
+    // A massless ring on springs (κ = 25, the radially elastic law of the closed form,
+    // docs/ORACLES.md §2) at δ = 1.2 e, μ = 0.1, ξ = 0.2; no drive, no drag,
     // J = 0.02 kg·m²: the rotor coasts from ω_n on the synchronous full-rub orbit, whose
     // normal force N = κ k (r − d) e gives the friction torque R μ N (R = 0.06 m) and
     // Ω̇ = −R μ N / J; the unbalance's reaction m_u e Ω² r e sin β adds 1e-3 of it.
@@ -132,7 +133,7 @@ fn coast_down_under_full_annular_rub_decelerates_by_the_friction_torque() {
     let e = 0.008 * 0.045 / m;
     let d = 1.2;
     let ring = format!(
-        "[[stator]]\nkind = \"ring\"\nname = \"ring\"\nstation = \"disk\"\nclearance = {:e}\nstiffness_ratio = 25.0\n",
+        "[[stator]]\nkind = \"ring\"\nname = \"ring\"\nstation = \"disk\"\nclearance = {:e}\nstiffness_ratio = 25.0\nkinematics = \"radial\"\n",
         d * e
     );
     let wn = (k / m).sqrt();

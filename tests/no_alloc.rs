@@ -202,6 +202,32 @@ fn steps_after_warm_up_allocate_nothing() {
     }
 }
 
+/// A ring in contact takes a second complementarity solve per step with its normal re-aligned
+/// (exact ring kinematics, docs/VALIDATION.md §15.1): still nothing allocated, massless and with
+/// mass, both explicit schemes.
+#[test]
+fn ring_contact_steps_allocate_nothing() {
+    let massless = "tests/data/scenes/ring_full_rub.toml";
+    let with_mass = "tests/data/scenes/ring.toml";
+    let fi = "run.integrator=\"forward_increment\"";
+    for (scene, speed, extra) in [
+        (massless, 2.0, ""),
+        (massless, 2.0, fi),
+        (with_mass, 1.7, ""),
+    ] {
+        let c = WarmCase {
+            scene,
+            speed,
+            warm_revs: 20,
+            count_revs: 5,
+            every: 0,
+            extra,
+        };
+        let (n, steps, _) = allocations_after_warm_up(&c);
+        assert_eq!(n, 0, "{scene} {extra}: {n} allocations in {steps} steps");
+    }
+}
+
 /// Allocations made on this thread by `f`.
 fn allocations(f: impl FnOnce()) -> usize {
     let before = allocs();

@@ -16,9 +16,13 @@
 //!
 //! Within a time step `n` and `a` are frozen at the predicted configuration (paper, after
 //! Eq. 47), so the gap is linear in the corrections and the multipliers solve a linear
-//! complementarity problem ([`lcp`]).
+//! complementarity problem ([`lcp`]). A ring target's normal is then re-aligned with the
+//! solved configuration and the problem solved again until they agree ([`ring`]): circle in
+//! circle, the normal turns by the ring's own tangential displacement over the clearance, not
+//! over the section radius as for a node.
 
 pub mod lcp;
+pub mod ring;
 pub mod search;
 pub mod target;
 
@@ -175,6 +179,7 @@ mod tests {
             center0: [0.0, 0.0],
             inner_radius: 0.05 + 1e-3,
             dofs: [Some(0), Some(1)],
+            radial: false,
         };
         let ps = pair_state(&t, 0.05, [0.0, -2e-3], [0.0, 0.0], 1.0);
         assert!((ps.g + 1e-3).abs() < 1e-15);

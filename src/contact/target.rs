@@ -26,6 +26,10 @@ pub enum Target {
         inner_radius: f64,
         /// Free DOFs of the ring centre `[x, y]`.
         dofs: [Option<usize>; 2],
+        /// Radially elastic stator (Black's law): the ring's centre takes only the normal
+        /// part `n p` of the contact force, the friction `μ a p` goes to ground. False: the
+        /// ring takes the whole force `(n + μa) p` (a rigid ring on isotropic springs).
+        radial: bool,
     },
 }
 
@@ -35,5 +39,21 @@ impl Target {
         match self {
             Target::Node { dofs, .. } | Target::Ring { dofs, .. } => *dofs,
         }
+    }
+
+    /// Direction of the force on the stator per unit normal force: `n + μa` (`b`), or `n`
+    /// for a radially elastic ring, whose friction goes to ground.
+    #[inline]
+    pub fn stator_direction(&self, n: V2, b: V2) -> V2 {
+        match self {
+            Target::Ring { radial: true, .. } => n,
+            _ => b,
+        }
+    }
+
+    /// True for a ring whose normal follows the solved configuration (exact kinematics).
+    #[inline]
+    pub fn exact_ring(&self) -> bool {
+        matches!(self, Target::Ring { radial: false, .. })
     }
 }

@@ -737,6 +737,7 @@ impl Model {
                 let clearance = clearance(r.clearance)?;
                 let ks = r.stiffness.value(kr);
                 StatorModel::ring(&r.name, si, st.radius, clearance, ks, r.mass, r.damping)
+                    .with_radial_kinematics(r.radial)
             }
             StatorPlan::Fe(f) => {
                 let mut m = StatorModel::from_fe(f)?;

@@ -87,6 +87,9 @@ pub struct RingInput {
     pub mass: f64,
     /// Support damping (N·s/m).
     pub damping: f64,
+    /// Radially elastic stator (`kinematics = "radial"`): the ring's centre moves only along
+    /// the contact normal; false (default): the ring takes the whole contact force.
+    pub radial: bool,
 }
 
 /// An element of a general FE stator.
@@ -237,6 +240,7 @@ fn ring(ls: &LoadedScene, i: usize, station: usize, r: &RingSpec) -> Result<Ring
         stiffness,
         mass: r.mass,
         damping: r.damping,
+        radial: r.kinematics == "radial",
     })
 }
 

@@ -237,6 +237,8 @@ impl RingSlot {
             center0: self.center0,
             inner_radius: self.inner_radius,
             dofs: self.dofs,
+            // The drawing's normal (`pair_state`) does not depend on the contact law.
+            radial: false,
         }
     }
 }
@@ -458,6 +460,7 @@ fn pair_cells(
                     center0,
                     inner_radius,
                     dofs,
+                    ..
                 } => {
                     let &(_, c, p) = ring_points[k]
                         .iter()

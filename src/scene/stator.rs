@@ -279,8 +279,11 @@ pub struct RodSpec {
     pub contact_damping_mode: String,
 }
 
-/// Rigid ring on isotropic springs: radial force k_s (R − δ) when the rotor displacement R
-/// relative to the ring exceeds δ.
+/// Rigid ring on isotropic springs k_s: the ring's centre moves by the whole contact force
+/// `N(n + μa)/k_s` (friction included) and the rotor touches it when its displacement relative
+/// to the moving centre reaches δ. `kinematics = "radial"` keeps instead the classic radially
+/// elastic stator (Black): force `k_s(R − δ)` along the rotor's radius R, friction reacted by
+/// ground.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RingSpec {
@@ -312,6 +315,17 @@ pub struct RingSpec {
     /// (also the tangential velocity of the rotor section, as ROSS's rub model does).
     #[serde(default = "normal_mode")]
     pub contact_damping_mode: String,
+    /// `"exact"` (default): the ring's centre takes the whole contact force, its
+    /// friction-driven tangential displacement enters the gap (docs/VALIDATION.md §15.1).
+    /// `"radial"`: the classic radially elastic stator of the full-annular-rub literature
+    /// (docs/ORACLES.md §2–3): the ring's centre moves only along the contact normal, the
+    /// friction force goes to ground; massless rings only.
+    #[serde(default = "exact_kinematics")]
+    pub kinematics: String,
+}
+
+fn exact_kinematics() -> String {
+    "exact".into()
 }
 
 /// General 2-D FE stator in the station plane, coordinates relative to the undeformed station

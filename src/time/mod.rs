@@ -51,7 +51,7 @@
 //! memory and time estimated up front), [`record`] (what a run keeps), `body` (a body with mass,
 //! central differences or implicit), [`newmark`] (the generalised-α family), `spin` (a gyroscopic rotor's
 //! correction for a varying speed), [`compliance`] (massless stators), `select` (which pairs enter a contact problem), `solve` (the contact
-//! solve), `workspace` (buffers), `stepper` (the step), [`frame`] (frames for sinks).
+//! solve), `ring` (exact ring kinematics in a solve), `workspace` (buffers), `stepper` (the step), [`frame`] (frames for sinks).
 
 mod body;
 pub mod budget;
@@ -64,6 +64,7 @@ mod loop_rotor;
 pub mod newmark;
 pub mod plan;
 pub mod record;
+mod ring;
 mod select;
 mod solve;
 mod spin;

@@ -48,6 +48,9 @@ pub(crate) struct Pairs {
     /// `max(0, −min Δ)` (m): how much nearer the stators are than placed, widening the
     /// broad phase's reach.
     pub(crate) closer: f64,
+    /// Some candidate is a ring with exact kinematics (its solves re-align normals,
+    /// `super::ring`).
+    pub(crate) exact_rings: bool,
 }
 
 impl Pairs {
@@ -82,7 +85,11 @@ impl Pairs {
                 _ => dynamic.push(ci),
             }
         }
+        let exact_rings = cands
+            .iter()
+            .any(|c| case.stators[c.stator].targets[c.target].exact_ring());
         Self {
+            exact_rings,
             broad: BroadPhase::new(&indexed, 16),
             cands,
             station_dofs,

@@ -6,7 +6,8 @@
 //! `p ≥ 0, g + W p ≥ 0, pᵀ(g + W p) = 0` with `W_ij = n_i · F (b_j)` summed over the bodies of
 //! the pair (`F` their flexibility at the contact DOFs), and the correction adds `F b_j p_j`.
 //! Another law (stick, wear) changes `b`, the unknowns per pair and the correction, not the
-//! loop.
+//! loop. Ring targets re-align their frozen normal with the solved configuration and solve
+//! again (`super::ring`): their gap is exact, the ring's friction-driven displacement included.
 
 use super::body::StatorDyn;
 use super::frame::PairForce;
@@ -44,12 +45,14 @@ impl Stepper<'_> {
                 }
                 let mut ws_ij = 0.0;
                 if c.stator == d.stator {
-                    let tdj = case.stators[d.stator].targets[d.target].dofs();
+                    let tgj = &case.stators[d.stator].targets[d.target];
+                    let tdj = tgj.dofs();
+                    let sj = tgj.stator_direction(ws.states[cj].n, bj);
                     let body = &stators[c.stator];
                     for a in 0..2 {
                         for b in 0..2 {
                             if let (Some(x), Some(y)) = (tdi[a], tdj[b]) {
-                                ws_ij += si.n[a] * body.flex(x, y) * bj[b];
+                                ws_ij += si.n[a] * body.flex(x, y) * sj[b];
                             }
                         }
                     }
@@ -76,38 +79,47 @@ impl Stepper<'_> {
             let c = &self.pairs.cands[ci];
             self.stators[c.stator].prepare(self.case.stators[c.stator].targets[c.target].dofs());
         }
-        self.assemble(held);
         let dashpots = self.any_dashpot();
-        if dashpots {
-            self.dashpot_into_problem(held);
-        }
-        let ws = &mut self.ws;
-        // Warm start: the pairs that carried force when last solved start active.
-        for (i, &ci) in ws.sel.iter().enumerate() {
-            ws.guess[i] = ws.carried[ci];
-        }
-        let piv = lcp::solve_warm(
-            q,
-            &ws.wmat[..q * q],
-            &ws.gvec[..q],
-            &mut ws.pvec[..q],
-            &mut ws.lcp,
-            &ws.guess,
-        )
-        .map_err(|e| SolveError::Contact {
-            step,
-            time,
-            pairs: q,
-            message: e.to_string(),
-        })?;
-        for (i, &ci) in ws.sel.iter().enumerate() {
-            ws.carried[ci] = ws.pvec[i] > 0.0;
+        let rings = self.pairs.exact_rings && self.ring_start(held);
+        let mut pivots = 0;
+        for k in 0..super::ring::MAX_SOLVES {
+            self.assemble(held);
+            if dashpots {
+                self.dashpot_into_problem(held);
+            }
+            let ws = &mut self.ws;
+            // Warm start: the pairs that carried force when last solved start active.
+            for (i, &ci) in ws.sel.iter().enumerate() {
+                ws.guess[i] = ws.carried[ci];
+            }
+            pivots += lcp::solve_warm(
+                q,
+                &ws.wmat[..q * q],
+                &ws.gvec[..q],
+                &mut ws.pvec[..q],
+                &mut ws.lcp,
+                &ws.guess,
+            )
+            .map_err(|e| SolveError::Contact {
+                step,
+                time,
+                pairs: q,
+                message: e.to_string(),
+            })?;
+            for (i, &ci) in ws.sel.iter().enumerate() {
+                ws.carried[ci] = ws.pvec[i] > 0.0;
+            }
+            // Ring targets: solve again with normals aligned to the solved configuration (not
+            // after the last solve, whose forces must match the normals they are applied along).
+            if !(rings && k + 1 < super::ring::MAX_SOLVES && self.ring_align(held)) {
+                break;
+            }
         }
         self.apply_forces(held, into);
         if dashpots {
             self.apply_dashpots(held, into);
         }
-        Ok(piv)
+        Ok(pivots)
     }
 
     /// Applies the solved normal forces: `−b p` on the rotor section (a correction along M̃⁻¹, or
@@ -154,10 +166,11 @@ impl Stepper<'_> {
             f.total[c.station][1] -= b[1] * p;
             f.normal[c.station][0] -= n[0] * p;
             f.normal[c.station][1] -= n[1] * p;
-            let td = case.stators[c.stator].targets[c.target].dofs();
+            let tg = &case.stators[c.stator].targets[c.target];
+            let (td, sb) = (tg.dofs(), tg.stator_direction(n, b));
             for a in 0..2 {
                 if let Some(d) = td[a] {
-                    stators[c.stator].apply(d, b[a] * p);
+                    stators[c.stator].apply(d, sb[a] * p);
                 }
             }
         }
@@ -171,8 +184,9 @@ impl Stepper<'_> {
         for (i, &ci) in ws.sel.iter().enumerate() {
             let c = &pairs.cands[ci];
             if let StatorDyn::Massless(cm) = &stators[c.stator] {
-                let b = ws.states[ci].b(c.mu);
-                let us = target_disp(case.stators[c.stator].targets[c.target].dofs(), &cm.u);
+                let tg = &case.stators[c.stator].targets[c.target];
+                let b = tg.stator_direction(ws.states[ci].n, ws.states[ci].b(c.mu));
+                let us = target_disp(tg.dofs(), &cm.u);
                 e += 0.5 * ws.pvec[i] * (b[0] * us[0] + b[1] * us[1]);
             }
         }

@@ -75,6 +75,11 @@ pub(crate) struct StepWorkspace {
     pub(crate) reach: Vec<f64>,
     /// Frozen geometry per candidate.
     pub(crate) states: Vec<PairState>,
+    /// Per candidate (ring targets): the relative position `x_C − x_S` of the section centre
+    /// to the ring centre at the start of the solve (m) (`super::ring`).
+    pub(crate) rel0: Vec<V2>,
+    /// Per candidate (ring targets): the gap's `δ`, inner radius − section radius + offset (m).
+    pub(crate) clear0: Vec<f64>,
     /// Candidates of the current complementarity problem.
     pub(crate) sel: Vec<usize>,
     /// Per candidate: did it carry force when last solved (the warm start of the LCP).
@@ -127,6 +132,8 @@ impl StepWorkspace {
             centre: vec![[0.0; 2]; nstations],
             reach: vec![0.0; nstations],
             states: vec![PairState::default(); nc],
+            rel0: vec![[0.0; 2]; nc],
+            clear0: vec![0.0; nc],
             sel: Vec::with_capacity(nc),
             carried: vec![false; nc],
             guess: vec![false; nc],

@@ -189,10 +189,20 @@ friction = {mu}
     )
 }
 
-/// Rigid ring stator of stiffness ratio κ = 25 around the station `s` of the unit rotor.
+/// Ring stator of stiffness ratio κ = 25 around the station `s` of the unit rotor, with the
+/// radially elastic contact law of the full-annular-rub and dry-whip oracles
+/// (`kinematics = "radial"`: force k_s(R − δ) along the rotor's radius, docs/ORACLES.md §2–3).
 pub fn unit_ring(clearance: f64) -> String {
     format!(
-        "[[stator]]\nkind = \"ring\"\nname = \"ring\"\nstation = \"s\"\nclearance = {clearance}\nstiffness_ratio = 25.0\n"
+        "[[stator]]\nkind = \"ring\"\nname = \"ring\"\nstation = \"s\"\nclearance = {clearance}\nstiffness_ratio = 25.0\nkinematics = \"radial\"\n"
+    )
+}
+
+/// Ring stator taking the whole contact force (exact kinematics, the default) of stiffness
+/// ratio `kappa` and clearance `clearance` (m) around the station `s` of the unit rotor.
+pub fn unit_exact_ring(clearance: f64, kappa: f64) -> String {
+    format!(
+        "[[stator]]\nkind = \"ring\"\nname = \"ring\"\nstation = \"s\"\nclearance = {clearance}\nstiffness_ratio = {kappa}\n"
     )
 }
 

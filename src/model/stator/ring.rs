@@ -1,5 +1,7 @@
-//! A rigid ring on isotropic radial springs around its station (scene `kind = "ring"`): the
-//! classic rub model, contact circle in circle.
+//! A rigid ring on isotropic springs around its station (scene `kind = "ring"`): the classic
+//! rub model, contact circle in circle. The ring's centre takes the whole contact force
+//! `(n + μa)p` and its gap is exact (`time::ring`); `kinematics = "radial"` gives the radially
+//! elastic stator instead (centre along `n` only, friction to ground).
 
 use super::StatorModel;
 use crate::contact::Target;
@@ -39,6 +41,7 @@ impl StatorModel {
                 center0: [0.0, 0.0],
                 inner_radius: radius + clearance,
                 dofs: [Some(0), Some(1)],
+                radial: false,
             }],
             elements: vec![],
             clearance,
@@ -47,6 +50,16 @@ impl StatorModel {
             mesh: None,
             dashpot: Default::default(),
         }
+    }
+
+    /// Sets the ring's contact to the radially elastic law (`radial`, [`Target::Ring`]).
+    pub fn with_radial_kinematics(mut self, radial: bool) -> Self {
+        for t in &mut self.targets {
+            if let Target::Ring { radial: r, .. } = t {
+                *r = radial;
+            }
+        }
+        self
     }
 }
 

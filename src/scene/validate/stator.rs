@@ -56,6 +56,22 @@ pub(super) fn validate_ring(ls: &LoadedScene, i: usize, r: &RingSpec) -> Result<
     }
     non_negative(ls, &k("mass"), r.mass)?;
     non_negative(ls, &k("damping"), r.damping)?;
+    match r.kinematics.as_str() {
+        "exact" => {}
+        "radial" if r.mass > 0.0 => {
+            return Err(ls.invalid(
+                &k("kinematics"),
+                "`radial` kinematics (the ring's centre moves only along the contact normal) is a massless stator's contact law: give mass = 0 or use `exact`",
+            ))
+        }
+        "radial" => {}
+        other => {
+            return Err(ls.invalid(
+                &k("kinematics"),
+                format!("unknown ring kinematics `{other}`: `exact` (the ring takes the whole contact force, default) or `radial` (force along the rotor's radius, friction to ground)"),
+            ))
+        }
+    }
     if r.mass == 0.0 && r.damping > 0.0 {
         return Err(ls.invalid(
             &k("damping"),
