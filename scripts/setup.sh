@@ -19,11 +19,11 @@ if [ "${RUBSIM_SKIP_APT:-0}" != 1 ] && [ ${#need[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
 fi
 if [ "${RUBSIM_SKIP_PY:-0}" != 1 ]; then
-  if [ ! -x .venv/bin/python ] || ! .venv/bin/python -c "import pyvista, vtk, meshio, h5py, pytest, imageio, imageio_ffmpeg" 2>/dev/null; then
-    echo "setup: creating .venv with pyvista, vtk, meshio, h5py, pytest, imageio, imageio-ffmpeg" >&2
+  if [ ! -x .venv/bin/python ] || ! .venv/bin/python -c "import pyvista, vtk, meshio, h5py, pytest, imageio, imageio_ffmpeg, scipy" 2>/dev/null; then
+    echo "setup: creating .venv with pyvista, vtk, meshio, h5py, pytest, imageio, imageio-ffmpeg, scipy" >&2
     python3 -m venv .venv
     .venv/bin/pip install -q --upgrade pip
-    .venv/bin/pip install -q pyvista vtk meshio h5py pytest imageio imageio-ffmpeg
+    .venv/bin/pip install -q pyvista vtk meshio h5py pytest imageio imageio-ffmpeg scipy
   fi
   if ! .venv/bin/python -c "import ross" >/dev/null 2>&1; then
     echo "setup: installing ROSS (ross-rotordynamics, plotly<6) into .venv for tests/post/test_ross.py" >&2

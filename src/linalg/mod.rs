@@ -9,7 +9,9 @@
 //!   solves inside the time loop.
 //! * [`Lu`], [`StepLu`] ([`lu`]): sparse LU with pivoting of a general matrix (the unsymmetric
 //!   M̃ of rotors with gyroscopics); `StepLu` solves without allocating.
-//! * [`BlockTridiag`] ([`block`]): block Thomas LU of a shaft chain in 4 × 4 node blocks.
+//! * [`BlockTridiag`] ([`block`]): block Thomas LU of a shaft chain in 4 × 4 node blocks;
+//!   [`BlockTri`] ([`blockmul`]): `y += A x` of such a matrix by fixed-size block products
+//!   (a gyroscopic rotor's per-step correction).
 //! * [`LowRank`], [`WoodburyLu`] ([`lowrank`]): a dense symmetric term of low rank (modal
 //!   damping) and the Sherman–Morrison–Woodbury solve of sparse + low rank.
 //!
@@ -17,6 +19,7 @@
 //! [`LinalgError`] naming the matrix size and where the factorisation stopped.
 
 pub mod block;
+pub mod blockmul;
 pub mod cholesky;
 pub mod csc;
 pub mod lowrank;
@@ -25,6 +28,7 @@ pub mod pair;
 
 pub use crate::error::LinalgError;
 pub use block::{BlockTridiag, NODE_BLOCK};
+pub use blockmul::BlockTri;
 pub use cholesky::{Cholesky, CholeskyScratch};
 pub use csc::Csc;
 pub use lowrank::{LowRank, WoodburyLu};

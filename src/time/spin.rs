@@ -7,8 +7,8 @@
 //! `dₙ G (uⁿ⁺¹ − uⁿ⁻¹)/(2Δt) + Ω̇ₙ K_st uⁿ` on the left. With u⁽⁰⁾ the constant-speed
 //! prediction (`M̃ u⁽⁰⁾ = f̃ⁿ`), the step's uⁿ⁺¹ = u⁽⁰⁾ + δⁿ solves
 //! `M̃ δⁿ = −dₙ G (u⁽⁰⁾ + δⁿ − uⁿ⁻¹)/(2Δt) − Ω̇ₙ K_st uⁿ`, which is taken with the previous
-//! step's δⁿ⁻¹ in place of δⁿ on the right: one sparse product (G and K_st on one pattern) and
-//! one more solve with the factor M̃ per step.
+//! step's δⁿ⁻¹ in place of δⁿ on the right: one product with G (K_st is G's y–z rows, so
+//! one pass by node blocks serves both) and one more solve with the factor M̃ per step.
 //!
 //! Accuracy: δ = O(dΔt² q̇) is smooth, δⁿ − δⁿ⁻¹ = O(Δt³), so the lag puts an O(Δt⁴) error in
 //! a step — the scheme's own local order: the step stays second order (`tests/transients.rs`,
@@ -23,15 +23,64 @@
 //! At the first step δⁿ⁻¹ = 0 (a one-step local error O(dΔt³)).
 
 use super::body::DynBody;
-use crate::linalg::PairCsr;
+use crate::linalg::{BlockTri, Csc, PairCsr, NODE_BLOCK};
 use crate::model::rotor::Gyroscopic;
 use crate::model::SpinState;
+
+/// `y += G x + K_st z`. K_st is G's rows of the y–z plane (u_y, θ_x: rows 1 and 2 of each
+/// node block), so the sum is `G_r (x + z)` on those rows and `G_r x` on the others: when that
+/// holds and G is block tridiagonal (a shaft chain in its natural numbering), one product of
+/// G by 4 × 4 node blocks. Else G and K_st on G's row-compressed pattern.
+#[derive(Debug)]
+enum GkProduct {
+    /// G as node blocks; K_st = G's rows 1 and 2 of each block.
+    Block(BlockTri),
+    /// G and K_st on G's row-compressed pattern (K_st's entries are a subset of G's).
+    Csr(PairCsr),
+}
+
+/// The rows of a node block that K_st holds: u_y and θ_x.
+const K_ST_ROWS: [bool; NODE_BLOCK] = [false, true, true, false];
+
+impl GkProduct {
+    fn new(terms: &Gyroscopic) -> Self {
+        let (g, k) = (&terms.g, &terms.k_st);
+        // K_st − (G's marked rows) = 0 entry by entry, to round-off of G's size.
+        let scale = g.triplets().fold(0.0_f64, |m, (_, _, v)| m.max(v.abs()));
+        let mut diff: Vec<(usize, usize, f64)> = k.triplets().collect();
+        diff.extend(
+            g.triplets()
+                .filter(|(r, _, _)| K_ST_ROWS[r % NODE_BLOCK])
+                .map(|(r, c, v)| (r, c, -v)),
+        );
+        let d = Csc::from_triplets(g.nrows(), g.ncols(), &diff);
+        let rows_of_g = d.triplets().all(|(_, _, v)| v.abs() <= 1e-14 * scale);
+        match BlockTri::new(g).filter(|_| rows_of_g) {
+            Some(b) => GkProduct::Block(b),
+            None => GkProduct::Csr(PairCsr::new(g, k)),
+        }
+    }
+
+    /// `y += G x + K_st z`; `z` is overwritten.
+    #[inline]
+    fn mul_add(&self, x: &[f64], z: &mut [f64], y: &mut [f64]) {
+        match self {
+            GkProduct::Block(b) => {
+                for (zi, xi) in z.iter_mut().zip(x) {
+                    *zi += xi;
+                }
+                b.mul_add_rows(x, z, K_ST_ROWS, y);
+            }
+            GkProduct::Csr(p) => p.mul_add(x, z, y),
+        }
+    }
+}
 
 /// The speed-dependent correction of a gyroscopic rotor's prediction (see the module).
 #[derive(Debug)]
 pub(crate) struct GyroLoad {
-    /// G and K_st on G's row-compressed pattern (K_st's entries are a subset of G's).
-    gk: PairCsr,
+    /// `G x + K_st z`.
+    gk: GkProduct,
     /// The speed M̃ was factored at (rad/s).
     omega_f: f64,
     dt: f64,
@@ -50,7 +99,7 @@ impl GyroLoad {
     pub(crate) fn new(terms: &Gyroscopic, omega_f: f64, dt: f64) -> Self {
         let n = terms.g.nrows();
         Self {
-            gk: PairCsr::new(&terms.g, &terms.k_st),
+            gk: GkProduct::new(terms),
             omega_f,
             dt,
             x: vec![0.0; n],
@@ -68,7 +117,7 @@ impl GyroLoad {
             *x = -d * vi;
             *z = -spin.omega_dot * ui;
         }
-        self.gk.mul_add(&self.x, &self.z, f);
+        self.gk.mul_add(&self.x, &mut self.z, f);
     }
 
     /// Corrects the constant-speed prediction `body.u_next` = u⁽⁰⁾ at `spin`:
@@ -89,8 +138,53 @@ impl GyroLoad {
             *z = -a * un;
         }
         self.delta.fill(0.0);
-        self.gk.mul_add(&self.x, &self.z, &mut self.delta);
+        self.gk.mul_add(&self.x, &mut self.z, &mut self.delta);
         body.correct(&mut self.delta);
         std::mem::swap(&mut self.delta, &mut self.delta_prev);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// G = K_st − K_stᵀ of three nodes, K_st on the u_y and θ_x rows coupling neighbours.
+    fn terms(far: bool) -> Gyroscopic {
+        let mut t = Vec::new();
+        for r in (0..12_usize).filter(|r| K_ST_ROWS[r % 4]) {
+            for c in (0..12_usize).filter(|c| !K_ST_ROWS[c % 4]) {
+                if (r / 4).abs_diff(c / 4) <= 1 {
+                    t.push((r, c, 0.3 + 0.1 * r as f64 - 0.05 * c as f64));
+                }
+            }
+        }
+        if far {
+            t.push((1, 11, 0.7));
+        }
+        let k_st = Csc::from_triplets(12, 12, &t);
+        let mut g: Vec<(usize, usize, f64)> = t.clone();
+        g.extend(t.iter().map(|&(r, c, v)| (c, r, -v)));
+        Gyroscopic {
+            g: Csc::from_triplets(12, 12, &g),
+            k_st,
+        }
+    }
+
+    #[test]
+    fn block_product_of_g_and_its_rows_matches_the_row_compressed_pair() {
+        for far in [false, true] {
+            let tm = terms(far);
+            let p = GkProduct::new(&tm);
+            assert_eq!(matches!(p, GkProduct::Block(_)), !far);
+            let x: Vec<f64> = (0..12).map(|i| (0.4 * i as f64).sin()).collect();
+            let z: Vec<f64> = (0..12).map(|i| (0.8 * i as f64).cos()).collect();
+            let mut y = vec![0.1; 12];
+            p.mul_add(&x, &mut z.clone(), &mut y);
+            let mut want = vec![0.1; 12];
+            PairCsr::new(&tm.g, &tm.k_st).mul_add(&x, &z, &mut want);
+            for (a, b) in y.iter().zip(&want) {
+                assert!((a - b).abs() < 1e-13, "{a} vs {b}");
+            }
+        }
     }
 }
