@@ -305,6 +305,9 @@ fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
                 ""
             }
         );
+        for line in rubsim::results::describe(&s.output, plan, false) {
+            println!("  {line} (frames carry Ω, Ω/ωn, φ, Ω̇)");
+        }
         return;
     }
     println!(

@@ -30,6 +30,9 @@ pub struct Frame<'a> {
     pub rotor_u: &'a [f64],
     /// Pairs in contact at this instant.
     pub pairs: &'a [PairForce],
+    /// Spin state at `t` of a run whose speed varies (φ, Ω, Ω̇ of the speed profile or of a
+    /// driven rotor's spin DOF); `None` at constant speed, where φ = Ω t.
+    pub spin: Option<crate::model::SpinState>,
     pub(crate) stators: &'a [StatorDyn],
 }
 

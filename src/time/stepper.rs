@@ -758,6 +758,7 @@ impl<'a> Stepper<'a> {
             t,
             rotor_u: &self.rotor.u,
             pairs: &self.ws.frame_pairs,
+            spin: self.spin.state(t),
             stators: &self.stators,
         })
         .map_err(|e| SolveError::FrameOutput {
