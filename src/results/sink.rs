@@ -241,7 +241,8 @@ impl<'a> ResultsSink<'a> {
         &self.layout
     }
 
-    fn wants(&self, step: usize) -> bool {
+    /// True when a writer writes the frame of `step`.
+    fn writes(&self, step: usize) -> bool {
         let v = self.vtk.as_ref().is_some_and(|(p, _)| p.contains(step));
         #[cfg(feature = "hdf5")]
         let h = self.hdf5.as_ref().is_some_and(|(p, _)| p.contains(step));
@@ -326,9 +327,14 @@ impl FrameSink for ResultsSink<'_> {
         self.every
     }
 
+    /// A frame that is written, or the step before one when velocities are written.
+    fn wants(&self, step: usize) -> bool {
+        self.writes(step) || (self.need_velocity && self.writes(step + 1))
+    }
+
     fn frame(&mut self, frame: &Frame<'_>) -> Result<()> {
-        let now = self.wants(frame.step);
-        let before_next = self.need_velocity && self.wants(frame.step + 1);
+        let now = self.writes(frame.step);
+        let before_next = self.need_velocity && self.writes(frame.step + 1);
         if !now && !before_next {
             return Ok(());
         }

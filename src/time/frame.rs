@@ -55,4 +55,10 @@ pub trait FrameSink {
     fn every(&self) -> usize;
     /// Consumes one frame; an error stops the run (reported with the frame's step and time).
     fn frame(&mut self, frame: &Frame<'_>) -> crate::error::Result<()>;
+    /// Whether the frame of `step` (a multiple of [`FrameSink::every`]) is used at all; when
+    /// false the loop builds no frame (massless stators rebuild no field). Default: true.
+    fn wants(&self, step: usize) -> bool {
+        let _ = step;
+        true
+    }
 }

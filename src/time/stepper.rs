@@ -739,7 +739,9 @@ impl<'a> Stepper<'a> {
     #[inline]
     fn emit(&mut self, sink: &mut Sink<'_>, n: usize, t: f64) -> Result<(), SolveError> {
         match sink.as_mut() {
-            Some(s) if s.every() > 0 && n % s.every() == 0 => self.emit_frame(&mut **s, n, t),
+            Some(s) if s.every() > 0 && n % s.every() == 0 && s.wants(n) => {
+                self.emit_frame(&mut **s, n, t)
+            }
             _ => Ok(()),
         }
     }
