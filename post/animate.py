@@ -11,6 +11,8 @@ group). The picture is the station plane seen from +z (x right, y up):
   the run wrote no stress);
 * the rotor section as a circle around the displaced station centre;
 * contact forces on the stator nodes as arrows (length ∝ force);
+* the frame's time and, from its field data, its speed Ω/ω_n and spin angle φ (revolutions) in
+  the title — a speed transient (run-up, coast-down, blade-off) changes them frame by frame;
 * displacements are magnified by `--scale` (default: the gap is drawn 0.25 (r+δ)/δ times too
   large) and the section radius is reduced by (scale − 1)·δ, so the drawn gap is the true gap
   times the scale: a contact is drawn touching.
@@ -169,7 +171,17 @@ def draw(pl, grid, scene, scale, clim, fscale, t, title):
         else:
             pl.remove_actor("forces")
             pl.remove_actor("resultant")
-    pl.add_text(f"{title}t = {t:.5f} s   displacements x{scale:.3g}", font_size=10, name="title")
+    pl.add_text(f"{title}{spin_text(grid)}t = {t:.5f} s   displacements x{scale:.3g}", font_size=10, name="title")
+
+
+def spin_text(grid):
+    """The frame's own speed and spin angle (its field data `speed_ratio`, `phi`; a speed
+    transient changes them frame by frame), or "" for frames written without them."""
+    fd = grid.field_data
+    if "speed_ratio" not in fd or "phi" not in fd:
+        return ""
+    w, phi = float(np.asarray(fd["speed_ratio"]).ravel()[0]), float(np.asarray(fd["phi"]).ravel()[0])
+    return f"w/wn = {w:.3f}   phi = {phi / (2 * np.pi):.2f} rev   "
 
 
 def frame_indices(frames, args):
@@ -219,7 +231,9 @@ def main(argv=None):
             fmax = max(fmax, float(np.linalg.norm(np.asarray(g.point_data["contact_force"])[first:], axis=1).max()))
     radius = min((r for _, r in stations(scene)), default=float(np.ptp(g0.points[:, :2], axis=0).max()) or 1.0)
     fscale = 0.6 * radius / fmax if fmax > 0 else 1.0
-    title = f"speed w/wn = {scene_speed(args.results)}   " if scene_speed(args.results) else ""
+    # A speed transient: each frame's title carries its own speed (`spin_text`).
+    title = "" if "speed_ratio" in g0.field_data else (
+        f"speed w/wn = {scene_speed(args.results)}   " if scene_speed(args.results) else "")
     pl = pv.Plotter(off_screen=True, window_size=args.size)
     pl.set_background("white")
     out = []

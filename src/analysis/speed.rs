@@ -333,6 +333,12 @@ impl FrameSink for Fanout<'_, '_> {
         self.every
     }
 
+    fn wants(&self, step: usize) -> bool {
+        self.sinks
+            .iter()
+            .any(|s| s.every() > 0 && step % s.every() == 0 && s.wants(step))
+    }
+
     fn frame(&mut self, frame: &Frame<'_>) -> Result<()> {
         for s in self.sinks.iter_mut() {
             let e = s.every();

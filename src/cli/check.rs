@@ -308,6 +308,19 @@ fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
                 ""
             }
         );
+        if case.stators.iter().any(|m| !m.elements.is_empty()) {
+            println!(
+                "  stator stress against time and speed: stress_history.csv{}",
+                if s.output.png {
+                    ", stress_vs_speed.png, stress_history.png"
+                } else {
+                    ""
+                }
+            );
+        }
+        for line in rubsim::results::describe(&s.output, plan, false) {
+            println!("  {line} (frames carry Ω, Ω/ωn, φ, Ω̇)");
+        }
         return;
     }
     println!(

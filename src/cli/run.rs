@@ -3,7 +3,10 @@
 use super::{chosen_settings, default_out, load, settings, Common, Series, UnitArg};
 use anyhow::{Context, Result};
 use rubsim::analysis::{self, Keep};
+use rubsim::output::transient_stress::TransientStress;
 use rubsim::output::{figures, summary, transient as transient_out, whirl as whirl_out};
+use rubsim::results::ResultsSink;
+use rubsim::time::FrameSink;
 use std::path::PathBuf;
 
 /// Runs the scene at `speed` (default: its own single speed) and writes `summary.json`,
@@ -94,7 +97,8 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
 
 /// A scene with `[run.speed_profile]`: integrates the whole profile and writes
 /// `summary.json`, the speed history, the response, the order tracking (CSV) and their
-/// pictures (`rubsim::output::transient`).
+/// pictures (`rubsim::output::transient`), and the VTK/HDF5 series the scene asks for, whose
+/// frames carry the spin state (`results::ResultsSink::for_transient`).
 fn transient(
     c: &Common,
     ls: &rubsim::scene::LoadedScene,
@@ -111,12 +115,6 @@ fn transient(
     if speed.is_some() {
         anyhow::bail!(
             "{}: --speed does not apply to a scene with [run.speed_profile] (the profile sets the speed)",
-            c.scene.display()
-        );
-    }
-    if ls.scene.output.vtk.is_some() || ls.scene.output.hdf5.is_some() {
-        anyhow::bail!(
-            "{}: output.vtk / output.hdf5 time series are not written for speed transients yet; remove them from [output]",
             c.scene.display()
         );
     }
@@ -143,7 +141,46 @@ fn transient(
             prep.plan.steps
         ),
     }
-    let r = prep.run(&mut [])?;
+    // VTK/HDF5 time series (output.vtk, output.hdf5): the frames carry Ω, Ω/ωn, φ and Ω̇.
+    let scene_json = serde_json::to_string(&ls.scene)?;
+    let mut writer = ResultsSink::for_transient(
+        model,
+        &prep,
+        &ls.scene.output,
+        &scene_json,
+        outd.staging_dir(),
+        "",
+    )?;
+    // Stators with elements (meshed, bars, frames): their largest stress at every recorded
+    // sample (the probe's interval is the recording interval, so its instants are the
+    // speed history's).
+    let mut probe = prep
+        .case
+        .stators
+        .iter()
+        .any(|s| !s.elements.is_empty())
+        .then(|| analysis::StressProbe::new(&prep.case.stators, prep.plan.record_every, 0.0));
+    let mut sinks: Vec<&mut dyn FrameSink> = Vec::with_capacity(2);
+    if let Some(w) = writer.as_mut() {
+        sinks.push(w);
+    }
+    if let Some(p) = probe.as_mut() {
+        sinks.push(p);
+    }
+    let r = prep.run(&mut sinks)?;
+    drop(sinks);
+    if let Some(w) = writer {
+        for name in w.finish()? {
+            outd.adopt(&name)?;
+        }
+    }
+    let stress = probe.map(|p| TransientStress::new(&r, p.traces));
+    if let Some(st) = &stress {
+        st.write_csv(&mut outd)?;
+        if ls.scene.output.png {
+            st.write_figures(&mut outd, &ls.scene.title)?;
+        }
+    }
     transient_out::write_csv(&mut outd, &r)?;
     let waterfall = analysis::whirl::full_waterfall(&r, prep.window_revolutions);
     whirl_out::write_waterfall(
@@ -158,6 +195,9 @@ fn transient(
     }
     let mut sum = summary::base(ls, model, "run");
     sum["transient"] = serde_json::to_value(&r)?;
+    if let Some(st) = &stress {
+        sum["stator_stress"] = serde_json::to_value(st)?;
+    }
     sum["full_waterfall"] = serde_json::json!({
         "windows": waterfall.len(),
         "window_revolutions": prep.window_revolutions,
@@ -179,6 +219,12 @@ fn transient(
         r.contact_force_max,
         r.friction_energy
     );
+    for p in stress.iter().flat_map(|s| &s.peaks) {
+        println!(
+            "stator `{}`: largest stress {:.4e} Pa at t = {:.4} s, Ω/ωn = {:.3} ({} nodes in contact)",
+            p.name, p.stress_pa, p.t_s, p.speed_ratio, p.contacts
+        );
+    }
     println!("results in {}", dir.display());
     Ok(())
 }

@@ -24,6 +24,7 @@ pub mod outdir;
 pub mod rotordyn;
 pub mod summary;
 pub mod transient;
+pub mod transient_stress;
 pub mod whirl;
 
 pub use manifest::{parse_manifest, Manifest, MANIFEST};

@@ -90,7 +90,7 @@ type Polyline = Vec<(f64, f64)>;
 
 /// At most `bins` points of `(x, y)` (x nondecreasing or not): the largest and smallest y in
 /// each of `bins` equal x-intervals, in x order — the envelope a dense oscillation fills.
-fn envelope(points: &[(f64, f64)], bins: usize) -> (Polyline, Polyline) {
+pub(super) fn envelope(points: &[(f64, f64)], bins: usize) -> (Polyline, Polyline) {
     let (lo, hi) = points
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {

@@ -24,6 +24,16 @@ pub struct FrameState {
     pub step: usize,
     /// Time (s).
     pub t: f64,
+    /// Spin speed Ω at `t` (rad/s): the case's constant speed, or a transient's Ω(t).
+    pub omega: f64,
+    /// Ω/ω_n at `t` (ω_n of the rotor, [`crate::model::Case::speed_ratio`]'s unit).
+    pub speed_ratio: f64,
+    /// Spin angle φ at `t` (rad), φ(0) = 0: Ω t at constant speed, ∫₀ᵗ Ω dt in a transient.
+    pub phi: f64,
+    /// Angular acceleration Ω̇ at `t` (rad/s²); 0 at constant speed.
+    pub omega_dot: f64,
+    /// ω_n (rad/s), from the case: Ω_case / (Ω_case/ω_n).
+    omega_n: f64,
     /// Rotor DOF vector (m, rad).
     pub rotor_u: Vec<f64>,
     /// Rotor DOF velocities (m/s, rad/s), backward difference over one step.
@@ -67,6 +77,15 @@ impl FrameState {
         Self {
             step: 0,
             t: 0.0,
+            omega: case.omega,
+            speed_ratio: case.speed_ratio,
+            phi: 0.0,
+            omega_dot: 0.0,
+            omega_n: if case.speed_ratio > 0.0 {
+                case.omega / case.speed_ratio
+            } else {
+                f64::NAN
+            },
             rotor_u: vec![0.0; case.rotor.ndof],
             rotor_v: vec![0.0; case.rotor.ndof],
             rotor_twist: vec![0.0; layout.rotor_dofs.len()],
@@ -93,6 +112,15 @@ impl FrameState {
     pub fn fill(&mut self, layout: &Layout, case: &Case, f: &Frame<'_>) {
         self.step = f.step;
         self.t = f.t;
+        let spin = f.spin.unwrap_or(crate::model::SpinState {
+            phi: case.omega * f.t,
+            omega: case.omega,
+            omega_dot: 0.0,
+        });
+        self.omega = spin.omega;
+        self.phi = spin.phi;
+        self.omega_dot = spin.omega_dot;
+        self.speed_ratio = spin.omega / self.omega_n;
         self.rotor_u.copy_from_slice(f.rotor_u);
         for (k, s) in case.stators.iter().enumerate() {
             let u = f.stator_u(k);

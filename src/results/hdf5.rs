@@ -13,6 +13,7 @@
 //! buffered in blocks of about 256 KiB per dataset and appended block by block, so memory does
 //! not grow with the run.
 
+use super::hdf5_spin::SpinColumns;
 use super::{Fields, FramePlan, FrameState, Layout, RunInfo};
 use crate::error::{Error, Result};
 use crate::model::Case;
@@ -30,7 +31,7 @@ pub const VTKHDF_VERSION: [i64; 2] = [2, 2];
 const BLOCK_BYTES: usize = 256 * 1024;
 
 /// A dataset growing along its first axis by `frame_rows` rows per frame.
-struct Column<T: H5Type + Copy> {
+pub(super) struct Column<T: H5Type + Copy> {
     ds: h5::Dataset,
     frame_rows: usize,
     inner: Vec<usize>,
@@ -42,7 +43,7 @@ struct Column<T: H5Type + Copy> {
 }
 
 impl<T: H5Type + Copy> Column<T> {
-    fn new(
+    pub(super) fn new(
         g: &h5::Group,
         name: &str,
         frame_rows: usize,
@@ -77,7 +78,7 @@ impl<T: H5Type + Copy> Column<T> {
     }
 
     /// Appends one frame (`frame_len` values, row-major).
-    fn push(&mut self, v: impl IntoIterator<Item = T>) -> h5::Result<()> {
+    pub(super) fn push(&mut self, v: impl IntoIterator<Item = T>) -> h5::Result<()> {
         let n0 = self.buf.len();
         self.buf.extend(v);
         debug_assert_eq!(self.buf.len() - n0, self.frame_len, "frame size");
@@ -88,7 +89,7 @@ impl<T: H5Type + Copy> Column<T> {
         Ok(())
     }
 
-    fn flush(&mut self) -> h5::Result<()> {
+    pub(super) fn flush(&mut self) -> h5::Result<()> {
         if self.buffered == 0 {
             return Ok(());
         }
@@ -165,6 +166,7 @@ struct Columns {
     point_data: Vec<PointColumn>,
     cell_data: Vec<CellColumn>,
     static_cell_offsets: Vec<Column<i64>>,
+    spin: SpinColumns,
 }
 
 #[derive(Clone, Copy)]
@@ -258,6 +260,7 @@ impl Hdf5Series {
         // VTKHDF: the grid once, data per step.
         let v = vtkhdf_grid(&f, layout)?;
         let st = vtkhdf_steps(&v, layout, fl)?;
+        let spin = SpinColumns::new(&f, &v, &st.group)?;
         Ok((
             f,
             Columns {
@@ -275,6 +278,7 @@ impl Hdf5Series {
                 point_data: st.point_data,
                 cell_data: st.cell_data,
                 static_cell_offsets: st.static_cell_offsets,
+                spin,
             },
             st.group,
         ))
@@ -339,6 +343,7 @@ impl Hdf5Series {
         for o in &mut c.static_cell_offsets {
             o.push([0])?;
         }
+        c.spin.push(k, st)?;
         Ok(())
     }
 
@@ -388,6 +393,7 @@ impl Hdf5Series {
             d.flush()?;
             o.flush()?;
         }
+        c.spin.flush()?;
         self.steps_group
             .attr("NSteps")?
             .write_scalar(&(self.frames as i64))?;
@@ -602,7 +608,6 @@ struct StepColumns {
 fn vtkhdf_steps(v: &h5::Group, layout: &Layout, fl: Fields) -> h5::Result<StepColumns> {
     let pd = v.create_group("PointData")?;
     let cd = v.create_group("CellData")?;
-    v.create_group("FieldData")?;
     let steps = v.create_group("Steps")?;
     attr(&steps, "NSteps", 0_i64)?;
     let values = Column::new(&steps, "Values", 1, &[], "s")?;
@@ -618,7 +623,6 @@ fn vtkhdf_steps(v: &h5::Group, layout: &Layout, fl: Fields) -> h5::Result<StepCo
     .collect::<h5::Result<Vec<_>>>()?;
     let pdo = steps.create_group("PointDataOffsets")?;
     let cdo = steps.create_group("CellDataOffsets")?;
-    steps.create_group("FieldDataOffsets")?;
     let point_data = point_columns(&pd, &pdo, layout, fl)?;
     let (cell_data, static_cell_offsets) = cell_columns(&cd, &cdo, layout, fl)?;
     Ok(StepColumns {

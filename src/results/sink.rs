@@ -4,12 +4,12 @@
 #[cfg(feature = "hdf5")]
 use super::hdf5;
 use super::{vtk, wanted, FramePlan, FrameState, Layout, RunInfo, THETA_Z};
-use crate::analysis::Prepared;
+use crate::analysis::{Prepared, TransientPrepared};
 use crate::error::{Error, Result};
 use crate::math::gcd;
 use crate::model::{Case, Model};
 use crate::scene::OutputSpec;
-use crate::time::{Frame, FrameSink};
+use crate::time::{Frame, FrameSink, StepPlan};
 use std::path::Path;
 
 /// Displacements of the step before a frame (for the backward-difference velocities).
@@ -112,16 +112,62 @@ impl<'a> ResultsSink<'a> {
         staging: &Path,
         prefix: &str,
     ) -> Result<Self> {
-        let (case, plan) = (&prep.case, prep.plan);
-        let layout = Layout::new(model, case);
-        let state = FrameState::new(&layout, case);
         let info = RunInfo {
             scene_json: scene_json.to_string(),
-            speed_ratio: case.speed_ratio,
+            speed_ratio: prep.case.speed_ratio,
             omega: prep.omega,
-            plan,
+            plan: prep.plan,
             integrator: prep.settings.step.integrator.name(),
         };
+        let init_v = prep.settings.initial.v;
+        Self::build(model, &prep.case, info, init_v, output, staging, prefix)
+    }
+
+    /// The writers `output` asks for along the speed transient `prep` of `model`, or `None`
+    /// when it asks for no time series: as [`ResultsSink::new`], on the transient's case (at
+    /// its reference speed Ω_ref, the `speed_ratio`/`omega_rad_s` of the HDF5 attributes and
+    /// the `.pvd` comment) and its step plan. Every frame carries the spin state of its
+    /// instant (Ω, Ω/ω_n, φ, Ω̇: [`FrameState`]); `from_revolution`/`to_revolution` count
+    /// periods 2π/Ω_max of the profile's top speed (`steps_per_rev` steps of the plan).
+    ///
+    /// # Errors
+    /// As [`ResultsSink::new`].
+    pub fn for_transient(
+        model: &Model,
+        prep: &'a TransientPrepared,
+        output: &OutputSpec,
+        scene_json: &str,
+        staging: &Path,
+        prefix: &str,
+    ) -> Result<Option<Self>> {
+        if !wanted(output) {
+            return Ok(None);
+        }
+        let info = RunInfo {
+            scene_json: scene_json.to_string(),
+            speed_ratio: prep.case.speed_ratio,
+            omega: prep.case.omega,
+            plan: prep.plan,
+            integrator: prep.settings.step.integrator.name(),
+        };
+        let init_v = prep.settings.initial.v;
+        Self::build(model, &prep.case, info, init_v, output, staging, prefix).map(Some)
+    }
+
+    /// The writers of `output` on `case` and the plan of `info`; `init_v` is the station
+    /// node's initial velocity (the first frame's velocity).
+    fn build(
+        model: &Model,
+        case: &'a Case,
+        info: RunInfo,
+        init_v: [f64; 2],
+        output: &OutputSpec,
+        staging: &Path,
+        prefix: &str,
+    ) -> Result<Self> {
+        let plan: StepPlan = info.plan;
+        let layout = Layout::new(model, case);
+        let state = FrameState::new(&layout, case);
         // Refuse a run whose series cannot fit on the disk before it spends its time.
         let mut need_bytes = 0.0;
         let pts = layout.num_points() as f64;
@@ -183,7 +229,7 @@ impl<'a> ResultsSink<'a> {
             every,
             prev: None,
             need_velocity,
-            init_velocity: prep.settings.initial.v,
+            init_velocity: init_v,
             vtk,
             #[cfg(feature = "hdf5")]
             hdf5,
@@ -195,7 +241,8 @@ impl<'a> ResultsSink<'a> {
         &self.layout
     }
 
-    fn wants(&self, step: usize) -> bool {
+    /// True when a writer writes the frame of `step`.
+    fn writes(&self, step: usize) -> bool {
         let v = self.vtk.as_ref().is_some_and(|(p, _)| p.contains(step));
         #[cfg(feature = "hdf5")]
         let h = self.hdf5.as_ref().is_some_and(|(p, _)| p.contains(step));
@@ -280,9 +327,14 @@ impl FrameSink for ResultsSink<'_> {
         self.every
     }
 
+    /// A frame that is written, or the step before one when velocities are written.
+    fn wants(&self, step: usize) -> bool {
+        self.writes(step) || (self.need_velocity && self.writes(step + 1))
+    }
+
     fn frame(&mut self, frame: &Frame<'_>) -> Result<()> {
-        let now = self.wants(frame.step);
-        let before_next = self.need_velocity && self.wants(frame.step + 1);
+        let now = self.writes(frame.step);
+        let before_next = self.need_velocity && self.writes(frame.step + 1);
         if !now && !before_next {
             return Ok(());
         }

@@ -86,6 +86,7 @@ impl VtkSeries {
         frame_vtk(layout, st, fields)
             .write_xml(&mut xml)
             .map_err(|e| io_err(&path, e))?;
+        insert_field_data(&mut xml, st).map_err(|e| io_err(&path, e))?;
         std::fs::write(&path, &xml).map_err(|e| io_err(&path, e))?;
         writeln!(
             self.pvd,
@@ -117,6 +118,38 @@ impl VtkSeries {
         names.extend((0..self.frames).map(|i| format!("{}{}", self.prefix, frame_name(i))));
         Ok(names)
     }
+}
+
+/// Names of the frame's field data (one tuple each), the values of [`field_values`]:
+/// `TimeValue` the time t (s; the name VTK's readers take as a dataset's time), `omega` Ω
+/// (rad/s), `speed_ratio` Ω/ω_n, `phi` the spin angle φ (rad, φ(0) = 0), `omega_dot` Ω̇
+/// (rad/s²); see [`FrameState`].
+pub const FIELD_DATA: [&str; 5] = ["TimeValue", "omega", "speed_ratio", "phi", "omega_dot"];
+
+/// The values of [`FIELD_DATA`] at a frame.
+pub fn field_values(st: &FrameState) -> [f64; 5] {
+    [st.t, st.omega, st.speed_ratio, st.phi, st.omega_dot]
+}
+
+/// Inserts a `<FieldData>` block with [`field_values`] (ASCII, 17 significant digits) at the
+/// start of the `.vtu`'s `UnstructuredGrid` element, where VTK reads a dataset's field data
+/// (`vtkio` writes none).
+fn insert_field_data(xml: &mut Vec<u8>, st: &FrameState) -> std::result::Result<(), String> {
+    const TAG: &[u8] = b"<UnstructuredGrid>";
+    let at = xml
+        .windows(TAG.len())
+        .position(|w| w == TAG)
+        .ok_or("the serialised frame has no <UnstructuredGrid> element")?
+        + TAG.len();
+    let mut block = String::from("<FieldData>");
+    for (name, v) in FIELD_DATA.iter().zip(field_values(st)) {
+        block.push_str(&format!(
+            "<DataArray type=\"Float64\" Name=\"{name}\" NumberOfTuples=\"1\" format=\"ascii\">{v:.17e}</DataArray>"
+        ));
+    }
+    block.push_str("</FieldData>");
+    xml.splice(at..at, block.into_bytes());
+    Ok(())
 }
 
 fn flat3(v: &[[f64; 3]]) -> Vec<f64> {

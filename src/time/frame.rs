@@ -30,6 +30,9 @@ pub struct Frame<'a> {
     pub rotor_u: &'a [f64],
     /// Pairs in contact at this instant.
     pub pairs: &'a [PairForce],
+    /// Spin state at `t` of a run whose speed varies (φ, Ω, Ω̇ of the speed profile or of a
+    /// driven rotor's spin DOF); `None` at constant speed, where φ = Ω t.
+    pub spin: Option<crate::model::SpinState>,
     pub(crate) stators: &'a [StatorDyn],
 }
 
@@ -52,4 +55,10 @@ pub trait FrameSink {
     fn every(&self) -> usize;
     /// Consumes one frame; an error stops the run (reported with the frame's step and time).
     fn frame(&mut self, frame: &Frame<'_>) -> crate::error::Result<()>;
+    /// Whether the frame of `step` (a multiple of [`FrameSink::every`]) is used at all; when
+    /// false the loop builds no frame (massless stators rebuild no field). Default: true.
+    fn wants(&self, step: usize) -> bool {
+        let _ = step;
+        true
+    }
 }

@@ -741,7 +741,9 @@ impl<'a> Stepper<'a> {
     #[inline]
     fn emit(&mut self, sink: &mut Sink<'_>, n: usize, t: f64) -> Result<(), SolveError> {
         match sink.as_mut() {
-            Some(s) if s.every() > 0 && n % s.every() == 0 => self.emit_frame(&mut **s, n, t),
+            Some(s) if s.every() > 0 && n % s.every() == 0 && s.wants(n) => {
+                self.emit_frame(&mut **s, n, t)
+            }
             _ => Ok(()),
         }
     }
@@ -760,6 +762,7 @@ impl<'a> Stepper<'a> {
             t,
             rotor_u: full_displacement(self.case, &self.rotor.u, &mut self.ws.full_u),
             pairs: &self.ws.frame_pairs,
+            spin: self.spin.state(t),
             stators: &self.stators,
         })
         .map_err(|e| SolveError::FrameOutput {
