@@ -1,7 +1,10 @@
 //! A convergence study at one speed: each integrator (the two explicit ones, Newmark and
 //! generalised-α) at steps per revolution `spr·2^k` against a collocated reference at a finer
-//! level. A level an integrator refuses (above its stability limit, or an implicit step that
-//! does not resolve the contact frequency) is left out.
+//! level (generalised-α where that step is above the explicit stability limit). A level an
+//! integrator refuses (above its stability limit, an implicit step that does not resolve the
+//! contact frequency, Newmark with a stator with mass) or at which the run diverges is left
+//! out. With settings chosen from `run.tolerance` ([`crate::analysis::choose`]) the chosen
+//! point is measured against the same reference ([`convergence_with`]).
 
 use super::{analyse, extents_error, ExtentsScale, Keep, RunSettings, SpeedResults};
 use crate::error::{Error, Result};
@@ -45,7 +48,8 @@ pub struct ConvergenceResults {
     pub speed_ratio: f64,
     /// Reference Δt (s) and integrator.
     pub reference_dt: f64,
-    /// Reference integrator.
+    /// Reference integrator: collocated, or generalised-α (ρ∞ = the default) when the
+    /// reference step is above the explicit stability limit.
     pub reference_integrator: &'static str,
     /// Reference period.
     pub reference_period: usize,
@@ -53,6 +57,10 @@ pub struct ConvergenceResults {
     pub points: Vec<ConvergencePoint>,
     /// Observed orders (fitted log–log slope of orbit error against Δt) per integrator.
     pub orders: Vec<(&'static str, f64)>,
+    /// The point the error-target choice picks (`run.auto_step`: its integrator at its multiple
+    /// of the paper's rule, [`crate::analysis::StepChoice`]), measured like the others; `None`
+    /// when the study was not given one.
+    pub chosen: Option<ConvergencePoint>,
 }
 
 /// Runs each integrator at steps-per-revolution `spr·2^k` for `k in levels` and compares with a
@@ -64,6 +72,21 @@ pub fn convergence(
     levels: &[u32],
     ref_level: u32,
     compare_revs: usize,
+) -> Result<ConvergenceResults> {
+    convergence_with(model, s, speed_ratio, levels, ref_level, compare_revs, None)
+}
+
+/// [`convergence`], and the run of `chosen` (settings returned by
+/// [`crate::analysis::choose`]: integrator and `dt_scale` set, Δt from the paper's rule)
+/// measured against the same reference as [`ConvergenceResults::chosen`].
+pub fn convergence_with(
+    model: &Model,
+    s: &RunSettings,
+    speed_ratio: f64,
+    levels: &[u32],
+    ref_level: u32,
+    compare_revs: usize,
+    chosen: Option<&RunSettings>,
 ) -> Result<ConvergenceResults> {
     let omega = speed_ratio * model.rotor.natural_frequency();
     let case = model.case(omega)?;
@@ -78,7 +101,16 @@ pub fn convergence(
         let r = analyse(&case, &st, &plan, &rec, stats, Keep::default());
         Ok((r, rec))
     };
-    let (rref, recref) = run(Scheme::Collocated, ref_level)?;
+    // The reference: collocated, or generalised-α at the same step where that is above the
+    // explicit stability limit (a stiff stator with mass).
+    let rho = crate::scene::DEFAULT_RHO_INF;
+    let (ref_scheme, (rref, recref)) = match run(Scheme::Collocated, ref_level) {
+        Err(Error::Solve(crate::error::SolveError::StepTooLarge { .. })) => {
+            let g = Scheme::GeneralizedAlpha { rho_inf: rho };
+            (g, run(g, ref_level)?)
+        }
+        r => (Scheme::Collocated, r?),
+    };
     let nrec = recref.len();
     let cmp_from = nrec.saturating_sub(compare_revs * spr + 1);
     let ref_orbit: Vec<V2> = (cmp_from..nrec).map(|i| recref.observed[i]).collect();
@@ -88,6 +120,35 @@ pub fn convergence(
         .max(1e-300);
     let ref_lines = [rref.amp_1x_nd, rref.amp_half_nd, rref.amp_third_nd];
     let lmax = ref_lines.iter().fold(1e-300_f64, |m, v| m.max(*v));
+    // A run's point: orbit error over the compared revolutions (phase-locked sample by sample
+    // with the reference), extents and lines against the reference's.
+    let measure = |kind: Scheme, r: &SpeedResults, rec: &Record| -> ConvergencePoint {
+        let n = rec.len().min(nrec);
+        let from = n.saturating_sub(compare_revs * spr + 1);
+        let mut oerr = 0.0_f64;
+        for (k, i) in (from..n).enumerate() {
+            let a = rec.observed[i];
+            let b = ref_orbit[k.min(ref_orbit.len() - 1)];
+            oerr = oerr.max((a[0] - b[0]).hypot(a[1] - b[1]));
+        }
+        let lines = [r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd];
+        ConvergencePoint {
+            integrator: kind.name(),
+            dt: r.plan.dt,
+            dt_wn: r.plan.dt * model.rotor.natural_frequency(),
+            steps_per_rev: r.plan.steps_per_rev,
+            orbit_err: oerr / ref_size,
+            extents_err: extents_error(&r.extents_nd, &rref.extents_nd, ExtentsScale::Largest),
+            lines_err: [
+                (lines[0] - ref_lines[0]).abs() / lmax,
+                (lines[1] - ref_lines[1]).abs() / lmax,
+                (lines[2] - ref_lines[2]).abs() / lmax,
+            ],
+            period: r.period,
+            wall_s: r.stats.wall_s,
+            steps: r.stats.steps,
+        }
+    };
     let mut points = Vec::new();
     let mut orders = Vec::new();
     // Generalised-α at the scene's ρ∞ when it asks for it, else at the default.
@@ -108,49 +169,41 @@ pub fn convergence(
         for &l in levels {
             let (r, rec) = match run(kind, l) {
                 Ok(x) => x,
+                // A level above the scheme's limits, a scheme the scene refuses (Newmark with
+                // a stator with mass) or a run that diverges at that step is left out (the
+                // picture shows where each scheme works).
                 Err(Error::Solve(
                     crate::error::SolveError::StepTooLarge { .. }
-                    | crate::error::SolveError::StepTooCoarse { .. },
+                    | crate::error::SolveError::StepTooCoarse { .. }
+                    | crate::error::SolveError::Meaningless { .. }
+                    | crate::error::SolveError::Diverged { .. }
+                    | crate::error::SolveError::NonFinite { .. },
                 )) => continue,
                 Err(e) => return Err(e),
             };
-            let n = rec.len().min(nrec);
-            let from = n.saturating_sub(compare_revs * spr + 1);
-            let mut oerr = 0.0_f64;
-            for (k, i) in (from..n).enumerate() {
-                let a = rec.observed[i];
-                let b = ref_orbit[k.min(ref_orbit.len() - 1)];
-                oerr = oerr.max((a[0] - b[0]).hypot(a[1] - b[1]));
-            }
-            let lines = [r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd];
-            let ext_err = extents_error(&r.extents_nd, &rref.extents_nd, ExtentsScale::Largest);
-            points.push(ConvergencePoint {
-                integrator: kind.name(),
-                dt: r.plan.dt,
-                dt_wn: r.plan.dt * model.rotor.natural_frequency(),
-                steps_per_rev: r.plan.steps_per_rev,
-                orbit_err: oerr / ref_size,
-                extents_err: ext_err,
-                lines_err: [
-                    (lines[0] - ref_lines[0]).abs() / lmax,
-                    (lines[1] - ref_lines[1]).abs() / lmax,
-                    (lines[2] - ref_lines[2]).abs() / lmax,
-                ],
-                period: r.period,
-                wall_s: r.stats.wall_s,
-                steps: r.stats.steps,
-            });
+            let p = measure(kind, &r, &rec);
             dts.push(r.plan.dt);
-            errs.push(oerr / ref_size);
+            errs.push(p.orbit_err);
+            points.push(p);
         }
         orders.push((kind.name(), loglog_slope(&dts, &errs)));
     }
+    let chosen = match chosen {
+        Some(c) => {
+            let plan = plan_steps(&case, &c.step)?;
+            let (rec, stats) = integrate(&case, c.step.integrator, &plan, c.initial)?;
+            let r = analyse(&case, c, &plan, &rec, stats, Keep::default());
+            Some(measure(c.step.integrator, &r, &rec))
+        }
+        None => None,
+    };
     Ok(ConvergenceResults {
         speed_ratio,
         reference_dt: rref.plan.dt,
-        reference_integrator: Scheme::Collocated.name(),
+        reference_integrator: ref_scheme.name(),
         reference_period: rref.period,
         points,
         orders,
+        chosen,
     })
 }

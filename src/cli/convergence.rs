@@ -2,7 +2,11 @@
 
 use super::{default_out, finish, load, settings, Common, UnitArg};
 use anyhow::Result;
-use rubsim::analysis::{self, convergence::COMPARE_REVOLUTIONS, ConvergenceResults};
+use rubsim::analysis::{
+    self,
+    convergence::{convergence_with, COMPARE_REVOLUTIONS},
+    ConvergenceResults,
+};
 use rubsim::output::{csv, figures, summary};
 use std::path::PathBuf;
 
@@ -24,10 +28,27 @@ pub fn convergence(
         super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("convergence")))?;
     let mut s = settings(&ls);
     s.error_estimate = false;
+    // With `run.auto_step` (and no `run.dt`) the point the error-target choice picks at these
+    // speeds is run too and marked on the pictures.
+    let chosen = if ls.scene.run.auto_step {
+        let mut c = super::chosen_settings(&ls, &model, &speeds)?;
+        c.error_estimate = false;
+        c.choice.is_some().then_some(c)
+    } else {
+        None
+    };
     let lv: Vec<u32> = (0..=levels).collect();
     let mut all = Vec::new();
     for v in &speeds {
-        let res = analysis::convergence(&model, &s, *v, &lv, reference, COMPARE_REVOLUTIONS)?;
+        let res = convergence_with(
+            &model,
+            &s,
+            *v,
+            &lv,
+            reference,
+            COMPARE_REVOLUTIONS,
+            chosen.as_ref(),
+        )?;
         report(*v, &res);
         let prefix = format!("speed_{v}/");
         csv::write_convergence(&mut outd, &prefix, &res)?;
@@ -44,8 +65,8 @@ pub fn convergence(
 /// Prints the study at ω/ω_n = `v`: the reference, one line per point, the observed orders.
 fn report(v: f64, res: &ConvergenceResults) {
     println!(
-        "ω/ωn = {v}: reference collocated Δt = {:.3e} s, period {}",
-        res.reference_dt, res.reference_period
+        "ω/ωn = {v}: reference {} Δt = {:.3e} s, period {}",
+        res.reference_integrator, res.reference_dt, res.reference_period
     );
     println!(
         "  {:>18} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>6} {:>9}",
@@ -70,6 +91,18 @@ fn report(v: f64, res: &ConvergenceResults) {
             p.lines_err[0],
             p.lines_err[1].max(p.lines_err[2]),
             p.period,
+            p.wall_s
+        );
+    }
+    if let Some(p) = &res.chosen {
+        println!(
+            "  chosen by run.tolerance: {} at {} steps/rev: orbit err {:.2e}, ext err {:.2e}, 1× err {:.2e}, sub err {:.2e}, wall {:.4} s",
+            p.integrator,
+            p.steps_per_rev,
+            p.orbit_err,
+            p.extents_err,
+            p.lines_err[0],
+            p.lines_err[1].max(p.lines_err[2]),
             p.wall_s
         );
     }

@@ -97,9 +97,9 @@ pub fn write_sweep(out: &mut OutDir, prefix: &str, res: &SweepResults) -> Result
 pub fn write_convergence(out: &mut OutDir, prefix: &str, c: &ConvergenceResults) -> Result<()> {
     let csv = table(
         "speed_ratio,integrator,dt_s,dt_wn,steps_per_rev,orbit_err,extents_err,err_1x,err_half,err_third,period,wall_s,steps",
-        c.points.iter().map(|p| {
+        c.points.iter().map(|p| (p, "")).chain(c.chosen.iter().map(|p| (p, "chosen "))).map(|(p, tag)| {
             format!(
-                "{},{},{:.6e},{:.6e},{},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{},{:.6},{}",
+                "{},{tag}{},{:.6e},{:.6e},{},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{},{:.6},{}",
                 c.speed_ratio,
                 p.integrator,
                 p.dt,

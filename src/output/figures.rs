@@ -291,6 +291,7 @@ pub fn write_convergence(
     title: &str,
     c: &ConvergenceResults,
 ) -> Result<()> {
+    // One curve per integrator, and the point the error-target choice picked (a lone marker).
     let curves = |f: &dyn Fn(&ConvergencePoint) -> (f64, f64)| -> Vec<Curve> {
         c.orders
             .iter()
@@ -303,6 +304,13 @@ pub fn write_convergence(
                     .map(f)
                     .collect(),
             })
+            .chain(c.chosen.iter().map(|p| Curve {
+                label: format!(
+                    "chosen by run.tolerance: {}, {} steps/rev",
+                    p.integrator, p.steps_per_rev
+                ),
+                points: vec![f(p)],
+            }))
             .collect()
     };
     let p = out.stage(&format!("{prefix}work_precision.png"))?;
