@@ -266,8 +266,7 @@ fn unreachable_tolerance_is_refused_naming_the_key() {
 
 /// Issue 11, item 5: `rubsim convergence` with `run.auto_step` runs the point the error-target
 /// choice picks and marks it on the work-precision picture — here on a ring stator with mass,
-/// where generalised-α diverges at every level of the study and Newmark is refused (both left
-/// out, not an error). The chosen point is measured against the study's reference: its extents
+/// on which both implicit schemes are refused (left out, not an error). The chosen point is measured against the study's reference: its extents
 /// and 1× error are within `run.tolerance` (1e-3; measured 4.9e-4 and 5.3e-4), and it is finer
 /// than the explicit points of the study that miss it.
 #[test]
@@ -319,5 +318,26 @@ fn cli_convergence_marks_the_chosen_point() {
             common::cli::is_png(&out.join("speed_1.7").join(png)),
             "{png}"
         );
+    }
+}
+
+/// Both implicit schemes are refused on a ring with mass, naming the stator and the integrator:
+/// generalised-α ran to a non-periodic orbit of 0.92 |Z0| on this scene where both explicit
+/// schemes converge to the 1× whirl of 1.686 |Z0|.
+#[test]
+fn implicit_schemes_are_refused_on_a_ring_with_mass() {
+    let tmp = TempDir::new().unwrap();
+    let scene = common::repo("tests/data/scenes/ring.toml");
+    for integ in ["generalized_alpha", "newmark"] {
+        let err = fails(
+            tmp.path(),
+            &[
+                "run",
+                scene.to_str().unwrap(),
+                "--set",
+                &format!("run.integrator=\"{integ}\""),
+            ],
+        );
+        assert!(err.contains("stator.0") && err.contains(integ), "{err}");
     }
 }

@@ -218,6 +218,24 @@ fn import_ross_rotor_example_and_refusals() {
     for (g, w) in r.modes.iter().zip(ROSS_WD[2].1) {
         assert!((g.omega_d / w - 1.0).abs() < 1e-7, "{} vs {w}", g.omega_d);
     }
+    // The same rotor saved by ROSS 2.3.0 as JSON (`rotor_example().save("….json")`, with its
+    // `null`s) gives the same scene, table for table.
+    let json_path = repo("tests/data/ross/rotor_example.json");
+    let json = rubsim::scene::ross::import(&json_path, &common::read(&json_path)).unwrap();
+    let body = |s: &str| -> Vec<String> {
+        s.lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with("title"))
+            .map(String::from)
+            .collect()
+    };
+    assert_eq!(body(&json), body(&scene));
+    let bad = rubsim::scene::ross::import(&json_path, "{\"ShaftElement_0\": [1, 2")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        bad.contains("rotor_example.json") && bad.contains("JSON"),
+        "{bad}"
+    );
     // A tapered element is read (its right end's diameters), and Rayleigh factors on every
     // element come through as numbers.
     let tapered =

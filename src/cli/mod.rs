@@ -275,7 +275,7 @@ pub enum Cmd {
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// Read a rotor saved by ROSS (`Rotor.save`, TOML) and write the equivalent rubsim scene
+    /// Read a rotor saved by ROSS (`Rotor.save`, TOML or JSON) and write the equivalent rubsim scene
     /// (what rubsim cannot represent is refused by the element's name).
     ImportRoss {
         /// The ROSS file.

@@ -1,4 +1,4 @@
-//! A rotor saved by ROSS (`Rotor.save`, TOML; checked with ROSS 2.3.0) as a rubsim scene
+//! A rotor saved by ROSS (`Rotor.save`, TOML or JSON; checked with ROSS 2.3.0) as a rubsim scene
 //! (`rubsim import-ross FILE`).
 //!
 //! ROSS writes one table per element, named `"<Class>_<tag>"`: `ShaftElement_…` (`L`, `idl`,
@@ -51,18 +51,30 @@ use std::fmt::Write as _;
 use std::path::Path;
 use toml::{Table, Value};
 
-/// The rubsim scene (TOML text) of a ROSS rotor file's text `text` read from `path`.
+/// The rubsim scene (TOML text) of a ROSS rotor file's text `text` read from `path`: the TOML
+/// form of `Rotor.save`, or its JSON form (ROSS writes JSON when the file name ends in
+/// `.json`; rubsim takes a file whose text starts with `{` as JSON). JSON `null`s — ROSS's
+/// `None`, which its TOML form leaves out — are left out too.
 ///
 /// # Errors
-/// [`SceneError::Parse`] for a file that is not TOML; [`SceneError::Invalid`] naming the
+/// [`SceneError::Parse`] for a file that is neither; [`SceneError::Invalid`] naming the
 /// element table (and its line) for anything that cannot be represented or is missing.
 pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
-    let doc: Table = text
-        .parse()
-        .map_err(|e: toml::de::Error| SceneError::Parse {
-            file: path.to_path_buf(),
-            message: e.to_string(),
-        })?;
+    let parse_error = |message: String| SceneError::Parse {
+        file: path.to_path_buf(),
+        message,
+    };
+    let doc: Table = if text.trim_start().starts_with('{') {
+        let v: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| parse_error(format!("JSON: {e}")))?;
+        match json_to_toml(v) {
+            Some(Value::Table(t)) => t,
+            _ => return Err(parse_error("JSON: not an object of element tables".into())),
+        }
+    } else {
+        text.parse()
+            .map_err(|e: toml::de::Error| parse_error(e.to_string()))?
+    };
     let bad = |table: &str, message: String| SceneError::Invalid {
         file: path.to_path_buf(),
         key: table.to_string(),
@@ -70,7 +82,9 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
             .lines()
             .position(|l| {
                 let l = l.trim_start();
-                l.starts_with(&format!("[\"{table}\"")) || l.starts_with(&format!("[{table}]"))
+                l.starts_with(&format!("[\"{table}\""))
+                    || l.starts_with(&format!("[{table}]"))
+                    || l.starts_with(&format!("\"{table}\":"))
             })
             .map(|i| i + 1),
         message,
@@ -319,4 +333,24 @@ fn bearing(
         );
     }
     Ok(())
+}
+
+/// A JSON value as TOML, `null`s (in objects and arrays) left out; `None` for a bare `null`.
+fn json_to_toml(v: serde_json::Value) -> Option<Value> {
+    use serde_json::Value as J;
+    Some(match v {
+        J::Null => return None,
+        J::Bool(b) => Value::Boolean(b),
+        J::Number(n) => match n.as_i64() {
+            Some(i) => Value::Integer(i),
+            None => Value::Float(n.as_f64()?),
+        },
+        J::String(s) => Value::String(s),
+        J::Array(a) => Value::Array(a.into_iter().filter_map(json_to_toml).collect()),
+        J::Object(o) => Value::Table(
+            o.into_iter()
+                .filter_map(|(k, v)| json_to_toml(v).map(|v| (k, v)))
+                .collect(),
+        ),
+    })
 }

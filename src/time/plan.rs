@@ -472,7 +472,25 @@ fn advice(case: &Case, p: &StepParams, t_rev: f64, reason: &str) -> String {
 /// `½ pₙ gₙ₊₁` to the system (docs/IMPLICIT.md) — measured: the paper's rod with mass (four
 /// elements, steel) diverges at 3.1 ω_n at any step tried, where generalised-α (ρ∞ ≤ 0.8)
 /// equals the converged explicit run.
+///
+/// Refuses either implicit scheme with a ring stator with mass: on `tests/data/scenes/ring.toml`
+/// (1.7 ω_n) generalised-α diverged with the radial ring law and, with the exact ring
+/// kinematics, runs to an orbit of 0.92 |Z0| that is not periodic where both explicit schemes
+/// converge to the 1× whirl of 1.686 |Z0| — not understood yet, so not offered.
 fn check_undamped_implicit(case: &Case, scheme: Scheme) -> Result<(), SolveError> {
+    if !matches!(scheme, Scheme::Newmark | Scheme::GeneralizedAlpha { .. }) {
+        return Ok(());
+    }
+    if let Some(index) = case.stators.iter().position(|s| s.is_ring && !s.massless()) {
+        return Err(SolveError::Meaningless {
+            index,
+            name: case.stators[index].name.clone(),
+            message: format!(
+                "it is a ring with mass, and `run.integrator = \"{}\"`: the implicit schemes do not yet reproduce the explicit ones on a ring with mass (generalised-α runs to another, non-periodic orbit); use `run.integrator = \"collocated\"` or `\"forward_increment\"`",
+                scheme.name()
+            ),
+        });
+    }
     if scheme != Scheme::Newmark {
         return Ok(());
     }
