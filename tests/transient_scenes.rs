@@ -78,7 +78,7 @@ fn blade_off_against_the_meshed_diaphragm_writes_a_consistent_series() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
     let scene = repo("scenes/transients/blade_off_diaphragm.toml");
-    // 0.3 s: blade off at 0.1 s, drive off at 0.2 s; VTK frames every 2 300 steps (≈ 9 ms,
+    // 0.3 s at Δt = 4 µs: blade off at 0.1 s, drive off at 0.2 s; VTK frames every 2 300 steps (≈ 9 ms,
     // 25 recording intervals of 92 steps, so that every frame is a recorded sample), HDF5 at
     // every recorded sample.
     let stdout = ok(
@@ -88,6 +88,8 @@ fn blade_off_against_the_meshed_diaphragm_writes_a_consistent_series() {
             scene.to_str().unwrap(),
             "--out",
             out.to_str().unwrap(),
+            "--set",
+            "run.dt=4.0e-6",
             "--set",
             "run.speed_profile.duration=0.3",
             "--set",
