@@ -57,7 +57,10 @@ pub use speed::{
 };
 pub use stress::{StressProbe, StressResults, StressTrace};
 pub use sweep::{sweep, sweep_speeds, Sweep, SweepResults};
-pub use transient::{prepare_transient, OrderWindow, TransientPrepared, TransientResults};
+pub use transient::{
+    orbit_snapshots, prepare_transient, OrbitSnapshot, OrderWindow, TransientPrepared,
+    TransientResults, SNAPSHOT_REVOLUTIONS,
+};
 
 use crate::model::Model;
 use crate::scene::{Component, IntegratorKind, OutputSpec, RunSpec};

@@ -300,6 +300,86 @@ pub fn analyse_transient(
     })
 }
 
+/// Revolutions of the local speed in an orbit snapshot (`output.snapshot_speeds`).
+pub const SNAPSHOT_REVOLUTIONS: f64 = 2.0;
+
+/// The orbit of the analysed node around one passage of the speed history through a chosen
+/// speed (`output.snapshot_speeds`).
+#[derive(Debug, Clone, Serialize)]
+pub struct OrbitSnapshot {
+    /// The chosen speed, ω/ω_n.
+    pub target: f64,
+    /// Which passage through `target` this is, 1 for the first in time.
+    pub pass: usize,
+    /// `true` when Ω rises through `target` (run-up), `false` when it falls (coast-down).
+    pub up: bool,
+    /// Instant of the passage (s): Ω(t) = target·ω_n, interpolated linearly between the
+    /// recorded samples that bracket it.
+    pub t: f64,
+    /// The steady unbalance response |Z0| at `target` (m, major semi-axis at the analysed
+    /// node, without stator): the unit of the snapshot's picture.
+    pub z0: f64,
+    /// The recorded samples within ±[`SNAPSHOT_REVOLUTIONS`]/2 revolutions of `target`·ω_n
+    /// around `t` (clipped to the run): `[t (s), Ω/ω_n, x (m), y (m)]`.
+    #[serde(skip)]
+    pub samples: Vec<[f64; 4]>,
+}
+
+/// The orbit snapshots of `r` at the speeds `targets` (ω/ω_n): one per target and passage of
+/// the recorded speed history through it, in the order of `targets` and then of time, each
+/// [`SNAPSHOT_REVOLUTIONS`] revolutions long, 2π·[`SNAPSHOT_REVOLUTIONS`]/Ω_target, centred on
+/// the passage. A passage is a pair of consecutive samples with Ω_i < Ω_target ≤ Ω_{i+1}
+/// (up) or Ω_i > Ω_target ≥ Ω_{i+1} (down); a speed the run starts at and leaves is not
+/// passed. Returns the snapshots and the targets never passed.
+///
+/// # Errors
+/// [`ModelError`] when the steady response |Z0| cannot be computed at a target (a singular
+/// dynamic stiffness).
+pub fn orbit_snapshots(
+    p: &TransientPrepared,
+    r: &TransientResults,
+    targets: &[f64],
+) -> Result<(Vec<OrbitSnapshot>, Vec<f64>)> {
+    let wn = r.omega_n;
+    let mut snaps = Vec::new();
+    let mut missed = Vec::new();
+    for &target in targets {
+        let w = target * wn;
+        let half = SNAPSHOT_REVOLUTIONS * PI / w;
+        let z0 = p.rotor.z0(r.node, w)?;
+        let mut pass = 0;
+        for ab in r.spin.windows(2) {
+            let (a, b) = (ab[0], ab[1]);
+            let up = a[1] < w && w <= b[1];
+            if !(up || (a[1] > w && w >= b[1])) {
+                continue;
+            }
+            pass += 1;
+            let t = a[0] + (w - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+            let lo = r.spin.partition_point(|s| s[0] < t - half);
+            let hi = r.spin.partition_point(|s| s[0] <= t + half);
+            let samples = (lo..hi.max(lo))
+                .map(|k| {
+                    let u = r.response[k];
+                    [r.spin[k][0], r.spin[k][1] / wn, u[0], u[1]]
+                })
+                .collect();
+            snaps.push(OrbitSnapshot {
+                target,
+                pass,
+                up,
+                t,
+                z0,
+                samples,
+            });
+        }
+        if pass == 0 {
+            missed.push(target);
+        }
+    }
+    Ok((snaps, missed))
+}
+
 /// Ω, Ω̇, φ at `t`: the profile's, or a driven run's recorded spin (`[t, Ω, φ, Ω̇]` per
 /// sample) interpolated linearly.
 fn spin_at(p: &TransientPrepared, spin: &[[f64; 4]], t: f64) -> SpinState {

@@ -182,6 +182,25 @@ fn transient(
         }
     }
     transient_out::write_csv(&mut outd, &r)?;
+    let snapshots = &ls.scene.output.snapshot_speeds;
+    let (snaps, missed) = analysis::orbit_snapshots(&prep, &r, snapshots)?;
+    for v in &missed {
+        eprintln!(
+            "warning: {}: output.snapshot_speeds: the speed history never passes ω/ωn = {v} (it spans {:.3} … {:.3} ωn); no snapshot at that speed",
+            c.scene.display(),
+            r.spin.iter().map(|s| s[1]).fold(f64::INFINITY, f64::min) / r.omega_n,
+            r.spin.iter().map(|s| s[1]).fold(0.0, f64::max) / r.omega_n,
+        );
+    }
+    if !snapshots.is_empty() {
+        transient_out::write_snapshots(
+            &mut outd,
+            &ls.scene.title,
+            &snaps,
+            &prep.case,
+            ls.scene.output.png,
+        )?;
+    }
     let waterfall = analysis::whirl::full_waterfall(&r, prep.window_revolutions);
     whirl_out::write_waterfall(
         &mut outd,
@@ -197,6 +216,13 @@ fn transient(
     sum["transient"] = serde_json::to_value(&r)?;
     if let Some(st) = &stress {
         sum["stator_stress"] = serde_json::to_value(st)?;
+    }
+    if !snapshots.is_empty() {
+        sum["orbit_snapshots"] = serde_json::json!({
+            "revolutions": analysis::SNAPSHOT_REVOLUTIONS,
+            "snapshots": snaps,
+            "missed_speed_ratios": missed,
+        });
     }
     sum["full_waterfall"] = serde_json::json!({
         "windows": waterfall.len(),

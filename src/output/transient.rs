@@ -12,14 +12,20 @@
 //!   then `steady_1x_m, steady_1x_phase_rad`, the steady unbalance response at the same speed
 //!   (the run-up Bode's reference).
 //!
-//! PNG: `speed_history.png`, `bode.png` (tracked 1× amplitude and phase against speed beside
+//! * `orbit_snapshots.csv` (scenes with `output.snapshot_speeds`) — per recorded sample of
+//!   each snapshot: `speed_ratio_target, pass, direction, t_s, speed_ratio, x_m, y_m`
+//!   (`direction` is `up` or `down`; see [`crate::analysis::orbit_snapshots`]).
+//!
+//! PNG: `orbit_snapshots.png` (one orbit panel per speed and passage, in units of the steady
+//! |Z0| at that speed), `speed_history.png`, `bode.png` (tracked 1× amplitude and phase against speed beside
 //! the steady response), `orders.png`, `response.png` (the response's envelope against speed),
 //! `contact_force.png` (its peak against speed) and `friction_energy.png` (against time).
 
 use super::OutDir;
-use crate::analysis::TransientResults;
+use crate::analysis::{OrbitSnapshot, TransientResults, SNAPSHOT_REVOLUTIONS};
 use crate::error::Result;
-use crate::plot::{self, Curve};
+use crate::model::Case;
+use crate::plot::{self, Boundary, Curve, OrbitPanel};
 
 /// Writes the three CSV tables of a transient.
 pub fn write_csv(out: &mut OutDir, r: &TransientResults) -> Result<()> {
@@ -76,6 +82,72 @@ pub fn write_csv(out: &mut OutDir, r: &TransientResults) -> Result<()> {
         s.push_str(&format!(",{:.6e},{:.6}\n", w.steady_1x.0, w.steady_1x.1));
     }
     out.write("orders.csv", s.as_bytes())
+}
+
+/// Writes `orbit_snapshots.csv` and, with `png`, `orbit_snapshots.png` (see the module); the
+/// panels show the first stator's boundary at `case`'s clearance (the run's initial one).
+pub fn write_snapshots(
+    out: &mut OutDir,
+    title: &str,
+    snaps: &[OrbitSnapshot],
+    case: &Case,
+    png: bool,
+) -> Result<()> {
+    let mut s = String::from("speed_ratio_target,pass,direction,t_s,speed_ratio,x_m,y_m\n");
+    for sn in snaps {
+        let dir = if sn.up { "up" } else { "down" };
+        for v in &sn.samples {
+            s.push_str(&format!(
+                "{},{},{dir},{:.9e},{:.6},{:.6e},{:.6e}\n",
+                sn.target, sn.pass, v[0], v[1], v[2], v[3]
+            ));
+        }
+    }
+    out.write("orbit_snapshots.csv", s.as_bytes())?;
+    if !png {
+        return Ok(());
+    }
+    let panels: Vec<OrbitPanel> = snaps
+        .iter()
+        .map(|sn| {
+            let z = if sn.z0 > 0.0 { sn.z0 } else { 1.0 };
+            // `boundary` is in units of the case's |Z0(Ω_ref)|; the panel's unit is |Z0(Ω)|.
+            let k = if case.z0 > 0.0 { case.z0 / z } else { 1.0 / z };
+            let boundary = match super::figures::boundary(case) {
+                Boundary::Line {
+                    angle_deg,
+                    distance,
+                } => Boundary::Line {
+                    angle_deg,
+                    distance: distance * k,
+                },
+                Boundary::Circle { radius } => Boundary::Circle { radius: radius * k },
+                Boundary::None => Boundary::None,
+            };
+            OrbitPanel {
+                title: format!(
+                    "ω/ωn = {} {} (pass {}, t = {:.3} s)",
+                    sn.target,
+                    if sn.up { "↑" } else { "↓" },
+                    sn.pass,
+                    sn.t
+                ),
+                x: sn.samples.iter().map(|v| v[2] / z).collect(),
+                y: sn.samples.iter().map(|v| v[3] / z).collect(),
+                boundary,
+                poincare: Vec::new(),
+            }
+        })
+        .collect();
+    let p = out.stage("orbit_snapshots.png")?;
+    plot::orbit_grid(
+        &p,
+        &format!(
+            "{title} — orbit snapshots ({SNAPSHOT_REVOLUTIONS} revolutions; |Z0| at each speed)"
+        ),
+        &panels,
+        3,
+    )
 }
 
 /// A column name for order `o`: `1x`, `0.5x`, `0.3333x`, `2x`.

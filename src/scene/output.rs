@@ -16,6 +16,12 @@ pub struct OutputSpec {
     /// Speeds whose contact-force histories are plotted (Fig. 9).
     #[serde(default)]
     pub force_histories: Vec<f64>,
+    /// A speed transient (`[run.speed_profile]`) only: speeds ω/ω_n whose orbits are drawn at
+    /// every passage of the speed history through them (`orbit_snapshots.csv`, `.png`), over
+    /// two revolutions of that speed centred on the passage. Always in
+    /// ω/ω_n, whatever `run.speed_profile.unit`.
+    #[serde(default)]
+    pub snapshot_speeds: Vec<f64>,
     /// Response component analysed in spectra and cascades: `"y"` (vertical, default) or `"x"`.
     #[serde(default = "default_component")]
     pub component: String,
@@ -100,6 +106,7 @@ impl Default for OutputSpec {
             png: true,
             orbit_grids: Vec::new(),
             force_histories: Vec::new(),
+            snapshot_speeds: Vec::new(),
             component: default_component(),
             cascade_max_freq: None,
             node: None,

@@ -467,6 +467,15 @@ pub(super) fn validate_series(ls: &LoadedScene) -> Result<(), SceneError> {
     for x in &o.force_histories {
         positive(ls, "output.force_histories", *x)?;
     }
+    if !o.snapshot_speeds.is_empty() && ls.scene.run.speed_profile.is_none() {
+        return Err(ls.invalid(
+            "output.snapshot_speeds",
+            "applies to a speed transient only (a scene with `[run.speed_profile]`); use `output.orbit_grids` for the orbits of a sweep",
+        ));
+    }
+    for (i, x) in o.snapshot_speeds.iter().enumerate() {
+        positive(ls, &format!("output.snapshot_speeds.{i}"), *x)?;
+    }
     if let Some(f) = o.cascade_max_freq {
         positive(ls, "output.cascade_max_freq", f)?;
     }
