@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::cli::{command, fails, ok, text};
+use common::cli::{command, fails, ok, text, tree};
 use common::{read, repo};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -405,22 +405,13 @@ fn map_keys_and_values_are_checked_naming_the_key() {
     }
 }
 
-/// Every file below `dir`, relative, sorted.
+/// Every file below `dir` (relative paths), sorted: [`common::cli::tree`] without the folders.
 fn files(dir: &Path) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap().flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                out.push(p.strip_prefix(dir).unwrap().display().to_string());
-            }
-        }
-    }
-    out.sort();
-    out
+    tree(dir)
+        .into_iter()
+        .filter(|p| dir.join(p).is_file())
+        .map(|p| p.display().to_string())
+        .collect()
 }
 
 /// Issue 12, item 4: cases whose per-speed VTK series are asked for used to run again on every

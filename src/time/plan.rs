@@ -249,7 +249,7 @@ struct Chosen {
 /// the fastest spin of the run.
 fn choose_dt(case: &Case, p: &StepParams, omega: f64) -> Result<Chosen, SolveError> {
     check_stator_masses(case)?;
-    check_undamped_implicit(case, p.integrator)?;
+    check_implicit_stators(case, p.integrator)?;
     let m = case.rotor_mass;
     let kr = case.rotor_stiffness;
     // Contact frequency of the reference (Jeffcott-equivalent) system, √((k_r + k_s)/m_r):
@@ -477,7 +477,7 @@ fn advice(case: &Case, p: &StepParams, t_rev: f64, reason: &str) -> String {
 /// (1.7 ω_n) generalised-α diverged with the radial ring law and, with the exact ring
 /// kinematics, runs to an orbit of 0.92 |Z0| that is not periodic where both explicit schemes
 /// converge to the 1× whirl of 1.686 |Z0| — not understood yet, so not offered.
-fn check_undamped_implicit(case: &Case, scheme: Scheme) -> Result<(), SolveError> {
+fn check_implicit_stators(case: &Case, scheme: Scheme) -> Result<(), SolveError> {
     if !matches!(scheme, Scheme::Newmark | Scheme::GeneralizedAlpha { .. }) {
         return Ok(());
     }
