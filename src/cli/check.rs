@@ -71,8 +71,11 @@ fn print_stators(s: &Scene, case: &Case) {
     for (spec, m) in s.stators.iter().zip(&case.stators) {
         let kind = match spec {
             scene::StatorSpec::Rod(_) => "rod (2-D bar elements, lateral DOFs guided)",
+            scene::StatorSpec::Ring(r) if r.kinematics == "radial" => {
+                "rigid ring on isotropic springs (circle-in-circle contact; kinematics \"radial\": force along the rotor's radius, friction to ground)"
+            }
             scene::StatorSpec::Ring(_) => {
-                "rigid ring on isotropic springs (circle-in-circle contact)"
+                "rigid ring on isotropic springs (circle-in-circle contact; kinematics \"exact\": the normal follows the ring's whole displacement)"
             }
             scene::StatorSpec::Fe(_) => "general 2-D FE stator",
             scene::StatorSpec::Mesh(_) => "meshed stator (gmsh)",
@@ -299,47 +302,14 @@ fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
         left.push("PNG pictures");
     }
     println!("left out: {}", left.join("; "));
+    let stress = case.stators.iter().any(|m| !m.elements.is_empty());
+    println!("outputs: {}", listed_outputs(s, stress).join(", "));
     if s.run.speed_profile.is_some() {
-        println!(
-            "outputs: summary.json, speed_history.csv, response.csv, orders.csv{}",
-            if s.output.png {
-                ", speed_history.png, bode.png, bode_phase.png, orders.png, response.png, contact_force.png, friction_energy.png"
-            } else {
-                ""
-            }
-        );
-        if case.stators.iter().any(|m| !m.elements.is_empty()) {
-            println!(
-                "  stator stress against time and speed: stress_history.csv{}",
-                if s.output.png {
-                    ", stress_vs_speed.png, stress_history.png"
-                } else {
-                    ""
-                }
-            );
-        }
         for line in rubsim::results::describe(&s.output, plan, false) {
             println!("  {line} (frames carry Ω, Ω/ωn, φ, Ω̇)");
         }
         return;
     }
-    println!(
-        "outputs: summary.json{}{}",
-        if s.run.sweep.is_some() {
-            ", sweep.csv"
-        } else {
-            ""
-        },
-        if s.output.png {
-            if s.run.sweep.is_some() {
-                ", cascade.png, bifurcation.png, regime_map.png, orbits_N.png, contact_force.png"
-            } else {
-                ", orbit.png, spectrum.png, contact_force.png"
-            }
-        } else {
-            ""
-        }
-    );
     for line in rubsim::results::describe(&s.output, plan, s.run.sweep.is_some()) {
         println!("  {line}");
     }
@@ -386,4 +356,75 @@ fn print_reduction(case: &Case, red: &rubsim::model::ReducedRotor) {
         red.full_frequencies.last().copied().unwrap_or(0.0),
         red.frequency_error,
     );
+}
+
+/// The files `rubsim run` or `rubsim sweep` writes for this scene, as listed by `check`: at the
+/// top of the output directory, and for a sweep that varies a key, under each variant's folder
+/// `<key>_<value>/` (VTK/HDF5 series are listed apart, by `results::describe`). `stress`: some
+/// stator has elements (a transient then writes its stress history).
+pub(crate) fn listed_outputs(s: &Scene, stress: bool) -> Vec<String> {
+    let png = s.output.png;
+    let mut files: Vec<String> = vec!["summary.json".into()];
+    let mut add = |csv: &[&str], pngs: &[&str]| {
+        files.extend(csv.iter().map(|f| f.to_string()));
+        if png {
+            files.extend(pngs.iter().map(|f| f.to_string()));
+        }
+    };
+    if s.run.speed_profile.is_some() {
+        add(
+            &[
+                "speed_history.csv",
+                "response.csv",
+                "orders.csv",
+                "full_waterfall.csv",
+            ],
+            &[
+                "speed_history.png",
+                "bode.png",
+                "bode_phase.png",
+                "orders.png",
+                "response.png",
+                "contact_force.png",
+                "friction_energy.png",
+                "full_waterfall.png",
+            ],
+        );
+        if stress {
+            add(
+                &["stress_history.csv"],
+                &["stress_vs_speed.png", "stress_history.png"],
+            );
+        }
+        if !s.output.snapshot_speeds.is_empty() {
+            add(&["orbit_snapshots.csv"], &["orbit_snapshots.png"]);
+        }
+    } else if let Some(w) = &s.run.sweep {
+        files.push("cases/".into());
+        let mut per = vec!["sweep.csv".to_string(), "full_cascade.csv".to_string()];
+        if png {
+            per.extend(["cascade.png", "bifurcation.png", "regime_map.png"].map(String::from));
+            let grids = s.output.orbit_grids.len().max(1);
+            per.extend((1..=grids).map(|g| format!("orbits_{g}.png")));
+            if !s.output.force_histories.is_empty() {
+                per.push("contact_force.png".into());
+            }
+            per.push("full_cascade.png".into());
+        }
+        let variants = analysis::sweep::variants(w.vary.as_ref());
+        for v in &variants {
+            files.extend(per.iter().map(|f| format!("{}{f}", v.prefix)));
+        }
+    } else {
+        add(
+            &["full_spectrum.csv"],
+            &[
+                "orbit.png",
+                "spectrum.png",
+                "contact_force.png",
+                "full_spectrum.png",
+            ],
+        );
+    }
+    files
 }
