@@ -499,3 +499,60 @@ fn per_speed_series_are_kept_with_their_cases_and_not_recomputed_on_resume() {
     ok(tmp.path(), &sweep_args(&s, &out_s, &[]));
     assert!(!out.join("speed_0.6").exists() && !out.join("cases/series").exists());
 }
+
+/// Shards keep the per-speed series of their own cases; `rubsim merge` gathers them into the
+/// merged directory as a one-machine run writes them (byte for byte), and names a case whose
+/// series no shard keeps.
+#[test]
+fn merge_gathers_the_per_speed_series_of_the_shards() {
+    let tmp = tempfile::tempdir().unwrap();
+    let s = scene();
+    let series = [
+        "--set",
+        "output.vtk={ from_revolution = 119.5 }",
+        "--set",
+        "output.per_speed=[0.6, 1.5]",
+    ];
+    let one = tmp.path().join("one");
+    ok(
+        tmp.path(),
+        &sweep_args(&s, &one.display().to_string(), &series),
+    );
+    let dist = tmp.path().join("dist");
+    let d = dist.display().to_string();
+    for i in 1..=3 {
+        let shard = format!("{i}/3");
+        let mut extra = series.to_vec();
+        extra.extend_from_slice(&["--shard", &shard]);
+        ok(tmp.path(), &sweep_args(&s, &d, &extra));
+    }
+    ok(tmp.path(), &["merge", &d]);
+    for sp in ["speed_0.6", "speed_1.5"] {
+        let (a, b) = (files(&dist.join(sp)), files(&one.join(sp)));
+        assert!(a.iter().any(|f| f.ends_with(".vtu")), "{sp}: {a:?}");
+        assert_eq!(a, b, "{sp}");
+        for f in &a {
+            assert_eq!(
+                std::fs::read(dist.join(sp).join(f)).unwrap(),
+                std::fs::read(one.join(sp).join(f)).unwrap(),
+                "{sp}/{f}"
+            );
+        }
+    }
+    // A shard's kept series removed: the merge names the case instead of leaving it out.
+    let gone = tree(&dist)
+        .into_iter()
+        .map(|p| dist.join(p))
+        .find(|p| {
+            p.is_dir()
+                && p.parent().is_some_and(|q| q.ends_with("cases/series"))
+                && !p.file_name().unwrap().to_string_lossy().starts_with('.')
+        })
+        .expect("a kept series folder in a shard");
+    std::fs::remove_dir_all(&gone).unwrap();
+    let err = fails(tmp.path(), &["merge", &d]);
+    assert!(err.contains("asks for its time series"), "{err}");
+    assert!(err.contains("run its shard again"), "{err}");
+    // Nothing of the earlier merge is lost by the refused one.
+    assert!(dist.join("sweep.csv").is_file() && dist.join("speed_1.5").is_dir());
+}

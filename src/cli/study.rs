@@ -265,6 +265,47 @@ fn link_series(store: &CaseStore, id: &str, stamp: &str, outd: &mut OutDir) -> R
     Ok(())
 }
 
+/// For `rubsim merge`: links the per-speed time series of every case that asks for them
+/// (`output.per_speed`) from whichever store (shard) kept them into `outd`, so that the merged
+/// directory holds them as a one-machine run does; a case whose series no store keeps is an
+/// error naming the case and the stores searched.
+fn gather_series(
+    ls: &LoadedScene,
+    study: &Study,
+    stores: &[CaseStore],
+    outd: &mut OutDir,
+) -> Result<()> {
+    let series = series_wanted(ls, study)?;
+    let stamp = series_stamp(ls);
+    for case in sw::cases(&study.variants, &study.speeds) {
+        if !series.contains(&(case.variant, case.speed_ratio.to_bits())) {
+            continue;
+        }
+        let mut from = None;
+        for st in stores {
+            if st.series_files(&case.id, &stamp)?.is_some() {
+                from = Some(st);
+                break;
+            }
+        }
+        let Some(st) = from else {
+            bail!(
+                "case {} (ω/ωn = {}) asks for its time series (`output.per_speed`), but none of \
+                 the merged stores keeps them ({}); run its shard again",
+                case.id,
+                case.speed_ratio,
+                stores
+                    .iter()
+                    .map(|s| s.dir().display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        };
+        link_series(st, &case.id, &stamp, outd)?;
+    }
+    Ok(())
+}
+
 /// Runs `todo` in parallel, each case's record written to `store` when done, after the
 /// case's per-speed time series (when `series` asks for them) are kept in the store stamped
 /// `stamp`. Returns the number of cases run.
@@ -556,6 +597,8 @@ pub fn merge(dirs: &[PathBuf]) -> Result<()> {
     }
     let wn = first.model["omega_n_rad_s"].as_f64();
     let study = Study::of(&ls, wn, kind)?;
+    let mut outd = outd;
+    gather_series(&ls, &study, &stores, &mut outd)?;
     let refs: Vec<&CaseStore> = stores.iter().collect();
     let model_rec = first.model.clone();
     assemble(outd, &ls, &study, &refs, model_rec, t0)?;
