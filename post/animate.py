@@ -116,15 +116,24 @@ def color_field(grid):
 
 
 def stress_limits(frames, idx):
-    m = 0.0
+    """Colour range and map of the stator's `stress` over frames `idx`: signed stresses (bars'
+    axial stress) get a range symmetric about zero on a diverging map, so tension and
+    compression read apart; a field that is never negative (von Mises of meshed cells) gets
+    0 … max on a sequential map, so its whole colour range carries information."""
+    lo, hi = 0.0, 0.0
     for i in idx:
         g = frames[i]
         if "stress" in g.cell_data:
             s = np.asarray(g.cell_data["stress"])
             s = s[np.isfinite(s)]
             if len(s):
-                m = max(m, float(np.abs(s).max()))
-    return (-m, m) if m > 0 else None
+                lo, hi = min(lo, float(s.min())), max(hi, float(s.max()))
+    if hi <= 0 and lo >= 0:
+        return None
+    if lo < 0:
+        m = max(-lo, hi)
+        return ((-m, m), "coolwarm")
+    return ((0.0, hi), "viridis")
 
 
 def draw(pl, grid, scene, scale, clim, fscale, t, title):
@@ -139,7 +148,8 @@ def draw(pl, grid, scene, scale, clim, fscale, t, title):
     name, assoc = color_field(grid)
     if stator.n_cells:
         if assoc == "cell":
-            pl.add_mesh(stator, scalars="stress", clim=clim, cmap="coolwarm", line_width=3,
+            lim, cmap = clim if clim else (None, "viridis")
+            pl.add_mesh(stator, scalars="stress", clim=lim, cmap=cmap, line_width=3,
                         point_size=6, render_points_as_spheres=True, name="stator",
                         scalar_bar_args={"title": "stress (Pa)", "fmt": "%.2e"})
         else:

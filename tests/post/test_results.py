@@ -424,3 +424,19 @@ def test_orbit_cascade_at_any_node(torsion, tmp_path):
     assert 0 < row0[1] < 0.1 * row[1]
     with pytest.raises(SystemExit):
         orbit_cascade.main([path, "--node", "9", "--png", str(tmp_path / "bad.png")])
+
+
+def test_stress_colour_range_is_signed_only_for_signed_stress():
+    """Bars' axial stress (signed) gets a range symmetric about 0 on a diverging map; von Mises
+    (never negative) gets 0 … max on a sequential map; no stress, no range."""
+
+    def grid(values):
+        g = pv.UnstructuredGrid({pv.CellType.VERTEX: np.arange(len(values)).reshape(-1, 1)}, np.zeros((len(values), 3)))
+        g.cell_data["stress"] = np.asarray(values, dtype=float)
+        return g
+
+    signed = [grid([-3.0, 1.0]), grid([2.0, np.nan])]
+    assert animate.stress_limits(signed, [0, 1]) == ((-3.0, 3.0), "coolwarm")
+    mises = [grid([0.0, 5.0]), grid([7.0, 1.0])]
+    assert animate.stress_limits(mises, [0, 1]) == ((0.0, 7.0), "viridis")
+    assert animate.stress_limits([grid([0.0])], [0]) is None
