@@ -386,3 +386,50 @@ fn cross_coupled_bearing_stiffness_enters_the_modal_solve() {
         }
     }
 }
+
+/// ROSS 2.3.0's `CylindricalBearing` (short fluid-film bearing, strongly cross-coupled
+/// kxy ≠ kyx) saved by `Rotor.save` (`tests/data/ross/fluid_film.toml`: `rotor_example`'s shaft
+/// and disks on two of them, tabulated at 1 500, 2 000, 2 500 rpm) names its table's speeds
+/// `speed`, not `frequency`: the import refused it ("`kxx` has 3 values but `frequency` has
+/// 1"). Read now, it gives ROSS's damped frequencies at a table speed (ROSS's `run_modal(2000
+/// rpm)`, the first 12 modes; `tests/post/test_ross.py::test_fluid_film_bearings_match_ross`
+/// compares the whole modal solution against the live ROSS).
+#[test]
+fn import_ross_fluid_film_bearing_reads_its_speed_table() {
+    const ROSS_WD_2000_RPM: [f64; 12] = [
+        108.01783599254938,
+        111.39995539300251,
+        121.12479158803058,
+        122.48591319595454,
+        475.07327562643053,
+        482.587778260658,
+        774.3496781550652,
+        1470.4088776925003,
+        1727.8186281090932,
+        2161.8459912927883,
+        2432.804873145751,
+        4372.190306476039,
+    ];
+    let path = repo("tests/data/ross/fluid_film.toml");
+    let scene = rubsim::scene::ross::import(&path, &common::read(&path)).unwrap();
+    assert_eq!(scene.matches("[[rotor.bearing]]").count(), 2, "{scene}");
+    assert!(
+        scene.contains("speeds = [157.07963267948966, 209.43951023931953, 261.79938779914943]"),
+        "{scene}"
+    );
+    assert!(
+        scene.contains("a parabola through the three points"),
+        "{scene}"
+    );
+    let m = build(&common::parse(&scene, NO_SETS));
+    let r = rotordyn::modal(&m.rotor, 2000.0 * std::f64::consts::PI / 30.0, 40).unwrap();
+    for w in ROSS_WD_2000_RPM {
+        let g = r
+            .modes
+            .iter()
+            .map(|g| g.omega_d)
+            .min_by(|a, b| (a - w).abs().total_cmp(&(b - w).abs()))
+            .unwrap();
+        assert!((g / w - 1.0).abs() < 1e-7, "ω_d {g} against ROSS's {w}");
+    }
+}

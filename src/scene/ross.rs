@@ -5,7 +5,7 @@
 //! `odl`, `idr`, `odr`, `n`, `shear_effects`, `rotary_inertia`, `gyroscopic`, `alpha`, `beta`,
 //! and a `material` sub-table with `rho`, `E`, `G_s`), `DiskElement_…` (`n`, `m`, `Id`, `Ip`),
 //! `BearingElement_…` (`n`, coefficient lists `kxx … kzz`, `cxx … czz`, `mxx … mzz`, and
-//! `frequency` when they are tabulated), `PointMass_…` (`n`, `m` or `mx`, `my`). They map to
+//! `frequency` when they are tabulated; `CylindricalBearing` names it `speed`), `PointMass_…` (`n`, `m` or `mx`, `my`). They map to
 //! `[[rotor.shaft]]` segments of one element each (ν = E/(2G) − 1; a tapered element, `idl ≠ idr`
 //! or `odl ≠ odr`, with `outer_diameter_right`, `inner_diameter_right`), `[[rotor.disk]]` by
 //! inertias, `[[rotor.bearing]]` with `kxx … cyy` (tables over `speeds` when ROSS gives a
@@ -295,12 +295,24 @@ fn bearing(
         }
     }
     let node = num("n").map_err(|e| e.to_string())? as usize;
-    let freq = list("frequency").unwrap_or_default();
-    let tabulated = t.contains_key("frequency") && freq.len() > 1;
+    // `CylindricalBearing` saves the speeds of its table as `speed` (rad/s), the `frequency` it
+    // hands to `BearingElement`; every other class saves `frequency`.
+    let fkey = if !t.contains_key("frequency") && t.contains_key("speed") {
+        "speed"
+    } else {
+        "frequency"
+    };
+    let freq = list(fkey).unwrap_or_default();
+    let tabulated = t.contains_key(fkey) && freq.len() > 1;
     if tabulated {
+        let how = match freq.len() {
+            2 => "linearly, as rubsim does",
+            3 => "with a parabola through the three points, rubsim linearly",
+            _ => "with a cubic smoothing spline, rubsim linearly",
+        };
         let _ = writeln!(
             body,
-            "# ROSS \"{name}\": ROSS interpolates this table with a cubic smoothing spline, rubsim linearly;\n# they agree at `speeds` when the spline passes through the points, and between them when the\n# coefficients are linear in speed."
+            "# ROSS \"{name}\": ROSS interpolates this table {how};\n# they agree at `speeds` (for a spline: when it passes through the points), and between them when\n# the coefficients are linear in speed."
         );
     }
     let _ = writeln!(body, "[[rotor.bearing]]\nnode = {node}");
@@ -312,7 +324,7 @@ fn bearing(
             let _ = writeln!(body, "{k} = {:?}", v[0]);
         } else {
             return Err(format!(
-                "`{k}` has {} values but `frequency` has {}",
+                "`{k}` has {} values but `{fkey}` has {}",
                 v.len(),
                 freq.len()
             ));

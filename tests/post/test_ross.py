@@ -248,3 +248,40 @@ def test_seals_and_rolling_bearings_match_ross(tmp_path):
     print("sealed", worst)
     assert worst["wd"] < 1e-8 and worst["zeta"] < 1e-6 and worst["zeta_abs"] < 1e-9, worst
     assert worst["kappa"] < 1e-6, worst
+
+
+def fluid_film_rotor():
+    """`rotor_example`'s shaft and disks on two CylindricalBearing (ROSS's short-bearing
+    fluid film: coefficients from the Sommerfeld number at each speed, strongly cross-coupled,
+    kxy ≠ kyx) tabulated at 1 500, 2 000 and 2 500 rpm."""
+    r = rs.rotor_example()
+    Q_ = rs.Q_
+    common = dict(
+        speed=Q_([1500, 2000, 2500], "RPM"), weight=525, bearing_length=Q_(30, "mm"),
+        journal_diameter=Q_(100, "mm"), radial_clearance=Q_(0.1, "mm"), oil_viscosity=0.1,
+    )
+    b0 = rs.CylindricalBearing(n=0, tag="Film 0", **common)
+    b6 = rs.CylindricalBearing(n=6, tag="Film 6", **common)
+    return rs.Rotor(r.shaft_elements, r.disk_elements, [b0, b6])
+
+
+def test_fluid_film_bearings_match_ross(tmp_path):
+    """CylindricalBearing (saved by ROSS under its own class name with its coefficient tables)
+    read as a speed-tabulated bearing: ω_d, ζ, log dec and whirl at the table's speeds
+    (ROSS puts a parabola through its three points, rubsim straight lines: they meet at the
+    points). ROSS saves this class's table speeds as `speed`, not `frequency`: read wrongly
+    before, the import refused the file."""
+    rotor = fluid_film_rotor()
+    saved = tmp_path / "film.toml"
+    rotor.save(str(saved))
+    text = saved.read_text()
+    assert "CylindricalBearing" in text, text[:2000]
+    scene = imported(rotor, tmp_path, "film")
+    got = scene.read_text()
+    assert got.count("[[rotor.bearing]]") == 2, got
+    speeds = [s * math.pi / 30.0 for s in (1500.0, 2000.0, 2500.0)]
+    worst = compare_modes(rotor, scene, speeds)
+    print("fluid film", worst)
+    assert worst["modes"] >= 18, worst
+    assert worst["wd"] < 1e-8 and worst["zeta"] < 1e-6 and worst["zeta_abs"] < 1e-9, worst
+    assert worst["kappa"] < 1e-6, worst
