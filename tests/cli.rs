@@ -110,6 +110,35 @@ fn unknown_key_names_key_and_line() {
     }
 }
 
+/// An unknown key in a sub-table of a tagged table (`[[rotor.unbalance]]` under `[rotor]`)
+/// was reported at line 1 (`[rotor]`'s header, serde's span) with no line of its own; it names
+/// its whole dotted key and its own line now, from the file and from `--set`.
+#[test]
+fn unknown_key_in_a_sub_table_names_its_dotted_key_and_line() {
+    let tmp = TempDir::new().unwrap();
+    let p = variant(
+        tmp.path(),
+        "single.toml",
+        "unbalance.toml",
+        "radius = 0.05",
+        "radiuss = 0.05",
+    );
+    let line = line_of(&p, "radiuss");
+    let err = fails_everywhere(tmp.path(), &p, &[]);
+    assert!(
+        err.contains(&format!(
+            "unbalance.toml:{line}: key `rotor.unbalance.0.radiuss`"
+        )) && err.contains("unknown field `radiuss`"),
+        "{err}"
+    );
+    let s = data("single.toml");
+    let err = fails_everywhere(tmp.path(), &s, &["--set", "rotor.unbalance.0.magnitude=1"]);
+    assert!(
+        err.contains("key `rotor.unbalance.0.magnitude`") && err.contains("after --set"),
+        "{err}"
+    );
+}
+
 #[test]
 fn inadmissible_values_name_dotted_key_and_file_line() {
     let tmp = TempDir::new().unwrap();

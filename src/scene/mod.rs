@@ -155,10 +155,6 @@ fn tagged_error(
     message: &str,
     after: &str,
 ) -> Option<SceneError> {
-    if message.starts_with("unknown field") {
-        // `parse_error` names an unknown key and its line already.
-        return None;
-    }
     fn inner<T: serde::de::DeserializeOwned>(
         table: &toml::Table,
     ) -> Option<(Option<String>, String)> {
@@ -191,7 +187,11 @@ fn tagged_error(
             (_, "mesh") if at != "rotor" => inner::<MeshStatorSpec>(t),
             _ => None,
         }?;
-        (m == message).then(|| {
+        // An unknown key directly in the tagged table is named with its line by `parse_error`;
+        // one in a sub-table (`[[rotor.unbalance]]`, `[[rotor.shaft]]`) is not, so name its
+        // whole dotted key here.
+        let nested = key.as_ref().is_some_and(|k| k.contains('.'));
+        (m == message && (nested || !message.starts_with("unknown field"))).then(|| {
             let key = key.map(|k| format!("{at}.{k}")).unwrap_or(at);
             invalid_at(path, source, &key, format!("{m}{after}"))
         })
