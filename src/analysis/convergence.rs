@@ -3,18 +3,45 @@
 //! level (generalised-α where that step is above the explicit stability limit). A level an
 //! integrator refuses (above its stability limit, an implicit step that does not resolve the
 //! contact frequency, Newmark with a stator with mass) or at which the run diverges is left
-//! out. With settings chosen from `run.tolerance` ([`crate::analysis::choose`]) the chosen
-//! point is measured against the same reference ([`convergence_with`]).
+//! out. An FE rotor is run in its modal reduction too (`[run.reduction]` at its default
+//! cut-off, collocated and generalised-α: [`REDUCED_COLLOCATED`], [`REDUCED_GENERALIZED_ALPHA`])
+//! against the full model's reference. With settings chosen from `run.tolerance`
+//! ([`crate::analysis::choose`]) the chosen point is measured against the same reference
+//! ([`convergence_with`]).
 
 use super::{analyse, extents_error, ExtentsScale, Keep, RunSettings, SpeedResults};
 use crate::error::{Error, Result};
 use crate::math::{loglog_slope, V2};
-use crate::model::Model;
+use crate::model::{Case, Model, Rotor};
+use crate::resolve::ReductionInput;
 use crate::time::{integrate, plan_steps, Record, Scheme};
 use serde::Serialize;
 
 /// Revolutions at the end of the runs whose orbits `rubsim convergence` compares.
 pub const COMPARE_REVOLUTIONS: usize = 12;
+
+/// Label of the FE rotor's reduced model (`[run.reduction]` at its default cut-off) integrated
+/// by collocation in a convergence study.
+pub const REDUCED_COLLOCATED: &str = "reduced_collocated";
+
+/// Label of the FE rotor's reduced model integrated by generalised-α in a convergence study.
+pub const REDUCED_GENERALIZED_ALPHA: &str = "reduced_generalized_alpha";
+
+/// The case of an FE rotor reduced as `[run.reduction]` with its default cut-off
+/// (κ = [`crate::scene::DEFAULT_CUTOFF_FACTOR`], `run.harmonics` of `s`) would reduce it; `None`
+/// for a Jeffcott rotor, a model that is reduced already, or a rotor the reduction refuses
+/// (free axial or torsional DOFs: no static column).
+pub fn reduced_case(model: &Model, s: &RunSettings, case: &Case) -> Option<Case> {
+    if !matches!(model.rotor, Rotor::Fe(_)) || model.reduction.is_some() {
+        return None;
+    }
+    let input = ReductionInput {
+        cutoff: None,
+        cutoff_factor: crate::scene::DEFAULT_CUTOFF_FACTOR,
+        harmonics: s.step.harmonics,
+    };
+    case.clone().reduced_by(Some(&input)).ok()
+}
 
 /// One point of a convergence study.
 #[derive(Debug, Clone, Serialize)]
@@ -92,18 +119,22 @@ pub fn convergence_with(
     let case = model.case(omega)?;
     let spr = s.step.samples_per_rev;
     let t_rev = 2.0 * std::f64::consts::PI / omega;
-    let run = |kind: Scheme, level: u32| -> Result<(SpeedResults, Record)> {
+    let run_on = |case: &Case, kind: Scheme, level: u32| -> Result<(SpeedResults, Record)> {
         let mut st = *s;
         st.step.integrator = kind;
         st.step.dt = Some(t_rev / (spr as f64 * (1u64 << level) as f64) * (1.0 + 1e-12));
-        let plan = plan_steps(&case, &st.step)?;
-        let (rec, stats) = integrate(&case, kind, &plan, st.initial)?;
-        let r = analyse(&case, &st, &plan, &rec, stats, Keep::default());
+        let plan = plan_steps(case, &st.step)?;
+        let (rec, stats) = integrate(case, kind, &plan, st.initial)?;
+        let r = analyse(case, &st, &plan, &rec, stats, Keep::default());
         Ok((r, rec))
     };
+    let run = |kind: Scheme, level: u32| run_on(&case, kind, level);
     // The reference: collocated, or generalised-α at the same step where that is above the
     // explicit stability limit (a stiff stator with mass).
-    let rho = crate::scene::DEFAULT_RHO_INF;
+    let rho = match s.step.integrator {
+        Scheme::GeneralizedAlpha { rho_inf } => rho_inf,
+        _ => super::default_rho_inf(&case),
+    };
     let (ref_scheme, (rref, recref)) = match run(Scheme::Collocated, ref_level) {
         Err(Error::Solve(crate::error::SolveError::StepTooLarge { .. })) => {
             let g = Scheme::GeneralizedAlpha { rho_inf: rho };
@@ -122,7 +153,7 @@ pub fn convergence_with(
     let lmax = ref_lines.iter().fold(1e-300_f64, |m, v| m.max(*v));
     // A run's point: orbit error over the compared revolutions (phase-locked sample by sample
     // with the reference), extents and lines against the reference's.
-    let measure = |kind: Scheme, r: &SpeedResults, rec: &Record| -> ConvergencePoint {
+    let measure = |label: &'static str, r: &SpeedResults, rec: &Record| -> ConvergencePoint {
         let n = rec.len().min(nrec);
         let from = n.saturating_sub(compare_revs * spr + 1);
         let mut oerr = 0.0_f64;
@@ -133,7 +164,7 @@ pub fn convergence_with(
         }
         let lines = [r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd];
         ConvergencePoint {
-            integrator: kind.name(),
+            integrator: label,
             dt: r.plan.dt,
             dt_wn: r.plan.dt * model.rotor.natural_frequency(),
             steps_per_rev: r.plan.steps_per_rev,
@@ -154,20 +185,30 @@ pub fn convergence_with(
     // Generalised-α at the scene's ρ∞ when it asks for it, else at the default.
     let alpha = match s.step.integrator {
         g @ Scheme::GeneralizedAlpha { .. } => g,
-        _ => Scheme::GeneralizedAlpha {
-            rho_inf: crate::scene::DEFAULT_RHO_INF,
-        },
+        _ => Scheme::GeneralizedAlpha { rho_inf: rho },
     };
-    for kind in [
-        Scheme::ForwardIncrement,
-        Scheme::Collocated,
-        Scheme::Newmark,
-        alpha,
-    ] {
+    // The FE rotor in its modal reduction beside the full model (unless the scene reduces it
+    // already, when every run is reduced): explicit and implicit, against the same reference.
+    let reduced = reduced_case(model, s, &case);
+    let mut runs: Vec<(Scheme, &'static str, &Case)> = vec![
+        (
+            Scheme::ForwardIncrement,
+            Scheme::ForwardIncrement.name(),
+            &case,
+        ),
+        (Scheme::Collocated, Scheme::Collocated.name(), &case),
+        (Scheme::Newmark, Scheme::Newmark.name(), &case),
+        (alpha, alpha.name(), &case),
+    ];
+    if let Some(rc) = &reduced {
+        runs.push((Scheme::Collocated, REDUCED_COLLOCATED, rc));
+        runs.push((alpha, REDUCED_GENERALIZED_ALPHA, rc));
+    }
+    for (kind, label, on) in runs {
         let mut dts = Vec::new();
         let mut errs = Vec::new();
         for &l in levels {
-            let (r, rec) = match run(kind, l) {
+            let (r, rec) = match run_on(on, kind, l) {
                 Ok(x) => x,
                 // A level above the scheme's limits, a scheme the scene refuses (Newmark with
                 // a stator with mass) or a run that diverges at that step is left out (the
@@ -181,19 +222,19 @@ pub fn convergence_with(
                 )) => continue,
                 Err(e) => return Err(e),
             };
-            let p = measure(kind, &r, &rec);
+            let p = measure(label, &r, &rec);
             dts.push(r.plan.dt);
             errs.push(p.orbit_err);
             points.push(p);
         }
-        orders.push((kind.name(), loglog_slope(&dts, &errs)));
+        orders.push((label, loglog_slope(&dts, &errs)));
     }
     let chosen = match chosen {
         Some(c) => {
             let plan = plan_steps(&case, &c.step)?;
             let (rec, stats) = integrate(&case, c.step.integrator, &plan, c.initial)?;
             let r = analyse(&case, c, &plan, &rec, stats, Keep::default());
-            Some(measure(c.step.integrator, &r, &rec))
+            Some(measure(c.step.integrator.name(), &r, &rec))
         }
         None => None,
     };

@@ -47,7 +47,10 @@ pub mod transient;
 pub mod whirl;
 
 pub use autostep::{choose, StepChoice};
-pub use convergence::{convergence, ConvergencePoint, ConvergenceResults};
+pub use convergence::{
+    convergence, reduced_case, ConvergencePoint, ConvergenceResults, REDUCED_COLLOCATED,
+    REDUCED_GENERALIZED_ALPHA,
+};
 pub use regimes::{
     quasi_resonances, regime_class, regime_name, regime_ranges, RegimeRange, REGIME_CLASSES,
 };
@@ -119,6 +122,41 @@ impl RunSettings {
             choice: None,
         }
     }
+}
+
+impl RunSettings {
+    /// [`RunSettings::from_run`] of a whole scene: `generalized_alpha` without `run.rho_inf`
+    /// takes ρ∞ = [`crate::time::STATOR_WITH_MASS_RHO_INF`] when a stator has mass (the only ρ∞
+    /// that resolves its rigid contact with the rotor, [`default_rho_inf`]).
+    pub fn from_scene(scene: &crate::scene::Scene) -> Self {
+        let mut s = Self::from_run(&scene.run, &scene.output.component);
+        if scene.run.rho_inf.is_none() && scene.stators.iter().any(|st| st.has_mass()) {
+            if let Scheme::GeneralizedAlpha { rho_inf } = &mut s.step.integrator {
+                *rho_inf = crate::time::STATOR_WITH_MASS_RHO_INF;
+            }
+        }
+        s
+    }
+}
+
+/// ρ∞ of generalised-α for `case` when `run.rho_inf` is not given: 0
+/// ([`crate::time::STATOR_WITH_MASS_RHO_INF`]) with a stator with mass, whose closed contact
+/// with the rotor is a rigid constraint between two masses that only asymptotic annihilation
+/// resolves; else [`crate::scene::DEFAULT_RHO_INF`].
+pub fn default_rho_inf(case: &crate::model::Case) -> f64 {
+    if case.stators.iter().any(|s| !s.massless()) {
+        crate::time::STATOR_WITH_MASS_RHO_INF
+    } else {
+        crate::scene::DEFAULT_RHO_INF
+    }
+}
+
+/// True when `model` has a ring stator with mass.
+pub(crate) fn has_ring_with_mass(model: &Model) -> bool {
+    model
+        .stators
+        .iter()
+        .any(|s| matches!(s, crate::model::StatorPlan::Ring(r) if r.mass > 0.0))
 }
 
 /// The time loop's scheme for the scene's `run.integrator` (and `run.rho_inf` of

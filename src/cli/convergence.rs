@@ -69,7 +69,7 @@ fn report(v: f64, res: &ConvergenceResults) {
         res.reference_integrator, res.reference_dt, res.reference_period
     );
     println!(
-        "  {:>18} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>6} {:>9}",
+        "  {:>25} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10} {:>6} {:>9}",
         "integrator",
         "Δt·ωn",
         "steps/rev",
@@ -82,7 +82,7 @@ fn report(v: f64, res: &ConvergenceResults) {
     );
     for p in &res.points {
         println!(
-            "  {:>18} {:>10.3e} {:>8} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e} {:>6} {:>9.4}",
+            "  {:>25} {:>10.3e} {:>8} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e} {:>6} {:>9.4}",
             p.integrator,
             p.dt_wn,
             p.steps_per_rev,

@@ -332,7 +332,7 @@ pub fn default_out(scene: &Path) -> PathBuf {
 
 /// The run settings of a scene (`[run]`, analysed component from `[output]`).
 pub fn settings(ls: &LoadedScene) -> RunSettings {
-    RunSettings::from_run(&ls.scene.run, &ls.scene.output.component)
+    RunSettings::from_scene(&ls.scene)
 }
 
 /// The run settings of a scene whose runs are at `speeds` (ω/ω_n): [`settings`], with the

@@ -37,6 +37,25 @@ impl StatorSpec {
             StatorSpec::Mesh(s) => (s.contact_damping, &s.contact_damping_mode),
         }
     }
+    /// True when the scene gives the stator mass (a ring's `mass`, a density, a point mass);
+    /// the model decides in the end ([`crate::model::StatorModel::massless`]).
+    pub fn has_mass(&self) -> bool {
+        match self {
+            StatorSpec::Rod(s) => s.density > 0.0,
+            StatorSpec::Ring(s) => s.mass > 0.0,
+            StatorSpec::Fe(s) => {
+                !s.point_masses.is_empty()
+                    || s.elements
+                        .iter()
+                        .any(|e| matches!(e, FeElementSpec::Bar { density, .. } if *density > 0.0))
+            }
+            StatorSpec::Mesh(s) => {
+                s.density > 0.0
+                    || s.regions.iter().any(|r| r.density.is_some_and(|d| d > 0.0))
+                    || s.frames.iter().any(|f| f.density > 0.0)
+            }
+        }
+    }
     /// The station it faces.
     pub fn station(&self) -> &str {
         match self {

@@ -78,7 +78,7 @@ pub fn file_model(path: &Path, sets: &[impl AsRef<str>]) -> (LoadedScene, Model)
 
 /// Run settings of a scene's `[run]` and `output.component`.
 pub fn settings(ls: &LoadedScene) -> RunSettings {
-    RunSettings::from_run(&ls.scene.run, &ls.scene.output.component)
+    RunSettings::from_scene(&ls.scene)
 }
 
 /// One speed ω/ω_n = `nu` of a scene text with overrides, through the analysis layer (nothing
