@@ -13,6 +13,15 @@ pub fn dot(a: V2, b: V2) -> f64 {
     a[0] * b[0] + a[1] * b[1]
 }
 
+/// `(sin x, cos x)`, both from one call of the C library's `sincos` where the compiler
+/// fuses them (the same values as `sin` and `cos` apart: the two share their argument
+/// reduction, which is then done once). Kept out of line so that both results are used in one
+/// block, which is what the fusion needs.
+#[inline(never)]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    x.sin_cos()
+}
+
 /// Euclidean norm of a plane vector.
 #[inline]
 pub fn norm(a: V2) -> f64 {

@@ -96,6 +96,14 @@ impl BroadPhase {
             .sum()
     }
 
+    /// Every indexed candidate, in no particular order.
+    pub fn candidates(&self) -> impl Iterator<Item = usize> + '_ {
+        self.groups
+            .iter()
+            .flat_map(|g| &g.bins)
+            .flat_map(|b| b.cand.iter().copied())
+    }
+
     /// True when nothing is indexed.
     pub fn is_empty(&self) -> bool {
         self.len() == 0

@@ -102,9 +102,9 @@ impl RotorBody {
     pub fn add_unbalance(&self, omega: f64, t: f64, f: &mut [f64]) {
         let w2 = omega * omega;
         for u in &self.unbalance {
-            let a = omega * t + u.phase;
-            f[u.dofs[0]] += u.me * w2 * a.cos();
-            f[u.dofs[1]] += u.me * w2 * a.sin();
+            let (s, c) = crate::math::sin_cos(omega * t + u.phase);
+            f[u.dofs[0]] += u.me * w2 * c;
+            f[u.dofs[1]] += u.me * w2 * s;
         }
     }
 

@@ -152,7 +152,23 @@ impl DynBody {
 
     /// `u_next = M̃⁻¹ (rhs + A u + B u_prev)`; `rhs` holds the external force on entry (at
     /// tₙ; implicit: at tₙ₊₁, and `u_next = S⁻¹(rhs + known part)`, [`Implicit::load_rhs`]).
+    #[allow(clippy::needless_range_loop)] // the diagonal kernel indexes six slices of one length
     pub(crate) fn predict(&mut self) {
+        if let (Ops::Central(ab), MInv::Diag(inv)) = (&self.ops, &self.minv) {
+            if let Some((a, b)) = ab.diagonal() {
+                // Diagonal M̃, A and B (a Jeffcott rotor, a lumped stator): one pass, the same
+                // sums as `PairCsr::mul_add` and the diagonal solve below.
+                let n = self.n;
+                let (u, up, inv) = (&self.u[..n], &self.u_prev[..n], &inv[..n]);
+                let (rhs, next) = (&mut self.rhs[..n], &mut self.u_next[..n]);
+                let (a, b) = (&a[..n], &b[..n]);
+                for i in 0..n {
+                    rhs[i] += 0.0 + (a[i] * u[i] + b[i] * up[i]);
+                    next[i] = inv[i] * rhs[i];
+                }
+                return;
+            }
+        }
         match &mut self.ops {
             Ops::Central(ab) => {
                 ab.mul_add(&self.u, &self.u_prev, &mut self.rhs);

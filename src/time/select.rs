@@ -24,6 +24,26 @@ pub(crate) struct Phase {
     pub(crate) keep: Vec<bool>,
     /// Gaps with the stators' current displacement (`false`: undeformed).
     pub(crate) deformed: bool,
+    /// The phase's candidates, sorted, when it visits them without the index
+    /// ([`Pairs::direct`]): the same set whatever the margin, so [`Pairs::select`] computes
+    /// their geometry once. `None`: gathered through the index at each margin.
+    pub(crate) direct: Option<Vec<usize>>,
+}
+
+/// Phases whose index would hold at most this many node targets visit every candidate
+/// directly: a query (its reach, its bins, a sort) costs more than the few exact gaps.
+const DIRECT: usize = 4;
+
+/// Squared-distance screen of a node target (no square root): false only when the pair's
+/// gap `g = |d| − r + Δ` is certainly at least `margin` — `|d|` beyond the reach
+/// `r − Δ + margin` by more than a band of 1e-9 (r + |Δ| + margin), many orders above the
+/// round-off of the gap (≈ 1e-16 of those terms) — so a pair it rejects could not have entered
+/// the problem. A non-positive reach always passes.
+#[inline]
+fn may_reach(d: V2, r: f64, offset: f64, margin: f64) -> bool {
+    let reach = r - offset + margin;
+    let band = 1e-9 * (r + offset.abs() + margin);
+    reach <= 0.0 || d[0] * d[0] + d[1] * d[1] <= (reach + band) * (reach + band)
 }
 
 /// The candidate pairs of a run and the index that finds the ones near the rotor.
@@ -106,6 +126,27 @@ impl Pairs {
         self.cands.len()
     }
 
+    /// The candidates a phase visits directly (sorted): every candidate it can see, when its
+    /// index holds at most [`DIRECT`] node targets (or it does not use the index); `None`
+    /// when it needs the index. `use_index` and `keep` as in [`Phase`].
+    pub(crate) fn direct(&self, use_index: bool, keep: &[bool]) -> Option<Vec<usize>> {
+        if use_index && self.broad.len() > DIRECT {
+            return None;
+        }
+        let mut list: Vec<usize> = self
+            .dynamic
+            .iter()
+            .copied()
+            .filter(|&ci| keep[self.cands[ci].stator])
+            .collect();
+        if use_index {
+            list.extend(self.broad.candidates());
+        }
+        list.sort_unstable();
+        list.dedup();
+        Some(list)
+    }
+
     /// Section centre `[x, y]` of a candidate's station with the rotor at `u`.
     #[inline]
     pub(crate) fn centre(&self, ci: usize, u: &[f64]) -> V2 {
@@ -162,6 +203,9 @@ impl Pairs {
     ) -> bool {
         let disp = |k: usize| phase.deformed.then(|| stators[k].disp());
         ws.sel.clear();
+        if let Some(list) = &phase.direct {
+            return self.select_direct(case, ws, u, stators, phase.deformed, list);
+        }
         let mut deepest = 0.0_f64;
         self.gather(ws, u, 0.0, phase);
         for &ci in &ws.near {
@@ -180,6 +224,82 @@ impl Pairs {
             }
         }
         true
+    }
+
+    /// [`Pairs::select`] over a fixed list of candidates: the same pairs and geometry as the
+    /// index would give (the index returns a superset of the pairs within reach, and the pairs
+    /// it leaves out have `g ≥` the margin), each pair's geometry computed once a step, and a
+    /// node target the squared-distance screen ([`may_reach`]) puts beyond the margin skipped.
+    fn select_direct(
+        &self,
+        case: &Case,
+        ws: &mut StepWorkspace,
+        u: &[f64],
+        stators: &[StatorDyn],
+        deformed: bool,
+        list: &[usize],
+    ) -> bool {
+        let disp = |k: usize| deformed.then(|| stators[k].disp());
+        // Bit i: the pair `list[i]` has its geometry in `ws.states` (lists hold at most
+        // DIRECT indexed targets, plus the dynamic ones, which are never screened).
+        let mut fresh = 0u128;
+        let mut deepest = 0.0_f64;
+        for (i, &ci) in list.iter().enumerate() {
+            let screen = i < 128;
+            if let Some(st) = self.pair_near(case, ci, u, disp(self.cands[ci].stator), 0.0, screen)
+            {
+                ws.states[ci] = st;
+                deepest = deepest.max(-st.g);
+                if screen {
+                    fresh |= 1 << i;
+                }
+            }
+        }
+        if deepest <= 0.0 {
+            return false;
+        }
+        for (i, &ci) in list.iter().enumerate() {
+            let screen = i < 128;
+            if !screen || fresh & (1 << i) == 0 {
+                let stator_u = disp(self.cands[ci].stator);
+                match self.pair_near(case, ci, u, stator_u, deepest, screen) {
+                    Some(st) => ws.states[ci] = st,
+                    None => continue,
+                }
+            }
+            if ws.states[ci].g < deepest {
+                ws.sel.push(ci);
+            }
+        }
+        true
+    }
+
+    /// [`Pairs::pair_at`] of candidate `ci`, or `None` when `screen` and the pair's gap is
+    /// certainly at least `margin` (m): a node target beyond [`may_reach`] (rings are never
+    /// screened out).
+    #[inline]
+    fn pair_near(
+        &self,
+        case: &Case,
+        ci: usize,
+        u: &[f64],
+        stator_u: Option<&[f64]>,
+        margin: f64,
+        screen: bool,
+    ) -> Option<PairState> {
+        let c = &self.cands[ci];
+        let tg = &case.stators[c.stator].targets[c.target];
+        let us = stator_u.map_or([0.0; 2], |s| target_disp(tg.dofs(), s));
+        let uc = self.centre(ci, u);
+        if let (true, Target::Node { x0, .. }) = (screen, tg) {
+            let d = [x0[0] + us[0] - uc[0], x0[1] + us[1] - uc[1]];
+            if !may_reach(d, c.radius, self.offset[c.stator], margin) {
+                return None;
+            }
+        }
+        let mut st = pair_state(tg, c.radius, uc, us, self.omega);
+        st.g += self.offset[c.stator];
+        Some(st)
     }
 
     /// Smallest exact gap (no frozen normal) of the selected pairs after their correction,

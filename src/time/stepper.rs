@@ -4,9 +4,9 @@
 use super::body::{DynBody, Ops, StatorDyn};
 use super::compliance::Compliance;
 use super::drive::{add_event_unbalance, set_clearance, Spin, SpinDof};
-use super::frame::{Frame, FrameSink};
+use super::frame::FrameSink;
 use super::guard::{divergence_bounds, dof_name};
-use super::loop_rotor::{add_unbalance, full_displacement, full_len, rotor_contact_dofs};
+use super::loop_rotor::{add_unbalance, full_len, rotor_contact_dofs};
 use super::plan::{Scheme, StepPlan};
 use super::record::{ContactStats, Record, Recorder, RunStats};
 use super::select::{Pairs, Phase};
@@ -17,6 +17,8 @@ use crate::linalg::Cholesky;
 use crate::math::V2;
 use crate::model::{Case, Drive, Events, SpeedProfile};
 use std::time::Instant;
+
+mod instants;
 
 /// Initial state of the rotor, on station 0's node (node 0 without stations).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -85,6 +87,9 @@ pub struct Stepper<'a> {
     boundary: usize,
     /// Whether the initial instant has been handled (forward increment: recorded at t = 0).
     started: bool,
+    /// The next instant to record, a multiple of `plan.record_every` (a counter instead of a
+    /// division each step).
+    next_record: usize,
     /// Index of the next step.
     n: usize,
 }
@@ -209,14 +214,17 @@ impl<'a> Stepper<'a> {
         let pairs = Pairs::new(case);
         let massless: Vec<bool> = case.stators.iter().map(|s| s.massless()).collect();
         let collocated = scheme.collocated();
+        let increment_keep: Vec<bool> = massless.iter().map(|m| !(collocated && *m)).collect();
         let static_phase = Phase {
             use_index: true,
-            keep: massless.clone(),
+            direct: pairs.direct(true, &massless),
+            keep: massless,
             deformed: false,
         };
         let increment_phase = Phase {
             use_index: !collocated,
-            keep: massless.iter().map(|m| !(collocated && *m)).collect(),
+            direct: pairs.direct(!collocated, &increment_keep),
+            keep: increment_keep,
             deformed: true,
         };
         let node0 = case.stations.first().map_or(0, |s| s.node);
@@ -256,6 +264,12 @@ impl<'a> Stepper<'a> {
             segments: Vec::with_capacity(plan.steps / plan.steps_per_rev.max(1) + 2),
             boundary: 0,
             started: false,
+            // Forward increment records t = 0 when it starts, then every `record_every` steps.
+            next_record: if scheme.collocated() {
+                0
+            } else {
+                plan.record_every
+            },
             n: 0,
         };
         if let Spin::Driven(_) = st.spin {
@@ -464,7 +478,7 @@ impl<'a> Stepper<'a> {
         self.advance();
         if !self.scheme.collocated() {
             self.observe(n + 1, ForceSet::Main, self.active);
-            if (n + 1) % self.plan.record_every == 0 {
+            if self.record_due(n + 1) {
                 self.record(t + dt, ForceSet::Main, self.active);
             }
             self.emit(sink, n + 1, t + dt)?;
@@ -513,29 +527,6 @@ impl<'a> Stepper<'a> {
             self.instant_gap,
         );
         Ok(())
-    }
-
-    /// Collocated scheme: records tₙ with the static forces plus the forces of the stators
-    /// with mass from the step that ended at tₙ, and hands the frame to the sink.
-    fn record_collocated(
-        &mut self,
-        sink: &mut Sink<'_>,
-        n: usize,
-        t: f64,
-    ) -> Result<(), SolveError> {
-        let ws = &mut self.ws;
-        ws.recorded.set_sum(&ws.main, &ws.with_mass);
-        for pf in &ws.with_mass_pairs {
-            if ws.frame_pairs.len() < ws.frame_pairs.capacity() {
-                ws.frame_pairs.push(*pf);
-            }
-        }
-        let active = self.active + ws.with_mass_active;
-        self.observe(n, ForceSet::WithMass, active);
-        if n % self.plan.record_every == 0 {
-            self.record(t, ForceSet::WithMass, active);
-        }
-        self.emit(sink, n, t)
     }
 
     /// Collocated scheme: the static contact forces load the rotor's prediction; the stators
@@ -684,91 +675,5 @@ impl<'a> Stepper<'a> {
             }
         }
         self.stats.steps += 1;
-    }
-
-    /// Records a sample at time `t`: the rotor's current state and the station
-    /// forces (`Main`, or the collocated scheme's sum with the stators with mass).
-    #[inline]
-    fn record(&mut self, t: f64, forces: ForceSet, active: usize) {
-        let f = self.ws.instant_forces(forces);
-        self.recorder
-            .sample(t, &self.rotor.u, &f.total, &f.normal, self.energy, active);
-        if let Spin::Driven(d) = &self.spin {
-            let c = d.cur;
-            let td = d.drive_torque(t);
-            let rec = &mut self.recorder.rec;
-            rec.spin.push([c.phi, c.omega, c.omega_dot, td, d.friction]);
-        }
-    }
-
-    /// Counts instant tₖ, `k` = `n`, in the contact statistics (the whole run and, for
-    /// `plan.steady_from ≤ k < plan.steps`, the analysed steady window): the station forces
-    /// of `forces` (what [`Stepper::record`] would record at tₖ), the pairs carrying force and
-    /// the smallest gap solved for tₖ, which it resets.
-    #[inline]
-    fn observe(&mut self, n: usize, forces: ForceSet, active: usize) {
-        if n == self.boundary {
-            self.close_window(n);
-        }
-        let f = self.ws.instant_forces(forces);
-        let force = f.total.first().copied().unwrap_or_default();
-        let gap = self.instant_gap;
-        self.instant_gap = f64::INFINITY;
-        self.stats.min_gap = self.stats.min_gap.min(gap);
-        self.segment.observe(n, self.plan.dt, force, active, gap);
-    }
-
-    /// The instant that closes the segment opened at instant `from`: the next whole revolution
-    /// of the plan, or the plan's end when it comes first.
-    fn next_boundary(&self, from: usize) -> usize {
-        let spr = self.plan.steps_per_rev.max(1);
-        if from >= self.plan.steps {
-            return usize::MAX;
-        }
-        ((from / spr + 1) * spr).min(self.plan.steps)
-    }
-
-    /// Closes the open segment of contact statistics at instant `n` and opens the next.
-    #[cold]
-    fn close_window(&mut self, n: usize) {
-        let done = std::mem::replace(&mut self.segment, ContactStats::starting_at(n));
-        // Sized for the plan up front (and by `extend`): no allocation in the loop.
-        self.segments.push(done);
-        self.boundary = self.next_boundary(n);
-    }
-
-    /// Hands the state at step `n` to the sink when its interval asks for it.
-    #[inline]
-    fn emit(&mut self, sink: &mut Sink<'_>, n: usize, t: f64) -> Result<(), SolveError> {
-        match sink.as_mut() {
-            Some(s) if s.every() > 0 && n % s.every() == 0 && s.wants(n) => {
-                self.emit_frame(&mut **s, n, t)
-            }
-            _ => Ok(()),
-        }
-    }
-
-    /// Builds the frame of step `n` (massless stators, which keep only their contact DOFs
-    /// current, rebuild their field first) and hands it to `sink`.
-    #[cold]
-    fn emit_frame(&mut self, sink: &mut dyn FrameSink, n: usize, t: f64) -> Result<(), SolveError> {
-        for st in self.stators.iter_mut() {
-            if let StatorDyn::Massless(c) = st {
-                c.refresh();
-            }
-        }
-        sink.frame(&Frame {
-            step: n,
-            t,
-            rotor_u: full_displacement(self.case, &self.rotor.u, &mut self.ws.full_u),
-            pairs: &self.ws.frame_pairs,
-            spin: self.spin.state(t),
-            stators: &self.stators,
-        })
-        .map_err(|e| SolveError::FrameOutput {
-            step: n,
-            time: t,
-            source: Box::new(e),
-        })
     }
 }

@@ -35,8 +35,10 @@ impl StationForces {
     /// `self = a + b`, component by component.
     #[inline]
     pub(crate) fn set_sum(&mut self, a: &StationForces, b: &StationForces) {
-        let pairs = self.total.iter_mut().zip(a.total.iter().zip(&b.total));
-        for (o, (x, y)) in pairs.chain(self.normal.iter_mut().zip(a.normal.iter().zip(&b.normal))) {
+        for (o, (x, y)) in self.total.iter_mut().zip(a.total.iter().zip(&b.total)) {
+            *o = [x[0] + y[0], x[1] + y[1]];
+        }
+        for (o, (x, y)) in self.normal.iter_mut().zip(a.normal.iter().zip(&b.normal)) {
             *o = [x[0] + y[0], x[1] + y[1]];
         }
     }
