@@ -12,7 +12,7 @@ beyond it, e.g.
 Every `sweep.csv` below DEFAULT_DIR (one per variant of a parameter study) is paired with the
 file at the same place below REFERENCE_DIR. Per speed:
 
-- the reported estimate `err_extents_rel + transient_residual × span / max|extent|` (the 2Δt
+- the reported estimate `err_extents_rel + transient_residual × span / max|extent|` (the 2Δt/4Δt
   estimate of the extents, relative to their largest magnitude, plus what the stationarity
   test says is left of the transient, `span = max(x_max − x_min, y_max − y_min)`);
 - the true error `max |extent − extent_ref| / max |extent_ref|` over the four extents;

@@ -11,22 +11,72 @@ use crate::model::{Case, Model};
 use crate::signal::{extents, hann_spectrum, line_exact};
 use crate::time::{
     integrate, plan_steps, Frame, FrameSink, Record, RunStats, Sink, StepPlan, Stepper,
+    WINDOW_MULTIPLE,
 };
 use serde::{Deserialize, Serialize};
 
-/// Discretisation-error estimate from a companion run at about 2Δt (Richardson, nominal order).
+/// Discretisation-error estimate from companion runs at about 2Δt and, at rub speeds, 4Δt
+/// (Richardson at the scheme's nominal order; [`combine_levels`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ErrorEstimate {
     /// Companion Δt (s): about 2Δt, or Δt/2 when 2Δt would be unstable.
     pub dt_coarse: f64,
     /// Order assumed.
     pub order: f64,
-    /// Estimated relative error of the orbit extents (of the finer run).
+    /// Estimated relative error of the orbit extents (of the finer run): the two levels'
+    /// estimates combined ([`combine_levels`]), or `extents_rel_pair` alone without a second
+    /// companion.
     pub extents_rel: f64,
-    /// Estimated error of the 1×, 1/2×, 1/3× amplitudes relative to the largest of them.
+    /// Estimated error of the 1×, 1/2×, 1/3× amplitudes relative to the largest of them
+    /// (combined as `extents_rel`).
     pub lines_rel: f64,
     /// Whether the companion run found the same Poincaré period.
     pub same_period: bool,
+    /// Δt of the second companion (s), about 4Δt: run at rub speeds only (contact in the
+    /// analysed window of the run or of the first companion), when the first companion is
+    /// coarser than the run and a coarser plan exists (at least one step per recorded sample).
+    #[serde(default)]
+    pub dt_coarser: Option<f64>,
+    /// The (Δt, 2Δt) pair's estimate of the extents' error, `|Q_h − Q_2h|/(r₁^p − 1)`.
+    #[serde(default)]
+    pub extents_rel_pair: f64,
+    /// The (2Δt, 4Δt) pair's estimate of the 2Δt run's extents error brought to Δt,
+    /// `|Q_2h − Q_4h|/((r₂^p − 1) r₁^p)` (relative to the run's largest |extent|).
+    #[serde(default)]
+    pub extents_rel_coarse_pair: Option<f64>,
+}
+
+/// The error of the finer run of a pair from their difference `d = |Q_f − Q_c|` (Richardson):
+/// `d/|r^p − 1|`, `r = h_c/h_f` the ratio of the steps (below 1 when the companion is the finer),
+/// `p` the order. With `Q_h = Q + C h^p`, `Q_f − Q_c = C h_f^p (1 − r^p)`.
+pub fn richardson(d: f64, r: f64, p: f64) -> f64 {
+    d / (r.powf(p) - 1.0).abs()
+}
+
+/// The run's error from the estimates of two step pairs at the scheme's order p: `fine` =
+/// E₁ = `|Q_h − Q_2h|/(r₁^p − 1)` and `coarse` = E₂ = `|Q_2h − Q_4h|/((r₂^p − 1) r₁^p)` (the 2Δt
+/// run's Richardson error, brought to Δt by the order). Returns their geometric mean √(E₁E₂),
+/// or E₁ without a coarse pair.
+///
+/// At a rub the error is `e(h) = C(h) h^p` with the nominal order but a coefficient that
+/// depends on where the contact events fall inside the steps (docs/VALIDATION.md §15): each
+/// pair's estimate is the coefficient of two levels mixed, and either can cancel (E₁ ≪ e(h) when
+/// `C(h) ≈ 2^p C(2h)`). E₁ and E₂ sample the coefficient at different event phases; the mean of
+/// their logarithms halves the spread of log(estimate/error) when the phases are unrelated —
+/// the factor-of-three goal is a bound on that logarithm.
+pub fn combine_levels(fine: f64, coarse: Option<f64>) -> f64 {
+    match coarse {
+        Some(c) => (fine * c).sqrt(),
+        None => fine,
+    }
+}
+
+/// The largest of `|a_i − b_i|` over two equal-length slices.
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
 
 /// Results of a run at one speed.
@@ -210,7 +260,7 @@ impl Prepared {
     /// Integrates until the steady state is proven or the transient reaches its cap (see
     /// `drive` above: the analysed window slides while its transient residual is above
     /// `run.tolerance`), handing frames to `sinks`, then [`analyse`]s the window; with
-    /// `settings.error_estimate` a companion run (no sinks, the same transient) estimates the
+    /// `settings.error_estimate` companion runs (no sinks, the same transient) estimate the
     /// discretisation error ([`ErrorEstimate`]). Frames cover the revolutions their sinks
     /// ask for, counted from the start of the run.
     ///
@@ -226,47 +276,78 @@ impl Prepared {
     }
 
     /// Companion run at 2Δt (at Δt/2 when 2Δt is above the stability limit); the error of the
-    /// main run ≈ |Q_h − Q_c| / |r^p − 1|, r = h_c / h, p the scheme's nominal order.
+    /// main run ≈ |Q_h − Q_c| / |r^p − 1|, r = h_c / h, p the scheme's nominal order. At a rub
+    /// (contact in the analysed window) a second companion at about 4Δt gives the (2Δt, 4Δt)
+    /// pair's estimate too and the two are combined ([`combine_levels`]).
     fn error_estimate(&self, res: &SpeedResults) -> Option<ErrorEstimate> {
         let (case, plan) = (&self.case, &res.plan);
-        // The companion cuts the transient the main run ended with.
+        // The companions cut the transient the main run ended with. A steady periodic run's
+        // window repeats every `period` revolutions: its extents and lines are those of
+        // lcm(6, period) of them, so the companions analyse that many (the whole window when
+        // the run is not steady or not periodic).
         let mut s = self.settings;
+        let repeat = WINDOW_MULTIPLE * res.period / gcd(WINDOW_MULTIPLE, res.period.max(1));
+        let window = if res.steady && res.period > 0 && repeat <= res.window_revolutions {
+            repeat
+        } else {
+            res.window_revolutions
+        };
         s.step.transient_revolutions = res.transient_revolutions;
-        s.step.revolutions = res.transient_revolutions + res.window_revolutions;
+        s.step.revolutions = res.transient_revolutions + window;
         let s = &s;
-        let mut coarse = s.step;
-        coarse.dt = Some(2.0 * plan.dt);
-        let cplan = plan_steps(case, &coarse)
-            .ok()
-            .filter(|c| c.steps_per_rev < plan.steps_per_rev)
+        let coarser_than = |p: &StepPlan, cap: f64| {
+            let mut coarse = s.step;
+            coarse.dt = Some((2.0 * p.dt).min(cap));
+            plan_steps(case, &coarse)
+                .ok()
+                .filter(|c| c.steps_per_rev < p.steps_per_rev)
+        };
+        let cplan = coarser_than(plan, f64::INFINITY)
             .or_else(|| {
                 let mut fine = s.step;
                 fine.dt = Some(0.5 * plan.dt);
                 plan_steps(case, &fine).ok()
             })
             .filter(|c| c.steps_per_rev != plan.steps_per_rev)?;
-        let (crec, cstats) = integrate(case, s.step.integrator, &cplan, s.initial).ok()?;
-        let c = analyse(case, s, &cplan, &crec, cstats, Keep::default());
-        let r = plan.steps_per_rev as f64 / cplan.steps_per_rev as f64;
+        let companion = |p: &StepPlan| -> Option<SpeedResults> {
+            let (rec, stats) = integrate(case, s.step.integrator, p, s.initial).ok()?;
+            Some(analyse(case, s, p, &rec, stats, Keep::default()))
+        };
+        let c = companion(&cplan)?;
         let p = s.step.integrator.nominal_order();
-        let denom = (r.powf(p) - 1.0).abs();
-        let ext = extents_error(&c.extents_nd, &res.extents_nd, ExtentsScale::Largest) / denom;
-        let lines = [res.amp_1x_nd, res.amp_half_nd, res.amp_third_nd];
-        let clines = [c.amp_1x_nd, c.amp_half_nd, c.amp_third_nd];
-        let lmax = lines.iter().fold(1e-300_f64, |m, v| m.max(*v));
-        let lerr = lines
-            .iter()
-            .zip(clines)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max)
-            / lmax
-            / denom;
+        let r1 = plan.steps_per_rev as f64 / cplan.steps_per_rev as f64;
+        let scale = extent_scale(&res.extents_nd);
+        let lines = |r: &SpeedResults| [r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd];
+        let lmax = lines(res).iter().fold(1e-300_f64, |m, v| m.max(*v));
+        let ext1 = richardson(max_diff(&c.extents_nd, &res.extents_nd) / scale, r1, p);
+        let lin1 = richardson(max_diff(&lines(&c), &lines(res)) / lmax, r1, p);
+        // The second pair, at rubs only: without contact the error is the smooth expansion
+        // C h^p and one pair measures it (docs/VALIDATION.md §15).
+        let rub = res.contact_fraction > 0.0 || c.contact_fraction > 0.0;
+        let second = if rub && r1 > 1.0 {
+            coarser_than(&cplan, 0.8 * cplan.limit).and_then(|p4| Some((p4, companion(&p4)?)))
+        } else {
+            None
+        };
+        let (dt_coarser, ext2, lin2) = match &second {
+            Some((p4, c4)) => {
+                let r2 = cplan.steps_per_rev as f64 / p4.steps_per_rev as f64;
+                let down = r1.powf(p);
+                let e = richardson(max_diff(&c4.extents_nd, &c.extents_nd) / scale, r2, p) / down;
+                let l = richardson(max_diff(&lines(c4), &lines(&c)) / lmax, r2, p) / down;
+                (Some(p4.dt), Some(e), Some(l))
+            }
+            None => (None, None, None),
+        };
         Some(ErrorEstimate {
             dt_coarse: cplan.dt,
             order: p,
-            extents_rel: ext,
-            lines_rel: lerr,
+            extents_rel: combine_levels(ext1, ext2),
+            lines_rel: combine_levels(lin1, lin2),
             same_period: c.period == res.period,
+            dt_coarser,
+            extents_rel_pair: ext1,
+            extents_rel_coarse_pair: ext2,
         })
     }
 }
@@ -488,5 +569,64 @@ pub fn analyse(
         },
         spectrum,
         full_spectrum,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Q_h = Q + C h^p: the Richardson estimate of the finer run's error is exact, for a coarser
+    /// companion (r = 2, 1.5) and for a finer one (r = ½, the error of the run being the coarser).
+    #[test]
+    fn richardson_is_exact_on_the_asymptotic_expansion() {
+        let (q, c, p) = (1.25, -3.0e-2, 2.0);
+        let qh = |h: f64| q + c * h.powf(p);
+        for (h, r) in [(0.01, 2.0), (0.03, 1.5), (0.02, 0.5)] {
+            let est = richardson((qh(h) - qh(r * h)).abs(), r, p);
+            let true_err = (qh(h) - q).abs();
+            assert!(
+                (est - true_err).abs() <= 1e-9 * true_err,
+                "{est} {true_err}"
+            );
+        }
+    }
+
+    /// With a constant coefficient both pairs give the run's error and so does their combination;
+    /// without a coarse pair the fine pair's estimate is returned as it is.
+    #[test]
+    fn combining_two_exact_levels_keeps_the_error() {
+        let (c, p) = (4.0e-3, 2.0);
+        let e = |n: f64| c * n.powf(-p);
+        let (n1, n2, n3) = (192.0, 128.0, 64.0);
+        let (r1, r2) = (n1 / n2, n2 / n3);
+        let fine = richardson((e(n1) - e(n2)).abs(), r1, p);
+        let coarse = richardson((e(n2) - e(n3)).abs(), r2, p) / r1.powf(p);
+        let both = combine_levels(fine, Some(coarse));
+        assert!((both - e(n1)).abs() <= 1e-12 * e(n1));
+        assert_eq!(combine_levels(fine, None), fine);
+    }
+
+    /// The case the second pair is for: a coefficient that depends on the step (the contact
+    /// events' phase), C(h), C(2h), C(4h) = 1, 0.15625, 0.7890625 (× 1e-3): the fine pair's
+    /// difference cancels to an eighth of the run's error, the coarse pair gives it exactly, and
+    /// their geometric mean, e/√8, is within a factor 3 of it.
+    #[test]
+    fn the_coarse_pair_lifts_a_cancelled_fine_pair() {
+        let p = 2.0;
+        let h: f64 = 1.0 / 256.0;
+        let c: [f64; 3] = [1.0e-3, 0.15625e-3, 0.7890625e-3];
+        let e = [
+            c[0] * h * h,
+            c[1] * (2.0 * h).powi(2),
+            c[2] * (4.0 * h).powi(2),
+        ];
+        let fine = richardson((e[0] - e[1]).abs(), 2.0, p);
+        let coarse = richardson((e[1] - e[2]).abs(), 2.0, p) / 4.0;
+        assert!((fine - e[0] / 8.0).abs() <= 1e-9 * e[0], "{fine} {}", e[0]);
+        assert!((coarse - e[0]).abs() <= 1e-9 * e[0], "{coarse} {}", e[0]);
+        let both = combine_levels(fine, Some(coarse));
+        assert!((both - e[0] / 8f64.sqrt()).abs() <= 1e-9 * e[0]);
+        assert!(both >= e[0] / 3.0 && both <= 3.0 * e[0], "{both} {}", e[0]);
     }
 }

@@ -105,7 +105,8 @@ pub struct RunSpec {
     /// Recorded samples per revolution (a power of two is best for the FFT).
     #[serde(default = "default_spr")]
     pub samples_per_rev: usize,
-    /// Estimate the discretisation error by a companion run at 2Δt.
+    /// Estimate the discretisation error by companion runs at 2Δt and, at a rub, 4Δt
+    /// (`analysis::speed::combine_levels`).
     #[serde(default = "yes")]
     pub error_estimate: bool,
     /// Most integration steps one run may take (default [`crate::time::MAX_STEPS`]): a run

@@ -77,7 +77,7 @@ pub use frame::{Frame, FrameSink, PairForce};
 pub use newmark::Alpha;
 pub use plan::{
     plan_duration, plan_steps, Scheme, StepParams, StepPlan, CONTACT_SWITCHING_FACTOR, MAX_STEPS,
-    STATOR_WITH_MASS_RHO_INF,
+    STATOR_WITH_MASS_RHO_INF, WINDOW_MULTIPLE,
 };
 pub use record::{ContactStats, Record, RunStats};
 pub use stepper::{Initial, Sink, Stepper};
