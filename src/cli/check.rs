@@ -112,6 +112,21 @@ fn print_stators(s: &Scene, case: &Case) {
                 m.contact_dofs().len(),
                 if m.contact_dofs().len() <= rubsim::time::EAGER_DOFS { "every column up front" } else { "columns computed when a node first touches, cached" }
             );
+        } else if let Some(r) = &m.reduced {
+            println!(
+                "  with mass, reduced (`run.reduction.stators`, Craig–Bampton): cut-off ω_cut = {:.4e} rad/s; {} fixed-interface modes kept{}; {} boundary (contact) DOFs; {} DOF in the loop instead of {}; reduced ω_max = {:.4e} rad/s (explicit limit {:.4e} s); contact flexibility exact (constraint modes)",
+                r.cutoff,
+                r.modes.len(),
+                match (r.modes.first(), r.modes.last()) {
+                    (Some(a), Some(b)) => format!(" ({a:.4e} … {b:.4e} rad/s)"),
+                    _ => String::new(),
+                },
+                r.boundary.len(),
+                r.rdof(),
+                r.ndof,
+                r.omega_max(),
+                2.0 / r.omega_max(),
+            );
         } else {
             println!(
                 "  with mass: lumped, integrated explicitly; its highest mode ω_max,stator ≤ {:.4e} rad/s",

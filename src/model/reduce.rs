@@ -288,8 +288,31 @@ impl Case {
             let cut = s.cutoff.unwrap_or_else(|| {
                 s.cutoff_factor * (s.harmonics * self.omega).max(self.contact_frequency())
             });
-            self.reduce(cut)?;
+            if s.rotor {
+                self.reduce(cut)?;
+            }
+            if s.stators {
+                self.reduce_stators(cut)?;
+            }
         }
         Ok(self)
+    }
+
+    /// Replaces every meshed stator with mass in the loop by its Craig–Bampton reduction with
+    /// cut-off `cutoff` (rad/s, [`crate::model::stator::reduce::ReducedStator`]), shared by
+    /// every case with the same cut-off.
+    ///
+    /// # Errors
+    /// As [`crate::model::stator::reduce::ReducedStator::new`].
+    pub fn reduce_stators(&mut self, cutoff: f64) -> Result<(), ModelError> {
+        for s in &mut self.stators {
+            if s.massless() {
+                continue;
+            }
+            if let Some(md) = s.mesh.clone() {
+                s.reduced = Some(md.reduction(s, cutoff)?);
+            }
+        }
+        Ok(())
     }
 }

@@ -90,6 +90,10 @@ pub struct ReductionInput {
     pub cutoff_factor: f64,
     /// The paper rule's n (`run.harmonics`).
     pub harmonics: f64,
+    /// Reduce the FE rotor.
+    pub rotor: bool,
+    /// Reduce every meshed stator with mass ([`crate::model::stator::reduce`]).
+    pub stators: bool,
 }
 
 /// Checks and resolves a loaded scene; meshes of meshed stators are found, made and read here.
@@ -125,6 +129,10 @@ pub fn resolve(ls: &LoadedScene) -> Result<Resolved, Error> {
                 .cutoff_factor
                 .unwrap_or(crate::scene::DEFAULT_CUTOFF_FACTOR),
             harmonics: s.run.harmonics,
+            rotor: r
+                .rotor
+                .unwrap_or(matches!(s.rotor, crate::scene::RotorSpec::Fe(_))),
+            stators: r.stators.unwrap_or(false),
         }),
     })
 }

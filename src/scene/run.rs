@@ -135,6 +135,11 @@ pub struct ReductionSpec {
     pub cutoff: Option<f64>,
     /// κ of the default cut-off κ max(n ω, ω_c) (default [`DEFAULT_CUTOFF_FACTOR`], at least 1).
     pub cutoff_factor: Option<f64>,
+    /// Reduce the FE rotor (default: true for an FE rotor; a Jeffcott rotor cannot be).
+    pub rotor: Option<bool>,
+    /// Reduce every meshed stator with mass by Craig–Bampton on its contact DOFs with the
+    /// fixed-interface modes below the same cut-off (default false; docs/IMPLICIT.md §7.2).
+    pub stators: Option<bool>,
 }
 
 /// κ of `[run.reduction]`'s default cut-off.

@@ -9,6 +9,7 @@
 
 use super::compliance::Compliance;
 use super::newmark::{Alpha, Implicit};
+use super::reduced::ReducedDyn;
 use crate::linalg::{BlockTridiag, Csc, LinalgError, LowRank, PairCsr, StepLu, WoodburyLu};
 
 /// M̃⁻¹ of a body with mass.
@@ -266,6 +267,8 @@ pub(crate) enum StatorDyn {
     Massless(Compliance),
     /// With mass: integrated explicitly like the rotor.
     Massive(Box<DynBody>),
+    /// With mass, in its Craig–Bampton basis (`[run.reduction] stators = true`).
+    Reduced(Box<ReducedDyn>),
 }
 
 impl StatorDyn {
@@ -275,6 +278,7 @@ impl StatorDyn {
         match self {
             StatorDyn::Massless(c) => &c.u,
             StatorDyn::Massive(b) => &b.u_next,
+            StatorDyn::Reduced(r) => r.disp(),
         }
     }
     #[inline]
@@ -282,6 +286,7 @@ impl StatorDyn {
         match self {
             StatorDyn::Massless(c) => c.flex(a, b),
             StatorDyn::Massive(d) => d.flex(a, b),
+            StatorDyn::Reduced(r) => r.flex(a, b),
         }
     }
     #[inline]
@@ -289,6 +294,7 @@ impl StatorDyn {
         match self {
             StatorDyn::Massless(c) => c.apply(d, f),
             StatorDyn::Massive(b) => b.apply(d, f),
+            StatorDyn::Reduced(r) => r.apply(d, f),
         }
     }
     /// Makes `flex` available for a target's DOFs (massless: computes missing columns).
@@ -307,6 +313,7 @@ impl StatorDyn {
         match self {
             StatorDyn::Massless(c) => c.cd.iter().copied().find(|&d| !c.u[d].is_finite()),
             StatorDyn::Massive(b) => b.u_next.iter().position(|v| !v.is_finite()),
+            StatorDyn::Reduced(r) => r.body.u_next.iter().position(|v| !v.is_finite()),
         }
     }
 }

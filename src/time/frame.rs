@@ -43,6 +43,7 @@ impl Frame<'_> {
         match &self.stators[k] {
             StatorDyn::Massless(c) => &c.u,
             StatorDyn::Massive(b) => &b.u,
+            StatorDyn::Reduced(r) => &r.field,
         }
     }
 }

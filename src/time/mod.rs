@@ -49,7 +49,7 @@
 //!
 //! Files: [`plan`] (Δt and steps, the limits that refuse an absurd run), [`budget`] (steps,
 //! memory and time estimated up front), [`record`] (what a run keeps), `body` (a body with mass,
-//! central differences or implicit), [`newmark`] (the generalised-α family), `spin` (a gyroscopic rotor's
+//! central differences or implicit), `reduced` (a Craig–Bampton stator in its reduced coordinates), [`newmark`] (the generalised-α family), `spin` (a gyroscopic rotor's
 //! correction for a varying speed), [`compliance`] (massless stators), `select` (which pairs enter a contact problem), `solve` (the contact
 //! solve), `ring` (exact ring kinematics in a solve), `workspace` (buffers), `stepper` (the step), [`frame`] (frames for sinks).
 
@@ -64,6 +64,7 @@ mod loop_rotor;
 pub mod newmark;
 pub mod plan;
 pub mod record;
+mod reduced;
 mod ring;
 mod select;
 mod solve;

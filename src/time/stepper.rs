@@ -9,6 +9,7 @@ use super::guard::{divergence_bounds, dof_name};
 use super::loop_rotor::{add_unbalance, full_len, rotor_contact_dofs};
 use super::plan::{Scheme, StepPlan};
 use super::record::{ContactStats, Record, Recorder, RunStats};
+use super::reduced::ReducedDyn;
 use super::select::{Pairs, Phase};
 use super::spin::GyroLoad;
 use super::workspace::{ForceSet, Held, StepWorkspace};
@@ -196,6 +197,10 @@ impl<'a> Stepper<'a> {
             let err = factor_err(format!("stator `{}`", s.name));
             stators.push(if s.massless() {
                 StatorDyn::Massless(Compliance::new(s).map_err(err)?)
+            } else if let Some(red) = &s.reduced {
+                StatorDyn::Reduced(Box::new(
+                    ReducedDyn::new(red, dt, scheme.implicit()).map_err(err)?,
+                ))
             } else {
                 StatorDyn::Massive(Box::new(
                     DynBody::new(
@@ -569,6 +574,11 @@ impl<'a> Stepper<'a> {
                     b.rhs.fill(0.0);
                     b.predict();
                 }
+                StatorDyn::Reduced(r) => {
+                    r.body.rhs.fill(0.0);
+                    r.body.predict();
+                    r.sync();
+                }
                 StatorDyn::Massless(c) => {
                     if !collocated {
                         c.reset();
@@ -670,8 +680,10 @@ impl<'a> Stepper<'a> {
     fn advance(&mut self) {
         self.rotor.rotate();
         for st in self.stators.iter_mut() {
-            if let StatorDyn::Massive(b) = st {
-                b.rotate();
+            match st {
+                StatorDyn::Massive(b) => b.rotate(),
+                StatorDyn::Reduced(r) => r.body.rotate(),
+                StatorDyn::Massless(_) => {}
             }
         }
         self.stats.steps += 1;

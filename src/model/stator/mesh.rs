@@ -177,6 +177,7 @@ pub fn from_mesh(
         axial_origin: p.axial_origin,
         contact_stiffness: OnceLock::new(),
         factor: OnceLock::new(),
+        reductions: Default::default(),
     };
     if let Err(e) = data.factor(&k) {
         return Err(ModelError::Factorisation {
@@ -205,6 +206,7 @@ pub fn from_mesh(
         is_ring: false,
         mesh: Some(Arc::new(data)),
         dashpot: Default::default(),
+        reduced: None,
     })
 }
 

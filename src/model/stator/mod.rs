@@ -12,6 +12,7 @@
 pub mod fe;
 pub mod mesh;
 pub mod recover;
+pub mod reduce;
 pub mod ring;
 pub mod rod;
 
@@ -111,6 +112,9 @@ pub struct StatorModel {
     pub mesh: Option<Arc<MeshStatorData>>,
     /// The contact dashpot (`contact_damping`; massless stators only).
     pub dashpot: Dashpot,
+    /// The Craig–Bampton reduction the time loop integrates instead of the full stator
+    /// (`[run.reduction] stators = true`, [`reduce::ReducedStator`]); `None`: the full model.
+    pub reduced: Option<Arc<reduce::ReducedStator>>,
 }
 
 /// What a meshed stator keeps beyond [`StatorModel`]: where its mesh came from and the
@@ -146,6 +150,9 @@ pub struct MeshStatorData {
     pub contact_stiffness: OnceLock<f64>,
     /// Sparse Cholesky factor of K, computed on first use and shared by every run.
     pub factor: OnceLock<Result<Arc<Cholesky>, LinalgError>>,
+    /// Craig–Bampton reductions made so far, by cut-off (rad/s): every speed of a sweep with
+    /// the same cut-off shares one (the stiffness and mass do not change with the placement).
+    pub reductions: std::sync::Mutex<Vec<(f64, Arc<reduce::ReducedStator>)>>,
 }
 
 impl MeshStatorData {
@@ -154,6 +161,28 @@ impl MeshStatorData {
         self.factor
             .get_or_init(|| Cholesky::new(k).map(Arc::new))
             .clone()
+    }
+
+    /// The reduction of `s` (this mesh's stator) at cut-off `cutoff` (rad/s), made once per
+    /// cut-off.
+    ///
+    /// # Errors
+    /// As [`reduce::ReducedStator::new`].
+    pub fn reduction(
+        &self,
+        s: &StatorModel,
+        cutoff: f64,
+    ) -> Result<Arc<reduce::ReducedStator>, ModelError> {
+        let mut cache = self
+            .reductions
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((_, r)) = cache.iter().find(|(c, _)| *c == cutoff) {
+            return Ok(r.clone());
+        }
+        let r = Arc::new(reduce::ReducedStator::new(s, cutoff)?);
+        cache.push((cutoff, r.clone()));
+        Ok(r)
     }
 }
 
@@ -272,6 +301,10 @@ impl StatorModel {
     pub fn omega_max_sq_bound(&self) -> f64 {
         if self.massless() {
             return 0.0;
+        }
+        // A reduced stator: the reduced model's highest frequency, exactly.
+        if let Some(r) = &self.reduced {
+            return r.omega_max().powi(2);
         }
         let md = self.m.diagonal();
         let mut rows = vec![0.0; self.ndof];
@@ -394,6 +427,7 @@ impl Lumped<'_> {
             is_ring: false,
             mesh: None,
             dashpot: Default::default(),
+            reduced: None,
         };
         if ndof > 0 {
             Cholesky::new(&model.k).map_err(|e| ModelError::Factorisation {

@@ -49,6 +49,7 @@ impl StatorModel {
             is_ring: true,
             mesh: None,
             dashpot: Default::default(),
+            reduced: None,
         }
     }
 

@@ -160,15 +160,43 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
     validate_initial(ls)
 }
 
-/// `[run.reduction]`: an FE rotor at a constant speed; a positive cut-off or a factor ≥ 1.
+/// `[run.reduction]`: an FE rotor at a constant speed and/or meshed stators with mass
+/// (`stators = true`); a positive cut-off or a factor ≥ 1.
 fn validate_reduction(ls: &LoadedScene, red: &ReductionSpec) -> Result<(), SceneError> {
-    if !matches!(ls.scene.rotor, RotorSpec::Fe(_)) {
+    let fe = matches!(ls.scene.rotor, RotorSpec::Fe(_));
+    if red.rotor == Some(true) && !fe {
         return Err(ls.invalid(
-            "run.reduction",
+            "run.reduction.rotor",
             "only an FE rotor (`rotor.kind = \"fe\"`) is reduced; a Jeffcott rotor has two DOFs",
         ));
     }
-    if ls.scene.run.speed_profile.is_some() || !ls.scene.run.event.is_empty() {
+    let stators = red.stators == Some(true);
+    if stators {
+        let with_mass = ls.scene.stators.iter().any(|s| match s {
+            StatorSpec::Mesh(m) => {
+                m.density > 0.0 || m.regions.iter().any(|r| r.density.is_some_and(|d| d > 0.0))
+            }
+            _ => false,
+        });
+        if !with_mass {
+            return Err(ls.invalid(
+                "run.reduction.stators",
+                "no meshed stator (`kind = \"mesh\"`) has mass (`density` > 0): there is no stator to reduce",
+            ));
+        }
+    }
+    let rotor = red.rotor.unwrap_or(fe);
+    if !rotor && !stators {
+        return Err(ls.invalid(
+            "run.reduction",
+            if fe {
+                "`rotor = false` and no `stators = true`: nothing is reduced"
+            } else {
+                "only an FE rotor (`rotor.kind = \"fe\"`) is reduced; a Jeffcott rotor has two DOFs (reduce meshed stators with mass by `stators = true`)"
+            },
+        ));
+    }
+    if rotor && (ls.scene.run.speed_profile.is_some() || !ls.scene.run.event.is_empty()) {
         return Err(ls.invalid(
             "run.reduction",
             "a reduced rotor runs at constant speed only: leave out `[run.speed_profile]` and \

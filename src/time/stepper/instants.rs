@@ -114,8 +114,10 @@ impl Stepper<'_> {
     #[cold]
     fn emit_frame(&mut self, sink: &mut dyn FrameSink, n: usize, t: f64) -> Result<(), SolveError> {
         for st in self.stators.iter_mut() {
-            if let StatorDyn::Massless(c) = st {
-                c.refresh();
+            match st {
+                StatorDyn::Massless(c) => c.refresh(),
+                StatorDyn::Reduced(r) => r.refresh(),
+                StatorDyn::Massive(_) => {}
             }
         }
         sink.frame(&Frame {
