@@ -39,6 +39,8 @@ pub fn reduced_case(model: &Model, s: &RunSettings, case: &Case) -> Option<Case>
         cutoff: None,
         cutoff_factor: crate::scene::DEFAULT_CUTOFF_FACTOR,
         harmonics: s.step.harmonics,
+        rotor: true,
+        stators: false,
     };
     case.clone().reduced_by(Some(&input)).ok()
 }
