@@ -126,6 +126,40 @@ fn stator_of_stiffness_ratio_a_million_runs_at_the_chosen_step() {
     );
 }
 
+/// A meshed stator (the six-segment casing on steel beams, ε ≤ 4.9·10⁴, massless): at
+/// ω/ω_n = 3 (the sweep's last pilot speed) the step chosen by pilots over the steady window
+/// takes fewer steps than the hand-set `dt = 2e-5` s the scene carried (640 steps/rev; 512
+/// when measured), its own 2Δt estimate is within the tolerance (5.1e-4), and its true error
+/// against the same scheme at Δt/8 over the same transient and window is within the tolerance
+/// (× the stated factor; 2.9e-4 when measured). Shortened to 40 revolutions.
+#[test]
+fn meshed_stator_chosen_step_meets_the_tolerance() {
+    if !common::meshes::gmsh_wanted() {
+        return;
+    }
+    let path = common::repo("scenes/stators/segmented_casing_beams.toml");
+    let sets = ["run.revolutions=40", "run.transient_revolutions=20"];
+    let (ls, model) = common::file_model(&path, &sets);
+    assert!(ls.scene.run.auto_step && ls.scene.run.dt.is_none());
+    let tol = ls.scene.run.tolerance;
+    let (s, r, err) = chosen_and_true_error(&ls, &model, 3.0, 8.0);
+    let c = s.choice.expect("a step chosen from the tolerance");
+    assert!(
+        r.plan.steps_per_rev < 640,
+        "{} steps/rev chosen",
+        r.plan.steps_per_rev
+    );
+    let est = r.error.expect("estimate").extents_rel;
+    assert!(est <= tol, "estimated error {est:e} above {tol:e}");
+    assert!(
+        err <= TRUE_ERROR_FACTOR * tol,
+        "true error {err:e} above {TRUE_ERROR_FACTOR} × {tol:e} ({} at {} steps/rev, observed order {})",
+        c.integrator.name(),
+        r.plan.steps_per_rev,
+        c.order_observed
+    );
+}
+
 /// `run.dt` stays an override: no pilots, no choice, the step as given (rounded down to whole
 /// samples), and an explicit `run.integrator` is kept by the choice.
 #[test]

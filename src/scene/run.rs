@@ -79,8 +79,9 @@ pub struct RunSpec {
     pub tolerance: f64,
     /// Choose Δt and the integrator from `tolerance` by pilot runs (`analysis::autostep`)
     /// when `dt` is not given. Default `false`: Δt from the paper's rule (`harmonics`), capped
-    /// by the stability limit. Opt-in while the pilots' order fit is unreliable on some meshed
-    /// stators (it can ask for an absurd step there, docs/VALIDATION.md §16).
+    /// by the stability limit — the paper's scenes keep the rule and its cost (their pilots
+    /// would cost about what their sweep does); the stator scenes write `auto_step = true`
+    /// (docs/VALIDATION.md §16).
     #[serde(default)]
     pub auto_step: bool,
     /// Most revolutions the transient may grow to while the run waits for the steady state
