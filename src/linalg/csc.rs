@@ -17,6 +17,16 @@ pub struct Csc {
 }
 
 impl Csc {
+    /// A dense `nrows × ncols` matrix with entries `a(i, j)` stored whole (every entry a slot,
+    /// zeros included): the reduced operators of a modal or Craig–Bampton basis.
+    pub fn dense(nrows: usize, ncols: usize, a: impl Fn(usize, usize) -> f64) -> Self {
+        let trip: Vec<(usize, usize, f64)> = (0..ncols)
+            .flat_map(|j| (0..nrows).map(move |i| (i, j)))
+            .map(|(i, j)| (i, j, a(i, j)))
+            .collect();
+        Self::from_triplets(nrows, ncols, &trip)
+    }
+
     /// Builds from `(row, col, value)` triplets; duplicates are summed, explicit zeros stored
     /// (they reserve a slot of the pattern).
     ///

@@ -136,13 +136,7 @@ impl ReducedRotor {
             let d = DMatrix::from_diagonal(&nalgebra::DVector::from_column_slice(&lr.d));
             cr += &tu * d * tu.transpose();
         }
-        let csc = |a: &DMatrix<f64>| {
-            let trip: Vec<(usize, usize, f64)> = (0..r)
-                .flat_map(|j| (0..r).map(move |i| (i, j)))
-                .map(|(i, j)| (i, j, a[(i, j)]))
-                .collect();
-            Csc::from_triplets(r, r, &trip)
-        };
+        let csc = |a: &DMatrix<f64>| Csc::dense(r, r, |i, j| a[(i, j)]);
         let q_of = |d: usize| interface.iter().position(|x| *x == d);
         let body = RotorBody {
             ndof: r,

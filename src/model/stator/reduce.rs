@@ -402,13 +402,7 @@ impl ReducedStator {
         let (mr, kr, cr) = (sym(mr), sym(kr), sym(cr));
         let (lam, _) = generalized_eigen(&kr, &mr)
             .ok_or_else(|| singular("its reduced mass matrix is not positive definite".into()))?;
-        let csc = |a: &DMatrix<f64>| {
-            let trip: Vec<(usize, usize, f64)> = (0..r)
-                .flat_map(|j| (0..r).map(move |i| (i, j)))
-                .map(|(i, j)| (i, j, a[(i, j)]))
-                .collect();
-            Csc::from_triplets(r, r, &trip)
-        };
+        let csc = |a: &DMatrix<f64>| Csc::dense(r, r, |i, j| a[(i, j)]);
         Ok(Self {
             ndof: n,
             boundary,
