@@ -88,22 +88,8 @@ fn constant_torque_on_a_free_rotor_is_uniform_acceleration() {
 /// Closed form of the synchronous full annular rub (shared/ORACLES.md): whirl radius r = R/e
 /// and lag β at ν = Ω/ω_n for κ, μ, ξ, d = δ/e — the larger root with r > d.
 fn annular(nu: f64, kappa: f64, mu: f64, xi: f64, d: f64) -> (f64, f64) {
-    let (a, b, p, q) = (
-        1.0 - nu * nu + kappa,
-        -kappa * d,
-        2.0 * xi * nu + mu * kappa,
-        -mu * kappa * d,
-    );
-    let (qa, qb, qc) = (
-        a * a + p * p,
-        2.0 * (a * b + p * q),
-        b * b + q * q - nu.powi(4),
-    );
-    let disc = (qb * qb - 4.0 * qa * qc).sqrt();
-    let r = (-qb + disc) / (2.0 * qa);
+    let (r, beta) = common::oracles::radial_annular_rub(nu, kappa, mu, xi, d);
     assert!(r > d, "no rub at ν = {nu}");
-    let beta =
-        (2.0 * xi * nu * r + mu * kappa * (r - d)).atan2((1.0 - nu * nu) * r + kappa * (r - d));
     (r, beta)
 }
 

@@ -59,18 +59,7 @@ fn exact_ring_whirl(nu: f64, xi: f64, kappa: f64, mu: f64, d: f64, s: C) -> Opti
 /// The same whirl on the radially elastic stator (docs/ORACLES.md §2): force k_s(R − δ) along
 /// the radius.
 fn radial_whirl(nu: f64, xi: f64, kappa: f64, mu: f64, d: f64) -> f64 {
-    let (a, b, p, q) = (
-        1.0 - nu * nu + kappa,
-        -kappa * d,
-        2.0 * xi * nu + mu * kappa,
-        -mu * kappa * d,
-    );
-    let (qa, qb, qc) = (
-        a * a + p * p,
-        2.0 * (a * b + p * q),
-        b * b + q * q - nu.powi(4),
-    );
-    (-qb + (qb * qb - 4.0 * qa * qc).sqrt()) / (2.0 * qa)
+    common::oracles::radial_annular_rub(nu, kappa, mu, xi, d).0
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Fixtures shared by the integration tests: where files are, the scenes (`scenes`), scene text
 //! or file with `--set` overrides → model → one run, the command-line runner (`cli`), FE rotor
-//! helpers (`fe`), structured meshes and the gmsh switch (`meshes`), and the readers of written
-//! results (`output`).
+//! helpers (`fe`), structured meshes and the gmsh switch (`meshes`), closed forms checked by several
+//! files (`oracles`), and the readers of written results (`output`).
 //!
 //! Every test binary compiles this module (`mod common;`) and uses only part of it, hence the
 //! `dead_code` allowance.
@@ -10,6 +10,7 @@
 pub mod cli;
 pub mod fe;
 pub mod meshes;
+pub mod oracles;
 pub mod output;
 pub mod scenes;
 
