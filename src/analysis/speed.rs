@@ -455,13 +455,11 @@ pub fn orbit_span(e: &[f64; 4]) -> f64 {
 /// The orbit-extents error of `x` against `reference`: `max_i |x_i − ref_i|` over
 /// `[x_min, x_max, y_min, y_max]`, divided by the reference's scale ([`ExtentsScale`]).
 pub fn extents_error(x: &[f64; 4], reference: &[f64; 4], scale: ExtentsScale) -> f64 {
-    let d = (0..4)
-        .map(|i| (x[i] - reference[i]).abs())
-        .fold(0.0, f64::max);
-    d / match scale {
-        ExtentsScale::Largest => extent_scale(reference),
-        ExtentsScale::Span => orbit_span(reference),
-    }
+    max_diff(x, reference)
+        / match scale {
+            ExtentsScale::Largest => extent_scale(reference),
+            ExtentsScale::Span => orbit_span(reference),
+        }
 }
 
 /// Analysis of a record: transient cut, Poincaré section, extents, spectrum; the contact
