@@ -310,3 +310,45 @@ fn check_reports_the_stators_cutoff_and_basis() {
         assert!(line.contains(w), "{w}: {line}");
     }
 }
+
+/// The budget counts a reduced stator by its r reduced DOFs and its dense r × r operators, not
+/// by its mesh (issue 15: the resource estimate of a reduced run).
+#[test]
+fn the_budget_counts_a_reduced_stator_by_its_reduced_dofs() {
+    use rubsim::time::budget::{estimate, NS_DENSE_ENTRY, NS_ROTOR_DOF, NS_STATOR_DOF, NS_STEP};
+    let sets = ["run.dt=4e-6", "run.integrator=\"forward_increment\""];
+    let budget = |extra: &[&str]| {
+        let mut all = sets.to_vec();
+        all.extend_from_slice(extra);
+        let model = small_model(&all);
+        let ls = common::load(&repo(ANNULUS), &[SMALL.as_slice(), &all].concat());
+        let mut s = common::settings(&ls);
+        s.step.integrator = rubsim::time::Scheme::ForwardIncrement;
+        let prep = rubsim::analysis::prepare(&model, &s, 1.2).unwrap();
+        let r = prep.case.stators[0].reduced.as_ref().map(|r| r.rdof());
+        (
+            estimate(&prep.case, &prep.plan, false),
+            r,
+            prep.case.stators[0].ndof,
+        )
+    };
+    let (full, none, n) = budget(&[]);
+    assert!(none.is_none());
+    let ns = |dof: f64, dense: f64| {
+        (NS_STEP + NS_ROTOR_DOF * 2.0 + NS_STATOR_DOF * dof + NS_DENSE_ENTRY * dense) * 1e-9
+    };
+    assert!((full.step_s - ns(n as f64, 0.0)).abs() < 1e-15, "{full:?}");
+    // The default cut-off: the 64 boundary DOFs of the 128 (no fixed-interface mode below it).
+    let (red, r, n2) = budget(&["run.reduction.stators=true"]);
+    let r = r.expect("reduced");
+    assert_eq!(n2, n);
+    assert!(r < n, "r = {r} of {n}");
+    let rf = r as f64;
+    assert!(
+        (red.step_s - ns(rf, rf * rf)).abs() < 1e-15,
+        "{red:?}: r = {r}"
+    );
+    assert_eq!(red.steps, full.steps, "the same plan");
+    // The dense operators are in the memory figure.
+    assert!(red.matrix_bytes >= full.matrix_bytes + 5.0 * 8.0 * rf * rf);
+}

@@ -8,7 +8,9 @@
 //! (2 cores; docs/PERFORMANCE.md):
 //! `t_step ≈ NS_STEP + NS_ROTOR_DOF·n_rotor + NS_STATOR_DOF·n_mass + NS_CONTACT_DOF·n_contact`, with `n_rotor` the rotor's DOFs, `n_mass` the DOFs of stators
 //! with mass and `n_contact` the contact DOFs of massless stators (their compliance columns
-//! enter every contact problem). It ignores how often the rotor is in contact, so the true
+//! enter every contact problem). A stator reduced by Craig–Bampton (`[run.reduction] stators =
+//! true`) counts by its r reduced DOFs, not by its mesh: `NS_STATOR_DOF·r + NS_DENSE_ENTRY·r²`
+//! (its operators are dense r × r). It ignores how often the rotor is in contact, so the true
 //! time may differ by a factor of a few either way.
 
 use super::plan::{sample_bytes, StepPlan};
@@ -21,6 +23,10 @@ pub const NS_STEP: f64 = 100.0;
 pub const NS_ROTOR_DOF: f64 = 17.0;
 /// Cost per DOF of a stator with mass and step (ns): 25–36 ns per DOF for meshed stators.
 pub const NS_STATOR_DOF: f64 = 30.0;
+/// Cost per entry of a reduced stator's dense r × r operators and step (ns): the step's
+/// products with K_r, C_r and the solve with the factored operator (81 µs of CPU a step at
+/// r = 256, the annulus with mass at h = 3 mm: docs/PERFORMANCE.md).
+pub const NS_DENSE_ENTRY: f64 = 1.1;
 /// Cost per contact DOF of a massless stator beyond the first [`super::EAGER_DOFS`] and step
 /// (ns): 50–65 µs per step for meshed stators of about 200 contact DOFs with cached columns;
 /// a few contact DOFs (a rod, a ring) are part of [`NS_STEP`].
@@ -49,6 +55,7 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
     let n_rotor = case.loop_rotor().ndof as f64;
     let mut n_mass = 0.0;
     let mut n_contact = 0.0;
+    let mut n_dense = 0.0;
     // Sparse matrices: about 12 bytes per stored entry (value and row index), six of them per
     // body (M, K, C and the step operators); compliance columns: 8 bytes × DOFs per contact DOF.
     let mut matrix_bytes = 6.0 * 12.0 * 20.0 * n_rotor;
@@ -59,13 +66,24 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
             let nc = s.contact_dofs().len() as f64;
             n_contact += (nc - super::EAGER_DOFS as f64).max(0.0);
             matrix_bytes += 8.0 * nc * s.ndof as f64;
+        } else if let Some(r) = &s.reduced {
+            // The loop holds the reduced body (dense M_r, C_r, K_r, the step operator and its
+            // factor), the fixed-interface modes Φ (n_I × modes) and the factor of K_II for
+            // the frames' whole field (about the stiffness's entries, counted above).
+            let rd = r.rdof() as f64;
+            n_mass += rd;
+            n_dense += rd * rd;
+            matrix_bytes += 5.0 * 8.0 * rd * rd + 8.0 * (r.interior.len() * r.modes.len()) as f64;
         } else {
             n_mass += s.ndof as f64;
         }
     }
-    let step_s =
-        (NS_STEP + NS_ROTOR_DOF * n_rotor + NS_STATOR_DOF * n_mass + NS_CONTACT_DOF * n_contact)
-            * 1e-9;
+    let step_s = (NS_STEP
+        + NS_ROTOR_DOF * n_rotor
+        + NS_STATOR_DOF * n_mass
+        + NS_DENSE_ENTRY * n_dense
+        + NS_CONTACT_DOF * n_contact)
+        * 1e-9;
     let steps = plan.steps as f64;
     let companion_steps = if companion { steps / 2.0 } else { 0.0 };
     let samples = (plan.steps / plan.record_every.max(1)) as f64 + 1.0;
