@@ -54,11 +54,26 @@
 //! schemes predicted to meet the tolerance (all of them when none is) the cheapest wins, the
 //! first candidate on a tie. A scheme whose coarsest step already costs more than the best found is not piloted.
 //! The pilots' steps and wall time are counted and reported ([`StepChoice`]).
+//!
+//! # Reduced schemes
+//!
+//! An FE rotor or a meshed stator with mass can be integrated in its modal reduction
+//! (docs/IMPLICIT.md §7). Where the scene gives no `[run.reduction]`, the candidates' implicit
+//! and collocated schemes are candidates again on the reduced model (`RunSettings::reduction`),
+//! after the full model's: their cut-off factor κ is chosen from the tolerance first
+//! ([`super::cutoff::choose_cutoff`], the truncation taking at most a quarter of it), their
+//! pilots run the reduced model, and the predicted error they must meet is the step's plus the
+//! truncation indicator. A reduced scheme is chosen when it is predicted to meet the tolerance
+//! cheaper (its cost per step by the reduced DOFs, its step by the reduced model's stability
+//! limit). Where the scene gives `[run.reduction]` without a cut-off, every candidate runs
+//! reduced with κ chosen so; with a cut-off, as the scene reduces it.
 
+use super::cutoff::{choose_cutoff, CutoffChoice};
 use super::{analyse, prepare, scheme, sweep::run_all, Keep, RunSettings, SpeedResults};
 use super::{extents_error, ExtentsScale};
 use crate::error::{Error, Result, SolveError};
-use crate::model::Model;
+use crate::model::{Model, Rotor};
+use crate::resolve::ReductionInput;
 use crate::scene::IntegratorKind;
 use crate::time::{estimate, integrate, plan_steps, Initial, Scheme};
 use serde::{Deserialize, Serialize};
@@ -117,6 +132,10 @@ pub struct StepChoice {
     pub pilot_wall_s: f64,
     /// Schemes piloted.
     pub schemes_piloted: usize,
+    /// The cut-off chosen from the tolerance when the chosen scheme integrates a reduced model
+    /// with it (its truncation error indicator is in `error_predicted`); `None` otherwise.
+    #[serde(default)]
+    pub reduction: Option<CutoffChoice>,
 }
 
 /// The pilot speeds of a run over `speeds`: all of up to two speeds, else the first, the
@@ -368,6 +387,8 @@ fn fit_from(
 /// A scheme's outcome over the pilot speeds.
 struct Outcome {
     kind: IntegratorKind,
+    /// The reduction its runs integrate (`RunSettings::reduction`).
+    reduction: Option<(ReductionInput, CutoffChoice)>,
     fits: Vec<Fit>,
     scale: f64,
     cost: f64,
@@ -393,6 +414,26 @@ fn candidates(model: &Model, run_integrator: Option<IntegratorKind>) -> Vec<Inte
             IntegratorKind::GeneralizedAlpha,
         ],
     }
+}
+
+/// The reduction the reduced candidates would run (κ to be chosen), when the scene gives none:
+/// the FE rotor (when its K admits static columns) and every meshed stator with mass; `None`
+/// when there is nothing to reduce.
+fn reducible(model: &Model, s: &RunSettings, v: f64) -> Option<ReductionInput> {
+    let case = model.case(v * model.rotor.natural_frequency()).ok()?;
+    let stators = case
+        .stators
+        .iter()
+        .any(|st| !st.massless() && st.mesh.is_some());
+    let rotor = matches!(model.rotor, Rotor::Fe(_)) && case.clone().reduce(1.0).is_ok();
+    (rotor || stators).then_some(ReductionInput {
+        cutoff: None,
+        cutoff_factor: crate::scene::DEFAULT_CUTOFF_FACTOR,
+        harmonics: s.step.harmonics,
+        rotor,
+        stators,
+        auto: true,
+    })
 }
 
 /// Cost (s) of one revolution at each pilot speed of `kind` at `scale`, summed.
@@ -438,22 +479,90 @@ pub fn choose(
     // speed, clearance or stator the run itself would refuse, naming its key) is the error.
     let mut order = Vec::new();
     let mut last_err: Option<Error> = None;
-    for kind in candidates(model, run_integrator) {
+    let (mut pilot_steps, mut pilot_wall, mut piloted) = (0u64, 0.0, 0usize);
+    let kinds = candidates(model, run_integrator);
+    // The reduction with κ from the tolerance: the scene's when it gives no cut-off (every
+    // candidate runs it), else the one the reduced candidates would run; chosen when first
+    // needed (a reduced candidate that cannot beat the best found costs no pilots).
+    let scene_red = s.reduction_of(model).copied();
+    let mut auto_red: Option<Option<(ReductionInput, CutoffChoice)>> = None;
+    let reduced_base = match scene_red {
+        Some(r) if r.auto => Some(r),
+        Some(_) => None,
+        None => reducible(model, s, pilots[0]),
+    };
+    let mut choose_red = |steps: &mut u64, wall: &mut f64| {
+        if auto_red.is_none() {
+            let c = reduced_base.and_then(|base| {
+                let c = choose_cutoff(model, s, base, &pilots, rho).ok()?;
+                *steps += c.pilot_steps;
+                *wall += c.pilot_wall_s;
+                Some((
+                    ReductionInput {
+                        cutoff: None,
+                        cutoff_factor: c.cutoff_factor,
+                        auto: false,
+                        ..base
+                    },
+                    c,
+                ))
+            });
+            auto_red = Some(c);
+        }
+        auto_red.flatten()
+    };
+    let scene_auto = scene_red.is_some_and(|r| r.auto);
+    let mut variants: Vec<(IntegratorKind, bool)> =
+        kinds.iter().map(|k| (*k, scene_auto)).collect();
+    if scene_red.is_none() && reduced_base.is_some() {
+        let reduced = kinds
+            .iter()
+            .filter(|k| kinds.len() == 1 || **k != IntegratorKind::ForwardIncrement);
+        variants.extend(reduced.map(|k| (*k, true)));
+    }
+    for (kind, reduced) in variants {
         let sch = scheme(kind, rho);
-        match cost(model, s, sch, &pilots, COARSEST) {
-            Ok(c) => order.push((kind, c)),
+        // The floor of a reduced candidate: its cost at the default κ (a larger κ costs more).
+        let sr = if reduced {
+            let base = reduced_base.map(|b| ReductionInput {
+                cutoff: None,
+                cutoff_factor: crate::scene::DEFAULT_CUTOFF_FACTOR,
+                auto: false,
+                ..b
+            });
+            RunSettings {
+                reduction: base,
+                ..*s
+            }
+        } else {
+            *s
+        };
+        match cost(model, &sr, sch, &pilots, COARSEST) {
+            Ok(c) => order.push((kind, reduced, c)),
             Err(e) => {
                 last_err.get_or_insert(e);
             }
         }
     }
     let mut best: Option<Outcome> = None;
-    let (mut pilot_steps, mut pilot_wall, mut piloted) = (0u64, 0.0, 0usize);
-    for (kind, floor) in order {
+    for (kind, reduced, floor) in order {
         if best.as_ref().is_some_and(|b| b.meets && b.cost <= floor) {
             continue;
         }
         let sch = scheme(kind, rho);
+        let red = if reduced {
+            match choose_red(&mut pilot_steps, &mut pilot_wall) {
+                Some(r) => Some(r),
+                None => continue,
+            }
+        } else {
+            None
+        };
+        let s = &RunSettings {
+            reduction: red.map(|r| r.0).or(s.reduction),
+            ..*s
+        };
+        let trunc = red.map_or(0.0, |r| r.1.truncation_error);
         let fits = run_all(&pilots, &|&v| fit(model, s, sch, v, target), &|| {});
         let fits = match fits {
             Ok(f) => f,
@@ -487,13 +596,14 @@ pub fn choose(
         // `MAX_EXTRAPOLATION` on pilots that did not converge), then the cheaper one.
         let meets = fits
             .iter()
-            .all(|f| f.error_at((scale * f.rule_dt).min(f.h0)) <= s.tolerance);
+            .all(|f| f.error_at((scale * f.rule_dt).min(f.h0)) + trunc <= s.tolerance);
         if best
             .as_ref()
             .is_none_or(|b| (meets && !b.meets) || (meets == b.meets && c < b.cost))
         {
             best = Some(Outcome {
                 kind,
+                reduction: red,
                 fits,
                 scale,
                 cost: c,
@@ -513,11 +623,15 @@ pub fn choose(
     let mut out = *s;
     out.step.integrator = scheme(b.kind, rho);
     out.step.dt_scale = b.scale;
+    if let Some((r, _)) = b.reduction {
+        out.reduction = Some(r);
+    }
     check_budget(model, &out, speeds)?;
+    let trunc = b.reduction.map_or(0.0, |r| r.1.truncation_error);
     let error_predicted = b
         .fits
         .iter()
-        .map(|f| f.error_at((b.scale * f.rule_dt).min(f.h0)))
+        .map(|f| f.error_at((b.scale * f.rule_dt).min(f.h0)) + trunc)
         .fold(0.0, f64::max);
     let order_observed = b.fits.iter().map(|f| f.p_obs).fold(f64::NAN, f64::min);
     out.choice = Some(StepChoice {
@@ -531,6 +645,7 @@ pub fn choose(
         pilot_steps,
         pilot_wall_s: pilot_wall,
         schemes_piloted: piloted,
+        reduction: b.reduction.map(|r| r.1),
     });
     Ok(out)
 }
@@ -559,7 +674,7 @@ fn check_budget(model: &Model, s: &RunSettings, speeds: &[f64]) -> Result<()> {
     let ends = [speeds[0], speeds[speeds.len() - 1]];
     for v in ends {
         let omega = v * model.rotor.natural_frequency();
-        let case = model.case(omega)?;
+        let case = model.case_with(omega, s.reduction_of(model))?;
         if let Err(e) = plan_steps(&case, &s.step) {
             return Err(unreachable(s.tolerance, s.step.integrator, e.into()));
         }

@@ -41,6 +41,7 @@ pub fn reduced_case(model: &Model, s: &RunSettings, case: &Case) -> Option<Case>
         harmonics: s.step.harmonics,
         rotor: true,
         stators: false,
+        auto: false,
     };
     case.clone().reduced_by(Some(&input)).ok()
 }
@@ -233,10 +234,25 @@ pub fn convergence_with(
     }
     let chosen = match chosen {
         Some(c) => {
-            let plan = plan_steps(&case, &c.step)?;
-            let (rec, stats) = integrate(&case, c.step.integrator, &plan, c.initial)?;
-            let r = analyse(&case, c, &plan, &rec, stats, Keep::default());
-            Some(measure(c.step.integrator.name(), &r, &rec))
+            // A reduced scheme chosen: its own reduction (the cut-off chosen with it), labelled
+            // as the reduced rows are.
+            let reduced_case;
+            let (on, label) = match &c.reduction {
+                Some(red) => {
+                    reduced_case = model.case_with(omega, Some(red))?;
+                    let label = match c.step.integrator {
+                        Scheme::Collocated => REDUCED_COLLOCATED,
+                        Scheme::GeneralizedAlpha { .. } => REDUCED_GENERALIZED_ALPHA,
+                        _ => "reduced",
+                    };
+                    (&reduced_case, label)
+                }
+                None => (&case, c.step.integrator.name()),
+            };
+            let plan = plan_steps(on, &c.step)?;
+            let (rec, stats) = integrate(on, c.step.integrator, &plan, c.initial)?;
+            let r = analyse(on, c, &plan, &rec, stats, Keep::default());
+            Some(measure(label, &r, &rec))
         }
         None => None,
     };

@@ -35,6 +35,7 @@ pub mod bench;
 pub mod campbell;
 pub mod convergence;
 pub mod critical_map;
+pub mod cutoff;
 pub mod mode_shape;
 pub mod refine;
 pub mod regimes;
@@ -92,6 +93,10 @@ pub struct RunSettings {
     /// The integrator and Δt chosen from the tolerance ([`autostep::choose`]), reported with
     /// each run; `None` when the scene's rule or `run.dt` set the step.
     pub choice: Option<StepChoice>,
+    /// The reduction the runs integrate instead of the scene's `[run.reduction]` (the
+    /// error-target choice's reduced schemes and its cut-off, [`autostep::choose`]); `None`:
+    /// the model as the scene reduces it, or not.
+    pub reduction: Option<crate::resolve::ReductionInput>,
 }
 
 impl RunSettings {
@@ -120,7 +125,17 @@ impl RunSettings {
                 .max_transient_revolutions
                 .unwrap_or(run.transient_revolutions * crate::scene::MAX_TRANSIENT_FACTOR),
             choice: None,
+            reduction: None,
         }
+    }
+
+    /// The reduction the runs integrate: [`RunSettings::reduction`] when set, else the
+    /// scene's (`model.reduction`).
+    pub fn reduction_of<'a>(
+        &'a self,
+        model: &'a crate::model::Model,
+    ) -> Option<&'a crate::resolve::ReductionInput> {
+        self.reduction.as_ref().or(model.reduction.as_ref())
     }
 }
 

@@ -189,7 +189,7 @@ pub struct Prepared {
 /// Model errors of the case; [`crate::error::SolveError::StepTooLarge`] and other plan errors.
 pub fn prepare(model: &Model, settings: &RunSettings, speed_ratio: f64) -> Result<Prepared> {
     let omega = speed_ratio * model.rotor.natural_frequency();
-    let case = model.case(omega)?;
+    let case = model.case_with(omega, settings.reduction_of(model))?;
     let plan = plan_steps(&case, &settings.step)?;
     Ok(Prepared {
         speed_ratio,

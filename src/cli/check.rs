@@ -46,9 +46,9 @@ pub fn check(c: &Common) -> Result<()> {
             st.name, st.node, st.radius, st.friction
         );
     }
-    print_stators(s, &case);
     let st = settings(&ls);
     if let Some(spec) = &s.run.speed_profile {
+        print_stators(s, &case);
         let p = analysis::prepare_transient(&model, &st, spec)?.with_events(&s.run.event)?;
         print_transient(s, &p);
         print_built(s, &model, &p.case, &p.plan);
@@ -59,6 +59,27 @@ pub fn check(c: &Common) -> Result<()> {
         None => vec![case.speed_ratio],
     };
     let st = chosen_settings(&ls, &model, &speeds)?;
+    // The reduction the error-target choice picked (a reduced scheme, or the scene's
+    // `[run.reduction]` with its cut-off chosen from the tolerance).
+    let case = match &st.reduction {
+        Some(r) => model.case_with(case.omega, Some(r))?,
+        None => case,
+    };
+    print_stators(s, &case);
+    if let Some(r) = st.choice.and_then(|c| c.reduction) {
+        println!(
+            "cut-off chosen from run.tolerance = {:e}: κ = {} (ω_cut = {:.4e} rad/s at ω/ωn = {:.2}), truncation error indicator E(κ) = 4/3·|run(κ) − run(2κ)| = {:.2e} (target {:.2e} = {} × run.tolerance)",
+            st.tolerance,
+            r.cutoff_factor,
+            (case.reduced.as_ref().map(|x| x.cutoff))
+                .or_else(|| case.stators.iter().find_map(|m| m.reduced.as_ref().map(|x| x.cutoff)))
+                .unwrap_or(f64::NAN),
+            case.speed_ratio,
+            r.truncation_error,
+            r.target,
+            rubsim::analysis::cutoff::TRUNCATION_SHARE
+        );
+    }
     let plan = rubsim::time::plan_steps(&case, &st.step)?;
     print_run(s, &st, &case, &plan);
     print_budget(s, &model, &st, &case, &plan)?;

@@ -366,7 +366,12 @@ pub fn describe_choice(c: &rubsim::analysis::StepChoice) -> String {
         c.pilot_speeds,
         c.pilot_steps,
         c.pilot_wall_s
-    )
+    ) + &c.reduction.map_or(String::new(), |r| {
+        format!(
+            "; reduced model, cut-off chosen from run.tolerance: κ = {} (ω_cut = κ max(nω, ω_c)), truncation error indicator {:.2e} (target {:.2e}; in the predicted error), {} pilot steps",
+            r.cutoff_factor, r.truncation_error, r.target, r.pilot_steps
+        )
+    })
 }
 
 /// A progress bar over `n` speeds.

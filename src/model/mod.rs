@@ -627,8 +627,18 @@ impl Model {
         self.stations.iter().position(|s| s.name == name)
     }
 
-    /// Resolves the model at speed ω (rad/s).
+    /// Resolves the model at speed ω (rad/s), reduced as the scene asks (`[run.reduction]`).
     pub fn case(&self, omega: f64) -> Result<Case, ModelError> {
+        self.case_with(omega, self.reduction.as_ref())
+    }
+
+    /// Resolves the model at speed ω (rad/s), reduced as `reduction` says (`None`: the full
+    /// model) instead of as the scene asks: the reduced schemes of the error-target choice.
+    pub fn case_with(
+        &self,
+        omega: f64,
+        reduction: Option<&crate::resolve::ReductionInput>,
+    ) -> Result<Case, ModelError> {
         let wn = self.rotor.natural_frequency();
         let observed_node = self
             .observed_node
@@ -672,7 +682,7 @@ impl Model {
             unbalance_force: u[0].hypot(u[1]) * omega * omega,
             reduced: None,
         }
-        .reduced_by(self.reduction.as_ref())
+        .reduced_by(reduction)
     }
 
     /// Stator `i` with its contact dashpot; refused on a stator with mass.

@@ -94,6 +94,9 @@ pub struct ReductionInput {
     pub rotor: bool,
     /// Reduce every meshed stator with mass ([`crate::model::stator::reduce`]).
     pub stators: bool,
+    /// Neither `cutoff` nor `cutoff_factor` given: with `run.auto_step` the factor is chosen
+    /// from `run.tolerance` (`analysis::cutoff`), else it is the default.
+    pub auto: bool,
 }
 
 /// Checks and resolves a loaded scene; meshes of meshed stators are found, made and read here.
@@ -133,6 +136,7 @@ pub fn resolve(ls: &LoadedScene) -> Result<Resolved, Error> {
                 .rotor
                 .unwrap_or(matches!(s.rotor, crate::scene::RotorSpec::Fe(_))),
             stators: r.stators.unwrap_or(false),
+            auto: r.cutoff.is_none() && r.cutoff_factor.is_none(),
         }),
     })
 }
