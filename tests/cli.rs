@@ -1081,6 +1081,7 @@ fn cli_mesh_check_stress_and_refine() {
         "labyrinth_seal",
         "labyrinth_seal_step",
         "bench_annulus",
+        "bench_casing_mass",
     ] {
         let (ok, out, err) = in_repo(&["check", &format!("scenes/stators/{scene}.toml")]);
         assert!(ok, "{scene}: {err}");
