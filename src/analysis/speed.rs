@@ -57,7 +57,7 @@ pub struct ErrorEstimate {
 /// Revolutions the finer companion runs after its restart from the run's end state before its
 /// analysed window (at most the run's own transient): the restart's error, of the size of the
 /// two steps' difference, decays with the orbit's damping over them (docs/VALIDATION.md §15).
-pub const FINE_SETTLE_REVOLUTIONS: usize = 24;
+pub const FINE_SETTLE_REVOLUTIONS: usize = 16;
 
 /// The run's error from the finer pair's estimate `fine` = `|Q_h − Q_{h/2}|/(1 − 2^−p)` and the
 /// (Δt, 2Δt) pair's `pair`: the weighted geometric mean `fine^¾ pair^¼`.
