@@ -11,6 +11,7 @@ mod common;
 
 use common::{file_model, settings};
 use rubsim::analysis::{self, extents_error, orbit_span, ExtentsScale, Keep, SpeedResults};
+use rubsim::time::Record;
 use std::path::Path;
 
 /// The estimate as reported: the 2Δt/4Δt estimate of the extents plus what is left of the
@@ -88,70 +89,113 @@ fn paper_case_estimate_within_a_factor_3_of_the_true_error() {
     );
 }
 
-/// The restart the finer companion is built on: a run of 20 revolutions restarted at its own
-/// step (the quadratic's weights are then 0, 1, 0: u⁻¹ = uᴺ⁻¹ exactly) goes on as the run of
-/// 30 revolutions does — the same samples to round-off (the restarted clock starts at 0, a
-/// whole number of revolutions earlier) — through the rub of ν 3.5; a restart that drops uᴺ⁻¹
-/// (u⁻¹ = uᴺ, at rest) does not.
+/// The largest difference between two records' observed samples, from `from_a` and `from_b`
+/// on, in |Z0|.
+fn samples_apart(a: &Record, from_a: usize, b: &Record, from_b: usize, z0: f64) -> f64 {
+    a.observed[from_a..]
+        .iter()
+        .zip(&b.observed[from_b..])
+        .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()) / z0)
+        .fold(0.0_f64, f64::max)
+}
+
+/// The restart the finer companion is built on, at ν 3.5 of the paper case (in rub):
+/// - a run of 20 revolutions restarted at its own step (the quadratic's weights are then 0, 1,
+///   0: u⁻¹ = uᴺ⁻¹ exactly; an implicit body's u, v, a, load as they are) goes on as the run of
+///   30 revolutions does — the same samples to round-off (the restarted clock starts at 0, a
+///   whole number of revolutions earlier) — for the collocated, forward-increment and Newmark
+///   schemes; started at rest from uᴺ instead it is visibly another run;
+/// - restarted at Δt/2, after the finer companion's settling revolutions
+///   ([`analysis::speed::FINE_SETTLE_REVOLUTIONS`]) it is nearer the Δt/2 run from rest than a
+///   tenth of the two steps' difference at the restart (what the finer companion measures; 0.097
+///   of it after 9 revolutions, when measured).
 #[test]
 fn a_run_restarted_from_its_end_state_goes_on_as_the_longer_run() {
-    use rubsim::time::{StepPlan, Stepper};
+    use rubsim::time::{Scheme, StepPlan, Stepper};
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/paper/partial_rub.toml");
     let (ls, model) = file_model(&scene, &[] as &[&str]);
     let s = settings(&ls);
     let p = analysis::speed::prepare(&model, &s, 3.5).unwrap();
-    let scheme = s.step.integrator;
-    let spr = p.plan.steps_per_rev;
-    let plan = |revs: usize| StepPlan {
-        steps: revs * spr,
+    let z0 = p.case.z0;
+    let plan = |revs: usize, per_step: usize| StepPlan {
+        dt: p.plan.dt / per_step as f64,
+        steps_per_rev: p.plan.steps_per_rev * per_step,
+        record_every: p.plan.record_every * per_step,
+        steps: revs * p.plan.steps_per_rev * per_step,
         steady_from: 0,
         ..p.plan
     };
-    let (first, whole) = (plan(20), plan(30));
-    let mut a = Stepper::new(&p.case, scheme, &first, s.initial).unwrap();
-    a.run_to(first.steps - 1, &mut None).unwrap();
-    let older = a.history();
-    a.run_to(first.steps, &mut None).unwrap();
-    let end = a.end_state(&older).expect("the end state");
-    assert!(
-        a.end_state(&a.history()).is_none(),
-        "a history of the same step is refused"
-    );
-    let mut b = Stepper::new(&p.case, scheme, &plan(10), s.initial).unwrap();
-    assert!(b.restart(&end));
-    let (rb, _) = b.run(None).unwrap();
-    let (rc, _) = Stepper::new(&p.case, scheme, &whole, s.initial)
-        .unwrap()
-        .run(None)
-        .unwrap();
+    let end_of = |scheme: Scheme, first: &StepPlan| {
+        let mut a = Stepper::new(&p.case, scheme, first, s.initial).unwrap();
+        a.run_to(first.steps - 1, &mut None).unwrap();
+        let older = a.history();
+        a.run_to(first.steps, &mut None).unwrap();
+        assert!(
+            a.end_state(&a.history()).is_none(),
+            "a history of the same step is refused"
+        );
+        a.end_state(&older).expect("the end state")
+    };
+    let run = |scheme: Scheme, plan: &StepPlan, end: Option<&rubsim::time::EndState>| {
+        let mut b = Stepper::new(&p.case, scheme, plan, s.initial).unwrap();
+        if let Some(e) = end {
+            assert!(b.restart(e));
+        }
+        b.run(None).unwrap().0
+    };
+    let (first, whole) = (plan(20, 1), plan(30, 1));
     let offset = first.steps / first.record_every;
-    let z0 = p.case.z0;
-    let diff = rb
-        .observed
-        .iter()
-        .zip(&rc.observed[offset..])
-        .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()) / z0)
-        .fold(0.0_f64, f64::max);
-    assert!(rb.observed.len() > 600 && rb.observed.len() + offset <= rc.observed.len());
-    assert!(
-        diff < 1e-9,
-        "restarted run off the longer one by {diff:e} |Z0|"
-    );
-    let touched = rb.force.iter().any(|f| f[0] != 0.0 || f[1] != 0.0);
-    assert!(touched, "the restarted window rubs");
-    // Started at rest from uᴺ instead: visibly another run.
-    let mut at_rest = s.initial;
-    at_rest.u = [rc.disp[offset][0], rc.disp[offset][1]];
-    let (rd, _) = Stepper::new(&p.case, scheme, &plan(10), at_rest)
-        .unwrap()
-        .run(None)
-        .unwrap();
-    let off = rd.observed[1..]
-        .iter()
-        .zip(&rc.observed[offset + 1..])
-        .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()) / z0)
-        .fold(0.0_f64, f64::max);
-    assert!(off > 1e-3, "a start at rest is {off:e} off");
+    for scheme in [s.step.integrator, Scheme::ForwardIncrement, Scheme::Newmark] {
+        let end = end_of(scheme, &first);
+        let rb = run(scheme, &plan(10, 1), Some(&end));
+        let rc = run(scheme, &whole, None);
+        assert!(rb.observed.len() > 600 && rb.observed.len() + offset <= rc.observed.len());
+        let diff = samples_apart(&rb, 0, &rc, offset, z0);
+        eprintln!(
+            "{}: restarted run off the longer one by {diff:.1e} |Z0|",
+            scheme.name()
+        );
+        assert!(
+            diff < 1e-9,
+            "{}: restarted run off the longer one by {diff:e} |Z0|",
+            scheme.name()
+        );
+        let touched = rb.force.iter().any(|f| f[0] != 0.0 || f[1] != 0.0);
+        assert!(touched, "the restarted window rubs");
+        if scheme == s.step.integrator {
+            // Started at rest from uᴺ instead: visibly another run.
+            let mut at_rest = s.initial;
+            at_rest.u = [rc.disp[offset][0], rc.disp[offset][1]];
+            let rd = Stepper::new(&p.case, scheme, &plan(10, 1), at_rest)
+                .unwrap()
+                .run(None)
+                .unwrap()
+                .0;
+            let off = samples_apart(&rd, 1, &rc, offset + 1, z0);
+            assert!(off > 1e-3, "a start at rest is {off:e} off");
+            // At Δt/2: the restarted run against the Δt/2 run from rest.
+            let settle = analysis::speed::FINE_SETTLE_REVOLUTIONS;
+            let fine = run(scheme, &plan(20 + settle + 1, 2), None);
+            let restarted = run(scheme, &plan(settle + 1, 2), Some(&end));
+            let per_rev = s.step.samples_per_rev;
+            let steps_apart = samples_apart(&rc, offset, &fine, offset, z0);
+            let at_restart = (0..per_rev)
+                .map(|i| {
+                    let (x, y) = (rc.observed[offset + i], fine.observed[offset + i]);
+                    (x[0] - y[0]).abs().max((x[1] - y[1]).abs()) / z0
+                })
+                .fold(0.0_f64, f64::max);
+            let last = restarted.observed.len() - per_rev - 1;
+            let settled = samples_apart(&restarted, last, &fine, offset + last, z0);
+            eprintln!(
+                "Δt/2: steps apart {steps_apart:.2e} ({at_restart:.2e} over the restart's revolution), restarted off the Δt/2 run by {settled:.2e} after {settle} revolutions"
+            );
+            assert!(
+                at_restart > 1e-5 && settled < 0.1 * at_restart,
+                "restarted at Δt/2: {settled:e} against {at_restart:e}"
+            );
+        }
+    }
 }
 
 /// `run.error_estimate = false` runs no companion; without contact one companion (2Δt) is run

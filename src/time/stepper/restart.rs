@@ -98,7 +98,8 @@ impl Stepper<'_> {
 
     /// Sets the state of a stepper that has not started from `end`, the end of a run of the same
     /// case and scheme at another step Δt_e, taken at a whole revolution (the load's phase is
-    /// then the one at t = 0): an implicit body takes u, v, a and the load as they are; a body
+    /// then the one at t = 0): an implicit body takes u, v, a and the load as they are (and
+    /// u⁻¹ = u − Δt v, the instant before that only a dashpot reads); a body
     /// of central differences takes uᴺ as u⁰ and, as u⁻¹, the quadratic through uᴺ, uᴺ⁻¹,
     /// uᴺ⁻² at t = −Δt: with x = −Δt/Δt_e, `u⁻¹ = (x+1)(x+2)/2 uᴺ − x(x+2) uᴺ⁻¹ + x(x+1)/2
     /// uᴺ⁻²` (an error of O(Δt_e³ u‴), below the two steps' difference of O(Δt_e²), which the
@@ -108,7 +109,8 @@ impl Stepper<'_> {
         if self.started || !matches!(self.spin, Spin::Constant) {
             return false;
         }
-        let x = -self.plan.dt / end.dt;
+        let dt = self.plan.dt;
+        let x = -dt / end.dt;
         let w = [
             0.5 * (x + 1.0) * (x + 2.0),
             -x * (x + 2.0),
@@ -140,7 +142,9 @@ impl Stepper<'_> {
             }
             BodyState::Implicit(u, v, a, load) => {
                 b.u.copy_from_slice(u);
-                b.u_prev.copy_from_slice(u);
+                for ((p, u), v) in b.u_prev.iter_mut().zip(u).zip(v) {
+                    *p = u - dt * v;
+                }
                 if let Ops::Implicit(imp) = &mut b.ops {
                     imp.set_state(v, a, load);
                 }
