@@ -10,7 +10,7 @@ use crate::math::{gcd, V2};
 use crate::model::{Case, Model};
 use crate::signal::{extents, hann_spectrum, line_exact};
 use crate::time::{
-    integrate, plan_steps, Frame, FrameSink, Record, RunStats, Sink, StepPlan, Stepper,
+    integrate, plan_steps, EndState, Frame, FrameSink, Record, RunStats, Sink, StepPlan, Stepper,
     WINDOW_MULTIPLE,
 };
 use serde::{Deserialize, Serialize};
@@ -44,6 +44,32 @@ pub struct ErrorEstimate {
     /// `|Q_2h − Q_4h|/((r₂^p − 1) r₁^p)` (relative to the run's largest |extent|).
     #[serde(default)]
     pub extents_rel_coarse_pair: Option<f64>,
+    /// Δt/2 (s): the finer companion, run at rub speeds of a steady periodic run, restarted
+    /// from the run's end state ([`FINE_SETTLE_REVOLUTIONS`] to settle, then lcm(6, period)
+    /// revolutions analysed); it takes the second companion's place.
+    #[serde(default)]
+    pub dt_fine: Option<f64>,
+    /// The (Δt, Δt/2) pair's estimate of the run's extents error, `|Q_h − Q_{h/2}|/(1 − 2^−p)`.
+    #[serde(default)]
+    pub extents_rel_fine_pair: Option<f64>,
+}
+
+/// Revolutions the finer companion runs after its restart from the run's end state before its
+/// analysed window (at most the run's own transient): the restart's error, of the size of the
+/// two steps' difference, decays with the orbit's damping over them (docs/VALIDATION.md §15).
+pub const FINE_SETTLE_REVOLUTIONS: usize = 16;
+
+/// The run's error from the finer pair's estimate `fine` = `|Q_h − Q_{h/2}|/(1 − 2^−p)` and the
+/// (Δt, 2Δt) pair's `pair`: the weighted geometric mean `fine^¾ pair^¼`.
+///
+/// With `e(h) = C(h) h^p` and a coefficient that depends on the contact events' phase in the
+/// step, `fine = e(h) |1 − C(h/2)/(2^p C(h))| / (1 − 2^−p)` is the run's own error to within
+/// `(1 ± 2^−p|C(h/2)/C(h)|)/(1 − 2^−p)` — for p = 2 and C(h/2) within a factor 2 of C(h), 2/3 to
+/// 5/3 of it — and cancels only when `C(h/2) ≈ 2^p C(h)`; the coarser pair, which never sees
+/// `C(h)` (it mixes C(h) and C(2h)), is given a quarter of the logarithm to lift such a cancelled
+/// fine pair.
+pub fn combine_fine(fine: f64, pair: f64) -> f64 {
+    fine.max(1e-300).powf(0.75) * pair.max(1e-300).powf(0.25)
 }
 
 /// The error of the finer run of a pair from their difference `d = |Q_f − Q_c|` (Richardson):
@@ -213,7 +239,7 @@ impl Prepared {
     /// # Errors
     /// [`crate::error::SolveError`] of the loop, a sink's error included.
     pub fn integrate(&self, sinks: &mut [&mut dyn FrameSink]) -> Result<(Record, RunStats)> {
-        let (rec, stats, _) = with_sinks(sinks, |sink| self.drive(sink, false))?;
+        let (rec, stats, _, _) = with_sinks(sinks, |sink| self.drive(sink, false))?;
         Ok((rec, stats))
     }
 
@@ -222,14 +248,22 @@ impl Prepared {
     /// transient below `run.max_transient_revolutions` (and the steps below `run.max_steps`),
     /// the run goes on and the window slides — by as many revolutions as the observed decay
     /// asks, at least a third of the window. Frames go to `sink` throughout. Returns the record,
-    /// the counters and the plan as it ended.
-    fn drive(&self, mut sink: Sink<'_>, adapt: bool) -> Result<(Record, RunStats, StepPlan)> {
+    /// the counters, the plan as it ended and, with `adapt` and `run.error_estimate`, the
+    /// bodies' end state (the finer companion of the error estimate restarts from it).
+    fn drive(&self, mut sink: Sink<'_>, adapt: bool) -> Result<Driven> {
         let s = &self.settings;
         let mut st = Stepper::new(&self.case, s.step.integrator, &self.plan, s.initial)?;
         let spr_steps = self.plan.steps_per_rev.max(1);
         let window = (self.plan.steps - self.plan.steady_from) / spr_steps;
+        let keep_end = adapt && s.error_estimate;
+        let mut older = None;
         loop {
             let p = *st.plan();
+            if keep_end {
+                // The run in two chunks takes the same steps; uᴺ⁻² is kept on the way.
+                st.run_to(p.steps.saturating_sub(1), &mut sink)?;
+                older = Some(st.history());
+            }
             st.run_to(p.steps, &mut sink)?;
             let transient = p.steady_from / spr_steps;
             let cap = s.max_transient_revolutions.max(transient);
@@ -253,8 +287,9 @@ impl Prepared {
             st.extend(p.steps + more * spr_steps, p.steady_from + more * spr_steps);
         }
         let plan = *st.plan();
+        let end = older.and_then(|o| st.end_state(&o));
         let (rec, stats) = st.finish(&mut sink)?;
-        Ok((rec, stats, plan))
+        Ok((rec, stats, plan, end))
     }
 
     /// Integrates until the steady state is proven or the transient reaches its cap (see
@@ -267,10 +302,10 @@ impl Prepared {
     /// # Errors
     /// As [`Prepared::integrate`]; the companion run's failure only leaves the estimate out.
     pub fn run(&self, keep: Keep, sinks: &mut [&mut dyn FrameSink]) -> Result<SpeedResults> {
-        let (rec, stats, plan) = with_sinks(sinks, |sink| self.drive(sink, true))?;
+        let (rec, stats, plan, end) = with_sinks(sinks, |sink| self.drive(sink, true))?;
         let mut res = analyse(&self.case, &self.settings, &plan, &rec, stats, keep);
         if self.settings.error_estimate {
-            res.error = self.error_estimate(&res);
+            res.error = self.error_estimate(&res, end.as_ref());
         }
         Ok(res)
     }
@@ -279,7 +314,7 @@ impl Prepared {
     /// main run ≈ |Q_h − Q_c| / |r^p − 1|, r = h_c / h, p the scheme's nominal order. At a rub
     /// (contact in the analysed window) a second companion at about 4Δt gives the (2Δt, 4Δt)
     /// pair's estimate too and the two are combined ([`combine_levels`]).
-    fn error_estimate(&self, res: &SpeedResults) -> Option<ErrorEstimate> {
+    fn error_estimate(&self, res: &SpeedResults, end: Option<&EndState>) -> Option<ErrorEstimate> {
         let (case, plan) = (&self.case, &res.plan);
         // The companions cut the transient the main run ended with. A steady periodic run's
         // window repeats every `period` revolutions: its extents and lines are those of
@@ -287,7 +322,8 @@ impl Prepared {
         // the run is not steady or not periodic).
         let mut s = self.settings;
         let repeat = WINDOW_MULTIPLE * res.period / gcd(WINDOW_MULTIPLE, res.period.max(1));
-        let window = if res.steady && res.period > 0 && repeat <= res.window_revolutions {
+        let periodic = res.steady && res.period > 0 && repeat <= res.window_revolutions;
+        let window = if periodic {
             repeat
         } else {
             res.window_revolutions
@@ -321,10 +357,21 @@ impl Prepared {
         let lmax = lines(res).iter().fold(1e-300_f64, |m, v| m.max(*v));
         let ext1 = richardson(max_diff(&c.extents_nd, &res.extents_nd) / scale, r1, p);
         let lin1 = richardson(max_diff(&lines(&c), &lines(res)) / lmax, r1, p);
-        // The second pair, at rubs only: without contact the error is the smooth expansion
-        // C h^p and one pair measures it (docs/VALIDATION.md §15).
+        // A second level at rubs only: without contact the error is the smooth expansion
+        // C h^p and one pair measures it (docs/VALIDATION.md §15). A steady periodic run of a
+        // second-order scheme gets a companion at Δt/2 restarted from its end state (its
+        // difference from the run is dominated by the run's own error); any other, a companion
+        // at about 4Δt from the start. At order 1 the finer pair reads the run's error times
+        // `|1 − C(h/2)/(2C(h))|/(1 − ½)`: as exposed to the coefficient's phase noise as a
+        // coarser pair, so it is not run.
         let rub = res.contact_fraction > 0.0 || c.contact_fraction > 0.0;
-        let second = if rub && r1 > 1.0 {
+        let fine = match end {
+            Some(e) if rub && r1 > 1.0 && periodic && p >= 2.0 => {
+                self.fine_companion(res, e, window)
+            }
+            _ => None,
+        };
+        let second = if rub && r1 > 1.0 && fine.is_none() {
             coarser_than(&cplan, 0.8 * cplan.limit).and_then(|p4| Some((p4, companion(&p4)?)))
         } else {
             None
@@ -339,16 +386,74 @@ impl Prepared {
             }
             None => (None, None, None),
         };
+        let (dt_fine, extf, linf) = match &fine {
+            Some((fp, f)) => (
+                Some(fp.dt),
+                Some(richardson(
+                    max_diff(&f.extents_nd, &res.extents_nd) / scale,
+                    0.5,
+                    p,
+                )),
+                Some(richardson(max_diff(&lines(f), &lines(res)) / lmax, 0.5, p)),
+            ),
+            None => (None, None, None),
+        };
+        let (extents_rel, lines_rel) = match (extf, linf) {
+            (Some(ef), Some(lf)) => (combine_fine(ef, ext1), combine_fine(lf, lin1)),
+            _ => (combine_levels(ext1, ext2), combine_levels(lin1, lin2)),
+        };
         Some(ErrorEstimate {
             dt_coarse: cplan.dt,
             order: p,
-            extents_rel: combine_levels(ext1, ext2),
-            lines_rel: combine_levels(lin1, lin2),
+            extents_rel,
+            lines_rel,
             same_period: c.period == res.period,
             dt_coarser,
             extents_rel_pair: ext1,
             extents_rel_coarse_pair: ext2,
+            dt_fine,
+            extents_rel_fine_pair: extf,
         })
+    }
+}
+
+/// What [`Prepared::drive`] returns: the record, the counters, the plan as it ended and the
+/// bodies' end state.
+type Driven = (Record, RunStats, StepPlan, Option<EndState>);
+
+impl Prepared {
+    /// The companion at Δt/2 restarted from the run's end state `end` ([`Stepper::restart`]):
+    /// [`FINE_SETTLE_REVOLUTIONS`] (at most the run's transient) to settle out the restart, then
+    /// `window` analysed. Returns its plan and results; `None` when it cannot restart or fails.
+    fn fine_companion(
+        &self,
+        res: &SpeedResults,
+        end: &EndState,
+        window: usize,
+    ) -> Option<(StepPlan, SpeedResults)> {
+        let (plan, s) = (&res.plan, &self.settings);
+        if end.step != plan.steps || plan.steps % plan.steps_per_rev.max(1) != 0 {
+            return None;
+        }
+        let settle = FINE_SETTLE_REVOLUTIONS.min(res.transient_revolutions);
+        let spr = 2 * plan.steps_per_rev;
+        let fplan = StepPlan {
+            dt: 0.5 * plan.dt,
+            steps_per_rev: spr,
+            record_every: 2 * plan.record_every,
+            steps: (settle + window) * spr,
+            steady_from: settle * spr,
+            ..*plan
+        };
+        let mut st = Stepper::new(&self.case, s.step.integrator, &fplan, s.initial).ok()?;
+        if !st.restart(end) {
+            return None;
+        }
+        let (rec, stats) = st.run(None).ok()?;
+        Some((
+            fplan,
+            analyse(&self.case, s, &fplan, &rec, stats, Keep::default()),
+        ))
     }
 }
 
@@ -626,5 +731,28 @@ mod tests {
         let both = combine_levels(fine, Some(coarse));
         assert!((both - e[0] / 8f64.sqrt()).abs() <= 1e-9 * e[0]);
         assert!(both >= e[0] / 3.0 && both <= 3.0 * e[0], "{both} {}", e[0]);
+    }
+
+    /// The finer pair: with C(h/2) = C(h) the (Δt, Δt/2) estimate is the run's error exactly
+    /// (finer companion, r = ½); with C(h/2) = 3C(h) it cancels to a third of it, and
+    /// `fine^¾ pair^¼` with the (Δt, 2Δt) pair at C(2h) = 2C(h) (which reads 7/3 of the error)
+    /// brings it to 0.54 of it; equal estimates combine to themselves.
+    #[test]
+    fn the_finer_pair_weighs_three_quarters() {
+        let p = 2.0;
+        let h: f64 = 1.0 / 300.0;
+        let e = |c: f64, h: f64| c * h * h;
+        let c = 2.0e-3;
+        let exact = richardson((e(c, h) - e(c, h / 2.0)).abs(), 0.5, p);
+        assert!((exact - e(c, h)).abs() <= 1e-12 * e(c, h));
+        let cancelled = richardson((e(c, h) - e(3.0 * c, h / 2.0)).abs(), 0.5, p);
+        assert!((cancelled - e(c, h) / 3.0).abs() <= 1e-12 * e(c, h));
+        let pair = richardson((e(c, h) - e(2.0 * c, 2.0 * h)).abs(), 2.0, p);
+        let both = combine_fine(cancelled, pair);
+        assert!((pair - 7.0 / 3.0 * e(c, h)).abs() <= 1e-12 * e(c, h));
+        assert!((both / e(c, h) - 0.5422).abs() < 1e-4, "{both}");
+        let expected = cancelled.powf(0.75) * pair.powf(0.25);
+        assert!((both - expected).abs() <= 1e-12 * expected);
+        assert!((combine_fine(4e-5, 4e-5) - 4e-5).abs() <= 1e-18);
     }
 }

@@ -202,7 +202,7 @@ fn print_run(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &StepPlan
         s.run.revolutions,
         s.run.transient_revolutions,
         s.run.samples_per_rev,
-        if s.run.error_estimate { "by companion runs at 2Δt (and 4Δt at a rub)" } else { "off" }
+        if s.run.error_estimate { "by companion runs at 2Δt (and Δt/2 or 4Δt at a rub)" } else { "off" }
     );
     if let Some(dt) = s.run.dt {
         println!(

@@ -106,8 +106,9 @@ pub struct RunSpec {
     /// Recorded samples per revolution (a power of two is best for the FFT).
     #[serde(default = "default_spr")]
     pub samples_per_rev: usize,
-    /// Estimate the discretisation error by companion runs at 2Δt and, at a rub, 4Δt
-    /// (`analysis::speed::combine_levels`).
+    /// Estimate the discretisation error by companion runs at 2Δt and, at a rub, Δt/2
+    /// restarted from the run's end state (a steady periodic run:
+    /// `analysis::speed::combine_fine`) or 4Δt (`analysis::speed::combine_levels`).
     #[serde(default = "yes")]
     pub error_estimate: bool,
     /// Most integration steps one run may take (default [`crate::time::MAX_STEPS`]): a run

@@ -81,7 +81,7 @@ pub use plan::{
     STATOR_WITH_MASS_RHO_INF, WINDOW_MULTIPLE,
 };
 pub use record::{ContactStats, Record, RunStats};
-pub use stepper::{Initial, Sink, Stepper};
+pub use stepper::{EndState, History, Initial, Sink, Stepper};
 
 use crate::error::SolveError;
 use crate::model::Case;

@@ -164,6 +164,21 @@ impl Implicit {
         Ok(())
     }
 
+    /// The state besides the displacement: vₙ, aₙ and the load Lₙ (empty when α_f = 0).
+    pub(crate) fn state(&self) -> (&[f64], &[f64], &[f64]) {
+        (&self.v, &self.a, &self.load)
+    }
+
+    /// Sets vₙ, aₙ and Lₙ from [`Implicit::state`] of a body of the same size (a restart at
+    /// another step: none of them depends on Δt).
+    pub(crate) fn set_state(&mut self, v: &[f64], a: &[f64], load: &[f64]) {
+        self.v.copy_from_slice(v);
+        self.a.copy_from_slice(a);
+        if self.load.len() == load.len() {
+            self.load.copy_from_slice(load);
+        }
+    }
+
     /// Adds the known part of `S uₙ₊₁` to `rhs`, which holds `fₙ₊₁` on entry (call
     /// [`Implicit::keep_external`] first).
     pub(crate) fn load_rhs(&mut self, u: &[f64], rhs: &mut [f64]) {

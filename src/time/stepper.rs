@@ -20,6 +20,9 @@ use crate::model::{Case, Drive, Events, SpeedProfile};
 use std::time::Instant;
 
 mod instants;
+mod restart;
+
+pub use restart::{EndState, History};
 
 /// Initial state of the rotor, on station 0's node (node 0 without stations).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

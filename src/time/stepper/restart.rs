@@ -1,0 +1,164 @@
+//! Restarting a constant-speed run at another step from where a run ended: the companion of
+//! the error estimate that is finer than the run (`analysis::speed`) starts from the run's
+//! settled state instead of integrating the transient again.
+
+use super::Stepper;
+use crate::time::body::{DynBody, Ops, StatorDyn};
+use crate::time::drive::Spin;
+
+/// A body's state: the last three displacements of central differences (`u[0]` = uᴺ, `u[1]` =
+/// uᴺ⁻¹, `u[2]` = uᴺ⁻²), or an implicit body's displacement, velocity, acceleration and load.
+#[derive(Debug, Clone)]
+enum BodyState {
+    Central([Vec<f64>; 3]),
+    Implicit(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>),
+    /// A massless stator: no state between steps.
+    None,
+}
+
+/// The displacements of the bodies one step before the end (uᴺ⁻¹ and uᴺ⁻²), taken by
+/// [`Stepper::history`] one step before [`Stepper::end_state`].
+#[derive(Debug, Clone)]
+pub struct History {
+    step: usize,
+    bodies: Vec<(Vec<f64>, Vec<f64>)>,
+}
+
+/// The state of every body at the end of a constant-speed run of step `dt`, at step `step`
+/// ([`Stepper::end_state`]), from which a run at another step restarts
+/// ([`Stepper::restart`]).
+#[derive(Debug, Clone)]
+pub struct EndState {
+    /// Δt of the run it comes from (s).
+    pub dt: f64,
+    /// Index of the step it was taken at (the next step to take).
+    pub step: usize,
+    bodies: Vec<BodyState>,
+}
+
+/// The bodies of a stepper that carry state: the rotor, then each stator's (its reduced body
+/// for a reduced stator; `None` for a massless one).
+fn bodies<'b>(rotor: &'b DynBody, stators: &'b [StatorDyn]) -> Vec<Option<&'b DynBody>> {
+    std::iter::once(Some(rotor))
+        .chain(stators.iter().map(|s| match s {
+            StatorDyn::Massless(_) => None,
+            StatorDyn::Massive(b) => Some(&**b),
+            StatorDyn::Reduced(r) => Some(&r.body),
+        }))
+        .collect()
+}
+
+impl Stepper<'_> {
+    /// The bodies' uⁿ and uⁿ⁻¹ now (n the next step), to be handed to [`Stepper::end_state`]
+    /// one step later.
+    pub fn history(&self) -> History {
+        History {
+            step: self.n,
+            bodies: bodies(&self.rotor, &self.stators)
+                .into_iter()
+                .map(|b| {
+                    b.map_or((Vec::new(), Vec::new()), |b| {
+                        (b.u.clone(), b.u_prev.clone())
+                    })
+                })
+                .collect(),
+        }
+    }
+
+    /// The state of every body now, with `older` taken one step before (central differences
+    /// need uᴺ⁻² to restart at another step). `None` when `older` is not from the step before
+    /// or the speed is not constant.
+    pub fn end_state(&self, older: &History) -> Option<EndState> {
+        if older.step + 1 != self.n || !matches!(self.spin, Spin::Constant) {
+            return None;
+        }
+        let now = bodies(&self.rotor, &self.stators);
+        let bodies = now
+            .into_iter()
+            .zip(&older.bodies)
+            .map(|(b, (_, u2))| match b {
+                None => BodyState::None,
+                Some(b) => match &b.ops {
+                    Ops::Central(_) => {
+                        BodyState::Central([b.u.clone(), b.u_prev.clone(), u2.clone()])
+                    }
+                    Ops::Implicit(imp) => {
+                        let (v, a, load) = imp.state();
+                        BodyState::Implicit(b.u.clone(), v.to_vec(), a.to_vec(), load.to_vec())
+                    }
+                },
+            })
+            .collect();
+        Some(EndState {
+            dt: self.plan.dt,
+            step: self.n,
+            bodies,
+        })
+    }
+
+    /// Sets the state of a stepper that has not started from `end`, the end of a run of the same
+    /// case and scheme at another step Δt_e, taken at a whole revolution (the load's phase is
+    /// then the one at t = 0): an implicit body takes u, v, a and the load as they are (and
+    /// u⁻¹ = u − Δt v, the instant before that only a dashpot reads); a body
+    /// of central differences takes uᴺ as u⁰ and, as u⁻¹, the quadratic through uᴺ, uᴺ⁻¹,
+    /// uᴺ⁻² at t = −Δt: with x = −Δt/Δt_e, `u⁻¹ = (x+1)(x+2)/2 uᴺ − x(x+2) uᴺ⁻¹ + x(x+1)/2
+    /// uᴺ⁻²` (an error of O(Δt_e³ u‴), below the two steps' difference of O(Δt_e²), which the
+    /// restarted run then settles out). Returns false (the stepper unchanged) when `end` does
+    /// not fit (another scheme or other bodies) or the stepper has started.
+    pub fn restart(&mut self, end: &EndState) -> bool {
+        if self.started || !matches!(self.spin, Spin::Constant) {
+            return false;
+        }
+        let dt = self.plan.dt;
+        let x = -dt / end.dt;
+        let w = [
+            0.5 * (x + 1.0) * (x + 2.0),
+            -x * (x + 2.0),
+            0.5 * x * (x + 1.0),
+        ];
+        let fits = {
+            let now = bodies(&self.rotor, &self.stators);
+            now.len() == end.bodies.len()
+                && now.iter().zip(&end.bodies).all(|(b, s)| match (b, s) {
+                    (None, BodyState::None) => true,
+                    (Some(b), BodyState::Central(u)) => {
+                        matches!(b.ops, Ops::Central(_)) && u[0].len() == b.n
+                    }
+                    (Some(b), BodyState::Implicit(u, ..)) => {
+                        matches!(b.ops, Ops::Implicit(_)) && u.len() == b.n
+                    }
+                    _ => false,
+                })
+        };
+        if !fits {
+            return false;
+        }
+        let set = |b: &mut DynBody, s: &BodyState| match s {
+            BodyState::Central(u) => {
+                b.u.copy_from_slice(&u[0]);
+                for (i, p) in b.u_prev.iter_mut().enumerate() {
+                    *p = w[0] * u[0][i] + w[1] * u[1][i] + w[2] * u[2][i];
+                }
+            }
+            BodyState::Implicit(u, v, a, load) => {
+                b.u.copy_from_slice(u);
+                for ((p, u), v) in b.u_prev.iter_mut().zip(u).zip(v) {
+                    *p = u - dt * v;
+                }
+                if let Ops::Implicit(imp) = &mut b.ops {
+                    imp.set_state(v, a, load);
+                }
+            }
+            BodyState::None => {}
+        };
+        set(&mut self.rotor, &end.bodies[0]);
+        for (st, s) in self.stators.iter_mut().zip(&end.bodies[1..]) {
+            match st {
+                StatorDyn::Massless(_) => {}
+                StatorDyn::Massive(b) => set(b, s),
+                StatorDyn::Reduced(r) => set(&mut r.body, s),
+            }
+        }
+        true
+    }
+}
