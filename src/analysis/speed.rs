@@ -2,7 +2,8 @@
 //! frame sinks ([`Prepared::run`]), analyse the record ([`analyse`]) and estimate the
 //! discretisation error by a companion run.
 
-use super::steady::{classify, lines_revolutions, stationarity, Classification, Stationarity};
+use super::dynamics::{dynamics, Dynamics};
+use super::steady::{judge, lines_revolutions, stationarity, Classification, Stationarity};
 use super::whirl::{signed_orders, whirl_lines, WhirlLines};
 use super::{Keep, RunSettings, MAX_PERIOD};
 use crate::error::Result;
@@ -110,6 +111,10 @@ pub struct SpeedResults {
     pub stationarity: Stationarity,
     /// How the period was told, and how surely.
     pub classification: Classification,
+    /// Periodic, quasi-periodic, chaotic or undetermined, and the 0–1 test's `K` of a window
+    /// that is not periodic ([`super::dynamics`]).
+    #[serde(default)]
+    pub dynamics: Dynamics,
     /// Revolutions (the last of the window) the 1×, ½×, ⅓× lines are read over: a multiple of
     /// `lcm(6, period)`.
     pub lines_revolutions: usize,
@@ -251,6 +256,17 @@ impl Prepared {
                 break;
             }
             st.extend(p.steps + more * spr_steps, p.steady_from + more * spr_steps);
+        }
+        if adapt {
+            // A window that is not periodic is lengthened for the 0–1 test (`dynamics`).
+            let p = *st.plan();
+            let (w, nrev) = window_points(&self.case, s, &p, st.recorded());
+            let (_, _, class) = judge(&w, s.step.samples_per_rev, nrev, s.tolerance, MAX_PERIOD);
+            let by_steps = (s.step.max_steps as usize).saturating_sub(p.steps) / spr_steps;
+            let more = s.classify_revolutions.saturating_sub(nrev).min(by_steps);
+            if class.period == 0 && more > 0 {
+                st.extend(p.steps + more * spr_steps, p.steady_from);
+            }
         }
         let plan = *st.plan();
         let (rec, stats) = st.finish(&mut sink)?;
@@ -495,14 +511,19 @@ pub fn analyse(
         })
         .collect();
     let ext = extents(&window);
-    let span = orbit_span(&ext);
-    let stn = stationarity(&window, spr, nrev, span);
-    let steady = stn.residual <= s.tolerance;
-    // What is left of the transient makes revolutions differ by up to twice its size: a
-    // steady run's period is judged to the tolerance plus that.
-    let period_tol = s.tolerance + if steady { 2.0 * stn.residual } else { 0.0 };
-    let class = classify(&window, spr, nrev, span, period_tol, MAX_PERIOD);
+    let (stn, steady, class) = judge(&window, spr, nrev, s.tolerance, MAX_PERIOD);
     let period = class.period;
+    let section = &poincare[..nrev.min(poincare.len())];
+    let span = orbit_span(&ext);
+    let dynamics = dynamics(
+        period,
+        section,
+        s.component,
+        span,
+        class.tolerance,
+        &stn,
+        steady,
+    );
     let comp: Vec<f64> = window.iter().map(|p| p[s.component]).collect();
     let (lrev, resolved) = lines_revolutions(nrev, period);
     let lines = &comp[(nrev - lrev) * spr..nrev * spr];
@@ -542,6 +563,7 @@ pub fn analyse(
         window_revolutions: nrev,
         stationarity: stn,
         classification: class,
+        dynamics,
         lines_revolutions: lrev,
         lines_resolved: resolved,
         extents_nd: ext,
