@@ -170,3 +170,81 @@ fn an_undamped_free_whirl_on_the_unbalance_response_is_quasi_periodic() {
         eprintln!("{name}: K {k:.4}, whirl {w:.4}×, 1× {a1:.4}");
     }
 }
+
+/// `rubsim map` at ξ = 0.02 over ω/ω_n 2.3, 2.4 and δ_nd 0.5, 0.6: the chaotic cells are their
+/// own class in `map.csv` (`regime`, with `zero_one_k` > 0.8) and in `summary.json`
+/// `regime_cells`, beside the 1/3× ones, and `regime_map.png` is drawn.
+#[test]
+fn the_regime_map_has_a_chaotic_class() {
+    let tmp = TempDir::new().unwrap();
+    let scene = repo("scenes/paper/regime_map.toml");
+    let out = tmp.path().join("map");
+    ok(
+        tmp.path(),
+        &[
+            "map",
+            scene.to_str().unwrap(),
+            "--set",
+            "rotor.damping_ratio=0.02",
+            "--set",
+            "run.map.x.from=2.3",
+            "--set",
+            "run.map.x.to=2.4",
+            "--set",
+            "run.map.y.from=0.5",
+            "--set",
+            "run.map.y.to=0.6",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let text = common::read(&out.join("map.csv"));
+    let mut lines = text.lines();
+    let cols: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |name: &str| cols.iter().position(|c| *c == name).unwrap();
+    assert_eq!(cols[cols.len() - 2..], ["zero_one_k", "long_period"]);
+    let mut seen = Vec::new();
+    for l in lines {
+        let row: Vec<&str> = l.split(',').collect();
+        let (speed, regime, k) = (
+            row[at("speed_ratio")],
+            row[at("regime")],
+            row[at("zero_one_k")],
+        );
+        match speed {
+            "2.3" => assert_eq!((regime, k), ("1/3×", "")),
+            "2.4" => {
+                assert_eq!(regime, "chaotic");
+                assert!(k.parse::<f64>().unwrap() > 0.8, "{k}");
+            }
+            s => panic!("speed {s}"),
+        }
+        seen.push(regime.to_string());
+    }
+    assert_eq!(seen.len(), 4);
+    let s = json(&out.join("summary.json"));
+    assert_eq!(s["map"]["regime_cells"]["chaotic"], 2, "{}", s["map"]);
+    assert!(out.join("regime_map.png").is_file());
+}
+
+/// An absurd `run.classify_revolutions` is refused before anything runs, naming the key.
+#[test]
+fn an_absurd_classify_budget_is_refused() {
+    let tmp = TempDir::new().unwrap();
+    let scene = repo("scenes/paper/partial_rub.toml");
+    let err = common::cli::fails(
+        tmp.path(),
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--speed",
+            "2.45",
+            "--set",
+            "run.classify_revolutions=1000000000",
+            "--out",
+            tmp.path().join("x").to_str().unwrap(),
+        ],
+    );
+    assert!(err.contains("run.classify_revolutions"), "{err}");
+    assert!(!tmp.path().join("x").join("summary.json").exists());
+}
