@@ -105,7 +105,8 @@ pub struct SpeedResults {
     /// Revolutions cut as transient before the analysed window (`run.transient_revolutions`,
     /// more when the run went on to reach the steady state).
     pub transient_revolutions: usize,
-    /// Revolutions of the analysed window (at least 6).
+    /// Revolutions of the analysed window (at least 6; `run.classify_revolutions` when the run
+    /// is not periodic and `run.max_steps` allows).
     pub window_revolutions: usize,
     /// How stationary the analysed window is (the transient's share of the error).
     pub stationarity: Stationarity,
@@ -226,8 +227,10 @@ impl Prepared {
     /// window's transient residual ([`stationarity`]) is above `run.tolerance` and the
     /// transient below `run.max_transient_revolutions` (and the steps below `run.max_steps`),
     /// the run goes on and the window slides — by as many revolutions as the observed decay
-    /// asks, at least a third of the window. Frames go to `sink` throughout. Returns the record,
-    /// the counters and the plan as it ended.
+    /// asks, at least a third of the window. A window then not periodic (no period up to
+    /// [`MAX_PERIOD`], the rule of [`analyse`]) is lengthened to `run.classify_revolutions`
+    /// within `run.max_steps`, for [`super::dynamics`]. Frames go to `sink` throughout. Returns
+    /// the record, the counters and the plan as it ended.
     fn drive(&self, mut sink: Sink<'_>, adapt: bool) -> Result<(Record, RunStats, StepPlan)> {
         let s = &self.settings;
         let mut st = Stepper::new(&self.case, s.step.integrator, &self.plan, s.initial)?;
