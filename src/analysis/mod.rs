@@ -23,7 +23,8 @@
 //! ν = ω/ω_n.
 //!
 //! Files: [`speed`] (prepare, run to the steady state, analyse, error estimate), [`steady`]
-//! (stationarity of the window, period classification, where lines are resolved), [`sweep`](mod@sweep) (speeds, variants, the
+//! (stationarity of the window, period classification, where lines are resolved), [`dynamics`]
+//! (quasi-periodic or chaotic: the 0–1 test on the Poincaré section), [`sweep`](mod@sweep) (speeds, variants, the
 //! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),
 //! [`bench`](mod@bench) (timing and the comparison with a converged sweep), [`stress`] (stator stress
 //! probe), [`refine`] (mesh-refinement metrics), [`rotordyn`] (modes, Campbell, unbalance
@@ -36,6 +37,7 @@ pub mod campbell;
 pub mod convergence;
 pub mod critical_map;
 pub mod cutoff;
+pub mod dynamics;
 pub mod mode_shape;
 pub mod refine;
 pub mod regimes;
@@ -52,8 +54,10 @@ pub use convergence::{
     convergence, reduced_case, ConvergencePoint, ConvergenceResults, REDUCED_COLLOCATED,
     REDUCED_GENERALIZED_ALPHA,
 };
+pub use dynamics::{Dynamics, Regime};
 pub use regimes::{
-    quasi_resonances, regime_class, regime_name, regime_ranges, RegimeRange, REGIME_CLASSES,
+    quasi_resonances, regime_class, regime_label, regime_name, regime_ranges, RegimeRange,
+    REGIME_CLASSES,
 };
 pub use speed::{
     analyse, extent_scale, extents_error, orbit_span, prepare, run_speed, ErrorEstimate,
@@ -90,6 +94,9 @@ pub struct RunSettings {
     /// Most transient revolutions while waiting for the steady state
     /// (`run.max_transient_revolutions`).
     pub max_transient_revolutions: usize,
+    /// Revolutions a window that is not periodic is lengthened to, for the 0–1 test
+    /// (`run.classify_revolutions`, [`dynamics`]).
+    pub classify_revolutions: usize,
     /// The integrator and Δt chosen from the tolerance ([`autostep::choose`]), reported with
     /// each run; `None` when the scene's rule or `run.dt` set the step.
     pub choice: Option<StepChoice>,
@@ -124,6 +131,7 @@ impl RunSettings {
             max_transient_revolutions: run
                 .max_transient_revolutions
                 .unwrap_or(run.transient_revolutions * crate::scene::MAX_TRANSIENT_FACTOR),
+            classify_revolutions: run.classify_revolutions,
             choice: None,
             reduction: None,
         }

@@ -1,7 +1,7 @@
 //! Regimes of a sweep: contiguous speed ranges of one Poincaré period, and the
 //! quasi-resonance peaks within them (the paper's Sec. 4).
 
-use super::SpeedResults;
+use super::{Regime, SpeedResults};
 
 /// A contiguous speed range with one Poincaré period.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -12,18 +12,45 @@ pub struct RegimeRange {
     pub from: f64,
     /// Last speed ω/ω_n.
     pub to: f64,
+    /// The class of the range's runs ([`super::dynamics`]; `periodic` when `period` > 0).
+    pub regime: Regime,
+    /// A period above [`super::MAX_PERIOD`] found on the Poincaré points.
+    pub long_period: Option<usize>,
 }
 
-/// Groups consecutive speeds with the same period.
+impl RegimeRange {
+    /// The range's regime in words: as [`regime_label`].
+    pub fn label(&self) -> String {
+        match (self.period, self.regime, self.long_period) {
+            (0, Regime::Periodic, Some(q)) => regime_name(q),
+            (0, Regime::QuasiPeriodic, _) => "quasi-periodic".into(),
+            (0, Regime::Chaotic, _) => "chaotic".into(),
+            (0, _, _) => "not periodic (undetermined)".into(),
+            (p, _, _) => regime_name(p),
+        }
+    }
+}
+
+/// Groups consecutive speeds with the same period and, not periodic, the same class
+/// ([`super::dynamics`]).
 pub fn regime_ranges(speeds: &[SpeedResults]) -> Vec<RegimeRange> {
     let mut out: Vec<RegimeRange> = Vec::new();
     for r in speeds {
+        let (regime, long_period) = (r.dynamics.regime, r.dynamics.long_period);
         match out.last_mut() {
-            Some(last) if last.period == r.period => last.to = r.speed_ratio,
+            Some(last)
+                if last.period == r.period
+                    && last.regime == regime
+                    && last.long_period == long_period =>
+            {
+                last.to = r.speed_ratio
+            }
             _ => out.push(RegimeRange {
                 period: r.period,
                 from: r.speed_ratio,
                 to: r.speed_ratio,
+                regime,
+                long_period,
             }),
         }
     }
@@ -72,25 +99,50 @@ pub fn regime_name(period: usize) -> String {
     }
 }
 
-/// The regime classes of a map cell, in the order of their colours.
-pub const REGIME_CLASSES: [&str; 6] = [
+/// The regime of a run in words: its period ([`regime_name`]); for a run that is not periodic
+/// its class ([`super::dynamics`]) — "1/9×" and longer periods found on the Poincaré points,
+/// "quasi-periodic", "chaotic", or "not periodic (undetermined)".
+pub fn regime_label(r: &SpeedResults) -> String {
+    if r.period > 0 {
+        return regime_name(r.period);
+    }
+    match (r.dynamics.regime, r.dynamics.long_period) {
+        (Regime::Periodic, Some(q)) => regime_name(q),
+        (Regime::QuasiPeriodic, _) => "quasi-periodic".into(),
+        (Regime::Chaotic, _) => "chaotic".into(),
+        _ => "not periodic (undetermined)".into(),
+    }
+}
+
+/// The regime classes of a map cell, in the order of their colours (the first five as before
+/// the split of the responses that are not periodic).
+pub const REGIME_CLASSES: [&str; 9] = [
     "no contact",
     "1×",
     "1/2×",
     "1/3×",
     "1/4× … 1/8×",
-    "quasi-periodic or chaotic",
+    "quasi-periodic",
+    "chaotic",
+    "not periodic (undetermined)",
+    "1/9× and longer",
 ];
 
 /// The class of a run for a regime map (an index into [`REGIME_CLASSES`]): no contact in the
-/// steady window, else by Poincaré period — 1, 2, 3, 4 to [`super::MAX_PERIOD`], or not
-/// periodic.
+/// steady window, else by Poincaré period — 1, 2, 3, 4 to [`super::MAX_PERIOD`] — and, not
+/// periodic, by [`super::dynamics`]: quasi-periodic, chaotic, undetermined, or a longer period
+/// found on the Poincaré points.
 pub fn regime_class(r: &SpeedResults) -> usize {
     if r.contact_fraction == 0.0 {
         return 0;
     }
     match r.period {
-        0 => 5,
+        0 => match r.dynamics.regime {
+            Regime::QuasiPeriodic => 5,
+            Regime::Chaotic => 6,
+            Regime::Periodic if r.dynamics.long_period.is_some() => 8,
+            _ => 7,
+        },
         1..=3 => r.period,
         _ => 4,
     }

@@ -2,7 +2,8 @@
 //! frame sinks ([`Prepared::run`]), analyse the record ([`analyse`]) and estimate the
 //! discretisation error by a companion run.
 
-use super::steady::{classify, lines_revolutions, stationarity, Classification, Stationarity};
+use super::dynamics::{dynamics, Dynamics};
+use super::steady::{judge, lines_revolutions, stationarity, Classification, Stationarity};
 use super::whirl::{signed_orders, whirl_lines, WhirlLines};
 use super::{Keep, RunSettings, MAX_PERIOD};
 use crate::error::Result;
@@ -130,12 +131,17 @@ pub struct SpeedResults {
     /// Revolutions cut as transient before the analysed window (`run.transient_revolutions`,
     /// more when the run went on to reach the steady state).
     pub transient_revolutions: usize,
-    /// Revolutions of the analysed window (at least 6).
+    /// Revolutions of the analysed window (at least 6; `run.classify_revolutions` when the run
+    /// is not periodic and `run.max_steps` allows).
     pub window_revolutions: usize,
     /// How stationary the analysed window is (the transient's share of the error).
     pub stationarity: Stationarity,
     /// How the period was told, and how surely.
     pub classification: Classification,
+    /// Periodic, quasi-periodic, chaotic or undetermined, and the 0–1 test's `K` of a window
+    /// that is not periodic ([`super::dynamics`]).
+    #[serde(default)]
+    pub dynamics: Dynamics,
     /// Revolutions (the last of the window) the 1×, ½×, ⅓× lines are read over: a multiple of
     /// `lcm(6, period)`.
     pub lines_revolutions: usize,
@@ -247,9 +253,12 @@ impl Prepared {
     /// window's transient residual ([`stationarity`]) is above `run.tolerance` and the
     /// transient below `run.max_transient_revolutions` (and the steps below `run.max_steps`),
     /// the run goes on and the window slides — by as many revolutions as the observed decay
-    /// asks, at least a third of the window. Frames go to `sink` throughout. Returns the record,
-    /// the counters, the plan as it ended and, with `adapt` and `run.error_estimate`, the
-    /// bodies' end state (the finer companion of the error estimate restarts from it).
+    /// asks, at least a third of the window. A window then not periodic (no period up to
+    /// [`MAX_PERIOD`], the rule of [`analyse`]) is lengthened to `run.classify_revolutions`
+    /// within `run.max_steps`, for [`super::dynamics`]. Frames go to `sink` throughout. Returns
+    /// the record, the counters, the plan as it ended and, with `adapt` and
+    /// `run.error_estimate`, the bodies' end state (the finer companion of the error estimate
+    /// restarts from it).
     fn drive(&self, mut sink: Sink<'_>, adapt: bool) -> Result<Driven> {
         let s = &self.settings;
         let mut st = Stepper::new(&self.case, s.step.integrator, &self.plan, s.initial)?;
@@ -285,6 +294,24 @@ impl Prepared {
                 break;
             }
             st.extend(p.steps + more * spr_steps, p.steady_from + more * spr_steps);
+        }
+        if adapt {
+            // A window that is not periodic is lengthened for the 0–1 test (`dynamics`).
+            let p = *st.plan();
+            let (w, nrev) = window_points(&self.case, s, &p, st.recorded());
+            let (_, _, class) = judge(&w, s.step.samples_per_rev, nrev, s.tolerance, MAX_PERIOD);
+            let by_steps = (s.step.max_steps as usize).saturating_sub(p.steps) / spr_steps;
+            let more = s.classify_revolutions.saturating_sub(nrev).min(by_steps);
+            if class.period == 0 && more > 0 {
+                let steps = p.steps + more * spr_steps;
+                st.extend(steps, p.steady_from);
+                if keep_end {
+                    // The end state is the lengthened run's: uᴺ⁻² kept on the way again.
+                    st.run_to(steps - 1, &mut sink)?;
+                    older = Some(st.history());
+                    st.run_to(steps, &mut sink)?;
+                }
+            }
         }
         let plan = *st.plan();
         let end = older.and_then(|o| st.end_state(&o));
@@ -600,14 +627,19 @@ pub fn analyse(
         })
         .collect();
     let ext = extents(&window);
-    let span = orbit_span(&ext);
-    let stn = stationarity(&window, spr, nrev, span);
-    let steady = stn.residual <= s.tolerance;
-    // What is left of the transient makes revolutions differ by up to twice its size: a
-    // steady run's period is judged to the tolerance plus that.
-    let period_tol = s.tolerance + if steady { 2.0 * stn.residual } else { 0.0 };
-    let class = classify(&window, spr, nrev, span, period_tol, MAX_PERIOD);
+    let (stn, steady, class) = judge(&window, spr, nrev, s.tolerance, MAX_PERIOD);
     let period = class.period;
+    let section = &poincare[..nrev.min(poincare.len())];
+    let span = orbit_span(&ext);
+    let dynamics = dynamics(
+        period,
+        section,
+        s.component,
+        span,
+        class.tolerance,
+        &stn,
+        steady,
+    );
     let comp: Vec<f64> = window.iter().map(|p| p[s.component]).collect();
     let (lrev, resolved) = lines_revolutions(nrev, period);
     let lines = &comp[(nrev - lrev) * spr..nrev * spr];
@@ -647,6 +679,7 @@ pub fn analyse(
         window_revolutions: nrev,
         stationarity: stn,
         classification: class,
+        dynamics,
         lines_revolutions: lrev,
         lines_resolved: resolved,
         extents_nd: ext,

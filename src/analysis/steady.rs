@@ -192,6 +192,30 @@ pub fn classify(
     }
 }
 
+/// What a window of `nrev` revolutions (`spr` samples each) claims at the relative tolerance
+/// `tol`: its [`stationarity`], whether it is steady (residual ≤ `tol`), and its period
+/// ([`classify`] up to `max_period`, judged to `tol` plus twice the residual of a steady window:
+/// what is left of the transient makes revolutions differ by up to twice its size). The one
+/// rule of the run's analysis and of its decision to lengthen a window that is not periodic.
+pub fn judge(
+    w: &[V2],
+    spr: usize,
+    nrev: usize,
+    tol: f64,
+    max_period: usize,
+) -> (Stationarity, bool, Classification) {
+    let e = extents(w);
+    let span = (e[1] - e[0]).max(e[3] - e[2]);
+    let stn = stationarity(w, spr, nrev, span);
+    let steady = stn.residual <= tol;
+    let period_tol = tol + if steady { 2.0 * stn.residual } else { 0.0 };
+    (
+        stn,
+        steady,
+        classify(w, spr, nrev, span, period_tol, max_period),
+    )
+}
+
 /// Least common multiple.
 fn lcm(a: usize, b: usize) -> usize {
     a / crate::math::gcd(a, b) * b

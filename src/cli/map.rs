@@ -152,7 +152,7 @@ pub fn assemble(
         .zip(&counts)
         .filter(|(_, n)| **n > 0)
         .map(|(name, n)| {
-            println!("  {name:>26}  {n} cells");
+            println!("  {name:>27}  {n} cells");
             (name.to_string(), (*n).into())
         })
         .collect();

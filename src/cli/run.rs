@@ -58,13 +58,14 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
     whirl_out::write_run(&mut outd, &ls.scene.title, &r, ls.scene.output.png)?;
     let mut sum = summary::base(&ls, &model, "run");
     sum["result"] = serde_json::to_value(&r)?;
-    sum["regime"] = analysis::regime_name(r.period).into();
+    sum["regime"] = analysis::regime_label(&r).into();
+    sum["dynamics"] = r.dynamics.regime.name().into();
     sum["wall_s"] = t0.elapsed().as_secs_f64().into();
     let dir = summary::finish(outd, &sum)?;
     println!(
         "ω/ωn = {:.3}: {} | x/|Z0| ∈ [{:.3}, {:.3}], y/|Z0| ∈ [{:.3}, {:.3}] | 1× {:.3}, 1/2× {:.3}, 1/3× {:.3} | whirl {} ({:+.3}×; 1× forward {:.3}, backward {:.3}) | {} {} steps (Δt = {:.3e} s) in {:.3} s | est. rel. error {}",
         r.speed_ratio,
-        analysis::regime_name(r.period),
+        analysis::regime_label(&r),
         r.extents_nd[0], r.extents_nd[1], r.extents_nd[2], r.extents_nd[3],
         r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd,
         r.whirl.direction.name(), r.whirl.dominant_order, r.whirl.forward_1x_nd, r.whirl.backward_1x_nd,

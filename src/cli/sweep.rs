@@ -137,12 +137,7 @@ fn report(
         );
     }
     for r in regimes {
-        println!(
-            "  {:>13}  ω/ωn {:.2} – {:.2}",
-            analysis::regime_name(r.period),
-            r.from,
-            r.to
-        );
+        println!("  {:>27}  ω/ωn {:.2} – {:.2}", r.label(), r.from, r.to);
     }
     if !peaks.is_empty() {
         let p: Vec<String> = peaks

@@ -27,12 +27,12 @@ fn table(header: &str, rows: impl IntoIterator<Item = String>) -> String {
 }
 
 /// The `sweep.csv` header.
-pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl";
+pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,regime,zero_one_k,long_period";
 
 /// One `sweep.csv` row.
 pub fn sweep_row(r: &SpeedResults) -> String {
     format!(
-        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{},{},{},{:.3e},{:.3e},{},{},{}",
+        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{},{},{},{:.3e},{:.3e},{},{},{},{}",
         r.speed_ratio,
         r.period,
         r.extents_nd[0],
@@ -69,6 +69,20 @@ pub fn sweep_row(r: &SpeedResults) -> String {
             ))
             .unwrap_or_else(|| ",,,".into()),
         whirl_columns(r),
+        dynamics_columns(r),
+    )
+}
+
+/// The regime columns of `sweep.csv` and `map.csv` ([`crate::analysis::dynamics`]): `periodic`,
+/// `quasi-periodic`, `chaotic` or `undetermined`; the 0–1 test's median K (empty when not
+/// computed); a period above 8 found on the Poincaré points (empty when none).
+pub fn dynamics_columns(r: &SpeedResults) -> String {
+    let d = &r.dynamics;
+    format!(
+        "{},{},{}",
+        d.regime.name(),
+        d.zero_one_k.map(|k| format!("{k:.4}")).unwrap_or_default(),
+        d.long_period.map(|q| q.to_string()).unwrap_or_default()
     )
 }
 
@@ -318,11 +332,12 @@ pub fn orbit_size_nd(r: &SpeedResults) -> f64 {
 /// amplitudes, contact fraction and peak force, the error estimate (relative extents error and
 /// whether the companion run found the same period), the steady-state proof (`steady`, the
 /// transient residual, the period's confidence, whether the lines are resolved: as in
-/// `sweep.csv`), steps and wall time, then the whirl columns ([`whirl_columns`]).
+/// `sweep.csv`), steps and wall time, then the whirl columns ([`whirl_columns`]), the 0–1 test's K
+/// and a period above 8 found on the Poincaré points ([`dynamics_columns`]).
 pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Result<()> {
     let speed_col = !keys.contains(&"speed_ratio");
     let header = format!(
-        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl",
+        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,zero_one_k,long_period",
         keys[0],
         keys[1],
         if speed_col { ",speed_ratio" } else { "" }
@@ -330,7 +345,7 @@ pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Re
     let rows = cells.iter().map(|c| {
         let r = c.run;
         format!(
-            "{},{}{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.6},{},{},{},{:.3e},{:.3e},{},{},{:.6},{}",
+            "{},{}{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.6},{},{},{},{:.3e},{:.3e},{},{},{:.6},{},{},{}",
             crate::scene::toml_number(c.x),
             crate::scene::toml_number(c.y),
             if speed_col {
@@ -360,7 +375,15 @@ pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Re
             r.lines_resolved,
             r.stats.steps,
             r.stats.wall_s,
-            whirl_columns(r)
+            whirl_columns(r),
+            r.dynamics
+                .zero_one_k
+                .map(|k| format!("{k:.4}"))
+                .unwrap_or_default(),
+            r.dynamics
+                .long_period
+                .map(|q| q.to_string())
+                .unwrap_or_default()
         )
     });
     out.write("map.csv", table(&header, rows).as_bytes())

@@ -8,7 +8,7 @@ use crate::analysis::campbell::CampbellResults;
 use crate::analysis::refine::RefinePoint;
 use crate::analysis::rotordyn::ResponsePoint;
 use crate::analysis::{
-    regime_name, ConvergencePoint, ConvergenceResults, SpeedResults, StressResults, StressTrace,
+    regime_label, ConvergencePoint, ConvergenceResults, SpeedResults, StressResults, StressTrace,
     SweepResults,
 };
 use crate::error::Result;
@@ -153,7 +153,7 @@ fn sweep_orbits(
             .map(|i| {
                 let r = &res.speeds[i];
                 OrbitPanel {
-                    title: format!("ω/ωn = {:.1}  ({})", r.speed_ratio, regime_name(r.period)),
+                    title: format!("ω/ωn = {:.1}  ({})", r.speed_ratio, regime_label(r)),
                     x: r.orbit_nd.iter().map(|p| p[0]).collect(),
                     y: r.orbit_nd.iter().map(|p| p[1]).collect(),
                     boundary: fig.bounds.get(i).cloned().unwrap_or(Boundary::None),
@@ -249,7 +249,7 @@ pub fn write_run(
         &p,
         title,
         &[OrbitPanel {
-            title: format!("ω/ωn = {:.3}  ({})", r.speed_ratio, regime_name(r.period)),
+            title: format!("ω/ωn = {:.3}  ({})", r.speed_ratio, regime_label(r)),
             x: r.orbit_nd.iter().map(|p| p[0]).collect(),
             y: r.orbit_nd.iter().map(|p| p[1]).collect(),
             boundary: bound,

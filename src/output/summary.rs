@@ -40,6 +40,7 @@ pub fn base_with(ls: &LoadedScene, model: Value, command: &str) -> Value {
             "units": "SI; _nd = displacement / |Z0(ω)|, force / (|Σ m_u e e^{iφ}| ω²), frequency / ω_n",
             "axes": "x horizontal, y vertical, rotor spins counter-clockwise seen from +z",
             "period": "Poincaré period in revolutions (the whole orbit repeats to run.tolerance of its size); 0 = not periodic",
+            "dynamics": "periodic, quasi-periodic (0-1 test K < 0.2 on the Poincaré section), chaotic (K > 0.8) or undetermined; long_period = a period above 8 found on the Poincaré points (docs/OUTPUTS.md)",
         }
     })
 }

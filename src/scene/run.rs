@@ -88,6 +88,13 @@ pub struct RunSpec {
     /// (default 5 × `transient_revolutions`); a run not steady by then is reported
     /// `steady = false`.
     pub max_transient_revolutions: Option<usize>,
+    /// Revolutions the analysed window is lengthened to when the response is not periodic, so
+    /// that its Poincaré section holds enough points to tell quasi-periodic from chaotic
+    /// (`analysis::dynamics`, default [`DEFAULT_CLASSIFY_REVOLUTIONS`]; within `run.max_steps`).
+    /// Periodic runs are not lengthened; 0 never lengthens (a window shorter than
+    /// `analysis::dynamics::MIN_SECTION_POINTS` revolutions reads `undetermined`).
+    #[serde(default = "default_classify_revolutions")]
+    pub classify_revolutions: usize,
     /// Integrator. Left out, a run without `dt` has it chosen with Δt from `run.tolerance`
     /// (`analysis::autostep`, by the commands `run`, `sweep`, `map`, `bench` and `check`);
     /// otherwise, and in the library's plain runs, `collocated` ([`RunSpec::integrator`]).
@@ -254,6 +261,13 @@ fn default_transient() -> usize {
 }
 fn default_tolerance() -> f64 {
     1e-3
+}
+/// Default of `run.classify_revolutions`: twice the fewest section points the 0–1 test is
+/// applied to, where its `K` is within 0.05 of its limit on closed-form sequences
+/// (`analysis::dynamics`).
+pub const DEFAULT_CLASSIFY_REVOLUTIONS: usize = 400;
+fn default_classify_revolutions() -> usize {
+    DEFAULT_CLASSIFY_REVOLUTIONS
 }
 /// Default of `run.max_transient_revolutions`: this many times `run.transient_revolutions`.
 pub const MAX_TRANSIENT_FACTOR: usize = 5;

@@ -111,6 +111,15 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
             ));
         }
     }
+    if r.classify_revolutions > MAX_REVOLUTIONS {
+        return Err(ls.invalid(
+            "run.classify_revolutions",
+            format!(
+                "must lie in 0 ..= {MAX_REVOLUTIONS}, got {}",
+                r.classify_revolutions
+            ),
+        ));
+    }
     positive(ls, "run.harmonics", r.harmonics)?;
     if let Some(rho) = r.rho_inf {
         if r.integrator() != IntegratorKind::GeneralizedAlpha {
