@@ -445,3 +445,44 @@ fn implicit_schemes_are_refused_on_a_ring_with_mass() {
         assert!(err.contains("stator.0") && err.contains(integ), "{err}");
     }
 }
+
+/// A meshed stator keeps the compliance columns its runs computed
+/// (`MeshStatorData::compliance_columns`), so the step choice's pilots and a sweep's speeds
+/// compute each column once: none before the first run, some after it, and a second run of
+/// the same model, starting with them, gives bitwise the same extents and lines.
+#[test]
+fn meshed_stator_runs_share_their_compliance_columns() {
+    if !common::meshes::gmsh_wanted() {
+        return;
+    }
+    let path = common::repo("scenes/stators/diaphragm.toml");
+    let sets = [
+        "run.revolutions=8",
+        "run.transient_revolutions=4",
+        "run.dt=2e-5",
+        "run.auto_step=false",
+        "run.error_estimate=false",
+    ];
+    let (ls, model) = common::file_model(&path, &sets);
+    let s = settings(&ls);
+    let omega = 1.3 * model.rotor.natural_frequency();
+    let md = model.case(omega).unwrap().stators[0]
+        .mesh
+        .clone()
+        .expect("a meshed stator");
+    let known = || {
+        let g = md.compliance_columns.lock().unwrap();
+        g.0.iter().filter(|&&c| c != usize::MAX).count()
+    };
+    assert_eq!(known(), 0, "columns before any run");
+    let a = analysis::run_speed(&model, &s, 1.3, Keep::default()).unwrap();
+    let n = known();
+    assert!(n > 0, "no column kept by the first run");
+    let b = analysis::run_speed(&model, &s, 1.3, Keep::default()).unwrap();
+    assert_eq!(a.extents_nd, b.extents_nd);
+    assert_eq!(
+        [a.amp_1x_nd, a.amp_half_nd, a.amp_third_nd],
+        [b.amp_1x_nd, b.amp_half_nd, b.amp_third_nd]
+    );
+    assert!(known() >= n);
+}
