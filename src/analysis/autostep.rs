@@ -40,7 +40,12 @@
 //!    successive pilots; the order used `p = clamp(p_obs, ½, p_nominal)` (a smaller order
 //!    predicts a larger error below the pilots' steps: the clamp errs on the safe side);
 //! 4. the error of the finest pilot `E₂ = d₁₂/((h₁/h₂)^p − 1)`, its constant `C = E₂/h₂^p`,
-//!    and the step `h* = (S·tol/C)^{1/p}` with the safety factor `S` = [`SAFETY`], at most `h₀`
+//!    and the step: the coarsest of `h₀, h₁, h₂` (within the bounds below) whose fitted error
+//!    `C·h^p` is within the tolerance — a step the pilots ran, so the run repeats a measured
+//!    pilot over a longer window and on the response that pilot was on (on
+//!    `segmented_casing_beams` at ν = 3 an extrapolated 576 steps/rev instead of the piloted
+//!    512 ran to a response 0.11 off its Δt/8 reference) — else
+//!    `h* = (S·tol/C)^{1/p}` with the safety factor `S` = [`SAFETY`], at most `h₀`
 //!    (no extrapolation above the steps that showed the order), at most the coarsest pilot
 //!    step from which on the run's own 2Δt estimate, measured between the pilots
 //!    (`d(h, 2h)/(2^p_nominal − 1)`), is within [`ESTIMATE_SAFETY`] × the tolerance (the
