@@ -160,6 +160,71 @@ fn meshed_stator_chosen_step_meets_the_tolerance() {
     );
 }
 
+/// The former hand-set step of `scenes/stators/diaphragm.toml` (s).
+const DIAPHRAGM_HAND_DT: f64 = 2e-5;
+/// How much finer than the scene's former hand-set step the chosen one may be: the hand-set
+/// runs met the tolerance (true errors 1.5e-4 and 2.1e-4 at ν = 1.3 and 2.0), so a choice
+/// finer than this is needlessly slow (the pilots' earlier fit, on observed orders of
+/// 0.66–0.69 from coarse pre-asymptotic pilots, chose 2.6× finer).
+const NEEDLESS_FACTOR: f64 = 1.25;
+
+/// A stiff meshed stator whose coarse pilots see an observed order below the scheme's own
+/// (the split diaphragm, forward increment, ε ~ 10⁴, full annular rub): the step chosen for
+/// the pilot speeds ν = 1.3 and 2.0 together is at most [`NEEDLESS_FACTOR`] finer than the
+/// scene's former hand-set `dt = 2e-5` s, and at each speed the run's own 2Δt estimate is
+/// within the tolerance and its true error against the same scheme at Δt/8 over the same
+/// transient and window is within the tolerance (× the stated factor). Shortened to 40
+/// revolutions.
+#[test]
+fn stiff_diaphragm_step_is_not_needlessly_fine_and_meets_the_tolerance() {
+    if !common::meshes::gmsh_wanted() {
+        return;
+    }
+    let path = common::repo("scenes/stators/diaphragm.toml");
+    let sets = ["run.revolutions=40", "run.transient_revolutions=20"];
+    let (ls, model) = common::file_model(&path, &sets);
+    assert!(ls.scene.run.auto_step && ls.scene.run.dt.is_none());
+    let tol = ls.scene.run.tolerance;
+    let s = analysis::choose(
+        &model,
+        &settings(&ls),
+        ls.scene.run.integrator,
+        None,
+        &[1.3, 2.0],
+    )
+    .unwrap();
+    let c = s.choice.expect("a step chosen from the tolerance");
+    for nu in [1.3, 2.0] {
+        let r = analysis::run_speed(&model, &s, nu, Keep::default()).unwrap();
+        assert!(
+            r.plan.dt * NEEDLESS_FACTOR >= DIAPHRAGM_HAND_DT,
+            "ν = {nu}: Δt = {:e} s chosen ({} steps/rev, observed order {}), more than \
+             {NEEDLESS_FACTOR}× finer than the hand-set {DIAPHRAGM_HAND_DT:e} s",
+            r.plan.dt,
+            r.plan.steps_per_rev,
+            c.order_observed
+        );
+        let est = r.error.expect("estimate").extents_rel;
+        assert!(
+            est <= tol,
+            "ν = {nu}: estimated error {est:e} above {tol:e}"
+        );
+        let mut rs = s;
+        rs.error_estimate = false;
+        rs.step.dt = Some(r.plan.dt / 8.0);
+        rs.step.transient_revolutions = r.transient_revolutions;
+        rs.step.revolutions = r.transient_revolutions + r.window_revolutions;
+        rs.max_transient_revolutions = r.transient_revolutions;
+        let reference = analysis::run_speed(&model, &rs, nu, Keep::default()).unwrap();
+        let err = autostep::difference(&r, &reference);
+        assert!(
+            err <= TRUE_ERROR_FACTOR * tol,
+            "ν = {nu}: true error {err:e} above {TRUE_ERROR_FACTOR} × {tol:e} ({} steps/rev)",
+            r.plan.steps_per_rev
+        );
+    }
+}
+
 /// `run.dt` stays an override: no pilots, no choice, the step as given (rounded down to whole
 /// samples), and an explicit `run.integrator` is kept by the choice.
 #[test]
@@ -379,4 +444,45 @@ fn implicit_schemes_are_refused_on_a_ring_with_mass() {
         let err = fails(tmp.path(), &args);
         assert!(err.contains("stator.0") && err.contains(integ), "{err}");
     }
+}
+
+/// A meshed stator keeps the compliance columns its runs computed
+/// (`MeshStatorData::compliance_columns`), so the step choice's pilots and a sweep's speeds
+/// compute each column once: none before the first run, some after it, and a second run of
+/// the same model, starting with them, gives bitwise the same extents and lines.
+#[test]
+fn meshed_stator_runs_share_their_compliance_columns() {
+    if !common::meshes::gmsh_wanted() {
+        return;
+    }
+    let path = common::repo("scenes/stators/diaphragm.toml");
+    let sets = [
+        "run.revolutions=8",
+        "run.transient_revolutions=4",
+        "run.dt=2e-5",
+        "run.auto_step=false",
+        "run.error_estimate=false",
+    ];
+    let (ls, model) = common::file_model(&path, &sets);
+    let s = settings(&ls);
+    let omega = 1.3 * model.rotor.natural_frequency();
+    let md = model.case(omega).unwrap().stators[0]
+        .mesh
+        .clone()
+        .expect("a meshed stator");
+    let known = || {
+        let g = md.compliance_columns.lock().unwrap();
+        g.0.iter().filter(|&&c| c != usize::MAX).count()
+    };
+    assert_eq!(known(), 0, "columns before any run");
+    let a = analysis::run_speed(&model, &s, 1.3, Keep::default()).unwrap();
+    let n = known();
+    assert!(n > 0, "no column kept by the first run");
+    let b = analysis::run_speed(&model, &s, 1.3, Keep::default()).unwrap();
+    assert_eq!(a.extents_nd, b.extents_nd);
+    assert_eq!(
+        [a.amp_1x_nd, a.amp_half_nd, a.amp_third_nd],
+        [b.amp_1x_nd, b.amp_half_nd, b.amp_third_nd]
+    );
+    assert!(known() >= n);
 }

@@ -12,17 +12,25 @@
 //!
 //! 1. the coarsest step the scheme allows — 0.8× the explicit stability limit, or `T_min/4`
 //!    for an implicit scheme, and at most one step per recorded sample — then its halves
-//!    (whole samples per revolution): three steps, more (up to [`MAX_LEVELS`]) while the finest
-//!    one's error `E₂` (as in 4) is above the target and the last three either show no
-//!    convergence (`d₁₂ ≥ d₀₁/`[`CONVERGING`]) or ask a step more than [`MAX_EXTRAPOLATION`]
-//!    below the finest; `h₀ > h₁ > h₂` the last three;
+//!    (whole samples per revolution): three steps, more (up to [`MAX_LEVELS`]) until the last
+//!    three show an order near the scheme's own (`p_obs ≥ `[`ASYMPTOTIC`]` · p_nominal`) and
+//!    either the finest one's error `E₂` (as in 4) is within the target or they converge
+//!    (`d₁₂ < d₀₁/`[`CONVERGING`]) asking a step at most [`MAX_EXTRAPOLATION`] below the
+//!    finest; `h₀ > h₁ > h₂` the last three. A lower observed order is the coarse pilots'
+//!    pre-asymptotic range, not the order below them: on `diaphragm` forward increment's
+//!    error is not monotone up to 512 steps/rev at ν = 2 and of order 1 beyond, and at ν = 1.3
+//!    the differences shrink at order 0.65 up to 2048 steps/rev and stop at a 1e-4 floor
+//!    beyond; the fit on the first three pilots chose a step 2.6× finer than needed;
 //! 2. a pilot run at each over a steady window, analysed as a run is (orbit extents and the 1×,
 //!    ½×, ⅓× lines, relative as the error estimate makes them: [`difference`]). Where the
 //!    rotor's state is its disk's `[x, y]` and velocity (a Jeffcott rotor, every stator
 //!    massless: the stator scenes), one settling run at the second pilot step over
 //!    `min(run.transient_revolutions, `[`SETTLE_REVOLUTIONS`]`)` revolutions from the run's
-//!    initial state gives the state at a whole revolution (`settled_start`); every pilot
-//!    starts from it and analyses [`PILOT_WINDOW`] revolutions after [`PILOT_RESETTLE`]: the
+//!    initial state gives the state at a whole revolution (`settled_start`); the first pilot
+//!    starts from it, each finer one from where the previous ended (a whole revolution: its
+//!    start is off its own steady state by the step's change only, not by the settling step's
+//!    error, which left a residue of 2e-4 in the finest pilots' extents on `diaphragm`), and
+//!    each analyses [`PILOT_WINDOW`] revolutions after [`PILOT_RESETTLE`]: the
 //!    pilots measure the step's error on the steady response the run analyses, not on the
 //!    first revolutions from rest. Otherwise — and where the pilots from the settled state do
 //!    not converge (observed order below [`MIN_ORDER`], error above the target at the finest
@@ -32,11 +40,17 @@
 //!    successive pilots; the order used `p = clamp(p_obs, ½, p_nominal)` (a smaller order
 //!    predicts a larger error below the pilots' steps: the clamp errs on the safe side);
 //! 4. the error of the finest pilot `E₂ = d₁₂/((h₁/h₂)^p − 1)`, its constant `C = E₂/h₂^p`,
-//!    and the step `h* = (S·tol/C)^{1/p}` with the safety factor `S` = [`SAFETY`], at most `h₀`
+//!    and the step: the coarsest of `h₀, h₁, h₂` (within the bounds below) whose fitted error
+//!    `C·h^p` is within the tolerance — a step the pilots ran, so the run repeats a measured
+//!    pilot over a longer window and on the response that pilot was on (on
+//!    `segmented_casing_beams` at ν = 3 an extrapolated 576 steps/rev instead of the piloted
+//!    512 ran to a response 0.11 off its Δt/8 reference) — else
+//!    `h* = (S·tol/C)^{1/p}` with the safety factor `S` = [`SAFETY`], at most `h₀`
 //!    (no extrapolation above the steps that showed the order), at most the coarsest pilot
 //!    step from which on the run's own 2Δt estimate, measured between the pilots
-//!    (`d(h, 2h)/(2^p_nominal − 1)`), is within the target (the estimate the run reports
-//!    agrees with the choice), and at least `h₂/`[`MAX_EXTRAPOLATION`]: a fit on differences
+//!    (`d(h, 2h)/(2^p_nominal − 1)`), is within [`ESTIMATE_SAFETY`] × the tolerance (the
+//!    estimate the run reports agrees with the choice; measured, not extrapolated, so with a
+//!    smaller margin than `S`), and at least `h₂/`[`MAX_EXTRAPOLATION`]: a fit on differences
 //!    that barely shrink (observed orders near 0: the node-to-node contact's events, a
 //!    response that is not periodic) asked 1.4·10⁹ steps of `segmented_casing` before the
 //!    pilots went on towards the step; where the bound binds, the predicted error at it is
@@ -92,8 +106,8 @@ pub const MIN_ORDER: f64 = 0.5;
 pub const PILOT_WINDOW: usize = 6;
 /// The chosen step's predicted error is this fraction of `run.tolerance`.
 pub const SAFETY: f64 = 0.5;
-/// Most pilot steps per scheme and speed (the coarsest and five halvings).
-pub const MAX_LEVELS: usize = 6;
+/// Most pilot steps per scheme and speed (the coarsest and six halvings).
+pub const MAX_LEVELS: usize = 7;
 /// The last three pilots show convergence when their second difference is below the first over
 /// this factor (an observed order above log₂ 1.5 ≈ 0.58).
 pub const CONVERGING: f64 = 1.5;
@@ -102,6 +116,14 @@ pub const CONVERGING: f64 = 1.5;
 /// near it (on `segmented_casing` three pilots from 64 steps/rev fitted 0.68 on differences
 /// that did not shrink further, and asked 150× below them).
 pub const MAX_EXTRAPOLATION: f64 = 4.0;
+/// The pilots' order fit is taken as asymptotic (trusted to extrapolate below the finest
+/// pilot) from this fraction of the scheme's nominal order on.
+pub const ASYMPTOTIC: f64 = 0.9;
+/// The chosen step is at most the coarsest pilot step from which on the run's own 2Δt
+/// estimate, as the pilots measure it, is within this fraction of `run.tolerance`: a measured
+/// (not extrapolated) error, so a smaller margin than [`SAFETY`] (the 6-revolution pilot
+/// window standing in for the run's).
+pub const ESTIMATE_SAFETY: f64 = 0.8;
 /// A multiple of the rule large enough that only the caps (stability, accuracy, one step per
 /// sample) bound the step: the coarsest step a scheme allows.
 const COARSEST: f64 = 1e12;
@@ -167,14 +189,26 @@ struct Fit {
     /// step from which on the 2Δt estimate the run will make, as the pilots measure it, is
     /// within the target.
     h0: f64,
+    /// The steps of the three pilots fitted (s), coarsest first.
+    levels: [f64; 3],
     /// Pilot steps and loop wall time.
     steps: u64,
     wall_s: f64,
 }
 
 impl Fit {
-    /// The multiple of the rule that meets `target` (at most the coarsest step's).
-    fn scale_for(&self, target: f64) -> f64 {
+    /// The multiple of the rule of the step chosen: the coarsest of the fitted pilots' steps
+    /// (at most `h0`) whose fitted error is within `tolerance` — a step the pilots ran, so
+    /// the run repeats a measured pilot over a longer window rather than an extrapolated
+    /// step — else the step whose extrapolated error is `target` (within `h_min … h0`).
+    fn scale_for(&self, target: f64, tolerance: f64) -> f64 {
+        let piloted = self
+            .levels
+            .iter()
+            .find(|&&h| h <= self.h0 * (1.0 + 1e-9) && self.error_at(h) <= tolerance);
+        if let (Some(&h), true) = (piloted, self.c > 0.0) {
+            return h / self.rule_dt;
+        }
         let h = if self.c > 0.0 {
             (target / self.c)
                 .powf(1.0 / self.p)
@@ -241,9 +275,17 @@ fn settled_start(
     st.transient_revolutions = 0;
     let plan = plan_steps(case, &st)?;
     let (rec, stats) = integrate(case, st.integrator, &plan, s.initial)?;
+    Ok(end_state(&rec).map(|init| (init, stats.steps as u64, stats.wall_s)))
+}
+
+/// The disk's state at the last recorded instant of `rec`: displacement as recorded, velocity
+/// by the one-sided second-order difference of the last three samples
+/// `(3x_N − 4x_{N−1} + x_{N−2})/(2δ)`, δ the sampling interval. `None` with fewer than three
+/// samples.
+fn end_state(rec: &crate::time::Record) -> Option<Initial> {
     let n = rec.observed.len();
     if n < 3 || rec.t.len() != n {
-        return Ok(None);
+        return None;
     }
     let (a, b, c) = (
         rec.observed[n - 3],
@@ -252,11 +294,7 @@ fn settled_start(
     );
     let d = rec.t[n - 1] - rec.t[n - 2];
     let v = [0, 1].map(|i| (3.0 * c[i] - 4.0 * b[i] + a[i]) / (2.0 * d));
-    Ok(Some((
-        Initial { u: c, v },
-        stats.steps as u64,
-        stats.wall_s,
-    )))
+    Some(Initial { u: c, v })
 }
 
 /// Pilots `kind` at speed `v` at halving steps from the coarsest it allows — three, and more
@@ -320,6 +358,14 @@ fn fit_from(
         steps += stats.steps as u64;
         wall_s += stats.wall_s;
         let r = analyse(&prep.case, &ps, &prep.plan, &rec, stats, Keep::default());
+        // From the settled state, the next (finer) pilot starts where this one ended (a whole
+        // revolution): its start differs from its own steady state only by the step's change,
+        // not by the settling step's error.
+        if from_settled {
+            if let Some(init) = end_state(&rec) {
+                prep.settings.initial = init;
+            }
+        }
         res.push((prep.plan.dt, r));
         k += 1;
         let n = res.len();
@@ -332,14 +378,24 @@ fn fit_from(
         // converging with the step it asks within [`MAX_EXTRAPOLATION`] of the finest pilot,
         // the fit is used; otherwise the pilots go on towards that step.
         let r = res[n - 2].0 / res[n - 1].0;
-        let p = ((d01 / d12).ln() / r.ln()).clamp(MIN_ORDER, kind.nominal_order());
+        let p_raw = (d01 / d12).ln() / r.ln();
+        let p = p_raw.clamp(MIN_ORDER, kind.nominal_order());
         let e2 = if p.is_finite() {
             d12 / (r.powf(p) - 1.0)
         } else {
             0.0
         };
+        // The fit is used only on an order near the scheme's own: a lower observed order is
+        // the coarse pilots' pre-asymptotic range (on `diaphragm` at ν = 2 forward
+        // increment's error is not monotone up to 512 steps/rev and of order 1 beyond; at
+        // ν = 1.3 the differences shrink at order 0.65 up to 2048 steps/rev and are at a
+        // 1e-4 floor beyond), so the pilots go on halving (up to [`MAX_LEVELS`]).
+        let asymptotic = p_raw >= ASYMPTOTIC * kind.nominal_order();
         let near = (target / e2).powf(1.0 / p) * MAX_EXTRAPOLATION >= 1.0;
-        if n >= MAX_LEVELS || e2 <= target || (d12 * CONVERGING < d01 && near) {
+        if n >= MAX_LEVELS
+            || e2 == 0.0
+            || (asymptotic && (e2 <= target || (d12 * CONVERGING < d01 && near)))
+        {
             break (d01, d12);
         }
     };
@@ -354,7 +410,7 @@ fn fit_from(
     for k in (1..n).rev() {
         let r = res[k - 1].0 / res[k].0;
         let est = difference(&res[k - 1].1, &res[k].1) / (r.powf(nominal) - 1.0);
-        if est > target {
+        if est > ESTIMATE_SAFETY * s.tolerance {
             break;
         }
         cap = res[k].0;
@@ -377,6 +433,7 @@ fn fit_from(
         c: e2 / h2.powf(p),
         rule_dt,
         h0: h0.min(cap),
+        levels: [h0, h1, h2],
         h_min: h2 / MAX_EXTRAPOLATION,
         settled: from_settled,
         steps,
@@ -576,7 +633,7 @@ pub fn choose(
         pilot_wall += fits.iter().map(|f| f.wall_s).sum::<f64>();
         let mut scale = fits
             .iter()
-            .map(|f| f.scale_for(target))
+            .map(|f| f.scale_for(target, s.tolerance))
             .fold(f64::INFINITY, f64::min);
         // The paper's rule is kept where the pilots predict it meets the tolerance itself.
         let rule_meets = fits

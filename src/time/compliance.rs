@@ -1,6 +1,7 @@
 //! A massless stator in the loop (Eq. 49): the compliance `K⁻¹` of its contact DOFs.
 
 use crate::linalg::{Cholesky, CholeskyScratch, LinalgError};
+use crate::model::stator::MeshStatorData;
 use crate::model::StatorModel;
 use std::sync::Arc;
 
@@ -37,6 +38,25 @@ pub(crate) struct Compliance {
     rhs: Vec<f64>,
     /// Displacement (m): contact entries current, interior entries valid after `refresh`.
     pub(crate) u: Vec<f64>,
+    /// A meshed stator's columns shared between its runs
+    /// ([`MeshStatorData::compliance_columns`]): read at the start, written back at the end.
+    shared: Option<Arc<MeshStatorData>>,
+}
+
+impl Drop for Compliance {
+    /// Hands the columns computed to the stator's shared store when this run has more of them.
+    fn drop(&mut self) {
+        let Some(md) = &self.shared else { return };
+        let mut g = md
+            .compliance_columns
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let known = |c: &[usize]| c.iter().filter(|&&k| k != usize::MAX).count();
+        if g.0.len() != self.col.len() || known(&self.col) > known(&g.0) {
+            g.0 = std::mem::take(&mut self.col);
+            g.1 = std::mem::take(&mut self.cols);
+        }
+    }
 }
 
 impl Compliance {
@@ -66,8 +86,21 @@ impl Compliance {
             u: vec![0.0; n],
             cd,
             slot,
+            shared: s.mesh.clone(),
         };
-        if ncd <= EAGER_DOFS {
+        if let Some(md) = &s.mesh {
+            let g = md
+                .compliance_columns
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            if g.0.len() == ncd {
+                c.col.clone_from(&g.0);
+                c.cols.clone_from(&g.1);
+            }
+        }
+        if ncd <= EAGER_DOFS && c.col.contains(&usize::MAX) {
+            c.col.fill(usize::MAX);
+            c.cols.clear();
             // One blocked solve for every column.
             let n = c.rhs.len();
             let mut block = vec![0.0; n * ncd];

@@ -177,6 +177,7 @@ pub fn from_mesh(
         axial_origin: p.axial_origin,
         contact_stiffness: OnceLock::new(),
         factor: OnceLock::new(),
+        compliance_columns: Default::default(),
         reductions: Default::default(),
     };
     if let Err(e) = data.factor(&k) {

@@ -150,6 +150,13 @@ pub struct MeshStatorData {
     pub contact_stiffness: OnceLock<f64>,
     /// Sparse Cholesky factor of K, computed on first use and shared by every run.
     pub factor: OnceLock<Result<Arc<Cholesky>, LinalgError>>,
+    /// Columns of `K⁻¹` at the contact DOFs computed by the runs so far (the time loop's
+    /// massless-stator compliance): per contact slot the start of its column in the values
+    /// (`usize::MAX` when not computed), and the values (one entry per contact DOF each). K
+    /// and the contact DOFs do not change with the speed or the step, so every run of a sweep
+    /// and every pilot run of the step choice starts with the columns the earlier ones
+    /// computed.
+    pub compliance_columns: std::sync::Mutex<(Vec<usize>, Vec<f64>)>,
     /// Craig–Bampton reductions made so far, by cut-off (rad/s): every speed of a sweep with
     /// the same cut-off shares one (the stiffness and mass do not change with the placement).
     pub reductions: std::sync::Mutex<Vec<(f64, Arc<reduce::ReducedStator>)>>,
