@@ -160,6 +160,40 @@ fn meshed_stator_chosen_step_meets_the_tolerance() {
     );
 }
 
+/// Every scene in `scenes/stators/` leaves the step to rubsim (issue 11, "Done means"): none
+/// writes `run.dt`, and each one that is not a benchmark (`bench_*`, whose timing comparisons
+/// keep the paper's rule, a step fixed by the scene alone) writes `run.auto_step = true`, so the
+/// step comes from `run.tolerance`. Reads the files as TOML (no mesh is built); a scene added
+/// with a hand-set `dt` fails it.
+#[test]
+fn stator_scenes_carry_no_hand_set_step() {
+    let dir = common::repo("scenes/stators");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) != Some("toml") {
+            continue;
+        }
+        let name = path.file_stem().unwrap().to_str().unwrap().to_owned();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let doc: toml::Table = text.parse().unwrap_or_else(|e| panic!("{name}: {e}"));
+        let run = doc
+            .get("run")
+            .and_then(|r| r.as_table())
+            .unwrap_or_else(|| panic!("{name}: no [run]"));
+        assert!(!run.contains_key("dt"), "{name} writes run.dt");
+        if !name.starts_with("bench_") {
+            assert_eq!(
+                run.get("auto_step").and_then(|v| v.as_bool()),
+                Some(true),
+                "{name}: run.auto_step = true expected"
+            );
+        }
+        seen += 1;
+    }
+    assert!(seen >= 9, "{seen} stator scenes read");
+}
+
 /// The former hand-set step of `scenes/stators/diaphragm.toml` (s).
 const DIAPHRAGM_HAND_DT: f64 = 2e-5;
 /// How much finer than the scene's former hand-set step the chosen one may be: the hand-set
