@@ -520,3 +520,51 @@ fn meshed_stator_runs_share_their_compliance_columns() {
     );
     assert!(known() >= n);
 }
+
+/// A run at a pilot speed starts from the state the chosen scheme's pilots ended in (a whole
+/// revolution, `autostep::start_from_pilot`) with a transient of
+/// `autostep::RESTART_TRANSIENT` revolutions, the steady-state test deciding where it ends:
+/// on the paper's case at ω/ω_n = 3.3 it is proven steady, takes fewer steps than the same
+/// scheme and step from rest over the scene's transient, and its extents and lines equal that
+/// run's within a tenth of the tolerance; its own 2Δt estimate stays within the tolerance. A
+/// speed that was not piloted starts from rest as before.
+#[test]
+fn run_at_a_pilot_speed_starts_from_the_pilot_state_and_equals_the_run_from_rest() {
+    let (ls, model) = scene_model(&paper_single(), &["run.speed_ratio=3.3"]);
+    let tol = ls.scene.run.tolerance;
+    let transient = ls.scene.run.transient_revolutions;
+    let s = analysis::choose(&model, &settings(&ls), None, None, &[3.3]).unwrap();
+    assert!(
+        autostep::pilot_start(&s, 3.3).is_some(),
+        "no pilot state kept"
+    );
+    let r = analysis::run_speed(&model, &s, 3.3, Keep::default()).unwrap();
+    assert!(r.started_from_pilot && r.steady, "{:?}", r.stationarity);
+    assert!(r.transient_revolutions < transient);
+    let mut rest = s;
+    if let Some(c) = rest.choice.as_mut() {
+        c.starts = Default::default();
+    }
+    let q = analysis::run_speed(&model, &rest, 3.3, Keep::default()).unwrap();
+    assert!(!q.started_from_pilot && q.steady);
+    assert!(q.transient_revolutions >= transient);
+    assert_eq!((r.plan.dt, r.period), (q.plan.dt, q.period));
+    assert!(
+        r.stats.steps < q.stats.steps,
+        "{} steps from the pilot state, {} from rest",
+        r.stats.steps,
+        q.stats.steps
+    );
+    let d = autostep::difference(&r, &q);
+    println!(
+        "from the pilot state: {} steps, transient {}; from rest: {} steps, transient {}; \
+         difference {d:e}",
+        r.stats.steps, r.transient_revolutions, q.stats.steps, q.transient_revolutions
+    );
+    assert!(d <= 0.1 * tol, "difference {d:e} from the run from rest");
+    let est = r.error.expect("estimate").extents_rel;
+    assert!(est <= tol, "estimated error {est:e} above {tol:e}");
+    let other = analysis::run_speed(&model, &s, 3.2, Keep::default()).unwrap();
+    assert!(!other.started_from_pilot);
+    assert!(other.transient_revolutions >= transient);
+}

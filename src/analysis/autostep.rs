@@ -92,6 +92,9 @@ use crate::scene::IntegratorKind;
 use crate::time::{estimate, integrate, plan_steps, Initial, Scheme};
 use serde::{Deserialize, Serialize};
 
+mod start;
+pub use start::{pilot_start, start_from_pilot, PilotStart, RESTART_TRANSIENT};
+
 /// Transient revolutions of a pilot run before its analysed window (started as the run is).
 pub const PILOT_TRANSIENT: usize = 10;
 /// Revolutions of a pilot started from the settled state before its analysed window: the
@@ -158,6 +161,11 @@ pub struct StepChoice {
     /// with it (its truncation error indicator is in `error_predicted`); `None` otherwise.
     #[serde(default)]
     pub reduction: Option<CutoffChoice>,
+    /// The state the chosen scheme's pilots ended in at each pilot speed (a whole revolution;
+    /// pilots from the settled state only), from which the run at that speed starts
+    /// ([`start_from_pilot`]). Not written out.
+    #[serde(skip)]
+    pub starts: [Option<PilotStart>; 3],
 }
 
 /// The pilot speeds of a run over `speeds`: all of up to two speeds, else the first, the
@@ -182,6 +190,8 @@ struct Fit {
     h_min: f64,
     /// Whether the pilots started from the settled state.
     settled: bool,
+    /// The finest pilot's end state (pilots from the settled state only).
+    end: Option<Initial>,
     /// The paper's rule at this speed (s).
     rule_dt: f64,
     /// The coarsest step the choice may take (s): the coarsest of the three pilots fitted (no
@@ -311,6 +321,7 @@ fn fit(model: &Model, s: &RunSettings, kind: Scheme, v: f64, target: f64) -> Res
         let g = fit_from(model, s, kind, v, target, false)?;
         return Ok(Fit {
             steps: f.steps + g.steps,
+            end: None,
             wall_s: f.wall_s + g.wall_s,
             ..g
         });
@@ -436,6 +447,7 @@ fn fit_from(
         levels: [h0, h1, h2],
         h_min: h2 / MAX_EXTRAPOLATION,
         settled: from_settled,
+        end: from_settled.then_some(prep.settings.initial),
         steps,
         wall_s,
     })
@@ -703,6 +715,13 @@ pub fn choose(
         pilot_wall_s: pilot_wall,
         schemes_piloted: piloted,
         reduction: b.reduction.map(|r| r.1),
+        starts: std::array::from_fn(|i| {
+            let (v, f) = (pilots.get(i)?, b.fits.get(i)?);
+            f.end.map(|initial| PilotStart {
+                speed_ratio: *v,
+                initial,
+            })
+        }),
     });
     Ok(out)
 }

@@ -180,6 +180,10 @@ pub struct SpeedResults {
     /// the paper's rule set the step).
     #[serde(default)]
     pub step_choice: Option<super::StepChoice>,
+    /// Whether the run started from the pilots' settled state at its speed
+    /// ([`super::autostep::start_from_pilot`]).
+    #[serde(default)]
+    pub started_from_pilot: bool,
     /// Poincaré points / |Z0| (analysis window).
     pub poincare_nd: Vec<V2>,
     /// Steady orbit / |Z0| (kept on request).
@@ -220,6 +224,7 @@ pub struct Prepared {
 /// # Errors
 /// Model errors of the case; [`crate::error::SolveError::StepTooLarge`] and other plan errors.
 pub fn prepare(model: &Model, settings: &RunSettings, speed_ratio: f64) -> Result<Prepared> {
+    let settings = &super::autostep::start_from_pilot(settings, speed_ratio);
     let omega = speed_ratio * model.rotor.natural_frequency();
     let case = model.case_with(omega, settings.reduction_of(model))?;
     let plan = plan_steps(&case, &settings.step)?;
@@ -331,6 +336,8 @@ impl Prepared {
     pub fn run(&self, keep: Keep, sinks: &mut [&mut dyn FrameSink]) -> Result<SpeedResults> {
         let (rec, stats, plan, end) = with_sinks(sinks, |sink| self.drive(sink, true))?;
         let mut res = analyse(&self.case, &self.settings, &plan, &rec, stats, keep);
+        res.started_from_pilot = super::autostep::pilot_start(&self.settings, self.speed_ratio)
+            .is_some_and(|i| i == self.settings.initial);
         if self.settings.error_estimate {
             res.error = self.error_estimate(&res, end.as_ref());
         }
@@ -694,6 +701,7 @@ pub fn analyse(
         stats,
         error: None,
         step_choice: s.choice,
+        started_from_pilot: false,
         poincare_nd: poincare,
         orbit_nd: if keep.orbit { window } else { Vec::new() },
         force_history: if keep.force_history {
