@@ -103,3 +103,26 @@ fn check_lists_the_files_of_a_transient() {
         ],
     );
 }
+
+/// `rubsim check` with the step chosen from `run.tolerance` states the choice once (it was
+/// printed on stderr by the choice and again on stdout in the run's description).
+#[test]
+fn check_states_the_step_choice_once() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("paper.toml");
+    std::fs::write(&scene, common::scenes::paper_single()).unwrap();
+    let o = common::cli::rubsim(
+        tmp.path(),
+        &[
+            "check",
+            scene.to_str().unwrap(),
+            "--set",
+            "run.speed_ratio=2.0",
+            "--set",
+            "run.auto_step=true",
+        ],
+    );
+    assert!(o.status.success());
+    let all = common::cli::text(&o.stdout) + &common::cli::text(&o.stderr);
+    assert_eq!(all.matches("step for run.tolerance = ").count(), 1, "{all}");
+}

@@ -67,6 +67,60 @@ fn dry_whip_reads_backward_at_the_oracle_whirl_frequency() {
 }
 
 #[test]
+fn dry_whip_lengthened_for_the_zero_one_test_runs_away_and_keeps_its_window() {
+    // The scene of `dry_whip_reads_backward_at_the_oracle_whirl_frequency` without
+    // `classify_revolutions = 0`: its window (24 revolutions, not periodic) is lengthened to 400
+    // for the 0–1 test, and the continued run leaves the backward whirl orbit and grows until
+    // the divergence guard stops it (dry whip building up). The run still gives the window's
+    // result — the very numbers of the run that was not lengthened — classified `diverging`,
+    // not steady, with the time the continuation ran away.
+    let delta = 1e-3;
+    let (ls, model) = scene_model(&unit_rotor_in_ring(0.1, delta, 24), NO_SETS);
+    let ww = 0.2 / 0.1 + (1.0 + 2.0_f64 * 2.0).sqrt();
+    let r0 = 3.1034 * delta;
+    let mut s = settings(&ls);
+    s.initial = Initial {
+        u: [r0, 0.0],
+        v: [0.0, -ww * r0],
+    };
+    s.max_transient_revolutions = 0;
+    assert!(s.classify_revolutions >= 200, "{}", s.classify_revolutions);
+    let r = analysis::run_speed(&model, &s, 2.0, Keep::default())
+        .unwrap_or_else(|e| panic!("the lengthening's runaway must not fail the run: {e}"));
+    assert_eq!(
+        r.dynamics.regime,
+        analysis::Regime::Diverging,
+        "{:?}",
+        r.dynamics
+    );
+    assert_eq!(analysis::regime_label(&r), "diverging");
+    assert!(!r.steady);
+    assert_eq!(r.period, 0);
+    let t_window = r.plan.steps as f64 * r.plan.dt;
+    let t = r.dynamics.runaway_at_s.expect("runaway time");
+    let rev = 2.0 * std::f64::consts::PI / r.omega;
+    assert!(t > t_window && t < 400.0 * rev, "ran away at {t} s");
+    assert_eq!(r.window_revolutions, 24);
+    let mut kept = s;
+    kept.classify_revolutions = 0;
+    let k = analysis::run_speed(&model, &kept, 2.0, Keep::default()).unwrap();
+    assert_eq!(k.dynamics.regime, analysis::Regime::Undetermined);
+    assert_eq!(k.dynamics.runaway_at_s, None);
+    assert_eq!(r.extents_nd, k.extents_nd);
+    assert_eq!(r.whirl.dominant_order, k.whirl.dominant_order);
+    assert!((r.whirl.dominant_order / (-ww / 2.0) - 1.0).abs() < 1e-3);
+    // A run that diverges inside its own window still stops with the divergence error: 200
+    // planned revolutions (628 s) hold the runaway.
+    let (ls, model) = scene_model(&unit_rotor_in_ring(0.1, delta, 200), NO_SETS);
+    let mut long = settings(&ls);
+    (long.initial, long.max_transient_revolutions) = (s.initial, 0);
+    match analysis::run_speed(&model, &long, 2.0, Keep::default()) {
+        Err(e) => assert!(e.to_string().contains("response diverged"), "{e}"),
+        Ok(r) => panic!("ran through: {:?}", r.dynamics),
+    }
+}
+
+#[test]
 fn a_free_run_up_whirls_forward_through_its_resonance() {
     // The paper's rotor without the rod, 0.5 → 3 ω_n in 20 s: every window of whole
     // revolutions reads a forward circle (backward 1× under 1 % of it), whose radius peaks at the

@@ -79,10 +79,14 @@ pub enum Regime {
     /// Not periodic and not told apart: too few section points, `K` between the thresholds,
     /// or a regular window still settling.
     Undetermined,
+    /// Not periodic in its window and running away when continued: the run lengthened for the
+    /// 0–1 test left every bound of the divergence guard ([`Dynamics::runaway_at_s`]); the
+    /// results are those of the window before the lengthening (`steady = false`).
+    Diverging,
 }
 
 impl Regime {
-    /// `periodic`, `quasi-periodic`, `chaotic` or `undetermined` (the `regime` of sweep.csv and
+    /// `periodic`, `quasi-periodic`, `chaotic`, `undetermined` or `diverging` (the `regime` of sweep.csv and
     /// summary.json).
     pub fn name(self) -> &'static str {
         match self {
@@ -90,6 +94,7 @@ impl Regime {
             Regime::QuasiPeriodic => "quasi-periodic",
             Regime::Chaotic => "chaotic",
             Regime::Undetermined => "undetermined",
+            Regime::Diverging => "diverging",
         }
     }
 }
@@ -108,6 +113,11 @@ pub struct Dynamics {
     /// ([`section_period`]): the run is periodic although its `period` reads 0.
     #[serde(default)]
     pub long_period: Option<usize>,
+    /// Time (s, from the start of the run) at which the run, lengthened past its window for
+    /// the 0–1 test, left the divergence guard's bounds ([`Regime::Diverging`]); `None` when it
+    /// did not run away or was not lengthened.
+    #[serde(default)]
+    pub runaway_at_s: Option<f64>,
 }
 
 /// The smallest period `q` in `MAX_PERIOD + 1 ..= N/4` of the `N` Poincaré points `section`
@@ -149,6 +159,7 @@ pub fn dynamics(
             zero_one_k: None,
             section_points: n,
             long_period: None,
+            runaway_at_s: None,
         };
     }
     if let Some(q) = section_period(section, span, tol) {
@@ -157,6 +168,7 @@ pub fn dynamics(
             zero_one_k: None,
             section_points: n,
             long_period: Some(q),
+            runaway_at_s: None,
         };
     }
     let phi: Vec<f64> = section.iter().map(|p| p[component.min(1)]).collect();
@@ -166,6 +178,7 @@ pub fn dynamics(
             zero_one_k: None,
             section_points: n,
             long_period: None,
+            runaway_at_s: None,
         };
     }
     let k = zero_one_k(&phi);
@@ -182,6 +195,21 @@ pub fn dynamics(
         zero_one_k: Some(k),
         section_points: n,
         long_period: None,
+        runaway_at_s: None,
+    }
+}
+
+/// Whether a window classified `d` (with its point-by-point stationarity `stn` and verdict
+/// `steady`) is a response that never repeats and is not settling: quasi-periodic, chaotic, or
+/// undetermined by a `K` between the thresholds on at least [`MIN_SECTION_POINTS`] points
+/// without a decaying transient. Its stationarity and error are those of an attractor's
+/// statistics ([`super::steady::judge_attractor`]), not of a repeating orbit.
+pub fn never_repeats(d: &Dynamics, stn: &Stationarity, steady: bool) -> bool {
+    let settling = !steady && stn.decay.is_finite() && stn.decay < SETTLING_DECAY;
+    match d.regime {
+        Regime::QuasiPeriodic | Regime::Chaotic => true,
+        Regime::Undetermined => d.zero_one_k.is_some() && !settling,
+        _ => false,
     }
 }
 

@@ -24,7 +24,9 @@
 //!
 //! Files: [`speed`] (prepare, run to the steady state, analyse, error estimate), [`steady`]
 //! (stationarity of the window, period classification, where lines are resolved), [`dynamics`]
-//! (quasi-periodic or chaotic: the 0–1 test on the Poincaré section), [`sweep`](mod@sweep) (speeds, variants, the
+//! (quasi-periodic or chaotic: the 0–1 test on the Poincaré section), `lengthen` (the window
+//! lengthened for that test, and a run that runs away when continued), `richardson` (the step
+//! pairs' error estimates; a run that never repeats), [`sweep`](mod@sweep) (speeds, variants, the
 //! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),
 //! [`bench`](mod@bench) (timing and the comparison with a converged sweep), [`stress`] (stator stress
 //! probe), [`refine`] (mesh-refinement metrics), [`rotordyn`] (modes, Campbell, unbalance
@@ -38,9 +40,11 @@ pub mod convergence;
 pub mod critical_map;
 pub mod cutoff;
 pub mod dynamics;
+mod lengthen;
 pub mod mode_shape;
 pub mod refine;
 pub mod regimes;
+mod richardson;
 pub mod rotordyn;
 pub mod speed;
 pub mod steady;

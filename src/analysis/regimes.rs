@@ -25,6 +25,7 @@ impl RegimeRange {
             (0, Regime::Periodic, Some(q)) => regime_name(q),
             (0, Regime::QuasiPeriodic, _) => "quasi-periodic".into(),
             (0, Regime::Chaotic, _) => "chaotic".into(),
+            (0, Regime::Diverging, _) => "diverging".into(),
             (0, _, _) => "not periodic (undetermined)".into(),
             (p, _, _) => regime_name(p),
         }
@@ -101,7 +102,8 @@ pub fn regime_name(period: usize) -> String {
 
 /// The regime of a run in words: its period ([`regime_name`]); for a run that is not periodic
 /// its class ([`super::dynamics`]) — "1/9×" and longer periods found on the Poincaré points,
-/// "quasi-periodic", "chaotic", or "not periodic (undetermined)".
+/// "quasi-periodic", "chaotic", "diverging" (not periodic, and running away when continued), or
+/// "not periodic (undetermined)".
 pub fn regime_label(r: &SpeedResults) -> String {
     if r.period > 0 {
         return regime_name(r.period);
@@ -110,6 +112,7 @@ pub fn regime_label(r: &SpeedResults) -> String {
         (Regime::Periodic, Some(q)) => regime_name(q),
         (Regime::QuasiPeriodic, _) => "quasi-periodic".into(),
         (Regime::Chaotic, _) => "chaotic".into(),
+        (Regime::Diverging, _) => "diverging".into(),
         _ => "not periodic (undetermined)".into(),
     }
 }

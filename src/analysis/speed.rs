@@ -2,8 +2,10 @@
 //! frame sinks ([`Prepared::run`]), analyse the record ([`analyse`]) and estimate the
 //! discretisation error by a companion run.
 
-use super::dynamics::{dynamics, Dynamics};
-use super::steady::{judge, lines_revolutions, stationarity, Classification, Stationarity};
+use super::dynamics::{dynamics, never_repeats, Dynamics, Regime};
+use super::steady::{
+    judge, judge_attractor, lines_revolutions, stationarity, Classification, Stationarity,
+};
 use super::whirl::{signed_orders, whirl_lines, WhirlLines};
 use super::{Keep, RunSettings, MAX_PERIOD};
 use crate::error::Result;
@@ -53,6 +55,14 @@ pub struct ErrorEstimate {
     /// The (Δt, Δt/2) pair's estimate of the run's extents error, `|Q_h − Q_{h/2}|/(1 − 2^−p)`.
     #[serde(default)]
     pub extents_rel_fine_pair: Option<f64>,
+    /// For a run that never repeats (quasi-periodic, chaotic, or undetermined with a `K` and
+    /// no decaying transient: [`super::dynamics::never_repeats`]): the sampling
+    /// uncertainty of its window's extents (the halves' difference, relative to the largest
+    /// |extent|), and `extents_rel` is the error of the attractor's extents — this plus the
+    /// time-step bias left in the (Δt, 2Δt) difference once both windows' sampling is taken out
+    /// ([`attractor_error`]; no 4Δt companion). `None` for other runs.
+    #[serde(default)]
+    pub extents_rel_sampling: Option<f64>,
 }
 
 /// Revolutions the finer companion runs after its restart from the run's end state before its
@@ -60,43 +70,7 @@ pub struct ErrorEstimate {
 /// two steps' difference, decays with the orbit's damping over them (docs/VALIDATION.md §15).
 pub const FINE_SETTLE_REVOLUTIONS: usize = 16;
 
-/// The run's error from the finer pair's estimate `fine` = `|Q_h − Q_{h/2}|/(1 − 2^−p)` and the
-/// (Δt, 2Δt) pair's `pair`: the weighted geometric mean `fine^¾ pair^¼`.
-///
-/// With `e(h) = C(h) h^p` and a coefficient that depends on the contact events' phase in the
-/// step, `fine = e(h) |1 − C(h/2)/(2^p C(h))| / (1 − 2^−p)` is the run's own error to within
-/// `(1 ± 2^−p|C(h/2)/C(h)|)/(1 − 2^−p)` — for p = 2 and C(h/2) within a factor 2 of C(h), 2/3 to
-/// 5/3 of it — and cancels only when `C(h/2) ≈ 2^p C(h)`; the coarser pair, which never sees
-/// `C(h)` (it mixes C(h) and C(2h)), is given a quarter of the logarithm to lift such a cancelled
-/// fine pair.
-pub fn combine_fine(fine: f64, pair: f64) -> f64 {
-    fine.max(1e-300).powf(0.75) * pair.max(1e-300).powf(0.25)
-}
-
-/// The error of the finer run of a pair from their difference `d = |Q_f − Q_c|` (Richardson):
-/// `d/|r^p − 1|`, `r = h_c/h_f` the ratio of the steps (below 1 when the companion is the finer),
-/// `p` the order. With `Q_h = Q + C h^p`, `Q_f − Q_c = C h_f^p (1 − r^p)`.
-pub fn richardson(d: f64, r: f64, p: f64) -> f64 {
-    d / (r.powf(p) - 1.0).abs()
-}
-
-/// The run's error from the estimates of two step pairs at the scheme's order p: `fine` =
-/// E₁ = `|Q_h − Q_2h|/(r₁^p − 1)` and `coarse` = E₂ = `|Q_2h − Q_4h|/((r₂^p − 1) r₁^p)` (the 2Δt
-/// run's Richardson error, brought to Δt by the order). Returns their geometric mean √(E₁E₂),
-/// or E₁ without a coarse pair.
-///
-/// At a rub the error is `e(h) = C(h) h^p` with the nominal order but a coefficient that
-/// depends on where the contact events fall inside the steps (docs/VALIDATION.md §15): each
-/// pair's estimate is the coefficient of two levels mixed, and either can cancel (E₁ ≪ e(h) when
-/// `C(h) ≈ 2^p C(2h)`). E₁ and E₂ sample the coefficient at different event phases; the mean of
-/// their logarithms halves the spread of log(estimate/error) when the phases are unrelated —
-/// the factor-of-three goal is a bound on that logarithm.
-pub fn combine_levels(fine: f64, coarse: Option<f64>) -> f64 {
-    match coarse {
-        Some(c) => (fine * c).sqrt(),
-        None => fine,
-    }
-}
+pub use super::richardson::{attractor_error, combine_fine, combine_levels, richardson};
 
 /// The largest of `|a_i − b_i|` over two equal-length slices.
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {
@@ -250,7 +224,7 @@ impl Prepared {
     /// # Errors
     /// [`crate::error::SolveError`] of the loop, a sink's error included.
     pub fn integrate(&self, sinks: &mut [&mut dyn FrameSink]) -> Result<(Record, RunStats)> {
-        let (rec, stats, _, _) = with_sinks(sinks, |sink| self.drive(sink, false))?;
+        let (rec, stats, ..) = with_sinks(sinks, |sink| self.drive(sink, false))?;
         Ok((rec, stats))
     }
 
@@ -300,28 +274,19 @@ impl Prepared {
             }
             st.extend(p.steps + more * spr_steps, p.steady_from + more * spr_steps);
         }
+        // A window that is not periodic is lengthened for the 0–1 test (`dynamics`); one that
+        // runs away when continued keeps its window (`super::lengthen`).
+        let mut runaway = None;
         if adapt {
-            // A window that is not periodic is lengthened for the 0–1 test (`dynamics`).
-            let p = *st.plan();
-            let (w, nrev) = window_points(&self.case, s, &p, st.recorded());
-            let (_, _, class) = judge(&w, s.step.samples_per_rev, nrev, s.tolerance, MAX_PERIOD);
-            let by_steps = (s.step.max_steps as usize).saturating_sub(p.steps) / spr_steps;
-            let more = s.classify_revolutions.saturating_sub(nrev).min(by_steps);
-            if class.period == 0 && more > 0 {
-                let steps = p.steps + more * spr_steps;
-                st.extend(steps, p.steady_from);
-                if keep_end {
-                    // The end state is the lengthened run's: uᴺ⁻² kept on the way again.
-                    st.run_to(steps - 1, &mut sink)?;
-                    older = Some(st.history());
-                    st.run_to(steps, &mut sink)?;
-                }
-            }
+            (st, runaway) = self.lengthen(st, &mut sink, keep_end, &mut older)?;
         }
         let plan = *st.plan();
         let end = older.and_then(|o| st.end_state(&o));
+        if runaway.is_some() {
+            sink = None; // the re-run window's frames went to the sink the first time
+        }
         let (rec, stats) = st.finish(&mut sink)?;
-        Ok((rec, stats, plan, end))
+        Ok((rec, stats, plan, end, runaway))
     }
 
     /// Integrates until the steady state is proven or the transient reaches its cap (see
@@ -334,10 +299,16 @@ impl Prepared {
     /// # Errors
     /// As [`Prepared::integrate`]; the companion run's failure only leaves the estimate out.
     pub fn run(&self, keep: Keep, sinks: &mut [&mut dyn FrameSink]) -> Result<SpeedResults> {
-        let (rec, stats, plan, end) = with_sinks(sinks, |sink| self.drive(sink, true))?;
+        let (rec, stats, plan, end, runaway) = with_sinks(sinks, |sink| self.drive(sink, true))?;
         let mut res = analyse(&self.case, &self.settings, &plan, &rec, stats, keep);
         res.started_from_pilot = super::autostep::pilot_start(&self.settings, self.speed_ratio)
             .is_some_and(|i| i == self.settings.initial);
+        if let Some(t) = runaway {
+            // Bounded over its window, running away when continued: not a steady state.
+            res.steady = false;
+            res.dynamics.regime = Regime::Diverging;
+            res.dynamics.runaway_at_s = Some(t);
+        }
         if self.settings.error_estimate {
             res.error = self.error_estimate(&res, end.as_ref());
         }
@@ -405,7 +376,13 @@ impl Prepared {
             }
             _ => None,
         };
-        let second = if rub && r1 > 1.0 && fine.is_none() {
+        // A run that never repeats: the error of its attractor's extents.
+        let sampling = |r: &SpeedResults| {
+            let a = r.stationarity.attractor?;
+            Some(a.extents_sampling * orbit_span(&r.extents_nd) / extent_scale(&r.extents_nd))
+        };
+        let s_run = sampling(res).filter(|_| res.period == 0);
+        let second = if rub && r1 > 1.0 && fine.is_none() && s_run.is_none() {
             coarser_than(&cplan, 0.8 * cplan.limit).and_then(|p4| Some((p4, companion(&p4)?)))
         } else {
             None
@@ -432,8 +409,13 @@ impl Prepared {
             ),
             None => (None, None, None),
         };
-        let (extents_rel, lines_rel) = match (extf, linf) {
-            (Some(ef), Some(lf)) => (combine_fine(ef, ext1), combine_fine(lf, lin1)),
+        let (extents_rel, lines_rel) = match (extf, linf, s_run) {
+            (Some(ef), Some(lf), _) => (combine_fine(ef, ext1), combine_fine(lf, lin1)),
+            (_, _, Some(sr)) => {
+                let d = max_diff(&c.extents_nd, &res.extents_nd) / scale;
+                let sc = sampling(&c).unwrap_or(0.0) * extent_scale(&c.extents_nd) / scale;
+                (attractor_error(d, sr, sc, r1, p), lin1)
+            }
             _ => (combine_levels(ext1, ext2), combine_levels(lin1, lin2)),
         };
         Some(ErrorEstimate {
@@ -447,13 +429,14 @@ impl Prepared {
             extents_rel_coarse_pair: ext2,
             dt_fine,
             extents_rel_fine_pair: extf,
+            extents_rel_sampling: s_run,
         })
     }
 }
 
-/// What [`Prepared::drive`] returns: the record, the counters, the plan as it ended and the
-/// bodies' end state.
-type Driven = (Record, RunStats, StepPlan, Option<EndState>);
+/// What [`Prepared::drive`] returns: the record, the counters, the plan as it ended, the
+/// bodies' end state and the time (s) a lengthening for the 0–1 test ran away.
+type Driven = (Record, RunStats, StepPlan, Option<EndState>, Option<f64>);
 
 impl Prepared {
     /// The companion at Δt/2 restarted from the run's end state `end` ([`Stepper::restart`]):
@@ -518,7 +501,12 @@ fn with_sinks<R>(
 
 /// The analysed window of a record, non-dimensional (/|Z0|): the samples at the instants
 /// `plan.steady_from ≤ k < plan.steps`, and its whole revolutions.
-fn window_points(case: &Case, s: &RunSettings, plan: &StepPlan, rec: &Record) -> (Vec<V2>, usize) {
+pub(super) fn window_points(
+    case: &Case,
+    s: &RunSettings,
+    plan: &StepPlan,
+    rec: &Record,
+) -> (Vec<V2>, usize) {
     let spr = s.step.samples_per_rev;
     let z0 = if case.z0 > 0.0 { case.z0 } else { 1.0 };
     let first = plan.steady_from / plan.record_every;
@@ -647,6 +635,17 @@ pub fn analyse(
         &stn,
         steady,
     );
+    let never_repeats = never_repeats(&dynamics, &stn, steady);
+    let (stn, steady) = judge_attractor(
+        never_repeats,
+        stn,
+        steady,
+        &window,
+        spr,
+        nrev,
+        span,
+        s.tolerance,
+    );
     let comp: Vec<f64> = window.iter().map(|p| p[s.component]).collect();
     let (lrev, resolved) = lines_revolutions(nrev, period);
     let lines = &comp[(nrev - lrev) * spr..nrev * spr];
@@ -713,87 +712,5 @@ pub fn analyse(
         },
         spectrum,
         full_spectrum,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Q_h = Q + C h^p: the Richardson estimate of the finer run's error is exact, for a coarser
-    /// companion (r = 2, 1.5) and for a finer one (r = ½, the error of the run being the coarser).
-    #[test]
-    fn richardson_is_exact_on_the_asymptotic_expansion() {
-        let (q, c, p) = (1.25, -3.0e-2, 2.0);
-        let qh = |h: f64| q + c * h.powf(p);
-        for (h, r) in [(0.01, 2.0), (0.03, 1.5), (0.02, 0.5)] {
-            let est = richardson((qh(h) - qh(r * h)).abs(), r, p);
-            let true_err = (qh(h) - q).abs();
-            assert!(
-                (est - true_err).abs() <= 1e-9 * true_err,
-                "{est} {true_err}"
-            );
-        }
-    }
-
-    /// With a constant coefficient both pairs give the run's error and so does their combination;
-    /// without a coarse pair the fine pair's estimate is returned as it is.
-    #[test]
-    fn combining_two_exact_levels_keeps_the_error() {
-        let (c, p) = (4.0e-3, 2.0);
-        let e = |n: f64| c * n.powf(-p);
-        let (n1, n2, n3) = (192.0, 128.0, 64.0);
-        let (r1, r2) = (n1 / n2, n2 / n3);
-        let fine = richardson((e(n1) - e(n2)).abs(), r1, p);
-        let coarse = richardson((e(n2) - e(n3)).abs(), r2, p) / r1.powf(p);
-        let both = combine_levels(fine, Some(coarse));
-        assert!((both - e(n1)).abs() <= 1e-12 * e(n1));
-        assert_eq!(combine_levels(fine, None), fine);
-    }
-
-    /// The case the second pair is for: a coefficient that depends on the step (the contact
-    /// events' phase), C(h), C(2h), C(4h) = 1, 0.15625, 0.7890625 (× 1e-3): the fine pair's
-    /// difference cancels to an eighth of the run's error, the coarse pair gives it exactly, and
-    /// their geometric mean, e/√8, is within a factor 3 of it.
-    #[test]
-    fn the_coarse_pair_lifts_a_cancelled_fine_pair() {
-        let p = 2.0;
-        let h: f64 = 1.0 / 256.0;
-        let c: [f64; 3] = [1.0e-3, 0.15625e-3, 0.7890625e-3];
-        let e = [
-            c[0] * h * h,
-            c[1] * (2.0 * h).powi(2),
-            c[2] * (4.0 * h).powi(2),
-        ];
-        let fine = richardson((e[0] - e[1]).abs(), 2.0, p);
-        let coarse = richardson((e[1] - e[2]).abs(), 2.0, p) / 4.0;
-        assert!((fine - e[0] / 8.0).abs() <= 1e-9 * e[0], "{fine} {}", e[0]);
-        assert!((coarse - e[0]).abs() <= 1e-9 * e[0], "{coarse} {}", e[0]);
-        let both = combine_levels(fine, Some(coarse));
-        assert!((both - e[0] / 8f64.sqrt()).abs() <= 1e-9 * e[0]);
-        assert!(both >= e[0] / 3.0 && both <= 3.0 * e[0], "{both} {}", e[0]);
-    }
-
-    /// The finer pair: with C(h/2) = C(h) the (Δt, Δt/2) estimate is the run's error exactly
-    /// (finer companion, r = ½); with C(h/2) = 3C(h) it cancels to a third of it, and
-    /// `fine^¾ pair^¼` with the (Δt, 2Δt) pair at C(2h) = 2C(h) (which reads 7/3 of the error)
-    /// brings it to 0.54 of it; equal estimates combine to themselves.
-    #[test]
-    fn the_finer_pair_weighs_three_quarters() {
-        let p = 2.0;
-        let h: f64 = 1.0 / 300.0;
-        let e = |c: f64, h: f64| c * h * h;
-        let c = 2.0e-3;
-        let exact = richardson((e(c, h) - e(c, h / 2.0)).abs(), 0.5, p);
-        assert!((exact - e(c, h)).abs() <= 1e-12 * e(c, h));
-        let cancelled = richardson((e(c, h) - e(3.0 * c, h / 2.0)).abs(), 0.5, p);
-        assert!((cancelled - e(c, h) / 3.0).abs() <= 1e-12 * e(c, h));
-        let pair = richardson((e(c, h) - e(2.0 * c, 2.0 * h)).abs(), 2.0, p);
-        let both = combine_fine(cancelled, pair);
-        assert!((pair - 7.0 / 3.0 * e(c, h)).abs() <= 1e-12 * e(c, h));
-        assert!((both / e(c, h) - 0.5422).abs() < 1e-4, "{both}");
-        let expected = cancelled.powf(0.75) * pair.powf(0.25);
-        assert!((both - expected).abs() <= 1e-12 * expected);
-        assert!((combine_fine(4e-5, 4e-5) - 4e-5).abs() <= 1e-18);
     }
 }

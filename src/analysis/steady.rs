@@ -13,6 +13,10 @@ use crate::signal::extents;
 use crate::signal::line_exact;
 use serde::{Deserialize, Serialize};
 
+/// Blocks the window of a response that never repeats is cut into for the spread of its
+/// extents ([`attractor_stationarity`]).
+pub const SAMPLING_BLOCKS: usize = 8;
+
 /// Largest confidence reported ([`Classification::confidence`]).
 pub const MAX_CONFIDENCE: f64 = 1e6;
 
@@ -28,6 +32,28 @@ pub struct Stationarity {
     pub decay: f64,
     /// Revolutions of one third.
     pub block_revolutions: usize,
+    /// The statistics of the two halves of a window that is quasi-periodic or chaotic
+    /// ([`attractor_stationarity`]); `residual` is then theirs. `None` for other windows.
+    #[serde(default)]
+    pub attractor: Option<AttractorStationarity>,
+}
+
+/// How stationary a window that never repeats is, from the statistics of its two halves
+/// ([`attractor_stationarity`]); sizes relative to the orbit's size `span`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AttractorStationarity {
+    /// `max_k |m_A,k − m_B,k| / span`: the largest change between the halves A, B of the mean
+    /// per-revolution extent `m_k` (k over x_min, x_max, y_min, y_max).
+    pub mean_change: f64,
+    /// The sampling deviation of that change, `3 s_k √(1/4 + 1/4) / span`, s_k the scatter of
+    /// the means over [`SAMPLING_BLOCKS`] blocks about their linear trend (batch means), at the
+    /// `k` of the largest excess `|m_A,k − m_B,k| − 3 s_k/√2`.
+    pub mean_sampling: f64,
+    /// The sampling uncertainty of the window's extents, relative to `span`: the larger of
+    /// `max_k |X_A,k − X_B,k|` (X the extents of each half) and the batch-means standard error
+    /// `max_k sd_b(X_b,k)/√B` of the extents X_b of the B blocks (the error estimate of such a
+    /// run uses it).
+    pub extents_sampling: f64,
 }
 
 impl Stationarity {
@@ -65,6 +91,7 @@ pub fn stationarity(w: &[V2], spr: usize, nrev: usize, span: f64) -> Stationarit
             residual: if span > 0.0 { f64::INFINITY } else { 0.0 },
             decay: f64::NAN,
             block_revolutions: b,
+            attractor: None,
         };
     }
     let bounds = [0, b * spr, 2 * b * spr, nrev * spr];
@@ -91,7 +118,147 @@ pub fn stationarity(w: &[V2], spr: usize, nrev: usize, span: f64) -> Stationarit
         residual,
         decay,
         block_revolutions: b,
+        attractor: None,
     }
+}
+
+/// The stationarity of a window that never repeats (quasi-periodic or chaotic), judged as the
+/// statistics of an attractor are: not point by point (a finite sample of a closed curve or of
+/// a strange attractor is not the same set in two parts of the window), but by the
+/// distribution of its per-revolution extents in the two halves of the window.
+///
+/// Of every revolution j of the window (`nrev` revolutions of `spr` samples) the extents
+/// `e_j = [x_min, x_max, y_min, y_max]` are taken and averaged over [`SAMPLING_BLOCKS`] blocks
+/// (batch means, which carry the correlation of successive revolutions). A stationary response
+/// has the mean of its first half of blocks within the blocks' scatter of the mean of its
+/// second (a quasi-periodic sequence is equidistributed: its block means agree to O(1/n)); a
+/// transient that grows or decays moves the halves apart by its trend, while the blocks'
+/// scatter is taken about their linear trend, so that the trend does not widen the tolerance.
+/// Returns the statistics and the residual `max_k max(0, |m_A,k − m_B,k| − 3 s_k/√2) / span`:
+/// the change the sampling does not explain (0 for a stationary window). `None` below 8
+/// revolutions or for a point.
+pub fn attractor_stationarity(
+    w: &[V2],
+    spr: usize,
+    nrev: usize,
+    span: f64,
+) -> Option<(AttractorStationarity, f64)> {
+    if nrev < 8 || spr == 0 || span <= 0.0 || w.len() < nrev * spr {
+        return None;
+    }
+    let per_rev: Vec<[f64; 4]> = w[..nrev * spr].chunks(spr).map(extents).collect();
+    let a = &per_rev[..nrev / 2];
+    let stats = |h: &[[f64; 4]], k: usize| {
+        let n = h.len() as f64;
+        let m = h.iter().map(|e| e[k]).sum::<f64>() / n;
+        let v = h.iter().map(|e| (e[k] - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        (m, v / n)
+    };
+    let (ea, eb) = (
+        extents(&w[..a.len() * spr]),
+        extents(&w[a.len() * spr..nrev * spr]),
+    );
+    // Batch means: the extents of blocks of an eighth of the window, the standard error of
+    // their mean, √(s²/B) over the B blocks.
+    let nb = (nrev / SAMPLING_BLOCKS).max(1);
+    let blocks: Vec<[f64; 4]> = per_rev
+        .chunks(nb)
+        .filter(|c| c.len() == nb)
+        .map(|c| {
+            let mut e = c[0];
+            for x in &c[1..] {
+                e = [
+                    e[0].min(x[0]),
+                    e[1].max(x[1]),
+                    e[2].min(x[2]),
+                    e[3].max(x[3]),
+                ];
+            }
+            e
+        })
+        .collect();
+    let spread = (0..4)
+        .map(|k| stats(&blocks, k).1.sqrt())
+        .fold(0.0, f64::max);
+    let halves = (0..4).map(|k| (ea[k] - eb[k]).abs()).fold(0.0, f64::max);
+    let mut out = AttractorStationarity {
+        mean_change: 0.0,
+        mean_sampling: 0.0,
+        extents_sampling: halves.max(spread) / span,
+    };
+    // The means of the per-revolution extents over the blocks (batch means): the change
+    // between the halves against the blocks' scatter about their linear trend.
+    let nbl = blocks.len();
+    let mut excess = f64::NEG_INFINITY;
+    for k in 0..4 {
+        let mb: Vec<f64> = per_rev
+            .chunks(nb)
+            .take(nbl)
+            .map(|c| c.iter().map(|e| e[k]).sum::<f64>() / c.len() as f64)
+            .collect();
+        let h = nbl / 2;
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let d = (mean(&mb[..h]) - mean(&mb[h..])).abs() / span;
+        let dev = 3.0 * detrended_sd(&mb) * (1.0 / h as f64 + 1.0 / (nbl - h) as f64).sqrt() / span;
+        out.mean_change = out.mean_change.max(d);
+        if d - dev > excess {
+            excess = d - dev;
+            out.mean_sampling = dev;
+        }
+    }
+    Some((out, excess.max(0.0)))
+}
+
+/// The stationarity of a window classified quasi-periodic or chaotic (`never_repeats`): its
+/// [`attractor_stationarity`] replaces the point-by-point residual of [`stationarity`] in `stn`,
+/// and the window is steady when that residual is within `tol`. Other windows, and windows too
+/// short for the halves, keep `(stn, steady)`.
+#[allow(clippy::too_many_arguments)]
+pub fn judge_attractor(
+    never_repeats: bool,
+    stn: Stationarity,
+    steady: bool,
+    w: &[V2],
+    spr: usize,
+    nrev: usize,
+    span: f64,
+    tol: f64,
+) -> (Stationarity, bool) {
+    match attractor_stationarity(w, spr, nrev, span) {
+        Some((a, residual)) if never_repeats => (
+            Stationarity {
+                residual,
+                attractor: Some(a),
+                ..stn
+            },
+            residual <= tol,
+        ),
+        _ => (stn, steady),
+    }
+}
+
+/// Standard deviation of `v` about its least-squares line over the index (n − 2 degrees of
+/// freedom; 0 below 3 values).
+fn detrended_sd(v: &[f64]) -> f64 {
+    let n = v.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let nf = n as f64;
+    let xm = (nf - 1.0) / 2.0;
+    let ym = v.iter().sum::<f64>() / nf;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (i, y) in v.iter().enumerate() {
+        sxy += (i as f64 - xm) * (y - ym);
+        sxx += (i as f64 - xm).powi(2);
+    }
+    let b = sxy / sxx;
+    let ss: f64 = v
+        .iter()
+        .enumerate()
+        .map(|(i, y)| (y - ym - b * (i as f64 - xm)).powi(2))
+        .sum();
+    (ss / (nf - 2.0)).sqrt()
 }
 
 /// Hausdorff distance between two point sets (0 when either is empty).
@@ -281,6 +448,60 @@ mod tests {
         let steady = orbit(64, 120, |t| [t.cos(), 0.5 * t.sin()]);
         assert!(stationarity(&steady, 64, 120, 2.0).residual < 1e-12);
         assert!(stationarity(&steady, 64, 2, 2.0).residual.is_infinite());
+    }
+
+    /// A torus (1× circle plus a free whirl at 1/√2 of the speed) is a stationary response whose
+    /// thirds are not the same finite sample of its closed curve: the point-by-point residual
+    /// reads it unsteady, the halves' statistics steady. The same torus with a free whirl
+    /// growing by half over the window, or dying out, is not steady; nor is a chaotic-like
+    /// sequence of circles whose radius drifts.
+    #[test]
+    fn an_attractor_is_steady_by_its_statistics_and_a_transient_is_not() {
+        let w0 = 0.5f64.sqrt();
+        let torus = |grow: f64| {
+            orbit(64, 400, move |t| {
+                let a = 0.1 * (1.0 + grow * t / (2.0 * PI * 400.0));
+                [t.cos() + a * (w0 * t).cos(), t.sin() + a * (w0 * t).sin()]
+            })
+        };
+        let span = 2.2;
+        let still = torus(0.0);
+        let point = stationarity(&still, 64, 400, span);
+        assert!(point.residual > 1e-3, "{point:?}");
+        let (a, residual) = attractor_stationarity(&still, 64, 400, span).unwrap();
+        assert_eq!(residual, 0.0, "{a:?}");
+        assert!(a.mean_change < 1e-3, "{a:?}");
+        let (st, steady) = judge_attractor(true, point, false, &still, 64, 400, span, 1e-3);
+        assert!(steady && st.residual == 0.0 && st.attractor.is_some());
+        // Not a response that never repeats: the point-by-point verdict stands.
+        assert!(!judge_attractor(false, point, false, &still, 64, 400, span, 1e-3).1);
+        for grow in [0.5, -0.5] {
+            let (a, residual) = attractor_stationarity(&torus(grow), 64, 400, span).unwrap();
+            assert!(residual > 1e-3, "growth {grow}: {a:?} {residual}");
+        }
+        // Circles of a chaotic radius r_{j+1} = 4 r_j (1 − r_j) (logistic map), steady, and
+        // drifting by 20 % over the window.
+        let circles = |drift: f64| {
+            let mut r = 0.3;
+            let mut w = Vec::new();
+            for j in 0..400 {
+                r = 4.0 * r * (1.0 - r);
+                let rad = (1.0 + 0.2 * r) * (1.0 + drift * j as f64 / 400.0);
+                w.extend((0..64).map(|i| {
+                    let t = 2.0 * PI * i as f64 / 64.0;
+                    [rad * t.cos(), rad * t.sin()]
+                }));
+            }
+            w
+        };
+        let (a, residual) = attractor_stationarity(&circles(0.0), 64, 400, 2.4).unwrap();
+        assert_eq!(residual, 0.0, "{a:?}");
+        assert!(
+            a.extents_sampling > 0.0 && a.extents_sampling < 0.05,
+            "{a:?}"
+        );
+        let (a, residual) = attractor_stationarity(&circles(0.2), 64, 400, 2.4).unwrap();
+        assert!(residual > 1e-3, "{a:?} {residual}");
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! `rubsim check`: validate a scene and print the resolved model.
 
-use super::{chosen_settings, describe_choice, load, settings, Common};
+use super::{choose_settings, describe_choice, load, settings, Common};
 use anyhow::Result;
 use rubsim::analysis;
 use rubsim::model::{Case, Model};
@@ -58,7 +58,8 @@ pub fn check(c: &Common) -> Result<()> {
         Some(w) => analysis::sweep_speeds(w.from, w.to, w.step),
         None => vec![case.speed_ratio],
     };
-    let st = chosen_settings(&ls, &model, &speeds)?;
+    // The choice is printed once, in the run's description below.
+    let st = choose_settings(&ls, &model, &speeds)?;
     // The reduction the error-target choice picked (a reduced scheme, or the scene's
     // `[run.reduction]` with its cut-off chosen from the tolerance).
     let case = match &st.reduction {

@@ -339,17 +339,23 @@ pub fn settings(ls: &LoadedScene) -> RunSettings {
 /// integrator and Δt chosen from `run.tolerance` by pilot runs when the scene gives no
 /// `run.dt` (`analysis::autostep`); the choice is printed on stderr.
 pub fn chosen_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Result<RunSettings> {
+    let s = choose_settings(ls, model, speeds)?;
+    if let Some(c) = &s.choice {
+        eprintln!("{}", describe_choice(c));
+    }
+    Ok(s)
+}
+
+/// [`chosen_settings`] without printing the choice (`rubsim check` prints it in its own
+/// description of the run).
+pub fn choose_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Result<RunSettings> {
     let s = settings(ls);
     let run = &ls.scene.run;
     if !run.auto_step || run.dt.is_some() || run.speed_profile.is_some() {
         return Ok(s);
     }
-    let s = rubsim::analysis::choose(model, &s, run.integrator, run.rho_inf, speeds)
-        .with_context(|| format!("{}: choosing Δt for `run.tolerance`", ls.file.display()))?;
-    if let Some(c) = &s.choice {
-        eprintln!("{}", describe_choice(c));
-    }
-    Ok(s)
+    rubsim::analysis::choose(model, &s, run.integrator, run.rho_inf, speeds)
+        .with_context(|| format!("{}: choosing Δt for `run.tolerance`", ls.file.display()))
 }
 
 /// One line on the integrator and Δt chosen from the tolerance.

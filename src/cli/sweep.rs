@@ -117,10 +117,31 @@ fn report(
             String::new()
         }
     );
+    let away: Vec<String> = res
+        .speeds
+        .iter()
+        .filter_map(|r| {
+            Some(format!(
+                "{:.2} (t = {:.3e} s)",
+                r.speed_ratio, r.dynamics.runaway_at_s?
+            ))
+        })
+        .collect();
+    if !away.is_empty() {
+        eprintln!(
+            "warning: {}the response runs away when continued at ω/ωn {}: lengthened past its window for the 0–1 test (`run.classify_revolutions`), the run left the divergence bounds; their results are those of the window (regime `diverging`, `steady = false`)",
+            if variant.prefix.is_empty() {
+                String::new()
+            } else {
+                format!("{}: ", variant.label())
+            },
+            away.join(", ")
+        );
+    }
     let unsteady: Vec<String> = res
         .speeds
         .iter()
-        .filter(|r| !r.steady)
+        .filter(|r| !r.steady && r.dynamics.runaway_at_s.is_none())
         .map(|r| format!("{:.2}", r.speed_ratio))
         .collect();
     if !unsteady.is_empty() {

@@ -37,7 +37,7 @@ pub const NS_CONTACT_DOF: f64 = 300.0;
 pub struct Budget {
     /// Steps of the main run.
     pub steps: f64,
-    /// Steps of the error-estimate companion run (0 without it).
+    /// Steps of the error-estimate companion runs (0 without them; [`companion_steps`]).
     pub companion_steps: f64,
     /// Bytes of the record (main run).
     pub record_bytes: f64,
@@ -49,8 +49,52 @@ pub struct Budget {
     pub wall_s: f64,
 }
 
-/// Estimates the cost of running `case` with `plan` (`companion`: with the error-estimate
-/// companion run at about 2Δt).
+/// Revolutions the companions of the error estimate analyse of a steady periodic run of period
+/// 1: lcm(6, 1) (`analysis::speed`; the whole window when it is not periodic).
+pub const COMPANION_WINDOW_REVOLUTIONS: usize = 6;
+/// Revolutions the finer companion settles after its restart (`analysis::speed`'s
+/// `FINE_SETTLE_REVOLUTIONS`).
+pub const COMPANION_SETTLE_REVOLUTIONS: usize = 16;
+
+/// Steps of the error estimate's companion runs for a run of `plan`, as the run path takes them
+/// for a steady periodic response of period 1 (`analysis::speed`; the window analysed is
+/// `w = min(W, 6)` revolutions, W the plan's window, T its transient):
+///
+/// - the first companion at about 2Δt over `T + w` revolutions, with `⌈k/2⌉` steps per
+///   recorded sample (`k` the plan's), about half the run's steps per revolution; where that
+///   step is not coarser (`k` = 1) or above the explicit stability limit of a plan within it,
+///   at Δt/2 instead: `2 × (T + w)` revolutions' worth of the run's steps;
+/// - with `rub` (a case with stators, which may touch) and a coarser first companion, the
+///   finer one at Δt/2 restarted from the run's end: `min(16, T) + w` revolutions at twice the
+///   run's steps per revolution (a response that is not periodic runs one at about 4Δt over the
+///   whole window instead, fewer steps).
+///
+/// An estimate before the run: at speeds without contact the finer one is not run, and a window
+/// that is not periodic is longer.
+pub fn companion_steps(plan: &StepPlan, rub: bool) -> f64 {
+    let spr = plan.steps_per_rev.max(1);
+    let k = plan.record_every.max(1);
+    let samples = (spr / k) as f64;
+    let transient = (plan.steady_from / spr) as f64;
+    let w = ((plan.steps.saturating_sub(plan.steady_from) / spr).min(COMPANION_WINDOW_REVOLUTIONS))
+        as f64;
+    let kc = k.div_ceil(2);
+    let dt_c = plan.dt * k as f64 / kc as f64;
+    let coarser = kc < k && (dt_c <= plan.limit || plan.dt > plan.limit);
+    if !coarser {
+        return (transient + w) * 2.0 * spr as f64;
+    }
+    let first = (transient + w) * samples * kc as f64;
+    let fine = if rub {
+        (transient.min(COMPANION_SETTLE_REVOLUTIONS as f64) + w) * 2.0 * spr as f64
+    } else {
+        0.0
+    };
+    first + fine
+}
+
+/// Estimates the cost of running `case` with `plan` (`companion`: with the error estimate's
+/// companion runs, [`companion_steps`]).
 pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
     let n_rotor = case.loop_rotor().ndof as f64;
     let mut n_mass = 0.0;
@@ -85,7 +129,11 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
         + NS_CONTACT_DOF * n_contact)
         * 1e-9;
     let steps = plan.steps as f64;
-    let companion_steps = if companion { steps / 2.0 } else { 0.0 };
+    let companion_steps = if companion {
+        companion_steps(plan, !case.stators.is_empty())
+    } else {
+        0.0
+    };
     let samples = (plan.steps / plan.record_every.max(1)) as f64 + 1.0;
     Budget {
         steps,
@@ -135,5 +183,55 @@ pub fn duration(s: f64) -> String {
         format!("{:.1} min", s / 60.0)
     } else {
         format!("{:.1} h", s / 3600.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan(spr: usize, k: usize, revs: usize, transient: usize, dt: f64, limit: f64) -> StepPlan {
+        StepPlan {
+            dt,
+            steps_per_rev: spr,
+            steps: revs * spr,
+            record_every: k,
+            steady_from: transient * spr,
+            limit,
+            rule_dt: dt,
+            omega_max: 1.0,
+        }
+    }
+
+    /// The paper's run (220 revolutions, 100 of transient, 64 samples of 10 steps): the 2Δt
+    /// companion takes (100 + 6) × 64 × 5 steps, a quarter of the run's, and the finer one at a
+    /// rub (16 + 6) × 1280, a fifth — not the half run counted before.
+    #[test]
+    fn companions_are_counted_as_the_run_path_takes_them() {
+        let p = plan(640, 10, 220, 100, 1e-5, 1.0);
+        let main = p.steps as f64;
+        let c = companion_steps(&p, false);
+        assert_eq!(c, 106.0 * 320.0);
+        assert!((c / main - 0.241).abs() < 1e-3, "{}", c / main);
+        assert_eq!(companion_steps(&p, true), 106.0 * 320.0 + 22.0 * 1280.0);
+        // An odd number of steps per sample: ⌈3/2⌉ = 2, a ratio of 1.5, not 2.
+        assert_eq!(
+            companion_steps(&plan(192, 3, 220, 100, 1e-5, 1.0), false),
+            106.0 * 128.0
+        );
+        // One step per sample, or 2Δt above the explicit limit: the companion is at Δt/2.
+        assert_eq!(
+            companion_steps(&plan(64, 1, 220, 100, 1e-5, 1.0), true),
+            106.0 * 128.0
+        );
+        assert_eq!(
+            companion_steps(&plan(640, 10, 220, 100, 1e-5, 1.5e-5), true),
+            106.0 * 1280.0
+        );
+        // A short transient settles the finer companion over it only.
+        assert_eq!(
+            companion_steps(&plan(640, 10, 30, 10, 1e-5, 1.0), true),
+            16.0 * 320.0 + 16.0 * 1280.0
+        );
     }
 }
