@@ -260,6 +260,7 @@ fn pilot_settings(s: &RunSettings, kind: Scheme, scale: f64) -> RunSettings {
     p.step.transient_revolutions = PILOT_TRANSIENT;
     p.step.revolutions = PILOT_TRANSIENT + PILOT_WINDOW;
     p.error_estimate = false;
+    p.check_coexistence = false;
     p
 }
 

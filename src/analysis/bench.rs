@@ -44,6 +44,7 @@ pub fn ns_per_step(r: &SweepResults) -> f64 {
 pub fn reference_settings(s: &RunSettings) -> RunSettings {
     let mut rs = *s;
     rs.error_estimate = false;
+    rs.check_coexistence = false;
     rs.step.integrator = Scheme::Collocated;
     rs.step.harmonics *= 16.0;
     rs

@@ -106,6 +106,7 @@ pub fn choose_cutoff(
     ps.step.transient_revolutions = PILOT_TRANSIENT;
     ps.step.revolutions = PILOT_TRANSIENT + PILOT_WINDOW;
     ps.error_estimate = false;
+    ps.check_coexistence = false;
     let target = TRUNCATION_SHARE * s.tolerance;
     let at = |k: f64| ReductionInput {
         cutoff: None,

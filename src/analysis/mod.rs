@@ -22,11 +22,13 @@
 //! the unbalance force |Σ m_u e e^{iφ}| ω², frequencies over ω_n; speeds are given as
 //! ν = ω/ω_n.
 //!
-//! Files: [`speed`] (prepare, run to the steady state, analyse, error estimate), [`steady`]
+//! Files: [`speed`] (prepare, run to the steady state, analyse, error estimate), [`fanout`]
+//! (several frame sinks as one), [`steady`]
 //! (stationarity of the window, period classification, where lines are resolved), [`dynamics`]
 //! (quasi-periodic or chaotic: the 0–1 test on the Poincaré section), `lengthen` (the window
 //! lengthened for that test, and a run that runs away when continued), `richardson` (the step
-//! pairs' error estimates; a run that never repeats), [`sweep`](mod@sweep) (speeds, variants, the
+//! pairs' error estimates; a run that never repeats), [`coexist`] (a second response at the same
+//! speed, found from another start), [`sweep`](mod@sweep) (speeds, variants, the
 //! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),
 //! [`bench`](mod@bench) (timing and the comparison with a converged sweep), [`stress`] (stator stress
 //! probe), [`refine`] (mesh-refinement metrics), [`rotordyn`] (modes, Campbell, unbalance
@@ -36,10 +38,12 @@
 pub mod autostep;
 pub mod bench;
 pub mod campbell;
+pub mod coexist;
 pub mod convergence;
 pub mod critical_map;
 pub mod cutoff;
 pub mod dynamics;
+pub mod fanout;
 mod lengthen;
 pub mod mode_shape;
 pub mod refine;
@@ -54,6 +58,7 @@ pub mod transient;
 pub mod whirl;
 
 pub use autostep::{choose, StepChoice};
+pub use coexist::{Coexistence, Start};
 pub use convergence::{
     convergence, reduced_case, ConvergencePoint, ConvergenceResults, REDUCED_COLLOCATED,
     REDUCED_GENERALIZED_ALPHA,
@@ -88,6 +93,8 @@ pub struct RunSettings {
     pub step: StepParams,
     /// Companion run at 2Δt for an error estimate.
     pub error_estimate: bool,
+    /// Run the check for a coexisting response (`run.check_coexistence`, [`coexist`]).
+    pub check_coexistence: bool,
     /// Initial rotor state.
     pub initial: Initial,
     /// Analysed response component: 0 = x, 1 = y.
@@ -126,6 +133,7 @@ impl RunSettings {
                 dt_scale: 1.0,
             },
             error_estimate: run.error_estimate,
+            check_coexistence: run.check_coexistence,
             initial: Initial {
                 u: run.initial_displacement,
                 v: run.initial_velocity,

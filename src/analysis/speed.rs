@@ -3,6 +3,8 @@
 //! discretisation error by a companion run.
 
 use super::dynamics::{dynamics, never_repeats, Dynamics, Regime};
+use super::fanout::with_sinks;
+pub use super::fanout::Fanout;
 use super::steady::{
     judge, judge_attractor, lines_revolutions, stationarity, Classification, Stationarity,
 };
@@ -13,7 +15,7 @@ use crate::math::{gcd, V2};
 use crate::model::{Case, Model};
 use crate::signal::{extents, hann_spectrum, line_exact};
 use crate::time::{
-    integrate, plan_steps, EndState, Frame, FrameSink, Record, RunStats, Sink, StepPlan, Stepper,
+    integrate, plan_steps, EndState, FrameSink, Record, RunStats, Sink, StepPlan, Stepper,
     WINDOW_MULTIPLE,
 };
 use serde::{Deserialize, Serialize};
@@ -73,7 +75,7 @@ pub const FINE_SETTLE_REVOLUTIONS: usize = 16;
 pub use super::richardson::{attractor_error, combine_fine, combine_levels, richardson};
 
 /// The largest of `|a_i − b_i|` over two equal-length slices.
-fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+pub(super) fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter()
         .zip(b)
         .map(|(x, y)| (x - y).abs())
@@ -158,6 +160,11 @@ pub struct SpeedResults {
     /// ([`super::autostep::start_from_pilot`]).
     #[serde(default)]
     pub started_from_pilot: bool,
+    /// The check for a coexisting response: the companion from another start and whether it
+    /// found another response (`run.check_coexistence`, [`super::coexist`]); `None` when not
+    /// run.
+    #[serde(default)]
+    pub coexistence: Option<super::Coexistence>,
     /// Poincaré points / |Z0| (analysis window).
     pub poincare_nd: Vec<V2>,
     /// Steady orbit / |Z0| (kept on request).
@@ -191,6 +198,10 @@ pub struct Prepared {
     pub case: Case,
     /// The step plan (Δt, steps, recording interval).
     pub plan: StepPlan,
+    /// The no-contact linear response at station 0's node at t = 0, `[u, v]` (m, m/s):
+    /// u = Re X, v = Re(iωX), X the unbalance response; a start of the coexistence check
+    /// ([`super::coexist`]). `None` when not asked or not computed.
+    pub linear_start: Option<[V2; 2]>,
 }
 
 /// Prepares a run of `model` at ν = `speed_ratio`: the case at ω = ν ω_n and its step plan.
@@ -202,12 +213,18 @@ pub fn prepare(model: &Model, settings: &RunSettings, speed_ratio: f64) -> Resul
     let omega = speed_ratio * model.rotor.natural_frequency();
     let case = model.case_with(omega, settings.reduction_of(model))?;
     let plan = plan_steps(&case, &settings.step)?;
+    let linear_start = if settings.check_coexistence {
+        super::coexist::linear_start(model, &case)
+    } else {
+        None
+    };
     Ok(Prepared {
         speed_ratio,
         omega,
         settings: *settings,
         case,
         plan,
+        linear_start,
     })
 }
 
@@ -238,11 +255,22 @@ impl Prepared {
     /// the record, the counters, the plan as it ended and, with `adapt` and
     /// `run.error_estimate`, the bodies' end state (the finer companion of the error estimate
     /// restarts from it).
-    fn drive(&self, mut sink: Sink<'_>, adapt: bool) -> Result<Driven> {
-        let s = &self.settings;
-        let mut st = Stepper::new(&self.case, s.step.integrator, &self.plan, s.initial)?;
-        let spr_steps = self.plan.steps_per_rev.max(1);
-        let window = (self.plan.steps - self.plan.steady_from) / spr_steps;
+    fn drive(&self, sink: Sink<'_>, adapt: bool) -> Result<Driven> {
+        self.drive_with(&self.plan, &self.settings, sink, adapt)
+    }
+
+    /// [`Prepared::drive`] of this case with another plan and settings (the same Δt and scheme
+    /// from another start: the coexistence check, [`super::coexist`]).
+    pub(super) fn drive_with(
+        &self,
+        plan: &StepPlan,
+        s: &RunSettings,
+        mut sink: Sink<'_>,
+        adapt: bool,
+    ) -> Result<Driven> {
+        let mut st = Stepper::new(&self.case, s.step.integrator, plan, s.initial)?;
+        let spr_steps = plan.steps_per_rev.max(1);
+        let window = (plan.steps - plan.steady_from) / spr_steps;
         let keep_end = adapt && s.error_estimate;
         let mut older = None;
         loop {
@@ -311,6 +339,9 @@ impl Prepared {
         }
         if self.settings.error_estimate {
             res.error = self.error_estimate(&res, end.as_ref());
+        }
+        if self.settings.check_coexistence {
+            res.coexistence = super::coexist::check(self, &res);
         }
         Ok(res)
     }
@@ -436,7 +467,7 @@ impl Prepared {
 
 /// What [`Prepared::drive`] returns: the record, the counters, the plan as it ended, the
 /// bodies' end state and the time (s) a lengthening for the 0–1 test ran away.
-type Driven = (Record, RunStats, StepPlan, Option<EndState>, Option<f64>);
+pub(super) type Driven = (Record, RunStats, StepPlan, Option<EndState>, Option<f64>);
 
 impl Prepared {
     /// The companion at Δt/2 restarted from the run's end state `end` ([`Stepper::restart`]):
@@ -484,21 +515,6 @@ pub fn run_speed(
     prepare(model, s, speed_ratio)?.run(keep, &mut [])
 }
 
-/// Calls `f` with `sinks` as one optional sink (none, the one, or a [`Fanout`] of several).
-fn with_sinks<R>(
-    sinks: &mut [&mut dyn FrameSink],
-    f: impl FnOnce(Sink<'_>) -> Result<R>,
-) -> Result<R> {
-    match sinks {
-        [] => f(None),
-        [one] => f(Some(&mut **one)),
-        many => {
-            let mut fan = Fanout::new(many);
-            f(Some(&mut fan))
-        }
-    }
-}
-
 /// The analysed window of a record, non-dimensional (/|Z0|): the samples at the instants
 /// `plan.steady_from ≤ k < plan.steps`, and its whole revolutions.
 pub(super) fn window_points(
@@ -519,43 +535,6 @@ pub(super) fn window_points(
         .collect();
     let nrev = w.len() / spr.max(1);
     (w, nrev)
-}
-
-/// Several sinks as one: frames every gcd of their intervals, each sink handed the frames at
-/// its own interval.
-pub struct Fanout<'s, 'a> {
-    sinks: &'s mut [&'a mut dyn FrameSink],
-    every: usize,
-}
-
-impl<'s, 'a> Fanout<'s, 'a> {
-    /// Fans frames out to `sinks` (their intervals are read once, here).
-    pub fn new(sinks: &'s mut [&'a mut dyn FrameSink]) -> Self {
-        let every = sinks.iter().fold(0, |g, s| gcd(g, s.every()));
-        Self { sinks, every }
-    }
-}
-
-impl FrameSink for Fanout<'_, '_> {
-    fn every(&self) -> usize {
-        self.every
-    }
-
-    fn wants(&self, step: usize) -> bool {
-        self.sinks
-            .iter()
-            .any(|s| s.every() > 0 && step % s.every() == 0 && s.wants(step))
-    }
-
-    fn frame(&mut self, frame: &Frame<'_>) -> Result<()> {
-        for s in self.sinks.iter_mut() {
-            let e = s.every();
-            if e > 0 && frame.step % e == 0 {
-                s.frame(frame)?;
-            }
-        }
-        Ok(())
-    }
 }
 
 /// How an orbit-extents difference is made relative ([`extents_error`]).
@@ -701,6 +680,7 @@ pub fn analyse(
         error: None,
         step_choice: s.choice,
         started_from_pilot: false,
+        coexistence: None,
         poincare_nd: poincare,
         orbit_nd: if keep.orbit { window } else { Vec::new() },
         force_history: if keep.force_history {

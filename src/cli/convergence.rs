@@ -28,11 +28,13 @@ pub fn convergence(
         super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("convergence")))?;
     let mut s = settings(&ls);
     s.error_estimate = false;
+    s.check_coexistence = false;
     // With `run.auto_step` (and no `run.dt`) the point the error-target choice picks at these
     // speeds is run too and marked on the pictures.
     let chosen = if ls.scene.run.auto_step {
         let mut c = super::chosen_settings(&ls, &model, &speeds)?;
         c.error_estimate = false;
+        c.check_coexistence = false;
         c.choice.is_some().then_some(c)
     } else {
         None

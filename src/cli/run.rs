@@ -60,6 +60,9 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
     sum["result"] = serde_json::to_value(&r)?;
     sum["regime"] = analysis::regime_label(&r).into();
     sum["dynamics"] = r.dynamics.regime.name().into();
+    if let Some(c) = &r.coexistence {
+        sum["coexisting"] = c.coexisting.into();
+    }
     sum["wall_s"] = t0.elapsed().as_secs_f64().into();
     let dir = summary::finish(outd, &sum)?;
     println!(
@@ -82,6 +85,9 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
                 c.error_predicted
             );
         }
+    }
+    if let Some(c) = r.coexistence.filter(|c| c.coexisting) {
+        eprintln!("warning: {}", coexist_warning(&r, &c));
     }
     if let Some(t) = r.dynamics.runaway_at_s {
         eprintln!(
@@ -259,4 +265,26 @@ fn transient(
     }
     println!("results in {}", dir.display());
     Ok(())
+}
+
+/// The warning of a run whose response is not the only one at its speed
+/// (`analysis::coexist`): what the companion from the other start found, and that the error
+/// estimate covers the time step only.
+pub(crate) fn coexist_warning(r: &analysis::SpeedResults, c: &analysis::Coexistence) -> String {
+    format!(
+        "ω/ωn = {:.3}: the response depends on the start: from {} the same scheme and Δt settle on another response (contact fraction {:.2} against the run's {:.2}, period {} against {}, extents {:.1e} of the largest extent apart); the run's estimated error ({}) covers the time step only, not which response is taken (summary.json: `coexistence`; `run.check_coexistence`)",
+        r.speed_ratio,
+        match c.start {
+            analysis::Start::Free => "the no-contact linear response",
+            analysis::Start::FullContact => "full contact at the clearance, whirling forward",
+        },
+        c.contact_fraction,
+        r.contact_fraction,
+        c.period,
+        r.period,
+        c.extents_rel,
+        r.error
+            .map(|e| format!("{:.1e}", e.extents_rel))
+            .unwrap_or_else(|| "not estimated".into()),
+    )
 }

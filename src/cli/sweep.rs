@@ -157,6 +157,25 @@ fn report(
             unsteady.join(", ")
         );
     }
+    let coexisting: Vec<String> = res
+        .speeds
+        .iter()
+        .filter(|r| r.coexistence.is_some_and(|c| c.coexisting))
+        .map(|r| format!("{:.2}", r.speed_ratio))
+        .collect();
+    if !coexisting.is_empty() {
+        eprintln!(
+            "warning: {}the response depends on the start at {} of {} speeds (ω/ωn {}): a companion at the same scheme and Δt from another start settled on another response (contact fraction, period or extents; `coexisting` and the `coexist_*` columns of sweep.csv); their estimated error covers the time step only",
+            if variant.prefix.is_empty() {
+                String::new()
+            } else {
+                format!("{}: ", variant.label())
+            },
+            coexisting.len(),
+            res.speeds.len(),
+            coexisting.join(", ")
+        );
+    }
     for r in regimes {
         println!("  {:>27}  ω/ωn {:.2} – {:.2}", r.label(), r.from, r.to);
     }

@@ -27,12 +27,12 @@ fn table(header: &str, rows: impl IntoIterator<Item = String>) -> String {
 }
 
 /// The `sweep.csv` header.
-pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,regime,zero_one_k,long_period";
+pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,regime,zero_one_k,long_period,coexisting,coexist_start,coexist_contact_fraction,coexist_period,coexist_extents_rel";
 
 /// One `sweep.csv` row.
 pub fn sweep_row(r: &SpeedResults) -> String {
     format!(
-        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{},{},{},{:.3e},{:.3e},{},{},{},{}",
+        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{},{},{},{:.3e},{:.3e},{},{},{},{},{}",
         r.speed_ratio,
         r.period,
         r.extents_nd[0],
@@ -70,7 +70,26 @@ pub fn sweep_row(r: &SpeedResults) -> String {
             .unwrap_or_else(|| ",,,".into()),
         whirl_columns(r),
         dynamics_columns(r),
+        coexist_columns(r),
     )
+}
+
+/// The coexistence columns of `sweep.csv` and `map.csv` ([`crate::analysis::coexist`]): whether
+/// the check found another response (`true`, `false`; empty when it was not run), where its
+/// companion started (`free`, `full_contact`), the companion's contact fraction and period,
+/// and the two responses' extents difference over the run's largest |extent|.
+pub fn coexist_columns(r: &SpeedResults) -> String {
+    match &r.coexistence {
+        Some(c) => format!(
+            "{},{},{:.4},{},{:.3e}",
+            c.coexisting,
+            c.start.name(),
+            c.contact_fraction,
+            c.period,
+            c.extents_rel
+        ),
+        None => ",,,,".into(),
+    }
 }
 
 /// The regime columns of `sweep.csv` and `map.csv` ([`crate::analysis::dynamics`]): `periodic`,
@@ -330,14 +349,15 @@ pub fn orbit_size_nd(r: &SpeedResults) -> f64 {
 /// `speed_ratio` column besides when neither is the speed), the Poincaré period and regime
 /// class ([`crate::analysis::REGIME_CLASSES`]), extents, orbit size ([`orbit_size_nd`]), line
 /// amplitudes, contact fraction and peak force, the error estimate (relative extents error and
-/// whether the companion run found the same period), the steady-state proof (`steady`, the
+/// whether the companion run found the same period), the coexistence check
+/// ([`coexist_columns`]), the steady-state proof (`steady`, the
 /// transient residual, the period's confidence, whether the lines are resolved: as in
 /// `sweep.csv`), steps and wall time, then the whirl columns ([`whirl_columns`]), the 0–1 test's K
 /// and a period above 8 found on the Poincaré points ([`dynamics_columns`]).
 pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Result<()> {
     let speed_col = !keys.contains(&"speed_ratio");
     let header = format!(
-        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,zero_one_k,long_period",
+        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,coexisting,coexist_start,coexist_contact_fraction,coexist_period,coexist_extents_rel,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,zero_one_k,long_period",
         keys[0],
         keys[1],
         if speed_col { ",speed_ratio" } else { "" }
@@ -345,7 +365,7 @@ pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Re
     let rows = cells.iter().map(|c| {
         let r = c.run;
         format!(
-            "{},{}{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.6},{},{},{},{:.3e},{:.3e},{},{},{:.6},{},{},{}",
+            "{},{}{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.6},{},{},{},{},{:.3e},{:.3e},{},{},{:.6},{},{},{}",
             crate::scene::toml_number(c.x),
             crate::scene::toml_number(c.y),
             if speed_col {
@@ -369,6 +389,7 @@ pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Re
                 .map(|e| format!("{:.3e}", e.extents_rel))
                 .unwrap_or_default(),
             r.error.map(|e| e.same_period.to_string()).unwrap_or_default(),
+            coexist_columns(r),
             r.steady,
             r.stationarity.residual,
             r.classification.confidence,

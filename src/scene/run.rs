@@ -118,6 +118,14 @@ pub struct RunSpec {
     /// `analysis::speed::combine_fine`) or 4Δt (`analysis::speed::combine_levels`).
     #[serde(default = "yes")]
     pub error_estimate: bool,
+    /// Check that the response is the only one at this speed (`analysis::coexist`): at a rub,
+    /// or without contact where the linear orbit reaches half the clearance, a companion at the
+    /// same scheme and Δt starts from the other extreme — in full contact at the clearance with
+    /// forward synchronous whirl, or on the no-contact linear response when the run is in
+    /// full annular rub — settles, and is compared with the run (contact fraction, period,
+    /// extents). Default `true`.
+    #[serde(default = "yes")]
+    pub check_coexistence: bool,
     /// Most integration steps one run may take (default [`crate::time::MAX_STEPS`]): a run
     /// whose plan needs more is refused before it starts, naming the figure. Raise it for a
     /// long run that is meant.

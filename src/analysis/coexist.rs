@@ -1,0 +1,228 @@
+//! Coexisting responses: is the run's response the only one at its speed?
+//!
+//! A rubbing rotor can settle on more than one response at one speed — no contact and full
+//! annular rub above the critical speed (the jump, or hysteresis, of a run-up against a
+//! coast-down), partial rub and full annular rub, partial rubs of different periods. Which one
+//! a run lands on depends on where it starts and on its transient, not on Δt; the error
+//! estimate's companions (2Δt, Δt/2) restart from the run's own state or share its transient,
+//! land on the same response and cannot see the other (docs/VALIDATION.md §16).
+//!
+//! The check ([`check`]) runs one companion at the run's scheme and Δt from a start at the
+//! other extreme of the response's contact:
+//!
+//! - a run in full contact (contact fraction ≥ [`FULL_CONTACT`]) restarts on the no-contact
+//!   linear response `u = Re X`, `v = Re(iωX)` (X the unbalance response at station 0's node),
+//!   when that orbit fits inside the clearance (|u| < δ) — where it does not, no response without
+//!   contact exists and the check is not run;
+//! - any other run in contact, and a run without contact whose linear orbit reaches
+//!   [`REACH`] × δ, restarts in full contact: at the clearance δ of station 0's stator, in
+//!   phase with the unbalance force at t = 0 (a rotor stiffened by a closed contact runs below
+//!   its own critical speed, where the response follows the unbalance), whirling forward at
+//!   the spin speed (`v = ω ẑ × u`) — synchronous full annular rub at its threshold.
+//!
+//! The companion settles as the run does (the same stationarity test, `run.tolerance`) from
+//! `min(`[`SETTLE_REVOLUTIONS`]`, the run's transient)` revolutions up to the run's own
+//! transient, and is analysed over lcm(6, period) revolutions of a steady periodic run (the
+//! scene's window otherwise). The responses differ ([`Coexistence::coexisting`]) when their
+//! contact fractions differ by more than [`CONTACT_FRACTION_DIFF`] (a response not steady or not
+//! periodic: [`CONTACT_FRACTION_DIFF_APERIODIC`]), or, both steady and periodic, their periods
+//! differ or their extents differ by more than [`EXTENTS_FACTOR`] × `run.tolerance` of the
+//! orbit's size. What it can miss: a third response neither start reaches (a partial rub
+//! beside another partial rub found only from a neighbouring speed's state), responses whose
+//! basins both starts miss, and a run in full contact whose linear orbit does not fit the
+//! clearance.
+
+use super::speed::{extent_scale, max_diff, orbit_span, Prepared, SpeedResults};
+use super::{analyse, Keep, RunSettings};
+use crate::math::{gcd, V2};
+use crate::model::{Case, Model};
+use crate::time::{Initial, StepPlan, WINDOW_MULTIPLE};
+use serde::{Deserialize, Serialize};
+
+/// Contact fraction from which a run counts as in full contact (full annular rub).
+pub const FULL_CONTACT: f64 = 0.95;
+
+/// A run without contact is checked when its linear orbit |u| reaches this fraction of the
+/// clearance (a full annular rub can coexist with the linear orbit only near the stator).
+pub const REACH: f64 = 0.5;
+
+/// Transient revolutions the companion starts with before its stationarity test (at most the
+/// run's own; the test lengthens it up to the run's transient).
+pub const SETTLE_REVOLUTIONS: usize = 40;
+
+/// Two steady periodic responses differ when their contact fractions differ by more than this.
+pub const CONTACT_FRACTION_DIFF: f64 = 0.05;
+
+/// The same for a response not steady or not periodic, whose window's contact fraction
+/// samples a response that does not repeat.
+pub const CONTACT_FRACTION_DIFF_APERIODIC: f64 = 0.1;
+
+/// Two steady periodic responses differ when their extents differ by more than this multiple
+/// of `run.tolerance` × the orbit's size (the same response from two starts, each steady to
+/// the tolerance, differs by at most about twice it).
+pub const EXTENTS_FACTOR: f64 = 10.0;
+
+/// Where the companion of the check starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Start {
+    /// On the no-contact linear response.
+    Free,
+    /// In full contact at the clearance, whirling forward at the spin speed.
+    FullContact,
+}
+
+impl Start {
+    /// Name as written in summary.json and sweep.csv.
+    pub fn name(self) -> &'static str {
+        match self {
+            Start::Free => "free",
+            Start::FullContact => "full_contact",
+        }
+    }
+}
+
+/// The companion of the check and how it compares with the run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Coexistence {
+    /// Where the companion started.
+    pub start: Start,
+    /// Whether it settled on another response than the run: the run's result depends on its
+    /// start, and its error estimate (Δt only) does not cover that.
+    pub coexisting: bool,
+    /// The companion's contact fraction (of the steps of its analysed window).
+    pub contact_fraction: f64,
+    /// The companion's Poincaré period (0: not periodic).
+    pub period: usize,
+    /// Whether the companion's steady state was proven.
+    pub steady: bool,
+    /// The companion's `[x_min, x_max, y_min, y_max]` / |Z0|.
+    pub extents_nd: [f64; 4],
+    /// `max_i |E_i − E'_i|` of the two responses' extents over the run's largest |extent| (as
+    /// the error estimate's `extents_rel`).
+    pub extents_rel: f64,
+    /// The largest difference of the 1×, ½×, ⅓× lines over the run's largest line.
+    pub lines_rel: f64,
+    /// The companion's transient revolutions (grown while it was not steady).
+    pub transient_revolutions: usize,
+    /// The companion's steps.
+    pub steps: usize,
+}
+
+/// The no-contact linear response at station 0's node at t = 0, `[u, v]`: u = Re X,
+/// v = Re(iωX) (m, m/s), X the complex unbalance response of the rotor at ω. `None` without
+/// stations or when the response cannot be computed.
+pub fn linear_start(model: &Model, case: &Case) -> Option<[V2; 2]> {
+    let node = case.stations.first()?.node;
+    let x = model.rotor.unbalance_response(case.omega).ok()?;
+    let d = model.rotor.node_dofs(node);
+    let (zx, zy) = (*x.get(d[0])?, *x.get(d[1])?);
+    let w = case.omega;
+    let u = [zx.re, zy.re];
+    let v = [-w * zx.im, -w * zy.im];
+    (u.iter().chain(&v).all(|c| c.is_finite())).then_some([u, v])
+}
+
+/// The start of the check for `res` ([`Start`]; module doc): `None` when none applies — no
+/// stator at station 0, a run in full contact whose linear orbit does not fit the clearance,
+/// a run without contact far inside it.
+pub fn start_for(res: &SpeedResults, case: &Case, linear: [V2; 2]) -> Option<(Start, Initial)> {
+    let delta = case
+        .stators
+        .iter()
+        .filter(|s| s.station == 0)
+        .map(|s| s.clearance)
+        .fold(f64::INFINITY, f64::min);
+    if !delta.is_finite() || delta <= 0.0 {
+        return None;
+    }
+    let [u, v] = linear;
+    let r = u[0].hypot(u[1]);
+    if res.contact_fraction >= FULL_CONTACT {
+        return (r < delta).then_some((Start::Free, Initial { u, v }));
+    }
+    if res.contact_fraction <= 0.0 && r < REACH * delta {
+        return None;
+    }
+    // In phase with the unbalance at t = 0: the rotor stiffened by a closed contact runs
+    // below its own critical speed, where the response follows the unbalance.
+    let ub = case.rotor.unbalance_resultant();
+    let b = ub[0].hypot(ub[1]);
+    let n = if b > 0.0 {
+        [ub[0] / b, ub[1] / b]
+    } else if r > 0.0 {
+        [u[0] / r, u[1] / r]
+    } else {
+        [1.0, 0.0]
+    };
+    let w = case.omega;
+    let uc = [delta * n[0], delta * n[1]];
+    Some((
+        Start::FullContact,
+        Initial {
+            u: uc,
+            v: [-w * uc[1], w * uc[0]],
+        },
+    ))
+}
+
+/// Runs the check for `res`, the run of `prep` ([`Coexistence`]; module doc). `None` when no
+/// start applies or the companion fails (it never stops the run).
+pub fn check(prep: &Prepared, res: &SpeedResults) -> Option<Coexistence> {
+    let (start, init) = start_for(res, &prep.case, prep.linear_start?)?;
+    let s = &prep.settings;
+    let mut cs: RunSettings = *s;
+    cs.initial = init;
+    cs.error_estimate = false;
+    cs.check_coexistence = false;
+    cs.classify_revolutions = 0;
+    let settle = SETTLE_REVOLUTIONS.min(res.transient_revolutions).max(1);
+    cs.max_transient_revolutions = res.transient_revolutions.max(settle);
+    let repeat = WINDOW_MULTIPLE * res.period / gcd(WINDOW_MULTIPLE, res.period.max(1));
+    let window = if res.steady && res.period > 0 {
+        repeat
+    } else {
+        s.step
+            .revolutions
+            .saturating_sub(s.step.transient_revolutions)
+            .max(WINDOW_MULTIPLE)
+    };
+    let spr = res.plan.steps_per_rev.max(1);
+    let plan = StepPlan {
+        steps: (settle + window) * spr,
+        steady_from: settle * spr,
+        ..res.plan
+    };
+    let (rec, stats, plan, _, _) = prep.drive_with(&plan, &cs, None, true).ok()?;
+    let c = analyse(&prep.case, &cs, &plan, &rec, stats, Keep::default());
+    Some(compare(start, res, &c, s.tolerance))
+}
+
+/// How the companion `c`, started at `start`, compares with the run `res` at `tolerance`
+/// (module doc).
+pub fn compare(start: Start, res: &SpeedResults, c: &SpeedResults, tolerance: f64) -> Coexistence {
+    let lines = |r: &SpeedResults| [r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd];
+    let lmax = lines(res).iter().fold(1e-300_f64, |m, v| m.max(*v));
+    let d_ext = max_diff(&c.extents_nd, &res.extents_nd);
+    let d_cf = (c.contact_fraction - res.contact_fraction).abs();
+    let periodic = res.steady && c.steady && res.period > 0 && c.period > 0;
+    let coexisting = if periodic {
+        d_cf > CONTACT_FRACTION_DIFF
+            || c.period != res.period
+            || d_ext > EXTENTS_FACTOR * tolerance * orbit_span(&res.extents_nd)
+    } else {
+        d_cf > CONTACT_FRACTION_DIFF_APERIODIC
+    };
+    Coexistence {
+        start,
+        coexisting,
+        contact_fraction: c.contact_fraction,
+        period: c.period,
+        steady: c.steady,
+        extents_nd: c.extents_nd,
+        extents_rel: d_ext / extent_scale(&res.extents_nd),
+        lines_rel: max_diff(&lines(c), &lines(res)) / lmax,
+        transient_revolutions: c.transient_revolutions,
+        steps: c.stats.steps,
+    }
+}
