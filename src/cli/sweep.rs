@@ -101,13 +101,23 @@ fn report(
     peaks: &[(usize, f64)],
 ) {
     let max_err = res.max_estimated_error();
+    // A variant's lines start with its overrides.
+    let prefix = if variant.prefix.is_empty() {
+        String::new()
+    } else {
+        format!("{}: ", variant.label())
+    };
+    // The speeds (ω/ωn, two decimals) where `flag` holds.
+    let speeds_where = |flag: &dyn Fn(&analysis::SpeedResults) -> bool| -> Vec<String> {
+        res.speeds
+            .iter()
+            .filter(|r| flag(r))
+            .map(|r| format!("{:.2}", r.speed_ratio))
+            .collect()
+    };
     println!(
         "{}{} speeds in {:.3} s ({} steps){}",
-        if variant.prefix.is_empty() {
-            String::new()
-        } else {
-            format!("{}: ", variant.label())
-        },
+        prefix,
         res.speeds.len(),
         res.wall_s,
         res.total_steps(),
@@ -130,47 +140,25 @@ fn report(
     if !away.is_empty() {
         eprintln!(
             "warning: {}the response runs away when continued at ω/ωn {}: lengthened past its window for the 0–1 test (`run.classify_revolutions`), the run left the divergence bounds; their results are those of the window (regime `diverging`, `steady = false`)",
-            if variant.prefix.is_empty() {
-                String::new()
-            } else {
-                format!("{}: ", variant.label())
-            },
+            prefix,
             away.join(", ")
         );
     }
-    let unsteady: Vec<String> = res
-        .speeds
-        .iter()
-        .filter(|r| !r.steady && r.dynamics.runaway_at_s.is_none())
-        .map(|r| format!("{:.2}", r.speed_ratio))
-        .collect();
+    let unsteady = speeds_where(&|r| !r.steady && r.dynamics.runaway_at_s.is_none());
     if !unsteady.is_empty() {
         eprintln!(
             "warning: {}the steady state was not proven at {} of {} speeds (ω/ωn {}): their analysed window still changes by more than `run.tolerance` of the orbit's size after `run.max_transient_revolutions`; their results carry that error (`steady = false`, `transient_residual` in sweep.csv)",
-            if variant.prefix.is_empty() {
-                String::new()
-            } else {
-                format!("{}: ", variant.label())
-            },
+            prefix,
             unsteady.len(),
             res.speeds.len(),
             unsteady.join(", ")
         );
     }
-    let coexisting: Vec<String> = res
-        .speeds
-        .iter()
-        .filter(|r| r.coexistence.is_some_and(|c| c.coexisting))
-        .map(|r| format!("{:.2}", r.speed_ratio))
-        .collect();
+    let coexisting = speeds_where(&|r| r.coexistence.is_some_and(|c| c.coexisting));
     if !coexisting.is_empty() {
         eprintln!(
             "warning: {}the response depends on the start at {} of {} speeds (ω/ωn {}): a companion at the same scheme and Δt from another start settled on another response (contact fraction, period or extents; `coexisting` and the `coexist_*` columns of sweep.csv); their estimated error covers the time step only",
-            if variant.prefix.is_empty() {
-                String::new()
-            } else {
-                format!("{}: ", variant.label())
-            },
+            prefix,
             coexisting.len(),
             res.speeds.len(),
             coexisting.join(", ")
