@@ -167,9 +167,27 @@ pub fn gcd(a: usize, b: usize) -> usize {
     }
 }
 
+/// Least common multiple; `lcm(a, 0) = 0`.
+pub fn lcm(a: usize, b: usize) -> usize {
+    if b == 0 {
+        0
+    } else {
+        a / gcd(a, b) * b
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lcm_of_the_window_multiple_and_a_period() {
+        assert_eq!(lcm(6, 1), 6);
+        assert_eq!(lcm(6, 4), 12);
+        assert_eq!(lcm(6, 9), 18);
+        assert_eq!(lcm(6, 0), 0);
+        assert_eq!(lcm(0, 0), 0);
+    }
 
     #[test]
     fn lu_solves_pivoting_system() {

@@ -34,7 +34,7 @@
 
 use super::speed::{extent_scale, max_diff, orbit_span, Prepared, SpeedResults};
 use super::{analyse, Keep, RunSettings};
-use crate::math::{gcd, V2};
+use crate::math::{lcm, V2};
 use crate::model::{Case, Model};
 use crate::time::{Initial, StepPlan, WINDOW_MULTIPLE};
 use serde::{Deserialize, Serialize};
@@ -178,7 +178,7 @@ pub fn check(prep: &Prepared, res: &SpeedResults) -> Option<Coexistence> {
     cs.classify_revolutions = 0;
     let settle = SETTLE_REVOLUTIONS.min(res.transient_revolutions).max(1);
     cs.max_transient_revolutions = res.transient_revolutions.max(settle);
-    let repeat = WINDOW_MULTIPLE * res.period / gcd(WINDOW_MULTIPLE, res.period.max(1));
+    let repeat = lcm(WINDOW_MULTIPLE, res.period);
     let window = if res.steady && res.period > 0 {
         repeat
     } else {

@@ -11,7 +11,7 @@ use super::steady::{
 use super::whirl::{signed_orders, whirl_lines, WhirlLines};
 use super::{Keep, RunSettings, MAX_PERIOD};
 use crate::error::Result;
-use crate::math::{gcd, V2};
+use crate::math::{lcm, V2};
 use crate::model::{Case, Model};
 use crate::signal::{extents, hann_spectrum, line_exact};
 use crate::time::{
@@ -357,7 +357,7 @@ impl Prepared {
         // lcm(6, period) of them, so the companions analyse that many (the whole window when
         // the run is not steady or not periodic).
         let mut s = self.settings;
-        let repeat = WINDOW_MULTIPLE * res.period / gcd(WINDOW_MULTIPLE, res.period.max(1));
+        let repeat = lcm(WINDOW_MULTIPLE, res.period);
         let periodic = res.steady && res.period > 0 && repeat <= res.window_revolutions;
         let window = if periodic {
             repeat

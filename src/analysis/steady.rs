@@ -7,7 +7,7 @@
 //! revolution, a whole number of revolutions) and judges sizes relative to the orbit's size
 //! `span = max(x_max − x_min, y_max − y_min)`.
 
-use crate::math::V2;
+use crate::math::{lcm, V2};
 use crate::signal::extents;
 #[cfg(test)]
 use crate::signal::line_exact;
@@ -381,11 +381,6 @@ pub fn judge(
         steady,
         classify(w, spr, nrev, span, period_tol, max_period),
     )
-}
-
-/// Least common multiple.
-fn lcm(a: usize, b: usize) -> usize {
-    a / crate::math::gcd(a, b) * b
 }
 
 /// Revolutions over which the lines of a response of Poincaré period `period` (0: not
