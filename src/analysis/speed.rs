@@ -67,10 +67,7 @@ pub struct ErrorEstimate {
     pub extents_rel_sampling: Option<f64>,
 }
 
-/// Revolutions the finer companion runs after its restart from the run's end state before its
-/// analysed window (at most the run's own transient): the restart's error, of the size of the
-/// two steps' difference, decays with the orbit's damping over them (docs/VALIDATION.md §15).
-pub const FINE_SETTLE_REVOLUTIONS: usize = 16;
+pub use crate::time::budget::FINE_SETTLE_REVOLUTIONS;
 
 pub use super::richardson::{attractor_error, combine_fine, combine_levels, richardson};
 

@@ -13,7 +13,7 @@
 //! (its operators are dense r × r). It ignores how often the rotor is in contact, so the true
 //! time may differ by a factor of a few either way.
 
-use super::plan::{sample_bytes, StepPlan};
+use super::plan::{sample_bytes, StepPlan, WINDOW_MULTIPLE};
 use crate::model::Case;
 use serde::Serialize;
 
@@ -49,12 +49,11 @@ pub struct Budget {
     pub wall_s: f64,
 }
 
-/// Revolutions the companions of the error estimate analyse of a steady periodic run of period
-/// 1: lcm(6, 1) (`analysis::speed`; the whole window when it is not periodic).
-pub const COMPANION_WINDOW_REVOLUTIONS: usize = 6;
-/// Revolutions the finer companion settles after its restart (`analysis::speed`'s
-/// `FINE_SETTLE_REVOLUTIONS`).
-pub const COMPANION_SETTLE_REVOLUTIONS: usize = 16;
+/// Revolutions the finer companion runs after its restart from the run's end state before its
+/// analysed window (at most the run's own transient): the restart's error, of the size of the
+/// two steps' difference, decays with the orbit's damping over them (docs/VALIDATION.md §15).
+/// The run path (`analysis::speed`) and this budget both count them from here.
+pub const FINE_SETTLE_REVOLUTIONS: usize = 16;
 
 /// Steps of the error estimate's companion runs for a run of `plan`, as the run path takes them
 /// for a steady periodic response of period 1 (`analysis::speed`; the window analysed is
@@ -76,8 +75,7 @@ pub fn companion_steps(plan: &StepPlan, rub: bool) -> f64 {
     let k = plan.record_every.max(1);
     let samples = (spr / k) as f64;
     let transient = (plan.steady_from / spr) as f64;
-    let w = ((plan.steps.saturating_sub(plan.steady_from) / spr).min(COMPANION_WINDOW_REVOLUTIONS))
-        as f64;
+    let w = ((plan.steps.saturating_sub(plan.steady_from) / spr).min(WINDOW_MULTIPLE)) as f64;
     let kc = k.div_ceil(2);
     let dt_c = plan.dt * k as f64 / kc as f64;
     let coarser = kc < k && (dt_c <= plan.limit || plan.dt > plan.limit);
@@ -86,7 +84,7 @@ pub fn companion_steps(plan: &StepPlan, rub: bool) -> f64 {
     }
     let first = (transient + w) * samples * kc as f64;
     let fine = if rub {
-        (transient.min(COMPANION_SETTLE_REVOLUTIONS as f64) + w) * 2.0 * spr as f64
+        (transient.min(FINE_SETTLE_REVOLUTIONS as f64) + w) * 2.0 * spr as f64
     } else {
         0.0
     };
