@@ -8,7 +8,9 @@ use common::cli::{is_png, json, ok};
 use common::scenes::{unit_rotor, unit_rotor_in_ring};
 use common::{read, repo, scene_model, settings, NO_SETS};
 use rubsim::analysis::whirl::WhirlDirection;
+use rubsim::analysis::RunSettings;
 use rubsim::analysis::{self, Keep};
+use rubsim::model::Model;
 use rubsim::time::Initial;
 
 #[test]
@@ -26,15 +28,13 @@ fn a_free_rotor_whirls_forward_on_a_circle() {
     }
 }
 
-#[test]
-fn dry_whip_reads_backward_at_the_oracle_whirl_frequency() {
-    // docs/ORACLES.md (ring on springs, κ = 25, ξ = 0.2, μ = 0.1): the backward whirl orbit at
-    // R = 3.1034 δ turns at ω_w = ξ/μ + √(1 + (ξ/μ)²) = 4.23607 ω_n against the spin. Started
-    // on it at Ω = 2 ω_n (no unbalance), the rub keeps the rotor whirling backward at −2.1180 Ω
-    // — far from any harmonic of Ω, so the line falls between bins and is located by the
-    // three-bin interpolation.
+/// docs/ORACLES.md, dry whip (ring on springs, κ = 25, ξ = 0.2, μ = 0.1, δ = 1 mm): the unit
+/// rotor over `revolutions` at no unbalance, started on the backward whirl orbit R = 3.1034 δ,
+/// which turns at ω_w = ξ/μ + √(1 + (ξ/μ)²) = 4.23607 ω_n against the spin, with no transient
+/// growth. Returns the model, its settings, ω_w (/ω_n) and R (m).
+fn dry_whip(revolutions: usize) -> (Model, RunSettings, f64, f64) {
     let delta = 1e-3;
-    let (ls, model) = scene_model(&unit_rotor_in_ring(0.1, delta, 24), NO_SETS);
+    let (ls, model) = scene_model(&unit_rotor_in_ring(0.1, delta, revolutions), NO_SETS);
     let ww = 0.2 / 0.1 + (1.0 + 2.0_f64 * 2.0).sqrt();
     let r0 = 3.1034 * delta;
     let mut s = settings(&ls);
@@ -43,6 +43,17 @@ fn dry_whip_reads_backward_at_the_oracle_whirl_frequency() {
         v: [0.0, -ww * r0],
     };
     s.max_transient_revolutions = 0;
+    (model, s, ww, r0)
+}
+
+#[test]
+fn dry_whip_reads_backward_at_the_oracle_whirl_frequency() {
+    // docs/ORACLES.md (ring on springs, κ = 25, ξ = 0.2, μ = 0.1): the backward whirl orbit at
+    // R = 3.1034 δ turns at ω_w = ξ/μ + √(1 + (ξ/μ)²) = 4.23607 ω_n against the spin. Started
+    // on it at Ω = 2 ω_n (no unbalance), the rub keeps the rotor whirling backward at −2.1180 Ω
+    // — far from any harmonic of Ω, so the line falls between bins and is located by the
+    // three-bin interpolation.
+    let (model, mut s, ww, r0) = dry_whip(24);
     // The whirl is not periodic on the once-per-revolution section; lengthened for the 0-1 test
     // the run leaves this orbit and runs away (the divergence guard stops it at t ≈ 398 s), so
     // the window read here is the plan's, on the orbit.
@@ -74,16 +85,7 @@ fn dry_whip_lengthened_for_the_zero_one_test_runs_away_and_keeps_its_window() {
     // the divergence guard stops it (dry whip building up). The run still gives the window's
     // result — the very numbers of the run that was not lengthened — classified `diverging`,
     // not steady, with the time the continuation ran away.
-    let delta = 1e-3;
-    let (ls, model) = scene_model(&unit_rotor_in_ring(0.1, delta, 24), NO_SETS);
-    let ww = 0.2 / 0.1 + (1.0 + 2.0_f64 * 2.0).sqrt();
-    let r0 = 3.1034 * delta;
-    let mut s = settings(&ls);
-    s.initial = Initial {
-        u: [r0, 0.0],
-        v: [0.0, -ww * r0],
-    };
-    s.max_transient_revolutions = 0;
+    let (model, s, ww, _) = dry_whip(24);
     assert!(s.classify_revolutions >= 200, "{}", s.classify_revolutions);
     let r = analysis::run_speed(&model, &s, 2.0, Keep::default())
         .unwrap_or_else(|e| panic!("the lengthening's runaway must not fail the run: {e}"));
@@ -111,9 +113,7 @@ fn dry_whip_lengthened_for_the_zero_one_test_runs_away_and_keeps_its_window() {
     assert!((r.whirl.dominant_order / (-ww / 2.0) - 1.0).abs() < 1e-3);
     // A run that diverges inside its own window still stops with the divergence error: 200
     // planned revolutions (628 s) hold the runaway.
-    let (ls, model) = scene_model(&unit_rotor_in_ring(0.1, delta, 200), NO_SETS);
-    let mut long = settings(&ls);
-    (long.initial, long.max_transient_revolutions) = (s.initial, 0);
+    let (model, long, ..) = dry_whip(200);
     match analysis::run_speed(&model, &long, 2.0, Keep::default()) {
         Err(e) => assert!(e.to_string().contains("response diverged"), "{e}"),
         Ok(r) => panic!("ran through: {:?}", r.dynamics),
