@@ -5,7 +5,9 @@
 #     tests), imageio + imageio-ffmpeg (GIF/MP4 movies of post/animate.py) and ROSS
 #     (ross-rotordynamics, the version pip resolves; with plotly<6, which ROSS 2.3.0 needs to
 #     import) for tests/post/test_ross.py — about 65 s more on a fresh venv (docs/VALIDATION.md §7.3)
-# Needs root (or sudo) for apt-get. Skip parts with RUBSIM_SKIP_APT=1 / RUBSIM_SKIP_PY=1.
+# Needs root (or sudo) for apt-get. Skip parts with RUBSIM_SKIP_APT=1 / RUBSIM_SKIP_PY=1, and
+# ROSS alone with RUBSIM_SKIP_ROSS=1 (the fast test tier, scripts/test.sh, does not compare with
+# ROSS; the slow tier, scripts/test-slow.sh, installs it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 need=()
@@ -25,7 +27,7 @@ if [ "${RUBSIM_SKIP_PY:-0}" != 1 ]; then
     .venv/bin/pip install -q --upgrade pip
     .venv/bin/pip install -q pyvista vtk meshio h5py pytest imageio imageio-ffmpeg scipy
   fi
-  if ! .venv/bin/python -c "import ross" >/dev/null 2>&1; then
+  if [ "${RUBSIM_SKIP_ROSS:-0}" != 1 ] && ! .venv/bin/python -c "import ross" >/dev/null 2>&1; then
     echo "setup: installing ROSS (ross-rotordynamics, plotly<6) into .venv for tests/post/test_ross.py" >&2
     .venv/bin/pip install -q ross-rotordynamics 'plotly<6'
   fi

@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
-# The project's test command (README, CI): installs what the tests need, runs the Rust tests,
-# then the pytest suite that reads rubsim's VTK/HDF5 outputs back with pyvista, VTK, meshio and
-# h5py (tests/post, against the release binary that `cargo test --release` builds).
+# The project's test command (README): the fast tier a newcomer runs, build included, in about
+# 10 minutes on a fresh 2-core machine. Installs what the tests need (ROSS excepted), runs the
+# Rust tests (`cargo test --release`: every test not marked `#[ignore = "slow tier …"]`), then
+# the Python read-back tests of the VTK/HDF5 outputs with pyvista, VTK, meshio and h5py
+# (tests/post, `-m "not slow"`, against the release binary `cargo test --release` builds).
+# The slow tier is scripts/test-slow.sh; CI (.ci/run) runs both. Tiers and their cost:
+# docs/PERFORMANCE.md, "Test tiers and build time".
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+RUBSIM_SKIP_ROSS="${RUBSIM_SKIP_ROSS:-1}" bash scripts/setup.sh
 cargo test --release
 export RUBSIM_BIN="${RUBSIM_BIN:-$PWD/target/release/rubsim}"
 status=0
-.venv/bin/python -m pytest tests/post -q || status=$?
+.venv/bin/python -m pytest tests/post -q -m "not slow" || status=$?
 if [ "$status" -eq 5 ]; then
   echo "scripts/test.sh: pytest collected no tests in tests/post" >&2
   exit 1
