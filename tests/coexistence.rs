@@ -1,4 +1,4 @@
-//! The check for coexisting responses (`analysis::coexist`, docs/VALIDATION.md §16): a
+//! The check for coexisting responses (`analysis::coexist`, docs/VALIDATION.md §16.2): a
 //! companion at the run's scheme and Δt from the other extreme of the contact — the no-contact
 //! linear response for a run in full annular rub, full contact at the clearance for any other —
 //! settles and is compared with the run. Checked where two responses are known to coexist (the
@@ -127,7 +127,7 @@ fn a_unique_partial_rub_is_not_flagged() {
 fn the_paper_case_at_5_8_has_coexisting_partial_rubs_of_periods_3_and_2() {
     // From rest a period-3 partial rub (the paper's ⅓× range); from full contact a period-2
     // one, steady to 1e-10 of its size (it stays there over 600 transient revolutions:
-    // docs/VALIDATION.md §16).
+    // docs/VALIDATION.md §16.2).
     let r = paper(5.8);
     let c = coexistence(&r);
     println!(

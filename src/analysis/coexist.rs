@@ -5,7 +5,7 @@
 //! coast-down), partial rub and full annular rub, partial rubs of different periods. Which one
 //! a run lands on depends on where it starts and on its transient, not on Δt; the error
 //! estimate's companions (2Δt, Δt/2) restart from the run's own state or share its transient,
-//! land on the same response and cannot see the other (docs/VALIDATION.md §16).
+//! land on the same response and cannot see the other (docs/VALIDATION.md §16.2).
 //!
 //! The check ([`check`]) runs one companion at the run's scheme and Δt from a start at the
 //! other extreme of the response's contact:
