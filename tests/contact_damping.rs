@@ -95,6 +95,7 @@ fn bounce(c: f64, mode: &str, scheme: Scheme, dt: f64) -> (f64, f64, f64) {
 }
 
 #[test]
+#[ignore = "slow tier (scripts/test-slow.sh): a convergence study of the impact"]
 fn a_bounce_has_the_restitution_of_a_mass_spring_dashpot_impact() {
     let (m, k) = (1.0_f64, 1.0e6_f64);
     for zeta in [0.05, 0.2] {

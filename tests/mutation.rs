@@ -299,7 +299,9 @@ fn every_mutant_of_every_scene_is_accepted_or_refused_naming_its_key() {
             }
         }
         if *dt > BUDGET {
-            failures.push(format!("{what}: took {dt:?} of CPU, over the budget {BUDGET:?}"));
+            failures.push(format!(
+                "{what}: took {dt:?} of CPU, over the budget {BUDGET:?}"
+            ));
         }
     }
     println!(

@@ -196,6 +196,7 @@ fn bad_profiles_name_the_key_and_line() {
 }
 
 #[test]
+#[ignore = "slow tier (scripts/test-slow.sh): a slow FE-rotor ramp and its steady responses"]
 fn fe_rotor_ramp_follows_its_steady_response_and_tabulated_bearings_are_refused() {
     use common::scenes::PAPER_FE;
     // The paper's rotor as an 8-element Timoshenko model without gyroscopics (its matrices do
@@ -273,6 +274,7 @@ fn two_disk_gyro(profile: &str) -> String {
 /// the gyroscopic rotor at each window's speed. (Without the explicit `(Ω − Ω_f) G q̇` term the
 /// error is 8.6 %, measured once when the term was written.)
 #[test]
+#[ignore = "slow tier (scripts/test-slow.sh): a slow gyroscopic FE-rotor run-up and its steady responses"]
 fn gyroscopic_fe_rotor_slow_runup_follows_its_steady_response() {
     let text = two_disk_gyro(
         "[run.speed_profile]\nkind = \"ramp\"\nunit = \"rad_per_s\"\nfrom = 50.0\nto = 350.0\nduration = 400.0\nreference = 200.0",

@@ -41,6 +41,10 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.special import fresnel
 
+# Slow tier (scripts/test-slow.sh): verification runs of slow passages against scipy and the
+# asymptotic solutions (minutes of CPU in all), not read-back of the outputs.
+pytestmark = pytest.mark.slow
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BIN = os.environ.get("RUBSIM_BIN", os.path.join(ROOT, "target", "release", "rubsim"))
 
