@@ -14,6 +14,7 @@ const STAGES: &[&[&str]] = &[
     &["scene"],
     &["resolve"],
     &["model"],
+    &["linear"],
     &["time"],
     &["analysis"],
     &["output", "results"],
