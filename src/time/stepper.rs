@@ -1,21 +1,21 @@
 //! The stepper: one step of the paper's algorithm, predict → select → solve → correct → guard
 //! → record, for both schemes.
 
-use super::body::{DynBody, Ops, StatorDyn};
+use super::body::{DynBody, Ops};
 use super::compliance::Compliance;
 use super::drive::{add_event_unbalance, set_clearance, Spin, SpinDof};
 use super::frame::FrameSink;
 use super::guard::{divergence_bounds, dof_name};
 use super::loop_rotor::{add_unbalance, full_len, rotor_contact_dofs};
-use super::plan::{Scheme, StepPlan};
+use super::plan::{Initial, Scheme, StepPlan};
 use super::record::{ContactStats, Record, Recorder, RunStats};
 use super::reduced::ReducedDyn;
 use super::select::{Pairs, Phase};
 use super::spin::GyroLoad;
+use super::stator::StatorDyn;
 use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::error::{LinalgError, SolveError};
 use crate::linalg::Cholesky;
-use crate::math::V2;
 use crate::model::{Case, Drive, Events, SpeedProfile};
 use std::time::Instant;
 
@@ -23,15 +23,6 @@ mod instants;
 mod restart;
 
 pub use restart::{EndState, History};
-
-/// Initial state of the rotor, on station 0's node (node 0 without stations).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Initial {
-    /// Displacement `[x, y]` (m).
-    pub u: V2,
-    /// Velocity `[vx, vy]` (m/s).
-    pub v: V2,
-}
 
 /// A frame sink, or none.
 pub type Sink<'s> = Option<&'s mut dyn FrameSink>;
