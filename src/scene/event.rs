@@ -2,7 +2,7 @@
 //! lost) or a stator's clearance changing — and its checks (each error names the file, the
 //! dotted key and its line).
 
-use super::validate::{non_negative, positive};
+use super::validate::checks::{finite, non_negative, positive};
 use super::{LoadedScene, RotorSpec, SpeedProfileSpec};
 use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
@@ -134,7 +134,7 @@ pub fn validate(ls: &LoadedScene, events: &[EventSpec]) -> Result<(), SceneError
                 };
                 positive(ls, &k("mass"), need("mass", e.mass)?)?;
                 positive(ls, &k("radius"), need("radius", e.radius)?)?;
-                super::validate::finite(ls, &k("phase_deg"), e.phase_deg)?;
+                finite(ls, &k("phase_deg"), e.phase_deg)?;
             }
             EventKind::Clearance => {
                 unused(

@@ -1,7 +1,7 @@
 //! `[run.speed_profile]`: the spin speed of a transient run as the user writes it, and its
 //! checks (each error names the file, the dotted key and its line).
 
-use super::validate::{non_negative, positive};
+use super::validate::checks::{finite, non_negative, positive};
 use super::LoadedScene;
 use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
@@ -145,7 +145,7 @@ fn speed_ok(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
     if !v.is_finite() {
         return Err(ls.invalid(key, format!("must be a finite speed, got {v}")));
     }
-    super::validate::finite(ls, key, v)?;
+    finite(ls, key, v)?;
     if v < 0.0 {
         return Err(ls.invalid(
             key,
@@ -292,7 +292,7 @@ fn table_ok(ls: &LoadedScene, pts: &[[f64; 2]]) -> Result<(), SceneError> {
         if !t.is_finite() || *t < 0.0 {
             return Err(ls.invalid(&key, format!("time must be finite and ≥ 0, got {t}")));
         }
-        super::validate::finite(ls, &key, *t)?;
+        finite(ls, &key, *t)?;
         if i == 0 && *t != 0.0 {
             return Err(ls.invalid(&key, format!("the table must start at t = 0, got {t}")));
         }
@@ -348,7 +348,7 @@ fn driven_ok(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError> {
                 "give `drive_torque` (constant) or `drive_curve` (over speed), not both",
             ))
         }
-        (Some(t), None) => super::validate::finite(ls, &k("drive_torque"), t)?,
+        (Some(t), None) => finite(ls, &k("drive_torque"), t)?,
         (None, Some(curve)) => {
             if curve.len() < 2 {
                 return Err(ls.invalid(
@@ -359,7 +359,7 @@ fn driven_ok(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError> {
             for (i, [w, t]) in curve.iter().enumerate() {
                 let key = format!("{AT}.drive_curve.{i}");
                 speed_ok(ls, &key, *w)?;
-                super::validate::finite(ls, &key, *t)?;
+                finite(ls, &key, *t)?;
                 if i > 0 && *w <= curve[i - 1][0] {
                     return Err(ls.invalid(
                         &key,

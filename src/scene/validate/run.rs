@@ -1,6 +1,8 @@
 //! Rules of `[run]` and of `[output]`'s time series.
 
-use super::*;
+use super::checks::*;
+use crate::error::SceneError;
+use crate::scene::*;
 
 pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
     let r = &ls.scene.run;

@@ -1,6 +1,8 @@
 //! Rules of `[[stator]]`: rods, rings, FE and meshed stators.
 
-use super::*;
+use super::checks::*;
+use crate::error::SceneError;
+use crate::scene::*;
 
 pub(super) fn validate_rod(ls: &LoadedScene, i: usize, r: &RodSpec) -> Result<(), SceneError> {
     let k = |f: &str| format!("stator.{i}.{f}");
