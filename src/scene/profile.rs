@@ -210,43 +210,7 @@ pub fn validate(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError
                 required(ls, "constant", "duration", p.duration)?,
             )?;
         }
-        ProfileKind::Ramp => {
-            unused(
-                ls,
-                "ramp",
-                &[
-                    ("speed", p.speed.is_some()),
-                    ("points", p.points.is_some()),
-                    ("polar_inertia", p.polar_inertia.is_some()),
-                    ("drive_torque", p.drive_torque.is_some()),
-                    ("drive_curve", p.drive_curve.is_some()),
-                    ("drive_off", p.drive_off.is_some()),
-                    ("drag_torque", p.drag_torque != 0.0),
-                    ("drag_coefficient", p.drag_coefficient != 0.0),
-                ],
-            )?;
-            let from = required(ls, "ramp", "from", p.from)?;
-            let to = required(ls, "ramp", "to", p.to)?;
-            speed_ok(ls, &k("from"), from)?;
-            speed_ok(ls, &k("to"), to)?;
-            match (p.duration, p.acceleration) {
-                (Some(_), Some(_)) => {
-                    return Err(ls.invalid(AT, "give `duration` or `acceleration`, not both"))
-                }
-                (None, None) => {
-                    return Err(ls.invalid(AT, "kind = \"ramp\" needs `duration` or `acceleration`"))
-                }
-                (Some(d), None) => positive(ls, &k("duration"), d)?,
-                (None, Some(a)) => {
-                    if !(a.is_finite() && a != 0.0 && (to - from) * a > 0.0) {
-                        return Err(ls.invalid(
-                            &k("acceleration"),
-                            format!("must be finite, non-zero and of the sign of `to − from` ({}), got {a}", to - from),
-                        ));
-                    }
-                }
-            }
-        }
+        ProfileKind::Ramp => ramp_ok(ls, p)?,
         ProfileKind::Table => {
             unused(
                 ls,
@@ -281,6 +245,51 @@ pub fn validate(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError
     }
     if p.window_revolutions == 0 {
         return Err(ls.invalid(&k("window_revolutions"), "must be at least 1"));
+    }
+    Ok(())
+}
+
+/// The keys of a ramp: no others; `from` and `to` finite and ≥ 0; a positive `duration` or an
+/// `acceleration` of the sign of `to − from`, not both.
+fn ramp_ok(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError> {
+    let k = |s: &str| format!("{AT}.{s}");
+    unused(
+        ls,
+        "ramp",
+        &[
+            ("speed", p.speed.is_some()),
+            ("points", p.points.is_some()),
+            ("polar_inertia", p.polar_inertia.is_some()),
+            ("drive_torque", p.drive_torque.is_some()),
+            ("drive_curve", p.drive_curve.is_some()),
+            ("drive_off", p.drive_off.is_some()),
+            ("drag_torque", p.drag_torque != 0.0),
+            ("drag_coefficient", p.drag_coefficient != 0.0),
+        ],
+    )?;
+    let from = required(ls, "ramp", "from", p.from)?;
+    let to = required(ls, "ramp", "to", p.to)?;
+    speed_ok(ls, &k("from"), from)?;
+    speed_ok(ls, &k("to"), to)?;
+    match (p.duration, p.acceleration) {
+        (Some(_), Some(_)) => {
+            return Err(ls.invalid(AT, "give `duration` or `acceleration`, not both"))
+        }
+        (None, None) => {
+            return Err(ls.invalid(AT, "kind = \"ramp\" needs `duration` or `acceleration`"))
+        }
+        (Some(d), None) => positive(ls, &k("duration"), d)?,
+        (None, Some(a)) => {
+            if !(a.is_finite() && a != 0.0 && (to - from) * a > 0.0) {
+                return Err(ls.invalid(
+                    &k("acceleration"),
+                    format!(
+                        "must be finite, non-zero and of the sign of `to − from` ({}), got {a}",
+                        to - from
+                    ),
+                ));
+            }
+        }
     }
     Ok(())
 }
