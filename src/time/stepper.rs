@@ -169,13 +169,7 @@ impl<'a> Stepper<'a> {
             });
         }
         let dt = plan.dt;
-        let factor_err = |what: String| {
-            move |source: LinalgError| SolveError::Factorization {
-                what: what.clone(),
-                dt,
-                source,
-            }
-        };
+        let factor_err = |what: String| factor_err(what, dt);
         let rotor = DynBody::new(
             &lr.m,
             &lr.c,
@@ -186,46 +180,9 @@ impl<'a> Stepper<'a> {
             scheme.implicit(),
         )
         .map_err(factor_err("rotor".into()))?;
-        let mut stators = Vec::with_capacity(case.stators.len());
-        for s in &case.stators {
-            let err = factor_err(format!("stator `{}`", s.name));
-            stators.push(if s.massless() {
-                StatorDyn::Massless(Compliance::new(s).map_err(err)?)
-            } else if let Some(red) = &s.reduced {
-                StatorDyn::Reduced(Box::new(
-                    ReducedDyn::new(red, dt, scheme.implicit()).map_err(err)?,
-                ))
-            } else {
-                StatorDyn::Massive(Box::new(
-                    DynBody::new(
-                        &s.m,
-                        &s.c,
-                        &s.k,
-                        None,
-                        dt,
-                        &s.contact_dofs(),
-                        scheme.implicit(),
-                    )
-                    .map_err(err)?,
-                ))
-            });
-        }
+        let stators = stator_bodies(case, scheme, dt)?;
         let pairs = Pairs::new(case);
-        let massless: Vec<bool> = case.stators.iter().map(|s| s.massless()).collect();
-        let collocated = scheme.collocated();
-        let increment_keep: Vec<bool> = massless.iter().map(|m| !(collocated && *m)).collect();
-        let static_phase = Phase {
-            use_index: true,
-            direct: pairs.direct(true, &massless),
-            keep: massless,
-            deformed: false,
-        };
-        let increment_phase = Phase {
-            use_index: !collocated,
-            direct: pairs.direct(!collocated, &increment_keep),
-            keep: increment_keep,
-            deformed: true,
-        };
+        let (static_phase, increment_phase) = phases(case, scheme, &pairs);
         let node0 = case.stations.first().map_or(0, |s| s.node);
         let recorder = Recorder::new(
             pairs.station_dofs.clone(),
@@ -682,4 +639,66 @@ impl<'a> Stepper<'a> {
         }
         self.stats.steps += 1;
     }
+}
+
+/// The error of a factorisation of `what` at step `dt`.
+fn factor_err(what: String, dt: f64) -> impl Fn(LinalgError) -> SolveError {
+    move |source: LinalgError| SolveError::Factorization {
+        what: what.clone(),
+        dt,
+        source,
+    }
+}
+
+/// Each stator of `case` in the loop at step `dt`: a massless one as the compliance of its
+/// contact DOFs, one with mass as a body of `scheme` — in its Craig–Bampton basis when it is
+/// reduced.
+fn stator_bodies(case: &Case, scheme: Scheme, dt: f64) -> Result<Vec<StatorDyn>, SolveError> {
+    let mut stators = Vec::with_capacity(case.stators.len());
+    for s in &case.stators {
+        let err = factor_err(format!("stator `{}`", s.name), dt);
+        stators.push(if s.massless() {
+            StatorDyn::Massless(Compliance::new(s).map_err(err)?)
+        } else if let Some(red) = &s.reduced {
+            StatorDyn::Reduced(Box::new(
+                ReducedDyn::new(red, dt, scheme.implicit()).map_err(err)?,
+            ))
+        } else {
+            StatorDyn::Massive(Box::new(
+                DynBody::new(
+                    &s.m,
+                    &s.c,
+                    &s.k,
+                    None,
+                    dt,
+                    &s.contact_dofs(),
+                    scheme.implicit(),
+                )
+                .map_err(err)?,
+            ))
+        });
+    }
+    Ok(stators)
+}
+
+/// The two contact phases of a step: the static phase of the massless stators (collocated
+/// scheme: stators undeformed, by the index) and the forward-increment phase (every stator
+/// with mass, and the massless ones unless collocated; deformed).
+fn phases(case: &Case, scheme: Scheme, pairs: &Pairs) -> (Phase, Phase) {
+    let massless: Vec<bool> = case.stators.iter().map(|s| s.massless()).collect();
+    let collocated = scheme.collocated();
+    let increment_keep: Vec<bool> = massless.iter().map(|m| !(collocated && *m)).collect();
+    let static_phase = Phase {
+        use_index: true,
+        direct: pairs.direct(true, &massless),
+        keep: massless,
+        deformed: false,
+    };
+    let increment_phase = Phase {
+        use_index: !collocated,
+        direct: pairs.direct(!collocated, &increment_keep),
+        keep: increment_keep,
+        deformed: true,
+    };
+    (static_phase, increment_phase)
 }
