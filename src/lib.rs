@@ -15,7 +15,9 @@
 //! TOML,      indices,     rotor,    the       one speed,    summary.json, CSV, PNG;
 //! --set,     enums,       stators,  Stepper   sweeps,       VTK/HDF5 writers, attached
 //! file:line  meshes by    Case(ω)   (frames   regimes,      as frame sinks by the
-//!            gmsh                   to sinks) errors        command layer (src/cli)
+//!            gmsh           │       to sinks) errors        command layer (src/cli)
+//!                           └──► linear: modes, Campbell, critical speeds, unbalance
+//!                                response (the frequency domain, beside the time loop)
 //! ```
 //!
 //! Each stage takes plain data from the one before and knows nothing of the ones after; a
@@ -31,11 +33,14 @@
 //! 5. [`resolve`] — the scene as plain data: station indices, enums, clearances, meshes found
 //!    or made by gmsh and read;
 //! 6. [`model`] — rotor and stators built from resolved data; [`model::Case`] at a speed;
-//! 7. [`time`] — the step plan and the [`time::Stepper`] (predict → select → solve → correct →
+//! 7. [`linear`] — linear rotordynamics of the rotor alone, apart from the time loop: damped
+//!    modes, Campbell diagram, critical speed map, mode shapes, unbalance response, static
+//!    deflection;
+//! 8. [`time`] — the step plan and the [`time::Stepper`] (predict → select → solve → correct →
 //!    guard → record), frames for sinks;
-//! 8. [`analysis`] — one path for a run ([`analysis::prepare`] once, then run with any sinks),
-//!    sweeps, convergence, regimes, bench metrics, stress probe, linear rotordynamics;
-//! 9. [`output`], [`results`] — files: summary, CSV, figures; the VTK/HDF5 frame sinks.
+//! 9. [`analysis`] — one path for a run ([`analysis::prepare`] once, then run with any sinks),
+//!    sweeps, convergence, regimes, bench metrics, stress probe;
+//! 10. [`output`], [`results`] — files: summary, CSV, figures; the VTK/HDF5 frame sinks.
 //!
 //! The `rubsim` binary (`src/main.rs`, `src/cli/`) parses arguments, loads a scene, calls one
 //! analysis, attaches sinks and hands results to `output`; it holds no numerics.
@@ -77,6 +82,7 @@ pub mod element;
 pub mod error;
 pub mod fslock;
 pub mod linalg;
+pub mod linear;
 pub mod math;
 pub mod mesh;
 pub mod model;

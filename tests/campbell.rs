@@ -7,8 +7,8 @@ mod common;
 
 use common::cli::in_repo;
 use common::{build, load, repo, NO_SETS};
-use rubsim::analysis::campbell::campbell;
-use rubsim::analysis::rotordyn::{self, ModeKind, Whirl};
+use rubsim::linear::campbell;
+use rubsim::linear::{self, ModeKind, Whirl};
 
 const SCENE: &str = "scenes/fe/ross_rotor_example.toml";
 
@@ -78,7 +78,7 @@ fn model() -> rubsim::model::Model {
 fn ross_rotor_example_frequencies_match_ross() {
     let m = model();
     for (speed, want) in ROSS_WD {
-        let r = rotordyn::modal(&m.rotor, speed, 12).unwrap();
+        let r = linear::modal(&m.rotor, speed, 12).unwrap();
         assert_eq!(r.rigid_body, vec![ModeKind::Axial, ModeKind::Torsional]);
         let worst = r
             .modes
@@ -98,7 +98,7 @@ fn ross_rotor_example_frequencies_match_ross() {
 #[test]
 fn campbell_of_ross_rotor_example_keeps_every_branch() {
     let m = model();
-    let speeds = rotordyn::speed_list(0.0, 1000.0, 31);
+    let speeds = linear::speed_list(0.0, 1000.0, 31);
     let c = campbell(&m.rotor, &speeds, 12).unwrap();
     let step = speeds[1] - speeds[0];
     let mut ends: Vec<f64> = Vec::new();
@@ -214,7 +214,7 @@ fn import_ross_rotor_example_and_refusals() {
     let text = common::read(&path);
     let scene = rubsim::scene::ross::import(&path, &text).unwrap();
     let m = build(&common::parse(&scene, NO_SETS));
-    let r = rotordyn::modal(&m.rotor, 1000.0, 12).unwrap();
+    let r = linear::modal(&m.rotor, 1000.0, 12).unwrap();
     for (g, w) in r.modes.iter().zip(ROSS_WD[2].1) {
         assert!((g.omega_d / w - 1.0).abs() < 1e-7, "{} vs {w}", g.omega_d);
     }
@@ -272,7 +272,7 @@ fn import_ross_rotor_example_and_refusals() {
         "{sealed}"
     );
     let m = build(&common::parse(&sealed, NO_SETS));
-    let r = rotordyn::modal(&m.rotor, 1000.0, 12).unwrap();
+    let r = linear::modal(&m.rotor, 1000.0, 12).unwrap();
     for (g, w) in r.modes.iter().zip(ROSS_WD[2].1) {
         assert!((g.omega_d / w - 1.0).abs() < 1e-7, "{} vs {w}", g.omega_d);
     }
@@ -357,7 +357,7 @@ fn cross_coupled_bearing_stiffness_enters_the_modal_solve() {
         .replace("cxx = 0.0", "cxx = 300.0");
     let m = build(&common::parse(&scene.replacen(bearing, &seal, 1), NO_SETS));
     for speed in [0.0, 800.0] {
-        let r = rotordyn::modal(&m.rotor, speed, 12).unwrap();
+        let r = linear::modal(&m.rotor, speed, 12).unwrap();
         let (mm, k, c, g) = m.rotor.matrices(speed).unwrap();
         let dense = rubsim::model::fe_rotor::dense;
         let minv = dense(&mm).try_inverse().unwrap();
@@ -422,7 +422,7 @@ fn import_ross_fluid_film_bearing_reads_its_speed_table() {
         "{scene}"
     );
     let m = build(&common::parse(&scene, NO_SETS));
-    let r = rotordyn::modal(&m.rotor, 2000.0 * std::f64::consts::PI / 30.0, 40).unwrap();
+    let r = linear::modal(&m.rotor, 2000.0 * std::f64::consts::PI / 30.0, 40).unwrap();
     for w in ROSS_WD_2000_RPM {
         let g = r
             .modes

@@ -1,4 +1,4 @@
-//! The undamped critical speed map (`rubsim critical-map`, `analysis::critical_map`) against
+//! The undamped critical speed map (`rubsim critical-map`, `linear::critical_map`) against
 //! closed forms at its two ends (docs/VALIDATION.md, "Undamped critical speed map"): a uniform
 //! slender shaft on very stiff bearings has the pinned-pinned beam's critical speeds
 //! (Euler–Bernoulli; with shear, rotary inertia and gyroscopics the synchronous forward
@@ -8,7 +8,7 @@ mod common;
 
 use common::cli::{is_png, ok};
 use common::{model, repo};
-use rubsim::analysis::critical_map::{critical_map, log_range, Swept};
+use rubsim::linear::{critical_map, log_range, Swept};
 use std::f64::consts::PI;
 
 /// Steel shaft 1 m × 20 mm (L/D = 50), 40 elements, bearings at both ends.
@@ -227,7 +227,7 @@ fn the_command_writes_the_map_and_refuses_a_bad_range() {
 /// say (docs/OUTPUTS.md).
 #[test]
 fn modal_shapes_of_split_degenerate_pairs_keep_their_largest_entry_one() {
-    use rubsim::analysis::rotordyn::{modal, Whirl};
+    use rubsim::linear::{modal, Whirl};
     let m = model(&shaft("gyroscopic = false"));
     let res = modal(&m.rotor, 0.0, 4).unwrap();
     let whirls: Vec<Whirl> = res.modes.iter().map(|x| x.whirl).collect();

@@ -11,7 +11,7 @@ mod common;
 use common::fe::{block_frequencies, fe};
 use common::scenes::{full_rotor, FRISWELL, GOLDEN_ROTOR, PAPER_FE, PAPER_TORSION};
 use common::{model, parse, run_speed, NO_SETS, SHORT_RUN};
-use rubsim::analysis::rotordyn::{self, Whirl};
+use rubsim::linear::{self, Whirl};
 use rubsim::model::Rotor;
 use rubsim::scene;
 use std::path::Path;
@@ -189,14 +189,14 @@ fn modal_and_campbell_label_axial_and_torsional_modes() {
     let top = 1.2 * wa[0].max(wt[1]);
     let nmodes = 40;
     for spin in [0.0, 300.0] {
-        let r = rotordyn::modal(&m.rotor, spin, nmodes).unwrap();
-        let roff = rotordyn::modal(&off.rotor, spin, nmodes).unwrap();
+        let r = linear::modal(&m.rotor, spin, nmodes).unwrap();
+        let roff = linear::modal(&off.rotor, spin, nmodes).unwrap();
         let (mut na, mut nt) = (0, 0);
         for md in r.modes.iter().filter(|x| x.omega_d < top) {
             let e = md.energy;
             assert!((e.iter().sum::<f64>() - 1.0).abs() < 1e-9);
             match md.kind {
-                rotordyn::ModeKind::Axial => {
+                linear::ModeKind::Axial => {
                     assert!(
                         e[1] > 1.0 - 1e-9 && md.whirl == Whirl::NoWhirl && md.label() == "axial"
                     );
@@ -208,7 +208,7 @@ fn modal_and_campbell_label_axial_and_torsional_modes() {
                     );
                     na += 1;
                 }
-                rotordyn::ModeKind::Torsional => {
+                linear::ModeKind::Torsional => {
                     assert!(e[2] > 1.0 - 1e-9 && md.label() == "torsional");
                     assert!(
                         (md.omega_d / wt[nt] - 1.0).abs() < 1e-7,
@@ -218,7 +218,7 @@ fn modal_and_campbell_label_axial_and_torsional_modes() {
                     );
                     nt += 1;
                 }
-                rotordyn::ModeKind::Lateral => {
+                linear::ModeKind::Lateral => {
                     assert!(e[0] > 1.0 - 1e-9);
                     // At rest the whirl is undefined: an isotropic rotor's lateral modes come in
                     // degenerate pairs (any combination of the two is an eigenvector), and on
@@ -260,11 +260,11 @@ fn modal_and_campbell_label_axial_and_torsional_modes() {
     }
     // Campbell: the torsional and axial tracks are flat and labelled so.
     let speeds: Vec<f64> = (0..6).map(|i| i as f64 * 200.0).collect();
-    let c = rubsim::analysis::campbell::campbell(&m.rotor, &speeds, 12).unwrap();
+    let c = rubsim::linear::campbell(&m.rotor, &speeds, 12).unwrap();
     let tors: Vec<_> = c
         .tracks
         .iter()
-        .filter(|t| t.kind == rotordyn::ModeKind::Torsional)
+        .filter(|t| t.kind == linear::ModeKind::Torsional)
         .collect();
     assert!(!tors.is_empty());
     for t in tors {

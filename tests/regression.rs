@@ -8,8 +8,8 @@ mod common;
 use common::fe::{fe, sub};
 use common::scenes::{full_rotor, GOLDEN_ROTOR, PAPER, PAPER_FE};
 use common::{model, repo, run_speed, scene_model, settings, NO_SETS, SHORT_RUN};
-use rubsim::analysis::rotordyn;
 use rubsim::analysis::{self, Keep};
+use rubsim::linear;
 use std::f64::consts::PI;
 
 /// The golden file of the assembled lateral matrices.
@@ -147,8 +147,8 @@ fn axial_torsion_matrices_symmetric_uncoupled_and_lateral_block_unchanged() {
         );
         // Static deflection under gravity: lateral as without, no axial or torsional motion.
         let (s, soff) = (
-            rotordyn::static_deflection(&m.rotor, 9.81).unwrap(),
-            rotordyn::static_deflection(&off.rotor, 9.81).unwrap(),
+            linear::static_deflection(&m.rotor, 9.81).unwrap(),
+            linear::static_deflection(&off.rotor, 9.81).unwrap(),
         );
         for (a, b) in s.iter().zip(&soff) {
             assert!((a - b).abs() <= 1e-12 * b.abs().max(1e-9), "{a} vs {b}");

@@ -7,7 +7,7 @@ mod common;
 use common::fe::fe;
 use common::scenes::{FRISWELL, PAPER_TORSION};
 use common::{model, run_speed, SHORT_RUN};
-use rubsim::analysis::rotordyn::{self, ModeKind, Whirl};
+use rubsim::linear::{self, ModeKind, Whirl};
 use rubsim::model::fe_rotor::{dense, undamped_modes};
 use std::f64::consts::PI;
 
@@ -41,7 +41,7 @@ speed_ratio = 1.0
 /// FW − BW of the first pair at 4000 rpm.
 fn first_split(text: &str) -> f64 {
     let m = model(text);
-    let r = rotordyn::modal(&m.rotor, 4000.0 * PI / 30.0, 4).unwrap();
+    let r = linear::modal(&m.rotor, 4000.0 * PI / 30.0, 4).unwrap();
     let f = |w: Whirl| r.modes.iter().find(|x| x.whirl == w).unwrap().omega_d;
     f(Whirl::Forward) - f(Whirl::Backward)
 }
@@ -87,8 +87,8 @@ fn rayleigh_on_the_shaft_only_damps_by_the_shaft_energy() {
     let f = &fe(&m_shaft.rotor).rotor;
     let (lam, phi) = undamped_modes(&f.m, &f.k(0.0)).unwrap();
     let cs = dense(f.rayleigh_shaft.as_ref().unwrap());
-    let r_asm = rotordyn::modal(&m_asm.rotor, 0.0, 6).unwrap();
-    let r_shaft = rotordyn::modal(&m_shaft.rotor, 0.0, 6).unwrap();
+    let r_asm = linear::modal(&m_asm.rotor, 0.0, 6).unwrap();
+    let r_shaft = linear::modal(&m_shaft.rotor, 0.0, 6).unwrap();
     for (i, l) in lam.iter().enumerate().take(6) {
         let w = l.sqrt();
         let p = phi.column(i);
@@ -119,7 +119,7 @@ fn free_axial_and_torsional_dofs_have_rigid_body_modes() {
     let m = model(&text);
     let f = &fe(&m.rotor).rotor;
     assert!(f.free_axial && f.free_torsion);
-    let r = rotordyn::modal(&m.rotor, 0.0, 40).unwrap();
+    let r = linear::modal(&m.rotor, 0.0, 40).unwrap();
     assert_eq!(r.rigid_body, vec![ModeKind::Axial, ModeKind::Torsional]);
     let (e, nu, rho, l): (f64, f64, f64, f64) = (211e9, 0.3, 7810.0, 1.5);
     let h = l / n as f64;
@@ -148,7 +148,7 @@ fn free_axial_and_torsional_dofs_have_rigid_body_modes() {
         }
     }
     // The lateral analyses solve the lateral block: no singular K.
-    assert!(rotordyn::static_deflection(&m.rotor, 9.81).is_ok());
+    assert!(linear::static_deflection(&m.rotor, 9.81).is_ok());
     let held = model(&bare_shaft(n, "gyroscopic = false"));
     let w_held = fe(&held.rotor).rotor.lateral_frequencies(0.0).unwrap();
     let lateral: Vec<f64> = r

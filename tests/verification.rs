@@ -16,10 +16,10 @@ use common::scenes::{
     unit_rotor_in_ring, FRISWELL, PAPER_TORSION,
 };
 use common::{case_and_plan, model, run_speed, scene_model, settings, NO_SETS, SHORT_RUN};
-use rubsim::analysis::rotordyn::{self, Whirl};
 use rubsim::analysis::{self, Keep};
 use rubsim::element::solid2d::{self, Elastic2, Plane};
 use rubsim::linalg::Csc;
+use rubsim::linear::{self, Whirl};
 use rubsim::mesh::{CellKind, Mesh};
 use rubsim::model::{Model, Rotor};
 use rubsim::scene::LoadedScene;
@@ -291,7 +291,7 @@ fn friswell_example_5_9_1_at_rest_and_spinning() {
     }
     // Spinning: forward/backward split grows with speed (gyroscopic stiffening/softening).
     let split = |rpm: f64| {
-        let r = rotordyn::modal(&m.rotor, rpm * 2.0 * PI / 60.0, 4).unwrap();
+        let r = linear::modal(&m.rotor, rpm * 2.0 * PI / 60.0, 4).unwrap();
         let fw = r
             .modes
             .iter()
@@ -575,7 +575,7 @@ fn modal_damping_puts_zeta_on_the_chosen_modes_only() {
         let text = paper_modal(0.05, limit);
         assert!(text.contains("[rotor.modal_damping]"));
         let m = model(&text);
-        let r = rotordyn::modal(&m.rotor, 0.0, 4).unwrap();
+        let r = linear::modal(&m.rotor, 0.0, 4).unwrap();
         let z: Vec<f64> = r.modes.iter().map(|md| md.damping_ratio).collect();
         assert!(
             (z[0] - 0.05).abs() < 1e-6 && (z[1] - 0.05).abs() < 1e-6,
@@ -585,7 +585,7 @@ fn modal_damping_puts_zeta_on_the_chosen_modes_only() {
     }
     // Without a limit every mode gets ζ.
     let m = model(&paper_modal(0.03, ""));
-    let r = rotordyn::modal(&m.rotor, 0.0, 6).unwrap();
+    let r = linear::modal(&m.rotor, 0.0, 6).unwrap();
     for md in &r.modes {
         assert!(
             (md.damping_ratio - 0.03).abs() < 1e-6,

@@ -1,5 +1,6 @@
 //! Analyses over a model: one speed, a speed sweep, a convergence study, a bench, stator
-//! stresses, mesh refinement, linear rotordynamics of the rotor alone.
+//! stresses, mesh refinement (the linear rotordynamics of the rotor alone is
+//! [`crate::linear`]).
 //!
 //! # One path for a run
 //!
@@ -31,25 +32,19 @@
 //! speed, found from another start), [`sweep`](mod@sweep) (speeds, variants, the
 //! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),
 //! [`bench`](mod@bench) (timing and the comparison with a converged sweep), [`stress`] (stator stress
-//! probe), [`refine`] (mesh-refinement metrics), [`rotordyn`] (modes, Campbell, unbalance
-//! response), [`mode_shape`] (whirl ellipses and shaft lines of a mode), [`critical_map`]
-//! (undamped critical speeds against bearing stiffness).
+//! probe), [`refine`] (mesh-refinement metrics).
 
 pub mod autostep;
 pub mod bench;
-pub mod campbell;
 pub mod coexist;
 pub mod convergence;
-pub mod critical_map;
 pub mod cutoff;
 pub mod dynamics;
 pub mod fanout;
 mod lengthen;
-pub mod mode_shape;
 pub mod refine;
 pub mod regimes;
 mod richardson;
-pub mod rotordyn;
 pub mod speed;
 pub mod steady;
 pub mod stress;

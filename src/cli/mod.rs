@@ -302,8 +302,8 @@ pub enum Cmd {
 }
 
 /// Reads the scene file `scene` with the overrides `sets` and builds its model, `what`
-/// naming the build in its error. Every command turns a scene into a model here and nowhere
-/// else.
+/// naming the build in its error. Every command turns its scene file into a model here and
+/// nowhere else (`import-ross` builds the scene it imports, to check it before writing it).
 pub fn load_scene(
     scene: &Path,
     sets: &[String],

@@ -4,10 +4,7 @@
 
 use super::{default_out, finish, load, Common, UnitArg};
 use anyhow::{Context, Result};
-use rubsim::analysis::critical_map::{self, Swept};
-use rubsim::analysis::mode_shape::{self, RotorLine};
-use rubsim::analysis::rotordyn::ModalResults;
-use rubsim::analysis::{campbell, rotordyn};
+use rubsim::linear::{self, mode_shape, ModalResults, RotorLine, Swept};
 use rubsim::output::{csv, figures, summary, OutDir};
 use rubsim::scene::SpeedUnit;
 use std::path::PathBuf;
@@ -24,8 +21,8 @@ pub fn modal(
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("modal")))?;
     let wn = model.rotor.natural_frequency();
     let omega = unit.rad_per_s(speed, wn);
-    let res = rotordyn::modal(&model.rotor, omega, nmodes)?;
-    let stat = rotordyn::static_deflection(&model.rotor, gravity)?;
+    let res = linear::modal(&model.rotor, omega, nmodes)?;
+    let stat = linear::static_deflection(&model.rotor, gravity)?;
     println!("rotor: {}", model.rotor.describe());
     println!(
         "modes at Ω = {omega} rad/s ({} rpm, ω/ωn = {}):",
@@ -58,7 +55,7 @@ pub fn modal(
     csv::write_mode_shapes(&mut outd, &res, &line)?;
     rubsim::output::rotordyn::write_mode_shapes(&mut outd, &ls.scene.title, &res, &line)?;
     write_mode_series(&mut outd, &res, &line)?;
-    let nodes = rotordyn::lateral_at_nodes(&model.rotor, &stat);
+    let nodes = linear::lateral_at_nodes(&model.rotor, &stat);
     let ymax = nodes.iter().fold(0.0_f64, |m, u| m.max(u[1].abs()));
     println!("static deflection under g = {gravity} m/s²: largest |u_y| = {ymax:.4e} m");
     csv::write_static_deflection(&mut outd, &nodes)?;
@@ -80,8 +77,8 @@ pub fn campbell(
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("campbell")))?;
     let wn = model.rotor.natural_frequency();
     let speeds: Vec<f64> =
-        rotordyn::speed_list(unit.rad_per_s(from, wn), unit.rad_per_s(to, wn), points);
-    let res = campbell::campbell(&model.rotor, &speeds, nmodes)?;
+        linear::speed_list(unit.rad_per_s(from, wn), unit.rad_per_s(to, wn), points);
+    let res = linear::campbell(&model.rotor, &speeds, nmodes)?;
     csv::write_campbell(&mut outd, &speeds, &res)?;
     figures::write_campbell(&mut outd, &ls.scene.title, &speeds, &res)?;
     println!(
@@ -123,7 +120,7 @@ pub fn unbalance(
         super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("unbalance")))?;
     let wn = model.rotor.natural_frequency();
     let nodes: Vec<usize> = if nodes.is_empty() {
-        rotordyn::default_response_nodes(&model)
+        linear::default_response_nodes(&model)
     } else {
         nodes.to_vec()
     };
@@ -135,13 +132,13 @@ pub fn unbalance(
             );
         }
     }
-    let speeds = rotordyn::speed_list(unit.rad_per_s(from, wn), unit.rad_per_s(to, wn), points);
-    let res = rotordyn::unbalance_response(&model.rotor, &speeds, &nodes)
-        .context("unbalance response")?;
+    let speeds = linear::speed_list(unit.rad_per_s(from, wn), unit.rad_per_s(to, wn), points);
+    let res =
+        linear::unbalance_response(&model.rotor, &speeds, &nodes).context("unbalance response")?;
     csv::write_unbalance(&mut outd, &res)?;
     figures::write_unbalance(&mut outd, &ls.scene.title, &nodes, &res)?;
     for n in &nodes {
-        let (s, a) = rotordyn::peak_response(&res, *n);
+        let (s, a) = linear::peak_response(&res, *n);
         println!("node {n}: peak amplitude {a:.4e} m at Ω = {s:.3} rad/s");
     }
     let mut sum = summary::base(&ls, &model, "unbalance");
@@ -186,9 +183,9 @@ pub fn critical_map(
     let (ls, model) = load(c)?;
     let mut outd =
         super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("critical_map")))?;
-    let ks = critical_map::log_range(from, to, points);
+    let ks = linear::log_range(from, to, points);
     let swept = bearing.map_or(Swept::All, Swept::One);
-    let res = critical_map::critical_map(&model.rotor, &ks, swept, nmodes)
+    let res = linear::critical_map(&model.rotor, &ks, swept, nmodes)
         .with_context(|| format!("{}: critical speed map", c.scene.display()))?;
     csv::write_critical_map(&mut outd, &res)?;
     rubsim::output::rotordyn::write_critical_map(&mut outd, &ls.scene.title, &res)?;

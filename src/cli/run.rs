@@ -134,25 +134,7 @@ fn transient(
     let s = settings(ls);
     let t0 = std::time::Instant::now();
     let prep = analysis::prepare_transient(model, &s, spec)?.with_events(&ls.scene.run.event)?;
-    match &prep.drive {
-        Some(d) => println!(
-            "speed profile: driven rotor, {:.3} s from Ω₀ = {:.3} ωn (J = {:.4e} kg·m², Δt planned for Ω ≤ {:.3} ωn); Δt = {:.3e} s, {} steps",
-            d.duration,
-            d.speed0 / prep.omega_n,
-            d.inertia,
-            d.speed_bound() / prep.omega_n,
-            prep.plan.dt,
-            prep.plan.steps
-        ),
-        None => println!(
-            "speed profile: {:.3} s, {:.1} revolutions, Ω ≤ {:.3} ωn; Δt = {:.3e} s, {} steps",
-            prep.profile.duration(),
-            prep.profile.total_angle() / (2.0 * std::f64::consts::PI),
-            prep.profile.max_speed() / prep.omega_n,
-            prep.plan.dt,
-            prep.plan.steps
-        ),
-    }
+    print_plan(&prep);
     // VTK/HDF5 time series (output.vtk, output.hdf5): the frames carry Ω, Ω/ωn, φ and Ω̇.
     let scene_json = serde_json::to_string(&ls.scene)?;
     let mut writer = ResultsSink::for_transient(
@@ -163,15 +145,7 @@ fn transient(
         outd.staging_dir(),
         "",
     )?;
-    // Stators with elements (meshed, bars, frames): their largest stress at every recorded
-    // sample (the probe's interval is the recording interval, so its instants are the
-    // speed history's).
-    let mut probe = prep
-        .case
-        .stators
-        .iter()
-        .any(|s| !s.elements.is_empty())
-        .then(|| analysis::StressProbe::new(&prep.case.stators, prep.plan.record_every, 0.0));
+    let mut probe = stress_probe(&prep);
     let mut sinks: Vec<&mut dyn FrameSink> = Vec::with_capacity(2);
     if let Some(w) = writer.as_mut() {
         sinks.push(w);
@@ -195,24 +169,7 @@ fn transient(
     }
     transient_out::write_csv(&mut outd, &r)?;
     let snapshots = &ls.scene.output.snapshot_speeds;
-    let (snaps, missed) = analysis::orbit_snapshots(&prep, &r, snapshots)?;
-    for v in &missed {
-        eprintln!(
-            "warning: {}: output.snapshot_speeds: the speed history never passes ω/ωn = {v} (it spans {:.3} … {:.3} ωn); no snapshot at that speed",
-            c.scene.display(),
-            r.spin.iter().map(|s| s[1]).fold(f64::INFINITY, f64::min) / r.omega_n,
-            r.spin.iter().map(|s| s[1]).fold(0.0, f64::max) / r.omega_n,
-        );
-    }
-    if !snapshots.is_empty() {
-        transient_out::write_snapshots(
-            &mut outd,
-            &ls.scene.title,
-            &snaps,
-            &prep.case,
-            ls.scene.output.png,
-        )?;
-    }
+    let (snaps, missed) = snapshots_out(c, ls, &prep, &r, &mut outd)?;
     let waterfall = analysis::whirl::full_waterfall(&r, prep.window_revolutions);
     whirl_out::write_waterfall(
         &mut outd,
@@ -246,6 +203,79 @@ fn transient(
     });
     sum["wall_s"] = t0.elapsed().as_secs_f64().into();
     let dir = summary::finish(outd, &sum)?;
+    print_end(&r, stress.as_ref());
+    println!("results in {}", dir.display());
+    Ok(())
+}
+
+/// The stress probe of a transient whose stators have elements (meshed, bars, frames): their
+/// largest stress at every recorded sample (the probe's interval is the recording interval, so
+/// its instants are the speed history's); `None` without such a stator.
+fn stress_probe(prep: &analysis::TransientPrepared) -> Option<analysis::StressProbe<'_>> {
+    prep.case
+        .stators
+        .iter()
+        .any(|s| !s.elements.is_empty())
+        .then(|| analysis::StressProbe::new(&prep.case.stators, prep.plan.record_every, 0.0))
+}
+
+/// Prints a transient's plan: its profile (or driven rotor), Δt and steps.
+fn print_plan(prep: &analysis::TransientPrepared) {
+    match &prep.drive {
+        Some(d) => println!(
+            "speed profile: driven rotor, {:.3} s from Ω₀ = {:.3} ωn (J = {:.4e} kg·m², Δt planned for Ω ≤ {:.3} ωn); Δt = {:.3e} s, {} steps",
+            d.duration,
+            d.speed0 / prep.omega_n,
+            d.inertia,
+            d.speed_bound() / prep.omega_n,
+            prep.plan.dt,
+            prep.plan.steps
+        ),
+        None => println!(
+            "speed profile: {:.3} s, {:.1} revolutions, Ω ≤ {:.3} ωn; Δt = {:.3e} s, {} steps",
+            prep.profile.duration(),
+            prep.profile.total_angle() / (2.0 * std::f64::consts::PI),
+            prep.profile.max_speed() / prep.omega_n,
+            prep.plan.dt,
+            prep.plan.steps
+        ),
+    }
+}
+
+/// The orbit snapshots at `output.snapshot_speeds` (a warning for each speed the history never
+/// passes), written when asked; returns them and the missed speeds.
+fn snapshots_out(
+    c: &Common,
+    ls: &rubsim::scene::LoadedScene,
+    prep: &analysis::TransientPrepared,
+    r: &analysis::TransientResults,
+    outd: &mut rubsim::output::OutDir,
+) -> Result<(Vec<analysis::OrbitSnapshot>, Vec<f64>)> {
+    let snapshots = &ls.scene.output.snapshot_speeds;
+    let (snaps, missed) = analysis::orbit_snapshots(prep, r, snapshots)?;
+    for v in &missed {
+        eprintln!(
+            "warning: {}: output.snapshot_speeds: the speed history never passes ω/ωn = {v} (it spans {:.3} … {:.3} ωn); no snapshot at that speed",
+            c.scene.display(),
+            r.spin.iter().map(|s| s[1]).fold(f64::INFINITY, f64::min) / r.omega_n,
+            r.spin.iter().map(|s| s[1]).fold(0.0, f64::max) / r.omega_n,
+        );
+    }
+    if !snapshots.is_empty() {
+        transient_out::write_snapshots(
+            outd,
+            &ls.scene.title,
+            &snaps,
+            &prep.case,
+            ls.scene.output.png,
+        )?;
+    }
+    Ok((snaps, missed))
+}
+
+/// Prints a transient's end: steps and their cost, the peak 1×, the contact, the friction
+/// energy, each stator's largest stress.
+fn print_end(r: &analysis::TransientResults, stress: Option<&TransientStress>) {
     println!(
         "{} steps in {:.3} s ({:.1} ns/step) | peak 1× {:.4e} m at Ω/ωn = {:.3} | contact in {} steps, max |F| {:.3e} N | friction energy {:.4e} J",
         r.stats.steps,
@@ -263,8 +293,6 @@ fn transient(
             p.name, p.stress_pa, p.t_s, p.speed_ratio, p.contacts
         );
     }
-    println!("results in {}", dir.display());
-    Ok(())
 }
 
 /// The warning of a run whose response is not the only one at its speed

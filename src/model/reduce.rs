@@ -62,6 +62,71 @@ pub struct ReducedRotor {
     pub frequency_error: f64,
 }
 
+/// The internal shapes of the reduction basis from the first `keep` undamped modes `phi`:
+/// each made zero at the `interface` DOFs (less the static columns `nmat` times its interface
+/// values), then M-orthonormalised against the ones before (modified Gram–Schmidt, mass
+/// matrix `m`); a shape the static columns already span is dropped.
+fn internal_shapes(
+    phi: &DMatrix<f64>,
+    keep: usize,
+    interface: &[usize],
+    nmat: &DMatrix<f64>,
+    m: &DMatrix<f64>,
+) -> Vec<nalgebra::DVector<f64>> {
+    let nb = interface.len();
+    let mut internal: Vec<nalgebra::DVector<f64>> = Vec::with_capacity(keep);
+    for i in 0..keep {
+        let p = phi.column(i);
+        let pb = DMatrix::from_fn(nb, 1, |r, _| p[interface[r]]);
+        let mut v = p.into_owned() - (nmat * pb).column(0);
+        let norm0 = (v.transpose() * m * &v)[(0, 0)].sqrt();
+        for w in &internal {
+            let c = (w.transpose() * m * &v)[(0, 0)];
+            v -= w * c;
+        }
+        let norm = (v.transpose() * m * &v)[(0, 0)].sqrt();
+        if norm > 1e-8 * norm0 && norm > 0.0 {
+            internal.push(v / norm);
+        }
+    }
+    internal
+}
+
+/// The reduced rotor's body: the reduced matrices `m`, `c`, `k` in `q` (interface DOFs
+/// first, in `interface` order, then the modal coordinates) and each node's, station's and
+/// unbalance's DOFs mapped to `q` (`usize::MAX` where a lateral pair is not at the
+/// interface); no tilt, axial or gyroscopic terms.
+fn reduced_body(full: &RotorBody, interface: &[usize], m: Csc, c: Csc, k: Csc) -> RotorBody {
+    let q_of = |d: usize| interface.iter().position(|x| *x == d);
+    RotorBody {
+        ndof: m.nrows(),
+        m,
+        c,
+        c_low: None,
+        k,
+        node_dofs: (full.node_dofs.iter())
+            .map(|d| match (q_of(d[0]), q_of(d[1])) {
+                (Some(x), Some(y)) => [x, y],
+                _ => [usize::MAX; 2],
+            })
+            .collect(),
+        node_tilt: vec![None; full.node_dofs.len()],
+        node_axial: vec![None; full.node_dofs.len()],
+        node_torsion: (full.node_torsion.iter())
+            .map(|d| d.and_then(q_of))
+            .collect(),
+        node_z: full.node_z.clone(),
+        unbalance: (full.unbalance.iter())
+            .map(|u| {
+                let mut v = *u;
+                v.dofs = u.dofs.map(|d| q_of(d).unwrap_or(usize::MAX));
+                v
+            })
+            .collect(),
+        gyro: None,
+    }
+}
+
 impl ReducedRotor {
     /// Reduces `full` with static columns at `interface` (full DOF indices; sorted, unique)
     /// and the undamped modes below `cutoff` (rad/s).
@@ -100,21 +165,7 @@ impl ReducedRotor {
         // Internal shapes: zero at the interface, then M-orthonormalised (modified
         // Gram–Schmidt); a shape the static columns already span is dropped.
         let translation: Vec<usize> = full.node_dofs.iter().flatten().copied().collect();
-        let mut internal: Vec<nalgebra::DVector<f64>> = Vec::with_capacity(keep);
-        for i in 0..keep {
-            let p = phi.column(i);
-            let pb = DMatrix::from_fn(nb, 1, |r, _| p[interface[r]]);
-            let mut v = p.into_owned() - (&nmat * pb).column(0);
-            let norm0 = (v.transpose() * &m * &v)[(0, 0)].sqrt();
-            for w in &internal {
-                let c = (w.transpose() * &m * &v)[(0, 0)];
-                v -= w * c;
-            }
-            let norm = (v.transpose() * &m * &v)[(0, 0)].sqrt();
-            if norm > 1e-8 * norm0 && norm > 0.0 {
-                internal.push(v / norm);
-            }
-        }
+        let internal = internal_shapes(&phi, keep, interface, &nmat, &m);
         let modes = internal.len();
         let r = nb + modes;
         let mut t = DMatrix::zeros(n, r);
@@ -137,34 +188,7 @@ impl ReducedRotor {
             cr += &tu * d * tu.transpose();
         }
         let csc = |a: &DMatrix<f64>| Csc::dense(r, r, |i, j| a[(i, j)]);
-        let q_of = |d: usize| interface.iter().position(|x| *x == d);
-        let body = RotorBody {
-            ndof: r,
-            m: csc(&mr),
-            c: csc(&cr),
-            c_low: None,
-            k: csc(&kr),
-            node_dofs: (full.node_dofs.iter())
-                .map(|d| match (q_of(d[0]), q_of(d[1])) {
-                    (Some(x), Some(y)) => [x, y],
-                    _ => [usize::MAX; 2],
-                })
-                .collect(),
-            node_tilt: vec![None; full.node_dofs.len()],
-            node_axial: vec![None; full.node_dofs.len()],
-            node_torsion: (full.node_torsion.iter())
-                .map(|d| d.and_then(q_of))
-                .collect(),
-            node_z: full.node_z.clone(),
-            unbalance: (full.unbalance.iter())
-                .map(|u| {
-                    let mut v = *u;
-                    v.dofs = u.dofs.map(|d| q_of(d).unwrap_or(usize::MAX));
-                    v
-                })
-                .collect(),
-            gyro: None,
-        };
+        let body = reduced_body(full, interface, csc(&mr), csc(&cr), csc(&kr));
         if body.unbalance.iter().any(|u| u.dofs.contains(&usize::MAX)) {
             return Err(singular("an unbalance DOF is not an interface DOF"));
         }

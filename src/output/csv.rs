@@ -7,13 +7,14 @@
 //! `docs/OUTPUTS.md` lists the columns.
 
 use super::OutDir;
-use crate::analysis::campbell::CampbellResults;
-use crate::analysis::critical_map::CriticalMapResults;
-use crate::analysis::mode_shape::{ellipse, node_shape, RotorLine};
 use crate::analysis::refine::RefinePoint;
-use crate::analysis::rotordyn::{ModalResults, ResponsePoint};
 use crate::analysis::{ConvergenceResults, SpeedResults, StressResults, SweepResults};
 use crate::error::Result;
+use crate::linear::campbell::CampbellResults;
+use crate::linear::critical_map::CriticalMapResults;
+use crate::linear::mode_shape::{ellipse, node_shape, RotorLine};
+use crate::linear::modes::ModalResults;
+use crate::linear::response::ResponsePoint;
 
 /// A table: the header line, then one line per row.
 fn table(header: &str, rows: impl IntoIterator<Item = String>) -> String {
@@ -229,7 +230,7 @@ pub fn write_modes(out: &mut OutDir, res: &ModalResults) -> Result<()> {
 /// Writes `mode_shapes.csv`: one row per mode and node — the node's axial position (m), the
 /// real and imaginary parts of its normalised shape `[u_x, u_y, θ_x, θ_y]` (the mode's largest
 /// entry is 1; rotations in rad per unit of it) and its whirl ellipse (major and signed minor
-/// semi-axes, positive forward; [`crate::analysis::mode_shape::ellipse`]).
+/// semi-axes, positive forward; [`crate::linear::mode_shape::ellipse`]).
 pub fn write_mode_shapes(out: &mut OutDir, res: &ModalResults, line: &RotorLine) -> Result<()> {
     let mut rows = Vec::new();
     for (i, m) in res.modes.iter().enumerate() {

@@ -4,14 +4,14 @@
 //! frequencies of ω_n (the `_nd` conventions of [`crate::analysis`]).
 
 use super::OutDir;
-use crate::analysis::campbell::CampbellResults;
 use crate::analysis::refine::RefinePoint;
-use crate::analysis::rotordyn::ResponsePoint;
 use crate::analysis::{
     regime_label, ConvergencePoint, ConvergenceResults, SpeedResults, StressResults, StressTrace,
     SweepResults,
 };
 use crate::error::Result;
+use crate::linear::campbell::CampbellResults;
+use crate::linear::response::ResponsePoint;
 use crate::model::stator::{StatorElement, StatorModel};
 use crate::model::Case;
 use crate::plot::{self, Boundary, CascadeLine, Curve, OrbitPanel, Series};

@@ -3,12 +3,12 @@
 //! the undamped critical speed map of `rubsim critical-map` (`critical_map.png`).
 
 use super::OutDir;
-use crate::analysis::critical_map::CriticalMapResults;
-use crate::analysis::mode_shape::{
+use crate::error::Result;
+use crate::linear::critical_map::CriticalMapResults;
+use crate::linear::mode_shape::{
     at_phase, ellipse, node_shape, peak_phase, sample_line, RotorLine,
 };
-use crate::analysis::rotordyn::{ModalResults, Mode};
-use crate::error::Result;
+use crate::linear::modes::{ModalResults, Mode};
 use crate::plot::{self, Curve, Shape3d, ShapeLine};
 use num_complex::Complex64;
 
@@ -30,7 +30,7 @@ pub fn mode_caption(index: usize, m: &Mode) -> String {
 }
 
 /// Draws `mode_NN.png` and `mode_NN_3d.png` for every mode of `res` (see
-/// [`crate::analysis::mode_shape`] for the ellipses, the phase and the interpolation).
+/// [`crate::linear::mode_shape`] for the ellipses, the phase and the interpolation).
 ///
 /// The 2-D figure is the shaft line at the phase where its translations are largest
 /// ([`peak_phase`]): `u_x` (x plane) and `u_y` (y plane) against z, with the ± major

@@ -249,6 +249,21 @@ pub fn write_figures(
         "t (s)",
         "Ω / ωn",
     )?;
+    write_tracking(out, title, r, component)?;
+    write_envelopes(out, title, r, component)?;
+    Ok(())
+}
+
+/// `bode.png`, `bode_phase.png` and `orders.png`: the tracked 1× (amplitude and phase, with
+/// the steady unbalance response) and every tracked order against Ω/ω_n.
+fn write_tracking(
+    out: &mut OutDir,
+    title: &str,
+    r: &TransientResults,
+    component: &str,
+) -> Result<()> {
+    let wn = r.omega_n;
+    let nu = |w: f64| w / wn;
     let p = out.stage("bode.png")?;
     let mut curves = by_direction(r, "1×", |w| w.lines[0].0);
     curves.push(Curve {
@@ -297,6 +312,19 @@ pub fn write_figures(
         "Ω / ωn",
         "amplitude (m)",
     )?;
+    Ok(())
+}
+
+/// `response.png`, `contact_force.png` and `friction_energy.png`: the envelope of the response
+/// and the peak contact force per speed bin against Ω/ω_n, the friction energy against time.
+fn write_envelopes(
+    out: &mut OutDir,
+    title: &str,
+    r: &TransientResults,
+    component: &str,
+) -> Result<()> {
+    let wn = r.omega_n;
+    let nu = |w: f64| w / wn;
     let c = r.component.min(1);
     let (hi, lo) = envelope(
         &r.spin

@@ -256,6 +256,46 @@ pub struct FeRotorData {
 /// `youngs_modulus` and `density` (what [`crate::scene::validate()`] refuses too, with the
 /// same key and line).
 pub fn fe_rotor(ls: &LoadedScene, s: &FeRotorSpec) -> Result<FeRotorData, SceneError> {
+    let elements = shaft_elements(ls, s)?;
+    let disks = disks(ls, s)?;
+    let bearings = s.bearing.iter().map(bearing).collect();
+    let springs = |v: &[GroundSpringSpec]| -> Vec<GroundSpring> {
+        v.iter()
+            .map(|g| GroundSpring {
+                node: g.node,
+                stiffness: g.stiffness,
+                damping: g.damping,
+            })
+            .collect()
+    };
+    Ok(FeRotorData {
+        axial: s.axial,
+        torsion: s.torsion,
+        axial_supports: springs(&s.axial_support),
+        torsional_supports: springs(&s.torsional_support),
+        elements,
+        disks,
+        point_masses: s.point_mass.iter().map(|p| (p.node, p.mass)).collect(),
+        bearings,
+        unbalances: s
+            .unbalance
+            .iter()
+            .map(|u| (u.node, u.mass * u.radius, u.phase_deg.to_radians()))
+            .collect(),
+        rayleigh: s.rayleigh,
+        rayleigh_shaft_only: s.rayleigh_on == RayleighOn::Shaft,
+        modal_damping: s.modal_damping.as_ref().map(|m| ModalDamping {
+            ratio: m.ratio,
+            max_frequency: m.max_frequency.unwrap_or(f64::INFINITY),
+            modes: m.modes.unwrap_or(usize::MAX),
+        }),
+    })
+}
+
+/// The shaft's elements, segment by segment: each segment's material (named or given), its
+/// `elements` equal elements, cylindrical or — a segment with right diameters — conical, the
+/// diameters linear in z along the segment.
+fn shaft_elements(ls: &LoadedScene, s: &FeRotorSpec) -> Result<Vec<ShaftSection>, SceneError> {
     let mut elements = Vec::new();
     for (i, seg) in s.shaft.iter().enumerate() {
         let named = match seg.material.as_deref() {
@@ -305,6 +345,12 @@ pub fn fe_rotor(ls: &LoadedScene, s: &FeRotorSpec) -> Result<FeRotorData, SceneE
             }));
         }
     }
+    Ok(elements)
+}
+
+/// The rotor's disks: a given mass and inertias, or a geometry (outer diameter, bore, width)
+/// and a density or material.
+fn disks(ls: &LoadedScene, s: &FeRotorSpec) -> Result<Vec<Disk>, SceneError> {
     let mut disks = Vec::with_capacity(s.disk.len());
     for (i, d) in s.disk.iter().enumerate() {
         disks.push(match d.mass {
@@ -328,38 +374,7 @@ pub fn fe_rotor(ls: &LoadedScene, s: &FeRotorSpec) -> Result<FeRotorData, SceneE
             }
         });
     }
-    let bearings = s.bearing.iter().map(bearing).collect();
-    let springs = |v: &[GroundSpringSpec]| -> Vec<GroundSpring> {
-        v.iter()
-            .map(|g| GroundSpring {
-                node: g.node,
-                stiffness: g.stiffness,
-                damping: g.damping,
-            })
-            .collect()
-    };
-    Ok(FeRotorData {
-        axial: s.axial,
-        torsion: s.torsion,
-        axial_supports: springs(&s.axial_support),
-        torsional_supports: springs(&s.torsional_support),
-        elements,
-        disks,
-        point_masses: s.point_mass.iter().map(|p| (p.node, p.mass)).collect(),
-        bearings,
-        unbalances: s
-            .unbalance
-            .iter()
-            .map(|u| (u.node, u.mass * u.radius, u.phase_deg.to_radians()))
-            .collect(),
-        rayleigh: s.rayleigh,
-        rayleigh_shaft_only: s.rayleigh_on == RayleighOn::Shaft,
-        modal_damping: s.modal_damping.as_ref().map(|m| ModalDamping {
-            ratio: m.ratio,
-            max_frequency: m.max_frequency.unwrap_or(f64::INFINITY),
-            modes: m.modes.unwrap_or(usize::MAX),
-        }),
-    })
+    Ok(disks)
 }
 
 /// A bearing's coefficient tables, row by row: `kxx`/`kyy` (`cxx`/`cyy`) where given, else the

@@ -10,7 +10,7 @@
 //!   at `Steps/FieldDataOffsets/<name>` = k: VTK's `vtkHDFReader` gives them as the field data
 //!   of step k.
 
-use super::hdf5::{attr_str, Column};
+use super::hdf5_io::{attr_str, Column};
 use super::vtk::{field_values, FIELD_DATA};
 use super::FrameState;
 use hdf5_metno as h5;

@@ -49,6 +49,8 @@ pub mod vtk;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
 #[cfg(feature = "hdf5")]
+mod hdf5_io;
+#[cfg(feature = "hdf5")]
 mod hdf5_spin;
 #[cfg(feature = "hdf5")]
 pub mod mode_hdf5;

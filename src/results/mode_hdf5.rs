@@ -4,11 +4,12 @@
 //! the `displacement` of the [`super::modes::FRAMES`] frames of one period — that
 //! `pyvista.read`/ParaView animate. Layout: `docs/OUTPUTS.md`, "Mode shapes".
 
-use super::hdf5::{attr, attr_str, close_on_exec, static_ds, VTKHDF_VERSION};
+use super::hdf5::VTKHDF_VERSION;
+use super::hdf5_io::{attr, attr_str, close_on_exec, static_ds};
 use super::modes::{frame_displacement, phases, shape_arrays, ShapeArrays, FRAMES};
-use crate::analysis::mode_shape::{node_shape, RotorLine};
-use crate::analysis::rotordyn::Mode;
 use crate::error::{Error, Result};
+use crate::linear::mode_shape::{node_shape, RotorLine};
+use crate::linear::modes::Mode;
 use h5::types::FixedAscii;
 use hdf5_metno as h5;
 use std::path::Path;

@@ -5,15 +5,15 @@
 //! Layout and arrays: `docs/OUTPUTS.md`, "Mode shapes".
 //!
 //! Points are the rotor nodes on the axis, `(0, 0, z)` (m), as in the time series. The shape is
-//! the mode's normalised one ([`crate::analysis::rotordyn::Mode`]: largest entry 1, rotations
+//! the mode's normalised one ([`crate::linear::modes::Mode`]: largest entry 1, rotations
 //! in rad per unit of it). Frame `k` of `N` ([`FRAMES`]) is the real shape at phase
 //! `α_k = 2πk/N`, `Re(φ e^{iα_k})`, as the point vector `displacement` (warp by it to see the
 //! line); its time is `α_k/ω_d` (s), so the series lasts one period of the damped mode,
 //! without its decay.
 
-use crate::analysis::mode_shape::{at_phase, ellipses, node_shape, RotorLine};
-use crate::analysis::rotordyn::Mode;
 use crate::error::{Error, Result};
+use crate::linear::mode_shape::{at_phase, ellipses, node_shape, RotorLine};
+use crate::linear::modes::Mode;
 use num_complex::Complex64;
 use std::f64::consts::TAU;
 use std::path::Path;

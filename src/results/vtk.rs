@@ -185,7 +185,6 @@ fn frame_vtk(layout: &Layout, st: &FrameState, fields: &Fields) -> Vtk {
     for (ring, p) in layout.rings.iter().zip(&st.ring_contact) {
         points[3 * ring.contact_point..3 * ring.contact_point + 3].copy_from_slice(p);
     }
-    let mut point = Vec::new();
     let mut cell = vec![
         scalars(
             "part",
@@ -200,48 +199,9 @@ fn frame_vtk(layout: &Layout, st: &FrameState, fields: &Fields) -> Vtk {
             IOBuffer::I64(cells.iter().map(|&c| g.index[c]).collect()),
         ),
     ];
-    // Rotors with θ_z: `twist` (rad) and `twist_rate` (rad/s) on the rotor points, NaN on
-    // the stator points.
-    let torsion = layout.rotor_has_torsion();
-    if fields.displacement {
-        point.push(vectors("displacement", flat3(&st.displacement)));
-        if torsion {
-            let v = layout.rotor_point_values(&st.rotor_twist).collect();
-            point.push(scalars("twist", IOBuffer::F64(v)));
-        }
-    }
-    if fields.velocity {
-        point.push(vectors("velocity", flat3(&st.velocity)));
-        if torsion {
-            let v = layout.rotor_point_values(&st.rotor_twist_rate).collect();
-            point.push(scalars("twist_rate", IOBuffer::F64(v)));
-        }
-    }
+    let point = point_data(layout, st, fields);
     if fields.contact_force {
-        point.push(vectors("contact_force", flat3(&st.contact_force)));
-        let pair = |c: usize| {
-            (g.part[c] == part::CONTACT)
-                .then(|| (c - layout.body_cells, st.pair_force[c - layout.body_cells]))
-        };
-        cell.push(scalars(
-            "normal_force",
-            IOBuffer::F64(
-                cells
-                    .iter()
-                    .map(|&c| pair(c).map_or(0.0, |(i, _)| st.pair_p[i]))
-                    .collect(),
-            ),
-        ));
-        cell.push(vectors(
-            "pair_force",
-            cells
-                .iter()
-                .flat_map(|&c| {
-                    let f = pair(c).map_or([0.0; 2], |(_, f)| f);
-                    [f[0], f[1], 0.0]
-                })
-                .collect(),
-        ));
+        contact_cells(layout, st, &cells, &mut cell);
     }
     if fields.stress {
         for (name, v) in [
@@ -272,4 +232,60 @@ fn frame_vtk(layout: &Layout, st: &FrameState, fields: &Fields) -> Vtk {
             data: Attributes { point, cell },
         }),
     }
+}
+
+/// A frame's point data as `fields` asks: displacement, velocity and contact force (vectors),
+/// and on a rotor with θ_z its `twist` (rad) and `twist_rate` (rad/s), NaN on the stator points.
+fn point_data(layout: &Layout, st: &FrameState, fields: &Fields) -> Vec<Attribute> {
+    let mut point = Vec::new();
+    // Rotors with θ_z: `twist` (rad) and `twist_rate` (rad/s) on the rotor points, NaN on
+    // the stator points.
+    let torsion = layout.rotor_has_torsion();
+    if fields.displacement {
+        point.push(vectors("displacement", flat3(&st.displacement)));
+        if torsion {
+            let v = layout.rotor_point_values(&st.rotor_twist).collect();
+            point.push(scalars("twist", IOBuffer::F64(v)));
+        }
+    }
+    if fields.velocity {
+        point.push(vectors("velocity", flat3(&st.velocity)));
+        if torsion {
+            let v = layout.rotor_point_values(&st.rotor_twist_rate).collect();
+            point.push(scalars("twist_rate", IOBuffer::F64(v)));
+        }
+    }
+    if fields.contact_force {
+        point.push(vectors("contact_force", flat3(&st.contact_force)));
+    }
+    point
+}
+
+/// The contact cell data of a frame's `cells`: each pair line's normal force (N) and force on
+/// the stator (vector), 0 on the other cells.
+fn contact_cells(layout: &Layout, st: &FrameState, cells: &[usize], cell: &mut Vec<Attribute>) {
+    let g = &layout.grid;
+    let pair = |c: usize| {
+        (g.part[c] == part::CONTACT)
+            .then(|| (c - layout.body_cells, st.pair_force[c - layout.body_cells]))
+    };
+    cell.push(scalars(
+        "normal_force",
+        IOBuffer::F64(
+            cells
+                .iter()
+                .map(|&c| pair(c).map_or(0.0, |(i, _)| st.pair_p[i]))
+                .collect(),
+        ),
+    ));
+    cell.push(vectors(
+        "pair_force",
+        cells
+            .iter()
+            .flat_map(|&c| {
+                let f = pair(c).map_or([0.0; 2], |(_, f)| f);
+                [f[0], f[1], 0.0]
+            })
+            .collect(),
+    ));
 }

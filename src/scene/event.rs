@@ -2,7 +2,7 @@
 //! lost) or a stator's clearance changing — and its checks (each error names the file, the
 //! dotted key and its line).
 
-use super::validate::{non_negative, positive};
+use super::validate::checks::{finite, non_negative, positive};
 use super::{LoadedScene, RotorSpec, SpeedProfileSpec};
 use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
@@ -99,73 +99,100 @@ pub fn validate(ls: &LoadedScene, events: &[EventSpec]) -> Result<(), SceneError
                 ),
             ));
         }
-        let unused = |keys: &[(&str, bool)], kind: &str| match keys.iter().find(|(_, g)| *g) {
-            Some((key, _)) => {
-                Err(ls.invalid(&k(key), format!("does not apply to kind = \"{kind}\"")))
-            }
-            None => Ok(()),
-        };
         match e.kind {
-            EventKind::Unbalance => {
-                unused(
-                    &[
-                        ("stator", e.stator.is_some()),
-                        ("clearance", e.clearance.is_some()),
-                    ],
-                    "unbalance",
-                )?;
-                if e.node >= nodes {
-                    return Err(ls.invalid(
-                        &k("node"),
-                        format!(
-                            "node {} does not exist (the rotor has nodes 0..={})",
-                            e.node,
-                            nodes - 1
-                        ),
-                    ));
-                }
-                let need = |key: &str, v: Option<f64>| {
-                    v.ok_or_else(|| {
-                        ls.invalid(
-                            &format!("run.event.{i}"),
-                            format!("kind = \"unbalance\" needs `{key}`"),
-                        )
-                    })
-                };
-                positive(ls, &k("mass"), need("mass", e.mass)?)?;
-                positive(ls, &k("radius"), need("radius", e.radius)?)?;
-                super::validate::finite(ls, &k("phase_deg"), e.phase_deg)?;
-            }
-            EventKind::Clearance => {
-                unused(
-                    &[
-                        ("mass", e.mass.is_some()),
-                        ("radius", e.radius.is_some()),
-                        ("node", e.node != 0),
-                        ("phase_deg", e.phase_deg != 0.0),
-                    ],
-                    "clearance",
-                )?;
-                let name = e.stator.as_deref().ok_or_else(|| {
-                    ls.invalid(
-                        &format!("run.event.{i}"),
-                        "kind = \"clearance\" needs `stator`",
-                    )
-                })?;
-                if !ls.scene.stators.iter().any(|s| s.name() == name) {
-                    return Err(
-                        ls.invalid(&k("stator"), format!("no `[[stator]]` is named `{name}`"))
-                    );
-                }
-                let c = e.clearance.ok_or_else(|| {
-                    ls.invalid(
-                        &format!("run.event.{i}"),
-                        "kind = \"clearance\" needs `clearance` (m)",
-                    )
-                })?;
-                positive(ls, &k("clearance"), c)?;
-            }
+            EventKind::Unbalance => validate_unbalance_event(ls, i, e, nodes)?,
+            EventKind::Clearance => validate_clearance_event(ls, i, e)?,
         }
     }
     Ok(())
+}
+
+/// The first of `keys` given (`true`) for an event of `kind`: an error, it does not apply.
+fn unused_keys(
+    ls: &LoadedScene,
+    i: usize,
+    keys: &[(&str, bool)],
+    kind: &str,
+) -> Result<(), SceneError> {
+    match keys.iter().find(|(_, g)| *g) {
+        Some((key, _)) => Err(ls.invalid(
+            &format!("run.event.{i}.{key}"),
+            format!("does not apply to kind = \"{kind}\""),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Event `i` of kind `unbalance`: no clearance keys, a node on the rotor (of `nodes`), a
+/// positive mass and radius, a finite phase.
+fn validate_unbalance_event(
+    ls: &LoadedScene,
+    i: usize,
+    e: &EventSpec,
+    nodes: usize,
+) -> Result<(), SceneError> {
+    let k = |s: &str| format!("run.event.{i}.{s}");
+    unused_keys(
+        ls,
+        i,
+        &[
+            ("stator", e.stator.is_some()),
+            ("clearance", e.clearance.is_some()),
+        ],
+        "unbalance",
+    )?;
+    if e.node >= nodes {
+        return Err(ls.invalid(
+            &k("node"),
+            format!(
+                "node {} does not exist (the rotor has nodes 0..={})",
+                e.node,
+                nodes - 1
+            ),
+        ));
+    }
+    let need = |key: &str, v: Option<f64>| {
+        v.ok_or_else(|| {
+            ls.invalid(
+                &format!("run.event.{i}"),
+                format!("kind = \"unbalance\" needs `{key}`"),
+            )
+        })
+    };
+    positive(ls, &k("mass"), need("mass", e.mass)?)?;
+    positive(ls, &k("radius"), need("radius", e.radius)?)?;
+    finite(ls, &k("phase_deg"), e.phase_deg)
+}
+
+/// Event `i` of kind `clearance`: no unbalance keys, a stator named in `[[stator]]`, a
+/// positive clearance.
+fn validate_clearance_event(ls: &LoadedScene, i: usize, e: &EventSpec) -> Result<(), SceneError> {
+    let k = |s: &str| format!("run.event.{i}.{s}");
+    unused_keys(
+        ls,
+        i,
+        &[
+            ("mass", e.mass.is_some()),
+            ("radius", e.radius.is_some()),
+            ("node", e.node != 0),
+            ("phase_deg", e.phase_deg != 0.0),
+        ],
+        "clearance",
+    )?;
+    let name = e.stator.as_deref().ok_or_else(|| {
+        ls.invalid(
+            &format!("run.event.{i}"),
+            "kind = \"clearance\" needs `stator`",
+        )
+    })?;
+    if !ls.scene.stators.iter().any(|s| s.name() == name) {
+        return Err(ls.invalid(&k("stator"), format!("no `[[stator]]` is named `{name}`")));
+    }
+    let c = e.clearance.ok_or_else(|| {
+        ls.invalid(
+            &format!("run.event.{i}"),
+            "kind = \"clearance\" needs `clearance` (m)",
+        )
+    })?;
+    positive(ls, &k("clearance"), c)
 }

@@ -1,7 +1,7 @@
 //! `[run.speed_profile]`: the spin speed of a transient run as the user writes it, and its
 //! checks (each error names the file, the dotted key and its line).
 
-use super::validate::{non_negative, positive};
+use super::validate::checks::{finite, non_negative, positive};
 use super::LoadedScene;
 use crate::error::SceneError;
 use serde::{Deserialize, Serialize};
@@ -145,7 +145,7 @@ fn speed_ok(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
     if !v.is_finite() {
         return Err(ls.invalid(key, format!("must be a finite speed, got {v}")));
     }
-    super::validate::finite(ls, key, v)?;
+    finite(ls, key, v)?;
     if v < 0.0 {
         return Err(ls.invalid(
             key,
@@ -210,43 +210,7 @@ pub fn validate(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError
                 required(ls, "constant", "duration", p.duration)?,
             )?;
         }
-        ProfileKind::Ramp => {
-            unused(
-                ls,
-                "ramp",
-                &[
-                    ("speed", p.speed.is_some()),
-                    ("points", p.points.is_some()),
-                    ("polar_inertia", p.polar_inertia.is_some()),
-                    ("drive_torque", p.drive_torque.is_some()),
-                    ("drive_curve", p.drive_curve.is_some()),
-                    ("drive_off", p.drive_off.is_some()),
-                    ("drag_torque", p.drag_torque != 0.0),
-                    ("drag_coefficient", p.drag_coefficient != 0.0),
-                ],
-            )?;
-            let from = required(ls, "ramp", "from", p.from)?;
-            let to = required(ls, "ramp", "to", p.to)?;
-            speed_ok(ls, &k("from"), from)?;
-            speed_ok(ls, &k("to"), to)?;
-            match (p.duration, p.acceleration) {
-                (Some(_), Some(_)) => {
-                    return Err(ls.invalid(AT, "give `duration` or `acceleration`, not both"))
-                }
-                (None, None) => {
-                    return Err(ls.invalid(AT, "kind = \"ramp\" needs `duration` or `acceleration`"))
-                }
-                (Some(d), None) => positive(ls, &k("duration"), d)?,
-                (None, Some(a)) => {
-                    if !(a.is_finite() && a != 0.0 && (to - from) * a > 0.0) {
-                        return Err(ls.invalid(
-                            &k("acceleration"),
-                            format!("must be finite, non-zero and of the sign of `to − from` ({}), got {a}", to - from),
-                        ));
-                    }
-                }
-            }
-        }
+        ProfileKind::Ramp => ramp_ok(ls, p)?,
         ProfileKind::Table => {
             unused(
                 ls,
@@ -285,6 +249,51 @@ pub fn validate(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError
     Ok(())
 }
 
+/// The keys of a ramp: no others; `from` and `to` finite and ≥ 0; a positive `duration` or an
+/// `acceleration` of the sign of `to − from`, not both.
+fn ramp_ok(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError> {
+    let k = |s: &str| format!("{AT}.{s}");
+    unused(
+        ls,
+        "ramp",
+        &[
+            ("speed", p.speed.is_some()),
+            ("points", p.points.is_some()),
+            ("polar_inertia", p.polar_inertia.is_some()),
+            ("drive_torque", p.drive_torque.is_some()),
+            ("drive_curve", p.drive_curve.is_some()),
+            ("drive_off", p.drive_off.is_some()),
+            ("drag_torque", p.drag_torque != 0.0),
+            ("drag_coefficient", p.drag_coefficient != 0.0),
+        ],
+    )?;
+    let from = required(ls, "ramp", "from", p.from)?;
+    let to = required(ls, "ramp", "to", p.to)?;
+    speed_ok(ls, &k("from"), from)?;
+    speed_ok(ls, &k("to"), to)?;
+    match (p.duration, p.acceleration) {
+        (Some(_), Some(_)) => {
+            return Err(ls.invalid(AT, "give `duration` or `acceleration`, not both"))
+        }
+        (None, None) => {
+            return Err(ls.invalid(AT, "kind = \"ramp\" needs `duration` or `acceleration`"))
+        }
+        (Some(d), None) => positive(ls, &k("duration"), d)?,
+        (None, Some(a)) => {
+            if !(a.is_finite() && a != 0.0 && (to - from) * a > 0.0) {
+                return Err(ls.invalid(
+                    &k("acceleration"),
+                    format!(
+                        "must be finite, non-zero and of the sign of `to − from` ({}), got {a}",
+                        to - from
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Table points: finite times from 0, strictly increasing; speeds finite and ≥ 0.
 fn table_ok(ls: &LoadedScene, pts: &[[f64; 2]]) -> Result<(), SceneError> {
     for (i, [t, w]) in pts.iter().enumerate() {
@@ -292,7 +301,7 @@ fn table_ok(ls: &LoadedScene, pts: &[[f64; 2]]) -> Result<(), SceneError> {
         if !t.is_finite() || *t < 0.0 {
             return Err(ls.invalid(&key, format!("time must be finite and ≥ 0, got {t}")));
         }
-        super::validate::finite(ls, &key, *t)?;
+        finite(ls, &key, *t)?;
         if i == 0 && *t != 0.0 {
             return Err(ls.invalid(&key, format!("the table must start at t = 0, got {t}")));
         }
@@ -348,7 +357,7 @@ fn driven_ok(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError> {
                 "give `drive_torque` (constant) or `drive_curve` (over speed), not both",
             ))
         }
-        (Some(t), None) => super::validate::finite(ls, &k("drive_torque"), t)?,
+        (Some(t), None) => finite(ls, &k("drive_torque"), t)?,
         (None, Some(curve)) => {
             if curve.len() < 2 {
                 return Err(ls.invalid(
@@ -359,7 +368,7 @@ fn driven_ok(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError> {
             for (i, [w, t]) in curve.iter().enumerate() {
                 let key = format!("{AT}.drive_curve.{i}");
                 speed_ok(ls, &key, *w)?;
-                super::validate::finite(ls, &key, *t)?;
+                finite(ls, &key, *t)?;
                 if i > 0 && *w <= curve[i - 1][0] {
                     return Err(ls.invalid(
                         &key,

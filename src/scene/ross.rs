@@ -51,31 +51,30 @@ use std::fmt::Write as _;
 use std::path::Path;
 use toml::{Table, Value};
 
-/// The rubsim scene (TOML text) of a ROSS rotor file's text `text` read from `path`: the TOML
-/// form of `Rotor.save`, or its JSON form (ROSS writes JSON when the file name ends in
-/// `.json`; rubsim takes a file whose text starts with `{` as JSON). JSON `null`s — ROSS's
-/// `None`, which its TOML form leaves out — are left out too.
-///
-/// # Errors
-/// [`SceneError::Parse`] for a file that is neither; [`SceneError::Invalid`] naming the
-/// element table (and its line) for anything that cannot be represented or is missing.
-pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
+/// The saved rotor as a table of element tables: JSON when the text starts with `{`, else
+/// TOML.
+fn parse_doc(path: &Path, text: &str) -> Result<Table, SceneError> {
     let parse_error = |message: String| SceneError::Parse {
         file: path.to_path_buf(),
         message,
     };
-    let doc: Table = if text.trim_start().starts_with('{') {
+    if text.trim_start().starts_with('{') {
         let v: serde_json::Value =
             serde_json::from_str(text).map_err(|e| parse_error(format!("JSON: {e}")))?;
         match json_to_toml(v) {
-            Some(Value::Table(t)) => t,
-            _ => return Err(parse_error("JSON: not an object of element tables".into())),
+            Some(Value::Table(t)) => Ok(t),
+            _ => Err(parse_error("JSON: not an object of element tables".into())),
         }
     } else {
         text.parse()
-            .map_err(|e: toml::de::Error| parse_error(e.to_string()))?
-    };
-    let bad = |table: &str, message: String| SceneError::Invalid {
+            .map_err(|e: toml::de::Error| parse_error(e.to_string()))
+    }
+}
+
+/// An error in the element table `table` of the saved rotor, at the line that opens it (TOML
+/// `[table]` or `["table"…`, JSON `"table":`).
+fn table_error(path: &Path, text: &str, table: &str, message: String) -> SceneError {
+    SceneError::Invalid {
         file: path.to_path_buf(),
         key: table.to_string(),
         line: text
@@ -88,7 +87,20 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
             })
             .map(|i| i + 1),
         message,
-    };
+    }
+}
+
+/// The rubsim scene (TOML text) of a ROSS rotor file's text `text` read from `path`: the TOML
+/// form of `Rotor.save`, or its JSON form (ROSS writes JSON when the file name ends in
+/// `.json`; rubsim takes a file whose text starts with `{` as JSON). JSON `null`s — ROSS's
+/// `None`, which its TOML form leaves out — are left out too.
+///
+/// # Errors
+/// [`SceneError::Parse`] for a file that is neither; [`SceneError::Invalid`] naming the
+/// element table (and its line) for anything that cannot be represented or is missing.
+pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
+    let doc = parse_doc(path, text)?;
+    let bad = |table: &str, message: String| table_error(path, text, table, message);
     let mut shafts = Vec::new();
     let mut out = String::new();
     let mut body = String::new();

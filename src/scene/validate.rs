@@ -4,211 +4,26 @@
 //! reports the first one broken. The rules that choose between keys or turn a name into
 //! something else ([`one_of`], [`at_most_one`], [`station_index`], [`extra_station_index`],
 //! [`mesh_plane`], [`output_component`]) return what they chose, so the resolve stage
-//! ([`crate::resolve`]) reads its choices from the same code that checked them.
+//! ([`crate::resolve`]) reads its choices from the same code that checked them. They and the
+//! checks every rule is made of are [`checks`]; the rules per table are `validate/rotor.rs`,
+//! `validate/stator.rs` and `validate/run.rs`.
 
+pub mod checks;
 mod rotor;
 mod run;
 mod stator;
 
 use super::*;
-use crate::element::solid2d::Plane;
 use crate::error::SceneError;
+pub use checks::{
+    at_most_one, extra_station_index, mesh_plane, one_of, output_component, station_index, OneOf,
+    MAX_DAMPING_RATIO, MAX_MAGNITUDE, MAX_REVOLUTIONS, MAX_ROD_ELEMENTS, MAX_ROTOR_NODES,
+    MAX_SAMPLES_PER_REV, MAX_SWEEP_SPEEDS,
+};
 pub(crate) use rotor::damping_ratio_bound;
 use rotor::*;
 use run::*;
 use stator::*;
-
-/// Most speeds a sweep may hold (`run.sweep`: (to − from)/step + 1).
-pub const MAX_SWEEP_SPEEDS: usize = 100_000;
-/// Most recorded samples per revolution (`run.samples_per_rev`).
-pub const MAX_SAMPLES_PER_REV: usize = 1 << 20;
-/// Most revolutions of a run (`run.revolutions`); the step budget (`run.max_steps`, see
-/// [`crate::time::plan`]) usually binds first.
-pub const MAX_REVOLUTIONS: usize = 100_000_000;
-/// Most nodes of an FE rotor's shaft (Σ `rotor.shaft.*.elements` + 1).
-pub const MAX_ROTOR_NODES: usize = 100_000;
-/// Most elements of a rod stator (`stator.*.elements`).
-pub const MAX_ROD_ELEMENTS: usize = 100_000;
-
-/// Largest damping ratio of a rotor (`rotor.damping_ratio`, the ratio that `rotor.damping`
-/// gives, c / (2√(m k)), and `rotor.modal_damping.ratio`). Rotor-bearing systems have ratios of
-/// a few percent to about 0.3, squeeze-film dampers up to about 1; at ξ = 10 the rotor has no
-/// resonance left (its slow pole sits at ω_n/(2ξ) = ω_n/20, its fast one at 2ξω_n) and the
-/// response is the damper's — a larger value is a unit mistake (a damping coefficient in N·s/m
-/// given as a ratio) or a typo, and its runs measure nothing (with ξ = 10⁹⁰ the orbit is 10⁻⁹⁰
-/// of the clearance scale and the error estimate 10⁸³).
-pub const MAX_DAMPING_RATIO: f64 = 10.0;
-
-/// Largest magnitude of any number in a scene: beyond it squares and fourth powers (areas,
-/// second moments, stiffnesses) overflow or lose every digit, and no physical value is near it.
-pub const MAX_MAGNITUDE: f64 = 1e100;
-
-/// Which of two alternative keys a scene gives (e.g. `clearance` or `clearance_nd`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum OneOf<A, B> {
-    /// The first key, with its value.
-    First(A),
-    /// The second key, with its value.
-    Second(B),
-}
-
-/// Exactly one of the keys `key_a`, `key_b` (values `a`, `b`); the error names the table `at`.
-pub fn one_of<A, B>(
-    ls: &LoadedScene,
-    (key_a, a): (&str, Option<A>),
-    (key_b, b): (&str, Option<B>),
-    at: &str,
-) -> Result<OneOf<A, B>, SceneError> {
-    match (a, b) {
-        (Some(a), None) => Ok(OneOf::First(a)),
-        (None, Some(b)) => Ok(OneOf::Second(b)),
-        (Some(_), Some(_)) => Err(both(ls, key_a, key_b, at)),
-        (None, None) => Err(ls.invalid(at, format!("missing: give `{key_a}` or `{key_b}`"))),
-    }
-}
-
-/// At most one of the keys `key_a`, `key_b` (`None`: neither); the error names the table `at`.
-pub fn at_most_one<A, B>(
-    ls: &LoadedScene,
-    (key_a, a): (&str, Option<A>),
-    (key_b, b): (&str, Option<B>),
-    at: &str,
-) -> Result<Option<OneOf<A, B>>, SceneError> {
-    match (a, b) {
-        (Some(_), Some(_)) => Err(both(ls, key_a, key_b, at)),
-        (Some(a), None) => Ok(Some(OneOf::First(a))),
-        (None, Some(b)) => Ok(Some(OneOf::Second(b))),
-        (None, None) => Ok(None),
-    }
-}
-
-fn both(ls: &LoadedScene, key_a: &str, key_b: &str, at: &str) -> SceneError {
-    ls.invalid(at, format!("give `{key_a}` or `{key_b}`, not both"))
-}
-
-/// Index of the station stator `stator` faces (its `station` key).
-pub fn station_index(ls: &LoadedScene, stator: usize, name: &str) -> Result<usize, SceneError> {
-    let stations = &ls.scene.stations;
-    stations
-        .iter()
-        .position(|st| st.name == name)
-        .ok_or_else(|| {
-            let known: Vec<&str> = stations.iter().map(|s| s.name.as_str()).collect();
-            ls.invalid(
-                &format!("stator.{stator}.station"),
-                format!(
-                    "no station named `{name}` (stations: {})",
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        known.join(", ")
-                    }
-                ),
-            )
-        })
-}
-
-/// Index of entry `j` of a meshed stator's further `stations`.
-pub fn extra_station_index(
-    ls: &LoadedScene,
-    stator: usize,
-    j: usize,
-    name: &str,
-) -> Result<usize, SceneError> {
-    let stations = &ls.scene.stations;
-    stations
-        .iter()
-        .position(|st| st.name == name)
-        .ok_or_else(|| {
-            ls.invalid(
-                &format!("stator.{stator}.stations.{j}"),
-                format!("no station named `{name}`"),
-            )
-        })
-}
-
-/// The plane of the 2-D meshed stator `stator` (`plane = "stress"` or `"strain"`).
-pub fn mesh_plane(
-    ls: &LoadedScene,
-    stator: usize,
-    m: &MeshStatorSpec,
-) -> Result<Plane, SceneError> {
-    m.plane().ok_or_else(|| {
-        ls.invalid(
-            &format!("stator.{stator}.plane"),
-            "must be \"stress\" or \"strain\"",
-        )
-    })
-}
-
-/// The analysed response component (`output.component = "x"` or `"y"`).
-pub fn output_component(ls: &LoadedScene) -> Result<Component, SceneError> {
-    Component::from_name(&ls.scene.output.component)
-        .ok_or_else(|| ls.invalid("output.component", "must be \"x\" or \"y\""))
-}
-
-pub(crate) fn positive(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
-    if !(v.is_finite() && v > 0.0) {
-        return Err(ls.invalid(
-            key,
-            format!("must be a positive finite number, got {}", show(v)),
-        ));
-    }
-    bounded(ls, key, v)
-}
-
-pub(crate) fn non_negative(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
-    if !(v.is_finite() && v >= 0.0) {
-        return Err(ls.invalid(key, format!("must be zero or positive, got {}", show(v))));
-    }
-    bounded(ls, key, v)
-}
-
-/// A number for a message: plain when moderate, else in exponent form (`1e308`, not 309 digits).
-pub(super) fn show(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
-}
-
-pub(super) fn finite(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
-    if !v.is_finite() {
-        return Err(ls.invalid(key, format!("must be a finite number, got {}", show(v))));
-    }
-    bounded(ls, key, v)
-}
-
-/// `|v|` within [`MAX_MAGNITUDE`].
-fn bounded(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
-    if v.abs() > MAX_MAGNITUDE {
-        return Err(ls.invalid(
-            key,
-            format!("{} is beyond {MAX_MAGNITUDE:e} in magnitude: no physical value is, and the model's arithmetic overflows", show(v)),
-        ));
-    }
-    Ok(())
-}
-
-/// An angle in degrees (`phase_deg`, `angle_deg`, `approach_deg`): finite and within ±360°.
-pub(super) fn degrees(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
-    if !(v.is_finite() && v.abs() <= 360.0) {
-        return Err(ls.invalid(
-            key,
-            format!("must be an angle in −360 … 360 degrees, got {}", show(v)),
-        ));
-    }
-    Ok(())
-}
-
-pub(super) fn poisson(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
-    if v.is_finite() && v > -1.0 && v < 0.5 {
-        Ok(())
-    } else {
-        Err(ls.invalid(key, format!("must lie in (−1, 0.5), got {}", show(v))))
-    }
-}
 
 /// Checks every admissibility rule that types cannot express.
 pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {

@@ -1,15 +1,12 @@
-//! The bodies of the loop: a body with mass integrated by central differences ([`DynBody`]) and
-//! a stator's state in the loop ([`StatorDyn`]: a body with mass, or a massless stator's
-//! [`Compliance`]).
+//! A body with mass in the loop, integrated by central differences ([`DynBody`]); a stator's
+//! state in the loop, which may be such a body, is [`super::stator::StatorDyn`].
 //!
 //! Central differences (Eqs. 35–36): `M̃ uⁿ⁺¹ = fⁿ + A uⁿ + B uⁿ⁻¹` with `M̃ = M/Δt² + C/(2Δt)`,
 //! `A = 2M/Δt² − K`, `B = C/(2Δt) − M/Δt²`. M̃ is factored once per run. The implicit schemes
 //! ([`super::newmark`]) put their step operator `S` in M̃'s place: the contact sees either
 //! through the same flexibility and correction.
 
-use super::compliance::Compliance;
 use super::newmark::{Alpha, Implicit};
-use super::reduced::ReducedDyn;
 use crate::linalg::{BlockTridiag, Csc, LinalgError, LowRank, PairCsr, StepLu, WoodburyLu};
 
 /// M̃⁻¹ of a body with mass.
@@ -257,63 +254,5 @@ impl DynBody {
         }
         std::mem::swap(&mut self.u_prev, &mut self.u);
         std::mem::swap(&mut self.u, &mut self.u_next);
-    }
-}
-
-/// A stator in the loop.
-#[derive(Debug)]
-pub(crate) enum StatorDyn {
-    /// Massless (Eq. 49): the compliance of its contact DOFs.
-    Massless(Compliance),
-    /// With mass: integrated explicitly like the rotor.
-    Massive(Box<DynBody>),
-    /// With mass, in its Craig–Bampton basis (`[run.reduction] stators = true`).
-    Reduced(Box<ReducedDyn>),
-}
-
-impl StatorDyn {
-    /// Current (predicted) displacement vector.
-    #[inline]
-    pub(crate) fn disp(&self) -> &[f64] {
-        match self {
-            StatorDyn::Massless(c) => &c.u,
-            StatorDyn::Massive(b) => &b.u_next,
-            StatorDyn::Reduced(r) => r.disp(),
-        }
-    }
-    #[inline]
-    pub(crate) fn flex(&self, a: usize, b: usize) -> f64 {
-        match self {
-            StatorDyn::Massless(c) => c.flex(a, b),
-            StatorDyn::Massive(d) => d.flex(a, b),
-            StatorDyn::Reduced(r) => r.flex(a, b),
-        }
-    }
-    #[inline]
-    pub(crate) fn apply(&mut self, d: usize, f: f64) {
-        match self {
-            StatorDyn::Massless(c) => c.apply(d, f),
-            StatorDyn::Massive(b) => b.apply(d, f),
-            StatorDyn::Reduced(r) => r.apply(d, f),
-        }
-    }
-    /// Makes `flex` available for a target's DOFs (massless: computes missing columns).
-    #[inline]
-    pub(crate) fn prepare(&mut self, dofs: [Option<usize>; 2]) {
-        if let StatorDyn::Massless(c) = self {
-            for d in dofs.into_iter().flatten() {
-                c.ensure(d);
-            }
-        }
-    }
-    /// First DOF whose current value is not finite (massless: the contact DOFs, the only ones
-    /// the loop updates).
-    #[inline]
-    pub(crate) fn first_non_finite(&self) -> Option<usize> {
-        match self {
-            StatorDyn::Massless(c) => c.cd.iter().copied().find(|&d| !c.u[d].is_finite()),
-            StatorDyn::Massive(b) => b.u_next.iter().position(|v| !v.is_finite()),
-            StatorDyn::Reduced(r) => r.body.u_next.iter().position(|v| !v.is_finite()),
-        }
     }
 }

@@ -1,6 +1,6 @@
 //! Full-state frames handed to sinks (VTK/HDF5 writers, stress probes) during a run.
 
-use super::body::StatorDyn;
+use super::stator::StatorDyn;
 use crate::math::V2;
 
 /// Force of one active contact pair in a frame.

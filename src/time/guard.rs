@@ -1,6 +1,6 @@
 //! The divergence guard's bounds per rotor DOF and the names of the DOFs in its errors.
 
-use super::stepper::Initial;
+use super::plan::Initial;
 use crate::model::Case;
 
 /// Factor between a DOF's divergence bound and the run's scale for it.

@@ -69,6 +69,7 @@ mod ring;
 mod select;
 mod solve;
 mod spin;
+mod stator;
 mod stepper;
 mod workspace;
 
@@ -77,11 +78,11 @@ pub use compliance::EAGER_DOFS;
 pub use frame::{Frame, FrameSink, PairForce};
 pub use newmark::Alpha;
 pub use plan::{
-    plan_duration, plan_steps, Scheme, StepParams, StepPlan, CONTACT_SWITCHING_FACTOR, MAX_STEPS,
-    STATOR_WITH_MASS_RHO_INF, WINDOW_MULTIPLE,
+    plan_duration, plan_steps, Initial, Scheme, StepParams, StepPlan, CONTACT_SWITCHING_FACTOR,
+    MAX_STEPS, STATOR_WITH_MASS_RHO_INF, WINDOW_MULTIPLE,
 };
 pub use record::{ContactStats, Record, RunStats};
-pub use stepper::{EndState, History, Initial, Sink, Stepper};
+pub use stepper::{EndState, History, Sink, Stepper};
 
 use crate::error::SolveError;
 use crate::model::Case;

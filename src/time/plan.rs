@@ -1,9 +1,20 @@
-//! The step plan: which integration scheme, which Δt, how many steps, what is recorded.
+//! The step plan: which integration scheme, which Δt, how many steps, what is recorded; and
+//! the rotor's initial state a run starts from.
 
 use super::newmark::Alpha;
 use crate::error::SolveError;
+use crate::math::V2;
 use crate::model::Case;
 use std::f64::consts::PI;
+
+/// Initial state of the rotor, on station 0's node (node 0 without stations).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Initial {
+    /// Displacement `[x, y]` (m).
+    pub u: V2,
+    /// Velocity `[vx, vy]` (m/s).
+    pub v: V2,
+}
 
 /// The time integrator, and how the contact of massless stators is timed against its step.
 ///

@@ -7,7 +7,7 @@
 //! differ only in which stators they see, whether the broad-phase index is used, and whether
 //! the stators are taken deformed ([`Phase`]).
 
-use super::body::StatorDyn;
+use super::stator::StatorDyn;
 use super::workspace::StepWorkspace;
 use crate::contact::search::BroadPhase;
 use crate::contact::{exact_gap, pair_state, target_disp, Candidate, PairState};

@@ -9,8 +9,8 @@
 //! loop. Ring targets re-align their frozen normal with the solved configuration and solve
 //! again (`super::ring`): their gap is exact, the ring's friction-driven displacement included.
 
-use super::body::StatorDyn;
 use super::frame::PairForce;
+use super::stator::StatorDyn;
 use super::stepper::Stepper;
 use super::workspace::{ForceSet, Held};
 use crate::contact::{lcp, target_disp};

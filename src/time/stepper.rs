@@ -1,21 +1,21 @@
 //! The stepper: one step of the paper's algorithm, predict → select → solve → correct → guard
 //! → record, for both schemes.
 
-use super::body::{DynBody, Ops, StatorDyn};
+use super::body::{DynBody, Ops};
 use super::compliance::Compliance;
 use super::drive::{add_event_unbalance, set_clearance, Spin, SpinDof};
 use super::frame::FrameSink;
 use super::guard::{divergence_bounds, dof_name};
 use super::loop_rotor::{add_unbalance, full_len, rotor_contact_dofs};
-use super::plan::{Scheme, StepPlan};
+use super::plan::{Initial, Scheme, StepPlan};
 use super::record::{ContactStats, Record, Recorder, RunStats};
 use super::reduced::ReducedDyn;
 use super::select::{Pairs, Phase};
 use super::spin::GyroLoad;
+use super::stator::StatorDyn;
 use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::error::{LinalgError, SolveError};
 use crate::linalg::Cholesky;
-use crate::math::V2;
 use crate::model::{Case, Drive, Events, SpeedProfile};
 use std::time::Instant;
 
@@ -23,15 +23,6 @@ mod instants;
 mod restart;
 
 pub use restart::{EndState, History};
-
-/// Initial state of the rotor, on station 0's node (node 0 without stations).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Initial {
-    /// Displacement `[x, y]` (m).
-    pub u: V2,
-    /// Velocity `[vx, vy]` (m/s).
-    pub v: V2,
-}
 
 /// A frame sink, or none.
 pub type Sink<'s> = Option<&'s mut dyn FrameSink>;
@@ -178,13 +169,7 @@ impl<'a> Stepper<'a> {
             });
         }
         let dt = plan.dt;
-        let factor_err = |what: String| {
-            move |source: LinalgError| SolveError::Factorization {
-                what: what.clone(),
-                dt,
-                source,
-            }
-        };
+        let factor_err = |what: String| factor_err(what, dt);
         let rotor = DynBody::new(
             &lr.m,
             &lr.c,
@@ -195,46 +180,9 @@ impl<'a> Stepper<'a> {
             scheme.implicit(),
         )
         .map_err(factor_err("rotor".into()))?;
-        let mut stators = Vec::with_capacity(case.stators.len());
-        for s in &case.stators {
-            let err = factor_err(format!("stator `{}`", s.name));
-            stators.push(if s.massless() {
-                StatorDyn::Massless(Compliance::new(s).map_err(err)?)
-            } else if let Some(red) = &s.reduced {
-                StatorDyn::Reduced(Box::new(
-                    ReducedDyn::new(red, dt, scheme.implicit()).map_err(err)?,
-                ))
-            } else {
-                StatorDyn::Massive(Box::new(
-                    DynBody::new(
-                        &s.m,
-                        &s.c,
-                        &s.k,
-                        None,
-                        dt,
-                        &s.contact_dofs(),
-                        scheme.implicit(),
-                    )
-                    .map_err(err)?,
-                ))
-            });
-        }
+        let stators = stator_bodies(case, scheme, dt)?;
         let pairs = Pairs::new(case);
-        let massless: Vec<bool> = case.stators.iter().map(|s| s.massless()).collect();
-        let collocated = scheme.collocated();
-        let increment_keep: Vec<bool> = massless.iter().map(|m| !(collocated && *m)).collect();
-        let static_phase = Phase {
-            use_index: true,
-            direct: pairs.direct(true, &massless),
-            keep: massless,
-            deformed: false,
-        };
-        let increment_phase = Phase {
-            use_index: !collocated,
-            direct: pairs.direct(!collocated, &increment_keep),
-            keep: increment_keep,
-            deformed: true,
-        };
+        let (static_phase, increment_phase) = phases(case, scheme, &pairs);
         let node0 = case.stations.first().map_or(0, |s| s.node);
         let recorder = Recorder::new(
             pairs.station_dofs.clone(),
@@ -691,4 +639,66 @@ impl<'a> Stepper<'a> {
         }
         self.stats.steps += 1;
     }
+}
+
+/// The error of a factorisation of `what` at step `dt`.
+fn factor_err(what: String, dt: f64) -> impl Fn(LinalgError) -> SolveError {
+    move |source: LinalgError| SolveError::Factorization {
+        what: what.clone(),
+        dt,
+        source,
+    }
+}
+
+/// Each stator of `case` in the loop at step `dt`: a massless one as the compliance of its
+/// contact DOFs, one with mass as a body of `scheme` — in its Craig–Bampton basis when it is
+/// reduced.
+fn stator_bodies(case: &Case, scheme: Scheme, dt: f64) -> Result<Vec<StatorDyn>, SolveError> {
+    let mut stators = Vec::with_capacity(case.stators.len());
+    for s in &case.stators {
+        let err = factor_err(format!("stator `{}`", s.name), dt);
+        stators.push(if s.massless() {
+            StatorDyn::Massless(Compliance::new(s).map_err(err)?)
+        } else if let Some(red) = &s.reduced {
+            StatorDyn::Reduced(Box::new(
+                ReducedDyn::new(red, dt, scheme.implicit()).map_err(err)?,
+            ))
+        } else {
+            StatorDyn::Massive(Box::new(
+                DynBody::new(
+                    &s.m,
+                    &s.c,
+                    &s.k,
+                    None,
+                    dt,
+                    &s.contact_dofs(),
+                    scheme.implicit(),
+                )
+                .map_err(err)?,
+            ))
+        });
+    }
+    Ok(stators)
+}
+
+/// The two contact phases of a step: the static phase of the massless stators (collocated
+/// scheme: stators undeformed, by the index) and the forward-increment phase (every stator
+/// with mass, and the massless ones unless collocated; deformed).
+fn phases(case: &Case, scheme: Scheme, pairs: &Pairs) -> (Phase, Phase) {
+    let massless: Vec<bool> = case.stators.iter().map(|s| s.massless()).collect();
+    let collocated = scheme.collocated();
+    let increment_keep: Vec<bool> = massless.iter().map(|m| !(collocated && *m)).collect();
+    let static_phase = Phase {
+        use_index: true,
+        direct: pairs.direct(true, &massless),
+        keep: massless,
+        deformed: false,
+    };
+    let increment_phase = Phase {
+        use_index: !collocated,
+        direct: pairs.direct(!collocated, &increment_keep),
+        keep: increment_keep,
+        deformed: true,
+    };
+    (static_phase, increment_phase)
 }

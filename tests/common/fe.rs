@@ -1,8 +1,8 @@
 //! FE rotor helpers: the FE model inside a rotor, sub-blocks of sparse matrices and their
 //! natural frequencies.
 
-use rubsim::analysis::rotordyn;
 use rubsim::linalg::Csc;
+use rubsim::linear;
 use rubsim::model::fe_rotor::FeRotor;
 use rubsim::model::{FeModel, Rotor};
 
@@ -30,6 +30,6 @@ pub fn sub(a: &Csc, dofs: &[usize]) -> Csc {
 
 /// Natural frequencies (rad/s) of the block of `dofs` of the rotor at rest.
 pub fn block_frequencies(f: &FeRotor, dofs: &[usize]) -> Vec<f64> {
-    let (lam, _) = rotordyn::undamped_modes(&sub(&f.m, dofs), &sub(&f.k(0.0), dofs)).unwrap();
+    let (lam, _) = linear::undamped_modes(&sub(&f.m, dofs), &sub(&f.k(0.0), dofs)).unwrap();
     lam.iter().map(|l| l.max(0.0).sqrt()).collect()
 }

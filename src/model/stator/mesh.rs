@@ -118,40 +118,7 @@ pub fn from_mesh(
     } = asm;
     let k = Csc::from_triplets(ndof, ndof, &kt);
     drop(kt);
-    let total_mass: f64 = mass.iter().sum();
-    if total_mass == 0.0 && p.rayleigh != [0.0; 2] {
-        return Err(ModelError::Inconsistent {
-            what: format!("stator `{}`", p.name),
-            message: super::MASSLESS_DAMPING.into(),
-        }
-        .into());
-    }
-    if total_mass > 0.0 {
-        if let Some(d) = mass.iter().position(|m| *m <= 0.0) {
-            return Err(ModelError::Inconsistent {
-                what: format!("stator `{}`", p.name),
-                message: format!(
-                    "free DOF {d} has no mass while the stator has mass (frames and bars need a density when the body has one)"
-                ),
-            }
-            .into());
-        }
-    }
-    let m = Csc::from_triplets(
-        ndof,
-        ndof,
-        &mass
-            .iter()
-            .enumerate()
-            .filter(|(_, v)| **v > 0.0)
-            .map(|(i, v)| (i, i, *v))
-            .collect::<Vec<_>>(),
-    );
-    let c = if total_mass > 0.0 {
-        Csc::lin_comb(p.rayleigh[0], &m, p.rayleigh[1], &k)
-    } else {
-        Csc::zeros(ndof, ndof)
-    };
+    let (m, c, total_mass) = mass_and_damping(p, &mass, &k)?;
     let contact = contact_targets(mesh, p, solid, stations_z, &dofs)?;
     // The element bound holds when every element carrying stiffness carries its own mass.
     let omega_max_sq = (total_mass > 0.0
@@ -209,6 +176,48 @@ pub fn from_mesh(
         dashpot: Default::default(),
         reduced: None,
     })
+}
+
+/// The lumped mass matrix of the DOF masses `mass` (kg), the Rayleigh damping
+/// `C = α M + β K` of `p.rayleigh` (none for a massless stator, which may not ask for it), and
+/// the total mass; a DOF without mass in a stator with mass is refused.
+fn mass_and_damping(p: &MeshStatorParams, mass: &[f64], k: &Csc) -> Result<(Csc, Csc, f64), Error> {
+    let ndof = mass.len();
+    let total_mass: f64 = mass.iter().sum();
+    if total_mass == 0.0 && p.rayleigh != [0.0; 2] {
+        return Err(ModelError::Inconsistent {
+            what: format!("stator `{}`", p.name),
+            message: super::MASSLESS_DAMPING.into(),
+        }
+        .into());
+    }
+    if total_mass > 0.0 {
+        if let Some(d) = mass.iter().position(|m| *m <= 0.0) {
+            return Err(ModelError::Inconsistent {
+                what: format!("stator `{}`", p.name),
+                message: format!(
+                    "free DOF {d} has no mass while the stator has mass (frames and bars need a density when the body has one)"
+                ),
+            }
+            .into());
+        }
+    }
+    let m = Csc::from_triplets(
+        ndof,
+        ndof,
+        &mass
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| **v > 0.0)
+            .map(|(i, v)| (i, i, *v))
+            .collect::<Vec<_>>(),
+    );
+    let c = if total_mass > 0.0 {
+        Csc::lin_comb(p.rayleigh[0], &m, p.rayleigh[1], k)
+    } else {
+        Csc::zeros(ndof, ndof)
+    };
+    Ok((m, c, total_mass))
 }
 
 /// Refuses a stator whose supports certainly hold nothing — no spring, and no node of the

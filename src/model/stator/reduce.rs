@@ -250,56 +250,41 @@ fn fixed_interface_modes(
     }
 }
 
-impl ReducedStator {
-    /// Reduces the stator `s` (with mass) on its contact DOFs with the fixed-interface modes
-    /// below `cutoff` (rad/s).
-    ///
-    /// # Errors
-    /// [`ModelError::Singular`] when `K_II` is not positive definite, the stator has no
-    /// contact DOF or the reduced mass is singular; [`ModelError::Inconsistent`] when more than
-    /// [`MAX_STATOR_MODES`] modes lie below the cut-off.
-    pub fn new(s: &StatorModel, cutoff: f64) -> Result<Self, ModelError> {
-        let what = format!("stator `{}` (`run.reduction.stators`)", s.name);
-        let singular = |detail: String| ModelError::Singular {
-            what: what.clone(),
-            detail,
-        };
-        let n = s.ndof;
-        let boundary = s.contact_dofs();
-        if boundary.is_empty() {
-            return Err(singular("it has no contact DOF to keep".into()));
+/// Each DOF of a stator of `n` DOFs as (boundary?, its index among the boundary or the
+/// interior DOFs), and the interior DOFs in order: the contact DOFs `boundary` are kept.
+fn partition(n: usize, boundary: &[usize]) -> (Vec<(bool, usize)>, Vec<usize>) {
+    let mut pos = vec![(false, 0); n];
+    let mut interior = Vec::with_capacity(n - boundary.len());
+    for (j, &d) in boundary.iter().enumerate() {
+        pos[d] = (true, j);
+    }
+    for (d, p) in pos.iter_mut().enumerate() {
+        if !p.0 {
+            *p = (false, interior.len());
+            interior.push(d);
         }
-        let mut pos = vec![(false, 0); n];
-        let mut interior = Vec::with_capacity(n - boundary.len());
-        for (j, &d) in boundary.iter().enumerate() {
-            pos[d] = (true, j);
-        }
-        for (d, p) in pos.iter_mut().enumerate() {
-            if !p.0 {
-                *p = (false, interior.len());
-                interior.push(d);
-            }
-        }
-        let (nb, ni) = (boundary.len(), interior.len());
-        let kp = split(&s.k, &pos, nb, ni);
-        let mp = split(&s.m, &pos, nb, ni);
-        let cp = split(&s.c, &pos, nb, ni);
-        let damped = s.c.values().iter().any(|v| *v != 0.0);
-        let kii = Cholesky::new(&kp.ii).map_err(|e| {
-            singular(format!(
-                "its stiffness with the contact DOFs held is not positive definite ({e})"
-            ))
-        })?;
-        let (modes, phi) = if ni == 0 {
-            (Vec::new(), Vec::new())
-        } else {
-            fixed_interface_modes(&kii, &mp.ii, cutoff, &what)?
-        };
-        let nm = modes.len();
-        let r = nb + nm;
-        let mut mr = DMatrix::<f64>::zeros(r, r);
-        let mut kr = DMatrix::<f64>::zeros(r, r);
-        let mut cr = DMatrix::<f64>::zeros(r, r);
+    }
+    (pos, interior)
+}
+
+/// What the reduced matrices are assembled from: the stiffness, mass and damping split into
+/// boundary (B) and interior (I) blocks, the factor of `K_II`, whether there is damping, the
+/// numbers of boundary and interior DOFs.
+struct Blocks<'a> {
+    kp: &'a Parts,
+    mp: &'a Parts,
+    cp: &'a Parts,
+    kii: &'a Cholesky,
+    damped: bool,
+    nb: usize,
+    ni: usize,
+}
+
+impl Blocks<'_> {
+    /// The boundary blocks of the reduced `mr`, `kr`, `cr` (the static constraint modes Ψ).
+    fn boundary(&self, mr: &mut DMatrix<f64>, kr: &mut DMatrix<f64>, cr: &mut DMatrix<f64>) {
+        let (kp, mp, cp, kii) = (self.kp, self.mp, self.cp, self.kii);
+        let (damped, nb, ni) = (self.damped, self.nb, self.ni);
         // Boundary blocks, BLOCK constraint modes at a time:
         //   A_r,BB = A_BB + A_BI Ψ + Ψᵀ A_IB + Ψᵀ A_II Ψ, with Ψᵀ v = −K_IBᵀ K_II⁻¹ v;
         //   K_r,BB = K_BB + K_BI Ψ (the Schur complement: the other two terms cancel).
@@ -336,9 +321,9 @@ impl ReducedStator {
             }
             // Ψᵀ A_II Ψ_blk = −K_BI K_II⁻¹ (A_II Ψ_blk).
             let parts: Vec<(&Parts, &mut DMatrix<f64>)> = if damped {
-                vec![(&mp, &mut mr), (&cp, &mut cr)]
+                vec![(mp, &mut *mr), (cp, &mut *cr)]
             } else {
-                vec![(&mp, &mut mr)]
+                vec![(mp, &mut *mr)]
             };
             for (ap, out) in parts {
                 let mut w = vec![0.0; ni * b];
@@ -362,41 +347,110 @@ impl ReducedStator {
             cr.view_mut((0, 0), (nb, nb))
                 .zip_apply(&(&p_c + p_c.transpose()), |a, b| *a += b);
         }
-        // Modal blocks: A_r,Bη = A_BI Φ − K_BI K_II⁻¹ (A_II Φ) (zero for K), A_r,ηη = Φᵀ A_II Φ.
-        if nm > 0 {
-            let phim = DMatrix::from_column_slice(ni, nm, &phi);
-            let fill = |ap: &Parts, out: &mut DMatrix<f64>| {
-                let mut w = vec![0.0; ni * nm];
-                mul_cols(&ap.ii, 1.0, &phi, &mut w);
-                let aphi = DMatrix::from_column_slice(ni, nm, &w);
-                let ee = phim.transpose() * &aphi;
-                for blk in w.chunks_mut(ni * BLOCK) {
-                    kii.solve_in_place(blk);
-                }
-                for j in 0..nm {
-                    let mut t = vec![0.0; nb];
-                    ap.bi.mul_add(1.0, &phi[j * ni..(j + 1) * ni], &mut t);
-                    kbi.mul_add(-1.0, &w[j * ni..(j + 1) * ni], &mut t);
-                    for i in 0..nb {
-                        out[(i, nb + j)] = t[i];
-                        out[(nb + j, i)] = t[i];
-                    }
-                    for i in 0..nm {
-                        out[(nb + i, nb + j)] = ee[(i, j)];
-                    }
-                }
-            };
-            fill(&mp, &mut mr);
-            if damped {
-                fill(&cp, &mut cr);
-            }
-            // K_r,ηη = Φᵀ K_II Φ as computed (Ω² only to the iteration's tolerance on the
-            // vectors); K_r,Bη = 0 exactly for any Φ (K_BI Φ − K_BI K_II⁻¹ K_II Φ).
+    }
+
+    // Modal blocks: A_r,Bη = A_BI Φ − K_BI K_II⁻¹ (A_II Φ) (zero for K), A_r,ηη = Φᵀ A_II Φ.
+    /// The fixed-interface modes `phi` (column-major, interior DOFs × modes) fill the modal
+    /// blocks of the reduced `mr`, `kr`, `cr`.
+    fn modal(
+        &self,
+        phi: &[f64],
+        mr: &mut DMatrix<f64>,
+        kr: &mut DMatrix<f64>,
+        cr: &mut DMatrix<f64>,
+    ) {
+        let (kp, mp, cp, kii) = (self.kp, self.mp, self.cp, self.kii);
+        let (damped, nb, ni) = (self.damped, self.nb, self.ni);
+        let nm = phi.len() / ni;
+        let kbi = &kp.bi;
+        let phim = DMatrix::from_column_slice(ni, nm, &phi);
+        let fill = |ap: &Parts, out: &mut DMatrix<f64>| {
             let mut w = vec![0.0; ni * nm];
-            mul_cols(&kp.ii, 1.0, &phi, &mut w);
-            let kphi = DMatrix::from_column_slice(ni, nm, &w);
-            let ee = phim.transpose() * kphi;
-            kr.view_mut((nb, nb), (nm, nm)).copy_from(&ee);
+            mul_cols(&ap.ii, 1.0, &phi, &mut w);
+            let aphi = DMatrix::from_column_slice(ni, nm, &w);
+            let ee = phim.transpose() * &aphi;
+            for blk in w.chunks_mut(ni * BLOCK) {
+                kii.solve_in_place(blk);
+            }
+            for j in 0..nm {
+                let mut t = vec![0.0; nb];
+                ap.bi.mul_add(1.0, &phi[j * ni..(j + 1) * ni], &mut t);
+                kbi.mul_add(-1.0, &w[j * ni..(j + 1) * ni], &mut t);
+                for i in 0..nb {
+                    out[(i, nb + j)] = t[i];
+                    out[(nb + j, i)] = t[i];
+                }
+                for i in 0..nm {
+                    out[(nb + i, nb + j)] = ee[(i, j)];
+                }
+            }
+        };
+        fill(mp, mr);
+        if damped {
+            fill(cp, cr);
+        }
+        // K_r,ηη = Φᵀ K_II Φ as computed (Ω² only to the iteration's tolerance on the
+        // vectors); K_r,Bη = 0 exactly for any Φ (K_BI Φ − K_BI K_II⁻¹ K_II Φ).
+        let mut w = vec![0.0; ni * nm];
+        mul_cols(&kp.ii, 1.0, &phi, &mut w);
+        let kphi = DMatrix::from_column_slice(ni, nm, &w);
+        let ee = phim.transpose() * kphi;
+        kr.view_mut((nb, nb), (nm, nm)).copy_from(&ee);
+    }
+}
+
+impl ReducedStator {
+    /// Reduces the stator `s` (with mass) on its contact DOFs with the fixed-interface modes
+    /// below `cutoff` (rad/s).
+    ///
+    /// # Errors
+    /// [`ModelError::Singular`] when `K_II` is not positive definite, the stator has no
+    /// contact DOF or the reduced mass is singular; [`ModelError::Inconsistent`] when more than
+    /// [`MAX_STATOR_MODES`] modes lie below the cut-off.
+    pub fn new(s: &StatorModel, cutoff: f64) -> Result<Self, ModelError> {
+        let what = format!("stator `{}` (`run.reduction.stators`)", s.name);
+        let singular = |detail: String| ModelError::Singular {
+            what: what.clone(),
+            detail,
+        };
+        let n = s.ndof;
+        let boundary = s.contact_dofs();
+        if boundary.is_empty() {
+            return Err(singular("it has no contact DOF to keep".into()));
+        }
+        let (pos, interior) = partition(n, &boundary);
+        let (nb, ni) = (boundary.len(), interior.len());
+        let kp = split(&s.k, &pos, nb, ni);
+        let mp = split(&s.m, &pos, nb, ni);
+        let cp = split(&s.c, &pos, nb, ni);
+        let damped = s.c.values().iter().any(|v| *v != 0.0);
+        let kii = Cholesky::new(&kp.ii).map_err(|e| {
+            singular(format!(
+                "its stiffness with the contact DOFs held is not positive definite ({e})"
+            ))
+        })?;
+        let (modes, phi) = if ni == 0 {
+            (Vec::new(), Vec::new())
+        } else {
+            fixed_interface_modes(&kii, &mp.ii, cutoff, &what)?
+        };
+        let nm = modes.len();
+        let r = nb + nm;
+        let mut mr = DMatrix::<f64>::zeros(r, r);
+        let mut kr = DMatrix::<f64>::zeros(r, r);
+        let mut cr = DMatrix::<f64>::zeros(r, r);
+        let blocks = Blocks {
+            kp: &kp,
+            mp: &mp,
+            cp: &cp,
+            kii: &kii,
+            damped,
+            nb,
+            ni,
+        };
+        blocks.boundary(&mut mr, &mut kr, &mut cr);
+        if nm > 0 {
+            blocks.modal(&phi, &mut mr, &mut kr, &mut cr);
         }
         let sym = |a: DMatrix<f64>| (&a + a.transpose()) * 0.5;
         let (mr, kr, cr) = (sym(mr), sym(kr), sym(cr));

@@ -1,6 +1,8 @@
 //! Rules of `[rotor]` (Jeffcott and FE) and `[[station]]`.
 
-use super::*;
+use super::checks::*;
+use crate::error::SceneError;
+use crate::scene::*;
 
 pub(super) fn validate_jeffcott(ls: &LoadedScene, j: &JeffcottSpec) -> Result<(), SceneError> {
     one_of(ls, ("mass", j.mass), ("disk", j.disk.as_ref()), "rotor")?;

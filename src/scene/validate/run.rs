@@ -1,8 +1,41 @@
 //! Rules of `[run]` and of `[output]`'s time series.
 
-use super::*;
+use super::checks::*;
+use crate::error::SceneError;
+use crate::scene::*;
 
 pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
+    let r = &ls.scene.run;
+    validate_speed_choice(ls)?;
+    if let Some(p) = &r.speed_profile {
+        super::super::profile::validate(ls, p)?;
+    }
+    super::super::event::validate(ls, &r.event)?;
+    if let Some(v) = r.speed_ratio {
+        positive(ls, "run.speed_ratio", v)?;
+    }
+    if let Some(v) = r.speed {
+        positive(ls, "run.speed", v)?;
+    }
+    if let Some(sw) = &r.sweep {
+        validate_sweep(ls, sw)?;
+    }
+    validate_windows(ls)?;
+    positive(ls, "run.harmonics", r.harmonics)?;
+    if let Some(rho) = r.rho_inf {
+        validate_rho_inf(ls, rho)?;
+    }
+    validate_limits(ls)?;
+    if let Some(red) = &r.reduction {
+        validate_reduction(ls, red)?;
+    }
+    validate_initial(ls)
+}
+
+/// Exactly one way to give the speed: `run.speed_ratio`, `run.speed`, `[run.sweep]`,
+/// `[run.speed_profile]` or a `[run.map]` with a speed axis (a map of two other keys runs at
+/// `speed_ratio` or `speed`); a map with neither a sweep nor a profile.
+fn validate_speed_choice(ls: &LoadedScene) -> Result<(), SceneError> {
     let r = &ls.scene.run;
     let map_speed = r
         .map
@@ -44,41 +77,42 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
             "cannot be combined with `[run.sweep]` or `[run.speed_profile]`",
         ));
     }
-    if let Some(p) = &r.speed_profile {
-        super::super::profile::validate(ls, p)?;
+    Ok(())
+}
+
+/// `[run.sweep]`: positive `from`, `to`, `step`, `to ≥ from`, at most [`MAX_SWEEP_SPEEDS`]
+/// speeds.
+fn validate_sweep(ls: &LoadedScene, sw: &SweepSpec) -> Result<(), SceneError> {
+    positive(ls, "run.sweep.from", sw.from)?;
+    positive(ls, "run.sweep.to", sw.to)?;
+    positive(ls, "run.sweep.step", sw.step)?;
+    if sw.to < sw.from {
+        return Err(ls.invalid("run.sweep.to", "must not be below `from`"));
     }
-    super::super::event::validate(ls, &r.event)?;
-    if let Some(v) = r.speed_ratio {
-        positive(ls, "run.speed_ratio", v)?;
+    let n = (sw.to - sw.from) / sw.step + 1.0;
+    if n.is_nan() || n > MAX_SWEEP_SPEEDS as f64 {
+        let key = if sw.to / sw.from > 1e3 {
+            "run.sweep.to"
+        } else {
+            "run.sweep.step"
+        };
+        return Err(ls.invalid(
+            key,
+            format!(
+                "the sweep {} … {} step {} has {n:.3e} speeds; at most {MAX_SWEEP_SPEEDS} are allowed",
+                show(sw.from),
+                show(sw.to),
+                show(sw.step)
+            ),
+        ));
     }
-    if let Some(v) = r.speed {
-        positive(ls, "run.speed", v)?;
-    }
-    if let Some(sw) = &r.sweep {
-        positive(ls, "run.sweep.from", sw.from)?;
-        positive(ls, "run.sweep.to", sw.to)?;
-        positive(ls, "run.sweep.step", sw.step)?;
-        if sw.to < sw.from {
-            return Err(ls.invalid("run.sweep.to", "must not be below `from`"));
-        }
-        let n = (sw.to - sw.from) / sw.step + 1.0;
-        if n.is_nan() || n > MAX_SWEEP_SPEEDS as f64 {
-            let key = if sw.to / sw.from > 1e3 {
-                "run.sweep.to"
-            } else {
-                "run.sweep.step"
-            };
-            return Err(ls.invalid(
-                key,
-                format!(
-                    "the sweep {} … {} step {} has {n:.3e} speeds; at most {MAX_SWEEP_SPEEDS} are allowed",
-                    show(sw.from),
-                    show(sw.to),
-                    show(sw.step)
-                ),
-            ));
-        }
-    }
+    Ok(())
+}
+
+/// The run's windows and accuracy: more revolutions than transient ones, a positive `dt`, a
+/// tolerance in 1e-12 ..= 0.5, the transient and classification limits.
+fn validate_windows(ls: &LoadedScene) -> Result<(), SceneError> {
+    let r = &ls.scene.run;
     if r.revolutions <= r.transient_revolutions {
         return Err(ls.invalid(
             "run.revolutions",
@@ -120,26 +154,33 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
             ),
         ));
     }
-    positive(ls, "run.harmonics", r.harmonics)?;
-    if let Some(rho) = r.rho_inf {
-        if r.integrator() != IntegratorKind::GeneralizedAlpha {
-            return Err(ls.invalid(
-                "run.rho_inf",
-                format!(
-                    "only `run.integrator = \"generalized_alpha\"` has a spectral radius ρ∞; the integrator is `{}`: leave `rho_inf` out or choose `generalized_alpha`",
-                    r.integrator().name()
-                ),
-            ));
-        }
-        if !(0.0..=1.0).contains(&rho) {
-            return Err(ls.invalid(
-                "run.rho_inf",
-                format!(
-                    "must lie in 0 ..= 1 (the spectral radius at infinite frequency), got {rho}"
-                ),
-            ));
-        }
+    Ok(())
+}
+
+/// `run.rho_inf = rho`: only for `generalized_alpha`, in 0 ..= 1.
+fn validate_rho_inf(ls: &LoadedScene, rho: f64) -> Result<(), SceneError> {
+    let r = &ls.scene.run;
+    if r.integrator() != IntegratorKind::GeneralizedAlpha {
+        return Err(ls.invalid(
+            "run.rho_inf",
+            format!(
+                "only `run.integrator = \"generalized_alpha\"` has a spectral radius ρ∞; the integrator is `{}`: leave `rho_inf` out or choose `generalized_alpha`",
+                r.integrator().name()
+            ),
+        ));
     }
+    if !(0.0..=1.0).contains(&rho) {
+        return Err(ls.invalid(
+            "run.rho_inf",
+            format!("must lie in 0 ..= 1 (the spectral radius at infinite frequency), got {rho}"),
+        ));
+    }
+    Ok(())
+}
+
+/// The documented size limits of `[run]`: samples per revolution, revolutions, `max_steps`.
+fn validate_limits(ls: &LoadedScene) -> Result<(), SceneError> {
+    let r = &ls.scene.run;
     if !(8..=MAX_SAMPLES_PER_REV).contains(&r.samples_per_rev) {
         return Err(ls.invalid(
             "run.samples_per_rev",
@@ -163,10 +204,7 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
             return Err(ls.invalid("run.max_steps", "must be at least 1"));
         }
     }
-    if let Some(red) = &r.reduction {
-        validate_reduction(ls, red)?;
-    }
-    validate_initial(ls)
+    Ok(())
 }
 
 /// `[run.reduction]`: an FE rotor at a constant speed and/or meshed stators with mass

@@ -1,6 +1,8 @@
 //! Rules of `[[stator]]`: rods, rings, FE and meshed stators.
 
-use super::*;
+use super::checks::*;
+use crate::error::SceneError;
+use crate::scene::*;
 
 pub(super) fn validate_rod(ls: &LoadedScene, i: usize, r: &RodSpec) -> Result<(), SceneError> {
     let k = |f: &str| format!("stator.{i}.{f}");
@@ -172,6 +174,57 @@ pub(super) fn validate_mesh_stator(
     m: &MeshStatorSpec,
 ) -> Result<(), SceneError> {
     let k = |f: &str| format!("stator.{i}.{f}");
+    mesh_names_ok(ls, i, m)?;
+    for (name, v) in &m.parameters {
+        finite(ls, &k(&format!("parameters.{name}")), *v)?;
+    }
+    if !(m.order == 1 || m.order == 2) {
+        return Err(ls.invalid(&k("order"), format!("must be 1 or 2, got {}", m.order)));
+    }
+    positive(ls, &k("size_factor"), m.size_factor)?;
+    mesh_plane(ls, i, m)?;
+    if let Some(t) = m.thickness {
+        positive(ls, &k("thickness"), t)?;
+    }
+    positive(ls, &k("youngs_modulus"), m.youngs_modulus)?;
+    poisson(ls, &k("poisson_ratio"), m.poisson_ratio)?;
+    non_negative(ls, &k("density"), m.density)?;
+    mesh_parts_ok(ls, i, m)?;
+    at_most_one(
+        ls,
+        ("clearance", m.clearance),
+        ("clearance_nd", m.clearance_nd),
+        &format!("stator.{i}"),
+    )?;
+    if let Some(v) = m.clearance {
+        positive(ls, &k("clearance"), v)?;
+    }
+    if let Some(v) = m.clearance_nd {
+        positive(ls, &k("clearance_nd"), v)?;
+    }
+    for v in m.rayleigh {
+        non_negative(ls, &k("rayleigh"), v)?;
+    }
+    for (j, name) in m.stations.iter().enumerate() {
+        extra_station_index(ls, i, j, name)?;
+    }
+    degrees(ls, &k("approach_deg"), m.approach_deg)?;
+    if !m.axial_origin.is_finite() {
+        return Err(ls.invalid(&k("axial_origin"), "must be finite"));
+    }
+    if m.fixed.is_empty() && m.fixed_x.is_empty() && m.fixed_y.is_empty() && m.springs.is_empty() {
+        return Err(ls.invalid(
+            &k("fixed"),
+            format!("the stator has no supports: name a fixed group (`stator.{i}.fixed`, `fixed_x`, `fixed_y`) or springs (`stator.{i}.springs`)"),
+        ));
+    }
+    Ok(())
+}
+
+/// A meshed stator's names: a geometry path, and no empty group name among its supports,
+/// contact group, regions, springs and frames.
+fn mesh_names_ok(ls: &LoadedScene, i: usize, m: &MeshStatorSpec) -> Result<(), SceneError> {
+    let k = |f: &str| format!("stator.{i}.{f}");
     if m.geometry.trim().is_empty() {
         return Err(ls.invalid(&k("geometry"), "empty path"));
     }
@@ -204,20 +257,11 @@ pub(super) fn validate_mesh_stator(
         }
         *j += 1;
     }
-    for (name, v) in &m.parameters {
-        finite(ls, &k(&format!("parameters.{name}")), *v)?;
-    }
-    if !(m.order == 1 || m.order == 2) {
-        return Err(ls.invalid(&k("order"), format!("must be 1 or 2, got {}", m.order)));
-    }
-    positive(ls, &k("size_factor"), m.size_factor)?;
-    mesh_plane(ls, i, m)?;
-    if let Some(t) = m.thickness {
-        positive(ls, &k("thickness"), t)?;
-    }
-    positive(ls, &k("youngs_modulus"), m.youngs_modulus)?;
-    poisson(ls, &k("poisson_ratio"), m.poisson_ratio)?;
-    non_negative(ls, &k("density"), m.density)?;
+    Ok(())
+}
+
+/// A meshed stator's regions (their material overrides), springs (stiffness ≥ 0) and frames.
+fn mesh_parts_ok(ls: &LoadedScene, i: usize, m: &MeshStatorSpec) -> Result<(), SceneError> {
     for (r, reg) in m.regions.iter().enumerate() {
         let rk = |f: &str| format!("stator.{i}.regions.{r}.{f}");
         if let Some(v) = reg.youngs_modulus {
@@ -240,34 +284,6 @@ pub(super) fn validate_mesh_stator(
     }
     for (r, fr) in m.frames.iter().enumerate() {
         validate_frame(ls, &format!("stator.{i}.frames.{r}"), fr)?;
-    }
-    at_most_one(
-        ls,
-        ("clearance", m.clearance),
-        ("clearance_nd", m.clearance_nd),
-        &format!("stator.{i}"),
-    )?;
-    if let Some(v) = m.clearance {
-        positive(ls, &k("clearance"), v)?;
-    }
-    if let Some(v) = m.clearance_nd {
-        positive(ls, &k("clearance_nd"), v)?;
-    }
-    for v in m.rayleigh {
-        non_negative(ls, &k("rayleigh"), v)?;
-    }
-    for (j, name) in m.stations.iter().enumerate() {
-        extra_station_index(ls, i, j, name)?;
-    }
-    degrees(ls, &k("approach_deg"), m.approach_deg)?;
-    if !m.axial_origin.is_finite() {
-        return Err(ls.invalid(&k("axial_origin"), "must be finite"));
-    }
-    if m.fixed.is_empty() && m.fixed_x.is_empty() && m.fixed_y.is_empty() && m.springs.is_empty() {
-        return Err(ls.invalid(
-            &k("fixed"),
-            format!("the stator has no supports: name a fixed group (`stator.{i}.fixed`, `fixed_x`, `fixed_y`) or springs (`stator.{i}.springs`)"),
-        ));
     }
     Ok(())
 }

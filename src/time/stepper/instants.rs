@@ -3,11 +3,11 @@
 
 use super::{Sink, Stepper};
 use crate::error::SolveError;
-use crate::time::body::StatorDyn;
 use crate::time::drive::Spin;
 use crate::time::frame::{Frame, FrameSink};
 use crate::time::loop_rotor::full_displacement;
 use crate::time::record::ContactStats;
+use crate::time::stator::StatorDyn;
 use crate::time::workspace::ForceSet;
 
 impl Stepper<'_> {

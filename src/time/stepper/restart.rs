@@ -3,8 +3,9 @@
 //! settled state instead of integrating the transient again.
 
 use super::Stepper;
-use crate::time::body::{DynBody, Ops, StatorDyn};
+use crate::time::body::{DynBody, Ops};
 use crate::time::drive::Spin;
+use crate::time::stator::StatorDyn;
 
 /// A body's state: the last three displacements of central differences (`u[0]` = uᴺ, `u[1]` =
 /// uᴺ⁻¹, `u[2]` = uᴺ⁻²), or an implicit body's displacement, velocity, acceleration and load.

@@ -29,7 +29,7 @@
 //! speeds on its own bearings are read where they cross the forward curves (the map's curves
 //! interpolated linearly in log k, log Ω).
 
-use crate::analysis::rotordyn::FULL_BASIS;
+use super::modes::FULL_BASIS;
 use crate::error::ModelError;
 use crate::model::fe_rotor::{dense, FeRotor};
 use crate::model::Rotor;

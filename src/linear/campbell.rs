@@ -1,4 +1,4 @@
-//! Campbell diagram: the damped modes of [`super::rotordyn::modal`] followed over the spin
+//! Campbell diagram: the damped modes of [`super::modes::modal`] followed over the spin
 //! speed, and the critical speeds where they cross the 1× line.
 //!
 //! # Tracking
@@ -27,8 +27,8 @@
 //! interpolation) is a critical speed, with the whirl of the mode at the speed after the
 //! crossing: only crossings inside the diagram's speed range are found.
 
-use crate::analysis::rotordyn::{modal, modal_in, mode_label, mode_mac, ModalBasis, Mode};
-use crate::analysis::rotordyn::{ModeKind, Whirl};
+use super::modes::{modal, modal_in, mode_label, mode_mac, ModalBasis, Mode};
+use super::modes::{ModeKind, Whirl};
 use crate::error::ModelError;
 use crate::model::Rotor;
 use crate::scene::SpeedUnit;

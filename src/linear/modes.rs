@@ -1,5 +1,5 @@
-//! Linear rotordynamics of the rotor alone: static deflection, damped modes, unbalance
-//! response (the Campbell diagram built on these modes is [`super::campbell`]).
+//! The damped modes of the rotor alone at one spin speed (the Campbell diagram built on them is
+//! [`super::campbell`], the forced response [`super::response`]).
 //!
 //! The rotor obeys `M q̈ + (C + Ω G) q̇ + K q = f` with the matrices of
 //! [`crate::model::Rotor::matrices`]. Modes come from the first-order form
@@ -17,7 +17,7 @@
 
 use crate::error::ModelError;
 use crate::linalg::Csc;
-use crate::model::fe_rotor::{dense, ellipse_major};
+use crate::model::fe_rotor::dense;
 use crate::model::Rotor;
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
@@ -351,30 +351,71 @@ pub fn modal_in(
     basis: &ModalBasis,
 ) -> Result<ModalResults, ModelError> {
     let (m, k, c, g) = rotor.matrices(omega)?;
-    let (lam, phi_all, rigid_body) = (&basis.lam, &basis.phi, basis.rigid_body.clone());
+    let lam = &basis.lam;
     let nr = if lam.len() <= FULL_BASIS {
         lam.len()
     } else {
         lam.len().min((2 * nmodes + 10).max(20))
     };
-    let phi = phi_all.columns(0, nr).into_owned();
-    let ctot = dense(&Csc::lin_comb(1.0, &c, omega, &g));
-    let cr = phi.transpose() * ctot * &phi;
-    // The basis diagonalises the symmetric part of K; the skew part (K − Kᵀ)/2 — bearings and
-    // seals with kxy ≠ kyx — enters as Φᵀ K_a Φ (zero, and skipped, for a symmetric K).
-    let kd = dense(&k);
+    let phi = basis.phi.columns(0, nr).into_owned();
+    let (a, scale) = first_order(lam, &phi, &dense(&Csc::lin_comb(1.0, &c, omega, &g)), &k);
+    let evd = faer::linalg::solvers::Eigen::new_from_real(a.as_ref()).map_err(|e| {
+        ModelError::Singular {
+            what: "rotor eigenproblem".into(),
+            detail: format!("{e:?}"),
+        }
+    })?;
+    let s = evd.S();
+    let u = evd.U();
+    let groups = DofGroups::of(rotor, m.nrows());
+    let n = nr;
+    let mut modes = Vec::new();
+    for j in 0..2 * n {
+        let lam: Complex64 = s.column_vector()[j];
+        if lam.im <= 1e-8 * (1.0 + lam.norm()) {
+            continue;
+        }
+        let full = |dof: usize| -> Complex64 {
+            (0..n).map(|r| u[(r, j)] / scale[r] * phi[(dof, r)]).sum()
+        };
+        modes.push(mode_of(rotor, &m, &groups, lam, full));
+    }
+    modes.sort_by(|a, b| a.omega_d.total_cmp(&b.omega_d));
+    split_degenerate_pairs(&mut modes);
+    modes.truncate(nmodes);
+    Ok(ModalResults {
+        speed: omega,
+        rigid_body: basis.rigid_body.clone(),
+        modes,
+    })
+}
+
+/// The first-order matrix of the modal solve in the basis `phi` (the first `n` columns of the
+/// undamped modes, `lam` their ω²) and the scale `s_r` of its state, for the damping and
+/// gyroscopic matrix `ctot = C + ΩG` and the stiffness `k`.
+///
+/// State `[s_r η_r; η̇_r]` with `s_r = ω_r = √λ_r` (1 for a mode at zero frequency): the matrix
+/// `[0, diag(s); −diag(λ/s), −Φᵀ(C + ΩG)Φ]` has entries of the order of ω rather than ω², so
+/// its eigenvalues keep their relative accuracy next to very stiff modes (in the plain form
+/// `[0, I; −Λ, −D]` the low damped modes of ROSS's `rotor_example_with_damping`,
+/// ω²_max ~ 1e13, lost 2e-7 of ω_d and 2e-6 of ζ). The basis diagonalises the symmetric part
+/// of K; the skew part `(K − Kᵀ)/2` — bearings and seals with kxy ≠ kyx — enters as
+/// `Φᵀ K_a Φ` (zero, and skipped, for a symmetric K), divided by `s` like `λ`.
+fn first_order(
+    lam: &[f64],
+    phi: &DMatrix<f64>,
+    ctot: &DMatrix<f64>,
+    k: &Csc,
+) -> (faer::Mat<f64>, Vec<f64>) {
+    let cr = phi.transpose() * ctot * phi;
+    let kd = dense(k);
     let ka = (&kd - kd.transpose()) * 0.5;
     let kar = if ka.iter().any(|v| *v != 0.0) {
-        Some(phi.transpose() * ka * &phi)
+        Some(phi.transpose() * ka * phi)
     } else {
         None
     };
-    let n = nr;
-    // State [s_r η_r; η̇_r] with s_r = ω_r = √λ_r (1 for a mode at zero frequency): the
-    // first-order matrix [0, diag(s); −diag(λ/s), −Φᵀ(C + ΩG)Φ] has entries of the order of ω
-    // rather than ω², so its eigenvalues keep their relative accuracy next to very stiff modes
-    // (in the plain form [0, I; −Λ, −D] the low damped modes of ROSS's
-    // `rotor_example_with_damping`, ω²_max ~ 1e13, lost 2e-7 of ω_d and 2e-6 of ζ).
+    let n = phi.ncols();
     let scale: Vec<f64> = lam
         .iter()
         .take(n)
@@ -398,87 +439,92 @@ pub fn modal_in(
             -cr[(i - n, j - n)]
         }
     });
-    let evd = faer::linalg::solvers::Eigen::new_from_real(a.as_ref()).map_err(|e| {
-        ModelError::Singular {
-            what: "rotor eigenproblem".into(),
-            detail: format!("{e:?}"),
+    (a, scale)
+}
+
+/// The rotor's DOFs by group: the axial and torsional DOFs, and each DOF's group (0 lateral,
+/// 1 axial, 2 torsional).
+struct DofGroups {
+    axial: Vec<usize>,
+    torsion: Vec<usize>,
+    group: Vec<usize>,
+}
+
+impl DofGroups {
+    fn of(rotor: &Rotor, ndofs: usize) -> Self {
+        let (axial, torsion) = scalar_dofs(rotor);
+        let mut group = vec![0usize; ndofs];
+        for &d in &axial {
+            group[d] = 1;
         }
-    })?;
-    let s = evd.S();
-    let u = evd.U();
+        for &d in &torsion {
+            group[d] = 2;
+        }
+        Self {
+            axial,
+            torsion,
+            group,
+        }
+    }
+}
+
+/// The mode of eigenvalue `lam = σ + iω_d` whose full eigenvector (displacement part, in the
+/// rotor's DOFs) is `full(dof)`: its shapes by node and group, normalised to a largest entry
+/// of 1, its kind by kinetic energy shares over the mass matrix `m`, its whirl.
+fn mode_of(
+    rotor: &Rotor,
+    m: &Csc,
+    groups: &DofGroups,
+    lam: Complex64,
+    full: impl Fn(usize) -> Complex64,
+) -> Mode {
     let nodes = rotor.node_count();
-    let (axial, torsion) = scalar_dofs(rotor);
-    // DOF group: 0 lateral, 1 axial, 2 torsional.
-    let mut group = vec![0usize; m.nrows()];
-    for &d in &axial {
-        group[d] = 1;
+    let (axial, torsion) = (&groups.axial, &groups.torsion);
+    let mut shape: Vec<[Complex64; 2]> = (0..nodes)
+        .map(|i| {
+            let d = rotor.node_dofs(i);
+            [full(d[0]), full(d[1])]
+        })
+        .collect();
+    let mut shape_axial: Vec<Complex64> = axial.iter().map(|&d| full(d)).collect();
+    let mut shape_torsion: Vec<Complex64> = torsion.iter().map(|&d| full(d)).collect();
+    let mut shape_tilt: Vec<[Complex64; 2]> = match rotor {
+        Rotor::Fe(_) => (0..nodes)
+            .map(|i| [full(4 * i + 2), full(4 * i + 3)])
+            .collect(),
+        Rotor::Jeffcott(_) => Vec::new(),
+    };
+    let energy = if axial.is_empty() && torsion.is_empty() {
+        [1.0, 0.0, 0.0]
+    } else {
+        let q: Vec<Complex64> = (0..m.nrows()).map(full).collect();
+        energy_shares(m, &groups.group, &q)
+    };
+    let kind = kind_of(energy);
+    let scale = normalise(&mut shape, &mut shape_axial, &mut shape_torsion);
+    for t in shape_tilt.iter_mut().flatten() {
+        *t /= scale;
     }
-    for &d in &torsion {
-        group[d] = 2;
+    let whirl = if kind == ModeKind::Lateral {
+        whirl_of(&shape)
+    } else {
+        Whirl::NoWhirl
+    };
+    Mode {
+        omega_d: lam.im,
+        freq_hz: lam.im / (2.0 * std::f64::consts::PI),
+        sigma: lam.re,
+        damping_ratio: -lam.re / lam.norm(),
+        log_dec: -2.0 * std::f64::consts::PI * lam.re / lam.im,
+        whirl,
+        kind,
+        energy,
+        kappa: orbit_kappa(&shape),
+        shape,
+        shape_axial,
+        shape_torsion,
+        shape_tilt,
     }
-    let mut modes = Vec::new();
-    for j in 0..2 * n {
-        let lam: Complex64 = s.column_vector()[j];
-        if lam.im <= 1e-8 * (1.0 + lam.norm()) {
-            continue;
-        }
-        let full = |dof: usize| -> Complex64 {
-            (0..n).map(|r| u[(r, j)] / scale[r] * phi[(dof, r)]).sum()
-        };
-        let mut shape: Vec<[Complex64; 2]> = (0..nodes)
-            .map(|i| {
-                let d = rotor.node_dofs(i);
-                [full(d[0]), full(d[1])]
-            })
-            .collect();
-        let mut shape_axial: Vec<Complex64> = axial.iter().map(|&d| full(d)).collect();
-        let mut shape_torsion: Vec<Complex64> = torsion.iter().map(|&d| full(d)).collect();
-        let mut shape_tilt: Vec<[Complex64; 2]> = match rotor {
-            Rotor::Fe(_) => (0..nodes)
-                .map(|i| [full(4 * i + 2), full(4 * i + 3)])
-                .collect(),
-            Rotor::Jeffcott(_) => Vec::new(),
-        };
-        let energy = if axial.is_empty() && torsion.is_empty() {
-            [1.0, 0.0, 0.0]
-        } else {
-            let q: Vec<Complex64> = (0..m.nrows()).map(full).collect();
-            energy_shares(&m, &group, &q)
-        };
-        let kind = kind_of(energy);
-        let scale = normalise(&mut shape, &mut shape_axial, &mut shape_torsion);
-        for t in shape_tilt.iter_mut().flatten() {
-            *t /= scale;
-        }
-        let whirl = if kind == ModeKind::Lateral {
-            whirl_of(&shape)
-        } else {
-            Whirl::NoWhirl
-        };
-        modes.push(Mode {
-            omega_d: lam.im,
-            freq_hz: lam.im / (2.0 * std::f64::consts::PI),
-            sigma: lam.re,
-            damping_ratio: -lam.re / lam.norm(),
-            log_dec: -2.0 * std::f64::consts::PI * lam.re / lam.im,
-            whirl,
-            kind,
-            energy,
-            kappa: orbit_kappa(&shape),
-            shape,
-            shape_axial,
-            shape_torsion,
-            shape_tilt,
-        });
-    }
-    modes.sort_by(|a, b| a.omega_d.total_cmp(&b.omega_d));
-    split_degenerate_pairs(&mut modes);
-    modes.truncate(nmodes);
-    Ok(ModalResults {
-        speed: omega,
-        rigid_body,
-        modes,
-    })
 }
 
 /// An isotropic rotor without gyroscopic split (at rest, or a mode without disk tilt) has
@@ -632,118 +678,4 @@ pub fn mode_mac(a: &Mode, b: &Mode) -> f64 {
     } else {
         ab.norm_sqr() / (aa * bb)
     }
-}
-
-/// Unbalance response at one speed and node.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct ResponsePoint {
-    /// Spin speed (rad/s).
-    pub speed: f64,
-    /// Node.
-    pub node: usize,
-    /// x amplitude (m) and phase (deg) of `x = |X| cos(Ωt + φ_x)`.
-    pub x_amp: f64,
-    /// Phase of x (deg).
-    pub x_phase_deg: f64,
-    /// y amplitude (m).
-    pub y_amp: f64,
-    /// Phase of y (deg).
-    pub y_phase_deg: f64,
-    /// Major semi-axis of the orbit (m).
-    pub major: f64,
-    /// Complex x response (m), for polar plots.
-    pub x_re: f64,
-    /// Imaginary part of x (m).
-    pub x_im: f64,
-}
-
-/// Steady unbalance response over `speeds` (rad/s) at `nodes`.
-pub fn unbalance_response(
-    rotor: &Rotor,
-    speeds: &[f64],
-    nodes: &[usize],
-) -> Result<Vec<ResponsePoint>, ModelError> {
-    let mut out = Vec::new();
-    for &w in speeds {
-        let q = rotor.unbalance_response(w)?;
-        for &n in nodes {
-            let d = rotor.node_dofs(n);
-            let (x, y) = (q[d[0]], q[d[1]]);
-            out.push(ResponsePoint {
-                speed: w,
-                node: n,
-                x_amp: x.norm(),
-                x_phase_deg: x.arg().to_degrees(),
-                y_amp: y.norm(),
-                y_phase_deg: y.arg().to_degrees(),
-                major: ellipse_major(x, y),
-                x_re: x.re,
-                x_im: x.im,
-            });
-        }
-    }
-    Ok(out)
-}
-
-/// Static deflection under gravity g (m/s², along −y): `K q = −g M e_y` (m, rad per DOF).
-/// Gravity is lateral, so only the lateral block is solved and the axial and torsional entries
-/// are zero (uncoupled DOFs, which may be free).
-pub fn static_deflection(rotor: &Rotor, g: f64) -> Result<Vec<f64>, ModelError> {
-    let (m, k, _, _) = rotor.matrices(0.0)?;
-    let (n, nl) = (m.nrows(), rotor.lateral_dofs());
-    let mut ey = DVector::zeros(n);
-    for i in 0..rotor.node_count() {
-        ey[rotor.node_dofs(i)[1]] = 1.0;
-    }
-    let f = (-g * (dense(&m) * ey)).rows(0, nl).into_owned();
-    let kd: DMatrix<f64> = dense(&k).view((0, 0), (nl, nl)).into_owned();
-    let mut q: Vec<f64> = kd
-        .lu()
-        .solve(&f)
-        .map(|v| v.iter().copied().collect())
-        .ok_or_else(|| ModelError::Singular {
-            what: "rotor stiffness".into(),
-            detail: "singular: the rotor is not held by its bearings".into(),
-        })?;
-    q.resize(n, 0.0);
-    Ok(q)
-}
-
-/// `points` speeds (at least 2) spread evenly from `from` to `to`, both included.
-pub fn speed_list(from: f64, to: f64, points: usize) -> Vec<f64> {
-    let n = points.max(2);
-    (0..n)
-        .map(|i| from + (to - from) * i as f64 / (n - 1) as f64)
-        .collect()
-}
-
-/// The nodes an unbalance response reports by default: every station's rotor node, node 0
-/// when there is no station.
-pub fn default_response_nodes(model: &crate::model::Model) -> Vec<usize> {
-    let v: Vec<usize> = model.stations.iter().map(|s| s.node).collect();
-    if v.is_empty() {
-        vec![0]
-    } else {
-        v
-    }
-}
-
-/// The lateral displacement `[u_x, u_y]` of every rotor node from a DOF vector `q` (e.g. the
-/// [`static_deflection`]), in node order.
-pub fn lateral_at_nodes(rotor: &Rotor, q: &[f64]) -> Vec<[f64; 2]> {
-    (0..rotor.node_count())
-        .map(|i| {
-            let d = rotor.node_dofs(i);
-            [q[d[0]], q[d[1]]]
-        })
-        .collect()
-}
-
-/// The largest major semi-axis of the response at `node` and its speed, `(speed, amplitude)`
-/// (`(0, 0)` when the node has no point).
-pub fn peak_response(res: &[ResponsePoint], node: usize) -> (f64, f64) {
-    res.iter()
-        .filter(|r| r.node == node)
-        .map(|r| (r.speed, r.major))
-        .fold((0.0, 0.0), |b, x| if x.1 > b.1 { x } else { b })
 }

@@ -12,7 +12,7 @@
 //! of the end values and slopes — `u_x` with `θ_y = ∂u_x/∂z`, `u_y` with `θ_x = −∂u_y/∂z` —
 //! applied to the complex shape, so the drawn line is the element's own deflection.
 
-use crate::analysis::rotordyn::Mode;
+use super::modes::Mode;
 use crate::model::Rotor;
 use num_complex::Complex64;
 
