@@ -582,6 +582,23 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// A study (sweep, map, merge) that cannot be run or assembled as asked: a scene without
+    /// the study's table, missing cases, stores of different scenes.
+    #[error("{what}{}{message}", if what.is_empty() { "" } else { ": " })]
+    Study {
+        /// What it concerns (the scene file, a store folder); empty when the message says it.
+        what: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// An error with what was being done when it happened (`<scene>: building the model`).
+    #[error("{context}: {cause}")]
+    Context {
+        /// What was being done.
+        context: String,
+        /// What went wrong.
+        cause: Box<Error>,
+    },
     /// Output writing error.
     #[error("{path}: {message}")]
     Output {
@@ -593,6 +610,22 @@ pub enum Error {
 }
 
 impl Error {
+    /// A study error about `what` (empty: the message says it).
+    pub fn study(what: impl std::fmt::Display, message: impl std::fmt::Display) -> Self {
+        Error::Study {
+            what: what.to_string(),
+            message: message.to_string(),
+        }
+    }
+
+    /// This error with `context`: what was being done when it happened.
+    pub fn context(self, context: impl std::fmt::Display) -> Self {
+        Error::Context {
+            context: context.to_string(),
+            cause: Box::new(self),
+        }
+    }
+
     /// Output error helper.
     pub fn output(path: impl Into<PathBuf>, message: impl std::fmt::Display) -> Self {
         Error::Output {

@@ -40,7 +40,9 @@
 //!    guard → record), frames for sinks;
 //! 9. [`analysis`] — one path for a run ([`analysis::prepare`] once, then run with any sinks),
 //!    sweeps, convergence, regimes, bench metrics, stress probe;
-//! 10. [`output`], [`results`] — files: summary, CSV, figures; the VTK/HDF5 frame sinks.
+//! 10. [`output`], [`results`] — files: summary, CSV, figures; the VTK/HDF5 frame sinks;
+//! 11. [`study`] — sweeps and maps as cases: variants × speeds, shards, the case store,
+//!     resume and merge.
 //!
 //! The `rubsim` binary (`src/main.rs`, `src/cli/`) parses arguments, loads a scene, calls one
 //! analysis, attaches sinks and hands results to `output`; it holds no numerics.
@@ -92,4 +94,5 @@ pub mod resolve;
 pub mod results;
 pub mod scene;
 pub mod signal;
+pub mod study;
 pub mod time;

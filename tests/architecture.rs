@@ -22,6 +22,7 @@ const STAGES: &[&[&str]] = &[
     &["time"],
     &["analysis"],
     &["output", "results"],
+    &["study"],
 ];
 
 /// The longest a function may be, from its `fn` line to its closing brace.
@@ -52,11 +53,6 @@ const CYCLE_EXCEPTIONS: &[(&str, &str)] = &[
     ("analysis/speed.rs", "analysis/whirl.rs"),
     ("analysis/transient.rs", "analysis/speed.rs"),
     ("analysis/whirl.rs", "analysis/transient.rs"),
-    // Studies, sweeps and maps ("study").
-    ("cli/map.rs", "cli/study.rs"),
-    ("cli/study.rs", "cli/map.rs"),
-    ("cli/study.rs", "cli/sweep.rs"),
-    ("cli/sweep.rs", "cli/study.rs"),
 ];
 
 fn stage(module: &str) -> usize {

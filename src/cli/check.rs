@@ -448,7 +448,7 @@ pub(crate) fn listed_outputs(s: &Scene, stress: bool) -> Vec<String> {
             }
             per.push("full_cascade.png".into());
         }
-        let variants = analysis::sweep::variants(w.vary.as_ref());
+        let variants = rubsim::study::variants(w.vary.as_ref());
         for v in &variants {
             files.extend(per.iter().map(|f| format!("{}{f}", v.prefix)));
         }

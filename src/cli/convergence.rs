@@ -7,7 +7,8 @@ use rubsim::analysis::{
     convergence::{convergence_with, COMPARE_REVOLUTIONS},
     ConvergenceResults,
 };
-use rubsim::output::{csv, figures, summary};
+use rubsim::output::summary::{Base, ConvergenceBody, Summary};
+use rubsim::output::{csv, figures};
 use std::path::PathBuf;
 
 /// Runs the study at each speed (in its unit; default: the scene's, or ω/ω_n = 1.7, 3.1, 4.9) with levels
@@ -59,8 +60,10 @@ pub fn convergence(
         }
         all.push(res);
     }
-    let mut sum = summary::base(&ls, &model, "convergence");
-    sum["studies"] = serde_json::to_value(&all)?;
+    let sum = Summary {
+        base: Base::new(&ls, &model, "convergence"),
+        body: ConvergenceBody { studies: &all },
+    };
     finish(outd, &sum)
 }
 

@@ -1,103 +1,17 @@
 //! `rubsim map`: the 2-D map of `[run.map]` — speed × a scene key, or two scene keys at the
-//! scene's speed — run as the cases of one study ([`super::study`]: the same expansion into
-//! variants × speeds as a sweep, the same case files, shards and merge); here, its axes and
-//! its table and pictures assembled from the cases.
+//! scene's speed — run as the cases of one study ([`rubsim::study`]: the same expansion into
+//! variants × speeds as a sweep, the same case files, shards and merge); here, its table and
+//! pictures assembled from the cases.
 
-use super::study::{Kind, Study};
-use anyhow::{bail, Context, Result};
-use rubsim::analysis::sweep::Variant;
-use rubsim::analysis::{SpeedResults, REGIME_CLASSES};
+use anyhow::{Context, Result};
+use rubsim::analysis::SpeedResults;
 use rubsim::output::csv::{self, MapCell};
 use rubsim::output::whirl::{self as whirl_out, CascadeCase};
 use rubsim::output::{figures, OutDir};
 use rubsim::plot::{Boundary, MapGrid};
 use rubsim::scene::{toml_number, LoadedScene};
-
-/// The axes of a map: keys and values, and which one (if any) is the speed.
-#[derive(Debug, Clone)]
-pub struct MapAxes {
-    /// The horizontal and vertical keys.
-    pub keys: [String; 2],
-    /// Their values.
-    pub values: [Vec<f64>; 2],
-    /// Index of the speed axis (`speed_ratio`), if one is.
-    pub speed: Option<usize>,
-}
-
-impl MapAxes {
-    /// The grid position `(ix, iy)` of case `k` of the study (variant-major, `ns` speeds per
-    /// variant): see [`study`] for the expansion.
-    fn cell(&self, k: usize, ns: usize) -> (usize, usize) {
-        let (variant, s) = (k / ns, k % ns);
-        match self.speed {
-            Some(0) => (s, variant),
-            Some(_) => (variant, s),
-            None => (
-                variant / self.values[1].len(),
-                variant % self.values[1].len(),
-            ),
-        }
-    }
-}
-
-/// The study of a map scene: with a speed axis, one variant per value of the other key and
-/// the speed axis as the speeds; with two scene keys, one variant per pair (x-major) at the
-/// scene's single speed (`run.speed_ratio`, or `run.speed` over ω_n = `wn`).
-pub fn study(ls: &LoadedScene, wn: Option<f64>) -> Result<Study> {
-    let m = ls.scene.run.map.as_ref().with_context(|| {
-        format!(
-            "{}: `rubsim map` needs a [run.map] table",
-            ls.file.display()
-        )
-    })?;
-    let axes = MapAxes {
-        keys: [m.x.key.clone(), m.y.key.clone()],
-        values: [m.x.resolved(), m.y.resolved()],
-        speed: [&m.x, &m.y].iter().position(|a| a.is_speed()),
-    };
-    let over = |k: &str, v: f64| format!("{k}={}", toml_number(v));
-    let variant = |overrides: Vec<String>| Variant {
-        prefix: String::new(),
-        overrides,
-    };
-    let (variants, speeds) = match axes.speed {
-        Some(s) => {
-            let o = 1 - s;
-            let vs = axes.values[o]
-                .iter()
-                .map(|v| variant(vec![over(&axes.keys[o], *v)]))
-                .collect();
-            (vs, axes.values[s].clone())
-        }
-        None => {
-            let run = &ls.scene.run;
-            let nu = match (run.speed_ratio, run.speed, wn) {
-                (Some(r), _, _) => r,
-                (None, Some(w), Some(wn)) => w / wn,
-                _ => bail!(
-                    "{}: a map of two scene keys runs at `run.speed_ratio` or `run.speed`",
-                    ls.file.display()
-                ),
-            };
-            let mut vs = Vec::new();
-            for x in &axes.values[0] {
-                for y in &axes.values[1] {
-                    vs.push(variant(vec![
-                        over(&axes.keys[0], *x),
-                        over(&axes.keys[1], *y),
-                    ]));
-                }
-            }
-            (vs, vec![nu])
-        }
-    };
-    Ok(Study {
-        kind: Kind::Map,
-        variants,
-        speeds,
-        map: Some(axes),
-    })
-}
+use rubsim::study::summary::{regime_cells, MapRecord};
+use rubsim::study::{MapAxes, Study};
 
 /// Writes `map.csv` and the map's pictures from the results of its cases (case order), prints
 /// the count of cells per regime; returns the summary record of the map.
@@ -106,7 +20,7 @@ pub fn assemble(
     ls: &LoadedScene,
     study: &Study,
     results: Vec<(SpeedResults, Boundary)>,
-) -> Result<serde_json::Value> {
+) -> Result<MapRecord> {
     let axes = study.map.as_ref().context("a map study without axes")?;
     let (nx, ny) = (axes.values[0].len(), axes.values[1].len());
     let ns = study.speeds.len();
@@ -142,27 +56,11 @@ pub fn assemble(
             &grid,
         )?;
     }
-    let mut counts = vec![0usize; REGIME_CLASSES.len()];
-    for r in &runs {
-        counts[rubsim::analysis::regime_class(r)] += 1;
-    }
     println!("map {nx} × {ny}: {} cases", runs.len());
-    let regimes: serde_json::Map<String, serde_json::Value> = REGIME_CLASSES
-        .iter()
-        .zip(&counts)
-        .filter(|(_, n)| **n > 0)
-        .map(|(name, n)| {
-            println!("  {name:>27}  {n} cells");
-            (name.to_string(), (*n).into())
-        })
-        .collect();
-    Ok(serde_json::json!({
-        "x": { "key": axes.keys[0], "values": axes.values[0] },
-        "y": { "key": axes.keys[1], "values": axes.values[1] },
-        "speed_ratio": if axes.speed.is_none() { study.speeds.first().copied() } else { None },
-        "cases": runs.len(),
-        "regime_cells": regimes,
-    }))
+    for (name, n) in regime_cells(&runs) {
+        println!("  {name:>27}  {n} cells");
+    }
+    Ok(MapRecord::new(axes, study, &runs))
 }
 
 /// The map's `full_cascade.csv` (the leading columns of `map.csv`) and, with `output.png`, one

@@ -30,8 +30,8 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use rubsim::analysis::{Keep, Prepared, RunSettings, SpeedResults};
 use rubsim::model::Model;
-use rubsim::results::ResultsSink;
-use rubsim::scene::{self, LoadedScene, OutputSpec};
+use rubsim::results::Series;
+use rubsim::scene::{self, LoadedScene};
 use rubsim::time::FrameSink;
 use std::path::{Path, PathBuf};
 
@@ -349,12 +349,7 @@ pub fn chosen_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Resul
 /// [`chosen_settings`] without printing the choice (`rubsim check` prints it in its own
 /// description of the run).
 pub fn choose_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Result<RunSettings> {
-    let s = settings(ls);
-    let run = &ls.scene.run;
-    if !run.auto_step || run.dt.is_some() || run.speed_profile.is_some() {
-        return Ok(s);
-    }
-    rubsim::analysis::choose(model, &s, run.integrator, run.rho_inf, speeds)
+    rubsim::study::run_settings(ls, model, speeds)
         .with_context(|| format!("{}: choosing Δt for `run.tolerance`", ls.file.display()))
 }
 
@@ -466,80 +461,22 @@ impl Progress {
     }
 }
 
-/// Where a run's VTK/HDF5 time series go: the scene's `[output]` (as text for the files'
-/// metadata) and the staging folder plus sub-folder of the output directory.
-pub struct Series<'a> {
-    /// The scene's `[output]`.
-    pub output: &'a OutputSpec,
-    /// The scene as JSON, stored with the series.
-    pub scene_json: &'a str,
-    /// The output directory's staging folder.
-    pub staging: &'a Path,
-}
-
-impl Series<'_> {
-    /// Runs `prep` (a run of `model`) with the time-series writers the scene asks for
-    /// attached, their files below `prefix` (empty or ending in `/`); returns the results and
-    /// the files written, relative to the staging folder.
-    pub fn run(
-        &self,
-        model: &Model,
-        prep: &Prepared,
-        keep: Keep,
-        prefix: &str,
-    ) -> rubsim::error::Result<(SpeedResults, Vec<String>)> {
-        self.run_with(model, prep, keep, prefix, None)
-    }
-
-    /// [`Series::run`] of a single run: its estimate on stderr first, and a progress bar on
-    /// stderr when it is long ([`PROGRESS_AFTER_S`]) and stderr is a terminal.
-    pub fn run_single(
-        &self,
-        model: &Model,
-        prep: &Prepared,
-        keep: Keep,
-        prefix: &str,
-    ) -> rubsim::error::Result<(SpeedResults, Vec<String>)> {
-        announce(prep);
-        let Some(mut progress) = Progress::for_run(prep) else {
-            return self.run(model, prep, keep, prefix);
-        };
-        let out = self.run_with(model, prep, keep, prefix, Some(&mut progress));
-        progress.pb.finish_and_clear();
-        out
-    }
-
-    /// [`Series::run`] with one more sink (`extra`, e.g. a progress bar) beside the writers.
-    fn run_with(
-        &self,
-        model: &Model,
-        prep: &Prepared,
-        keep: Keep,
-        prefix: &str,
-        extra: Option<&mut dyn FrameSink>,
-    ) -> rubsim::error::Result<(SpeedResults, Vec<String>)> {
-        let mut writer = ResultsSink::for_output(
-            model,
-            prep,
-            self.output,
-            self.scene_json,
-            self.staging,
-            prefix,
-        )?;
-        let mut sinks: Vec<&mut dyn FrameSink> = Vec::with_capacity(2);
-        if let Some(w) = writer.as_mut() {
-            sinks.push(w);
-        }
-        if let Some(e) = extra {
-            sinks.push(e);
-        }
-        let r = prep.run(keep, &mut sinks)?;
-        drop(sinks);
-        match writer {
-            None => Ok((r, Vec::new())),
-            Some(w) => Ok((r, w.finish()?)),
-        }
-    }
+/// [`Series::run`] of a single run: its estimate on stderr first, and a progress bar on
+/// stderr when it is long ([`PROGRESS_AFTER_S`]) and stderr is a terminal.
+pub fn run_single(
+    series: &Series<'_>,
+    model: &Model,
+    prep: &Prepared,
+    keep: Keep,
+    prefix: &str,
+) -> rubsim::error::Result<(SpeedResults, Vec<String>)> {
+    announce(prep);
+    let Some(mut progress) = Progress::for_run(prep) else {
+        return series.run(model, prep, keep, prefix);
+    };
+    let out = series.run_with(model, prep, keep, prefix, Some(&mut progress));
+    progress.pb.finish_and_clear();
+    out
 }
 
 /// Prepares (and locks) the output directory `dir`; prints its notes (a recovered commit,
@@ -553,7 +490,7 @@ pub fn open_out(dir: &Path) -> Result<rubsim::output::OutDir> {
 }
 
 /// Writes `summary.json`, commits the output directory and says where the results are.
-pub fn finish(out: rubsim::output::OutDir, summary: &serde_json::Value) -> Result<()> {
+pub fn finish<S: serde::Serialize>(out: rubsim::output::OutDir, summary: &S) -> Result<()> {
     let dir = rubsim::output::summary::finish(out, summary)?;
     println!("results in {}", dir.display());
     Ok(())
@@ -579,8 +516,8 @@ pub fn run() -> Result<()> {
             speed,
             unit,
         } => run::run(c, out.clone(), *speed, *unit),
-        Cmd::Sweep { c, a } => study::run(c, study::Kind::Sweep, a),
-        Cmd::Map { c, a } => study::run(c, study::Kind::Map, a),
+        Cmd::Sweep { c, a } => study::run(c, rubsim::study::Kind::Sweep, a),
+        Cmd::Map { c, a } => study::run(c, rubsim::study::Kind::Map, a),
         Cmd::Merge { dir, more } => {
             let mut dirs = vec![dir.clone()];
             dirs.extend(more.iter().cloned());

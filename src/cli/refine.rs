@@ -3,7 +3,8 @@
 use super::{default_out, finish, load_scene, settings};
 use anyhow::Result;
 use rubsim::analysis::refine::refine_point;
-use rubsim::output::{csv, figures, summary};
+use rubsim::output::summary::{RefineRecord, RefineSummary};
+use rubsim::output::{csv, figures};
 use std::path::PathBuf;
 
 /// Options of `rubsim refine`.
@@ -80,7 +81,7 @@ pub fn refine(a: &RefineArgs) -> Result<()> {
     figures::write_refine(&mut outd, &a.key, a.window, &points)?;
     let records = points
         .iter()
-        .map(|(v, p)| summary::refine_record(v, p))
+        .map(|(v, p)| RefineRecord::new(v, p))
         .collect();
-    finish(outd, &summary::refine(&a.scene, &a.key, &a.set, records))
+    finish(outd, &RefineSummary::new(&a.scene, &a.key, &a.set, records))
 }

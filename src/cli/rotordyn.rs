@@ -5,7 +5,10 @@
 use super::{default_out, finish, load, Common, UnitArg};
 use anyhow::{Context, Result};
 use rubsim::linear::{self, mode_shape, ModalResults, RotorLine, Swept};
-use rubsim::output::{csv, figures, summary, OutDir};
+use rubsim::output::summary::{
+    Base, CampbellBody, CriticalMapBody, ModalBody, Summary, UnbalanceBody,
+};
+use rubsim::output::{csv, figures, OutDir};
 use rubsim::scene::SpeedUnit;
 use std::path::PathBuf;
 
@@ -59,10 +62,12 @@ pub fn modal(
     let ymax = nodes.iter().fold(0.0_f64, |m, u| m.max(u[1].abs()));
     println!("static deflection under g = {gravity} m/s²: largest |u_y| = {ymax:.4e} m");
     csv::write_static_deflection(&mut outd, &nodes)?;
-    let mut sum = summary::base(&ls, &model, "modal");
-    sum["modal"] = serde_json::to_value(&res)?;
-    sum["static_deflection_max_m"] = ymax.into();
-    finish(outd, &sum)
+    let body = ModalBody {
+        modal: &res,
+        static_deflection_max_m: ymax,
+    };
+    let base = Base::new(&ls, &model, "modal");
+    finish(outd, &Summary { base, body })
 }
 
 /// Campbell diagram from `from` to `to` (in their unit).
@@ -101,9 +106,9 @@ pub fn campbell(
             cs.mode, cs.speed, cs.rpm
         );
     }
-    let mut sum = summary::base(&ls, &model, "campbell");
-    sum["campbell"] = serde_json::to_value(&res)?;
-    finish(outd, &sum)
+    let body = CampbellBody { campbell: &res };
+    let base = Base::new(&ls, &model, "campbell");
+    finish(outd, &Summary { base, body })
 }
 
 /// Unbalance response (Bode and polar) at `nodes` (default: every station's node), from
@@ -141,9 +146,11 @@ pub fn unbalance(
         let (s, a) = linear::peak_response(&res, *n);
         println!("node {n}: peak amplitude {a:.4e} m at Ω = {s:.3} rad/s");
     }
-    let mut sum = summary::base(&ls, &model, "unbalance");
-    sum["unbalance_response"] = serde_json::to_value(&res)?;
-    finish(outd, &sum)
+    let body = UnbalanceBody {
+        unbalance_response: &res,
+    };
+    let base = Base::new(&ls, &model, "unbalance");
+    finish(outd, &Summary { base, body })
 }
 
 /// The mode shapes as VTK (`modes/mode_NN.vtu`, `.pvd` and frames) and, with the `hdf5`
@@ -210,7 +217,7 @@ pub fn critical_map(
             x.speed * 30.0 / std::f64::consts::PI
         );
     }
-    let mut sum = summary::base(&ls, &model, "critical-map");
-    sum["critical_map"] = serde_json::to_value(&res)?;
-    finish(outd, &sum)
+    let body = CriticalMapBody { critical_map: &res };
+    let base = Base::new(&ls, &model, "critical-map");
+    finish(outd, &Summary { base, body })
 }

@@ -1,11 +1,15 @@
 //! `rubsim run`: one speed, its summary, pictures and time series.
 
-use super::{chosen_settings, default_out, load, settings, Common, Series, UnitArg};
+use super::{chosen_settings, default_out, load, run_single, settings, Common, UnitArg};
 use anyhow::{Context, Result};
 use rubsim::analysis::{self, Keep};
+use rubsim::output::summary::{
+    self, Base, RunBody, SnapshotsRecord, Summary, TransientBody, WaterfallRecord,
+};
 use rubsim::output::transient_stress::TransientStress;
-use rubsim::output::{figures, summary, transient as transient_out, whirl as whirl_out};
+use rubsim::output::{figures, transient as transient_out, whirl as whirl_out};
 use rubsim::results::ResultsSink;
+use rubsim::results::Series;
 use rubsim::time::FrameSink;
 use std::path::PathBuf;
 
@@ -42,7 +46,7 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
         scene_json: &scene_json,
         staging: outd.staging_dir(),
     };
-    let (r, written) = series.run_single(&model, &prep, keep, "")?;
+    let (r, written) = run_single(&series, &model, &prep, keep, "")?;
     for name in &written {
         outd.adopt(name)?;
     }
@@ -56,15 +60,15 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
         )?;
     }
     whirl_out::write_run(&mut outd, &ls.scene.title, &r, ls.scene.output.png)?;
-    let mut sum = summary::base(&ls, &model, "run");
-    sum["result"] = serde_json::to_value(&r)?;
-    sum["regime"] = analysis::regime_label(&r).into();
-    sum["dynamics"] = r.dynamics.regime.name().into();
-    if let Some(c) = &r.coexistence {
-        sum["coexisting"] = c.coexisting.into();
-    }
-    sum["wall_s"] = t0.elapsed().as_secs_f64().into();
-    let dir = summary::finish(outd, &sum)?;
+    let body = RunBody {
+        result: &r,
+        regime: analysis::regime_label(&r),
+        dynamics: r.dynamics.regime.name(),
+        coexisting: r.coexistence.as_ref().map(|c| c.coexisting),
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    let base = Base::new(&ls, &model, "run");
+    let dir = summary::finish(outd, &Summary { base, body })?;
     println!(
         "ω/ωn = {:.3}: {} | x/|Z0| ∈ [{:.3}, {:.3}], y/|Z0| ∈ [{:.3}, {:.3}] | 1× {:.3}, 1/2× {:.3}, 1/3× {:.3} | whirl {} ({:+.3}×; 1× forward {:.3}, backward {:.3}) | {} {} steps (Δt = {:.3e} s) in {:.3} s | est. rel. error {}",
         r.speed_ratio,
@@ -181,28 +185,26 @@ fn transient(
     if ls.scene.output.png {
         transient_out::write_figures(&mut outd, &ls.scene.title, &r, &ls.scene.output.component)?;
     }
-    let mut sum = summary::base(ls, model, "run");
-    sum["transient"] = serde_json::to_value(&r)?;
-    if let Some(st) = &stress {
-        sum["stator_stress"] = serde_json::to_value(st)?;
-    }
-    if !snapshots.is_empty() {
-        sum["orbit_snapshots"] = serde_json::json!({
-            "revolutions": analysis::SNAPSHOT_REVOLUTIONS,
-            "snapshots": snaps,
-            "missed_speed_ratios": missed,
-        });
-    }
-    sum["full_waterfall"] = serde_json::json!({
-        "windows": waterfall.len(),
-        "window_revolutions": prep.window_revolutions,
-        "backward_dominant_windows": waterfall
-            .iter()
-            .filter(|w| w.lines.first().is_some_and(|l| l.0 < 0.0))
-            .count(),
-    });
-    sum["wall_s"] = t0.elapsed().as_secs_f64().into();
-    let dir = summary::finish(outd, &sum)?;
+    let body = TransientBody {
+        transient: &r,
+        stator_stress: stress.as_ref(),
+        orbit_snapshots: (!snapshots.is_empty()).then_some(SnapshotsRecord {
+            revolutions: analysis::SNAPSHOT_REVOLUTIONS,
+            snapshots: &snaps,
+            missed_speed_ratios: &missed,
+        }),
+        full_waterfall: WaterfallRecord {
+            windows: waterfall.len(),
+            window_revolutions: prep.window_revolutions,
+            backward_dominant_windows: waterfall
+                .iter()
+                .filter(|w| w.lines.first().is_some_and(|l| l.0 < 0.0))
+                .count(),
+        },
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    let base = Base::new(ls, model, "run");
+    let dir = summary::finish(outd, &Summary { base, body })?;
     print_end(&r, stress.as_ref());
     println!("results in {}", dir.display());
     Ok(())

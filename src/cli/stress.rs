@@ -4,7 +4,8 @@ use super::{default_out, finish, load_scene, settings};
 use anyhow::{bail, Result};
 use rubsim::analysis::{self, StressProbe, StressResults, StressTrace};
 use rubsim::error::Error;
-use rubsim::output::{csv, figures, summary};
+use rubsim::output::summary::{self, StressSummary};
+use rubsim::output::{csv, figures};
 use std::path::PathBuf;
 
 /// Options of `rubsim stress`.
@@ -78,7 +79,7 @@ pub fn stress(a: &StressArgs) -> Result<()> {
     if png {
         figures::write_stress(&mut outd, &runs)?;
     }
-    let sum = summary::stress(&a.scene, &a.set, a.per_rev, a.window, records);
+    let sum = StressSummary::new(&a.scene, &a.set, a.per_rev, a.window, records);
     finish(outd, &sum)
 }
 

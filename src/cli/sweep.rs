@@ -1,26 +1,46 @@
 //! `rubsim sweep`: the speed sweep of `[run.sweep]`, once or per value of `[run.sweep.vary]`,
-//! run as cases ([`super::study`]); here, its tables and pictures assembled from the cases.
+//! run as cases ([`rubsim::study`]); here, its tables and pictures assembled from the cases.
 
-use super::study::Study;
 use anyhow::Result;
-use rubsim::analysis::sweep::{self as sw, Variant};
-use rubsim::analysis::{self, SpeedResults, SweepResults};
+use rubsim::analysis::sweep as sw;
+use rubsim::analysis::{self, RegimeRange, SpeedResults, SweepResults};
 use rubsim::output::whirl::{self as whirl_out, CascadeCase};
-use rubsim::output::{csv, figures, summary, OutDir};
+use rubsim::output::{csv, figures, OutDir};
 use rubsim::plot::Boundary;
 use rubsim::scene::LoadedScene;
+use rubsim::study::summary::SweepRecord;
+use rubsim::study::{Study, Variant};
+
+/// One sweep of the study as assembled: its results, regimes and quasi-resonance peaks.
+pub struct Assembled<'a> {
+    /// The variant.
+    pub variant: &'a Variant,
+    /// Its results, in speed order.
+    pub res: SweepResults,
+    /// Its regimes.
+    pub regimes: Vec<RegimeRange>,
+    /// Its quasi-resonance peaks (period, ω/ωn).
+    pub peaks: Vec<(usize, f64)>,
+}
+
+impl Assembled<'_> {
+    /// Its record in the summary.
+    pub fn record(&self) -> SweepRecord<'_> {
+        SweepRecord::new(self.variant, &self.res, &self.regimes, &self.peaks)
+    }
+}
 
 /// Writes `sweep.csv` and the pictures of every variant of the sweep (below its prefix) from
 /// the results of its cases (`results`, in case order: variant-major), prints its regimes;
-/// returns the summary records of the variants.
-pub fn assemble(
+/// returns the variants' sweeps for the summary.
+pub fn assemble<'s>(
     outd: &mut OutDir,
     ls: &LoadedScene,
-    study: &Study,
+    study: &'s Study,
     results: Vec<(SpeedResults, Boundary)>,
-) -> Result<Vec<serde_json::Value>> {
+) -> Result<Vec<Assembled<'s>>> {
     let n = study.speeds.len();
-    let mut records = Vec::new();
+    let mut out = Vec::new();
     let mut it = results.into_iter();
     for variant in &study.variants {
         let (speeds, bounds): (Vec<_>, Vec<_>) = it.by_ref().take(n).unzip();
@@ -28,20 +48,21 @@ pub fn assemble(
             wall_s: speeds.iter().map(|r: &SpeedResults| r.stats.wall_s).sum(),
             speeds,
         };
-        records.push(write_variant(
-            outd,
+        write_variant(outd, variant, ls, &study.speeds, &res, &bounds)?;
+        let regimes = analysis::regime_ranges(&res.speeds);
+        let peaks = analysis::quasi_resonances(&res.speeds);
+        report(variant, &res, &regimes, &peaks);
+        out.push(Assembled {
             variant,
-            ls,
-            &study.speeds,
-            &res,
-            &bounds,
-        )?);
+            res,
+            regimes,
+            peaks,
+        });
     }
-    Ok(records)
+    Ok(out)
 }
 
-/// One sweep of the study: its table and pictures below the variant's prefix, its regimes
-/// printed; returns its summary record.
+/// One sweep of the study: its table and pictures below the variant's prefix.
 fn write_variant(
     outd: &mut OutDir,
     variant: &Variant,
@@ -49,7 +70,7 @@ fn write_variant(
     speeds: &[f64],
     res: &SweepResults,
     bounds: &[Boundary],
-) -> Result<serde_json::Value> {
+) -> Result<()> {
     let prefix = variant.prefix.as_str();
     let o = &ls.scene.output;
     csv::write_sweep(outd, prefix, res)?;
@@ -87,10 +108,7 @@ fn write_variant(
             sw::cascade_max(o, speeds),
         )?;
     }
-    let regimes = analysis::regime_ranges(&res.speeds);
-    let peaks = analysis::quasi_resonances(&res.speeds);
-    report(variant, res, &regimes, &peaks);
-    Ok(summary::sweep_variant(variant, res, &regimes, &peaks))
+    Ok(())
 }
 
 /// Prints a sweep's speeds, time, steps, largest estimated error, regimes and peaks.

@@ -1,5 +1,5 @@
 //! Durable file operations of the output protocol ([`super::outdir`]) and the case store
-//! ([`super::cases`]): a file's data reaches the disk (`fsync`) before the rename that makes
+//! (`crate::study::store`): a file's data reaches the disk (`fsync`) before the rename that makes
 //! it visible, and a directory is synced after the renames and removals in it, so that after a
 //! power loss a name never points to data that was not written — in particular, a
 //! `summary.json` never stands beside results whose bytes were lost.

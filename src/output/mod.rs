@@ -2,8 +2,8 @@
 //! `summary.json` ([`summary`]), every CSV table ([`csv`]), the PNG pictures ([`figures`]; mode
 //! shapes and the critical speed map: [`rotordyn`]), a speed transient's tables and pictures
 //! ([`transient`]) and the full spectra of x + iy ([`whirl`]). The VTK/HDF5 time series are
-//! written by
-//! the frame sinks of [`crate::results`] into the same staging folder.
+//! written by the frame sinks of [`crate::results`] into the same staging folder; a study's
+//! case store is [`crate::study`]'s.
 //!
 //! Every file is first written into a staging folder inside the output directory and moved
 //! into place only when the whole command has succeeded, by a journaled commit that moves
@@ -15,7 +15,6 @@
 //! [`outdir`]. The directory is checked for writability before any computation starts
 //! ([`OutDir::prepare`]).
 
-pub mod cases;
 pub mod csv;
 pub mod durable;
 pub mod figures;

@@ -43,6 +43,7 @@
 pub mod frame;
 pub mod layout;
 pub mod modes;
+pub mod series;
 pub mod sink;
 pub mod vtk;
 
@@ -61,6 +62,7 @@ pub use layout::{
     Layout, OutputGrid, PairSlot, RingSlot, RotorNodeDofs, RING_POINTS, ROTOR_DOF_NAMES, THETA_Z,
     U_Z,
 };
+pub use series::Series;
 pub use sink::{check_free_space, ResultsSink};
 
 use crate::scene::{OutputSpec, PerSpeed, SeriesField, SeriesSpec};

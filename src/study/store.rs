@@ -2,7 +2,7 @@
 //!
 //! A sweep or map is a list of *cases* — a variant of the scene (its overrides) at one speed —
 //! each named by a stable id made of its parameters (`speed_ratio=1.7`,
-//! `stator.0.clearance_nd=0.4,speed_ratio=1.7`; [`crate::analysis::sweep::CaseSpec`]). As soon
+//! `stator.0.clearance_nd=0.4,speed_ratio=1.7`; [`super::CaseId`]). As soon
 //! as a case is computed, its results are written to `cases/<id>.toml` (a temporary file, then
 //! a rename), and the command's tables and pictures are assembled from those files, so:
 //!
@@ -27,7 +27,7 @@
 //! link them (`speed_<ν>/…`). A rerun keeps a finished case whose series carry this run's stamp,
 //! and runs it again otherwise; series no case asks for any more are removed.
 //!
-//! **With the output protocol** ([`super::outdir`]): the folder is written only by the holder
+//! **With the output protocol** ([`crate::output::outdir`]): the folder is written only by the holder
 //! of the output directory's lock, directly (not staged): it is a journal of finished work,
 //! not a result. The commit's manifest never lists it, so a commit neither moves nor removes
 //! it; temporary files (`cases/.tmp-*`) left by a killed run are removed under the lock.
@@ -36,9 +36,12 @@
 //! file is in place; `RUBSIM_KILL_AFTER_CASES=N` kills the process with SIGKILL right after
 //! its N-th case file (tests of resume).
 
+use super::case::CaseId;
 use crate::analysis::SpeedResults;
 use crate::error::{Error, Result};
 use crate::math::{Fnv128, V2};
+use crate::output::durable;
+use crate::output::summary::ModelRecord;
 use crate::plot::Boundary;
 use crate::scene::Scene;
 use serde::{Deserialize, Serialize};
@@ -80,7 +83,7 @@ pub struct StorePlan {
     /// The overrides (`--set key=value`).
     pub overrides: Vec<String>,
     /// The `model` record of the summary (not rebuilt by `merge`).
-    pub model: serde_json::Value,
+    pub model: ModelRecord,
 }
 
 /// The identity of a study's cases: FNV-1a of the program version, the command and the
@@ -104,7 +107,7 @@ pub fn scene_hash(command: &str, scene: &Scene) -> String {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CaseRecord {
     /// The case id.
-    pub id: String,
+    pub id: CaseId,
     /// [`scene_hash`] of the study.
     pub scene_hash: String,
     /// Steady orbit / |Z0| (when kept).
@@ -121,9 +124,14 @@ pub struct CaseRecord {
 
 impl CaseRecord {
     /// A record of `results` (its kept orbit, force history and spectrum moved in).
-    pub fn new(id: &str, scene_hash: &str, mut results: SpeedResults, boundary: Boundary) -> Self {
+    pub fn new(
+        id: &CaseId,
+        scene_hash: &str,
+        mut results: SpeedResults,
+        boundary: Boundary,
+    ) -> Self {
         Self {
-            id: id.to_string(),
+            id: id.clone(),
             scene_hash: scene_hash.to_string(),
             orbit_nd: std::mem::take(&mut results.orbit_nd),
             force_history: std::mem::take(&mut results.force_history),
@@ -217,7 +225,7 @@ impl CaseStore {
     }
 
     /// The file of case `id`.
-    pub fn path(&self, id: &str) -> PathBuf {
+    pub fn path(&self, id: &CaseId) -> PathBuf {
         self.dir.join(format!("{id}.toml"))
     }
 
@@ -225,7 +233,7 @@ impl CaseStore {
     ///
     /// # Errors
     /// [`Error::Output`] naming a case file that is half-written or damaged.
-    pub fn finished(&self, id: &str) -> Result<bool> {
+    pub fn finished(&self, id: &CaseId) -> Result<bool> {
         let p = self.path(id);
         match fs::read_to_string(&p) {
             Ok(text) => body(&p, &text).map(|_| true),
@@ -251,7 +259,7 @@ impl CaseStore {
             self.written.fetch_add(1, Ordering::SeqCst)
         ));
         write_atomic(&tmp, &p, text.as_bytes())?;
-        test_hooks(&rec.id);
+        test_hooks(rec.id.as_str());
         Ok(())
     }
 
@@ -260,7 +268,7 @@ impl CaseStore {
     /// # Errors
     /// [`Error::Output`] naming the file: half-written or damaged, of another case or of
     /// another scene.
-    pub fn read(&self, id: &str) -> Result<Option<CaseRecord>> {
+    pub fn read(&self, id: &CaseId) -> Result<Option<CaseRecord>> {
         let p = self.path(id);
         let text = match fs::read_to_string(&p) {
             Ok(t) => t,
@@ -269,7 +277,7 @@ impl CaseStore {
         };
         let rec: CaseRecord = toml::from_str(body(&p, &text)?)
             .map_err(|e| Error::output(&p, format!("damaged case file: {}", e.message())))?;
-        if rec.id != id {
+        if rec.id != *id {
             return Err(Error::output(
                 &p,
                 format!("holds case `{}`, not `{id}`", rec.id),
@@ -296,8 +304,8 @@ const SERIES_STAMP: &str = ".stamp";
 
 impl CaseStore {
     /// The folder of case `id`'s kept time series.
-    pub fn series_path(&self, id: &str) -> PathBuf {
-        self.dir.join(SERIES_DIR).join(id)
+    pub fn series_path(&self, id: &CaseId) -> PathBuf {
+        self.dir.join(SERIES_DIR).join(id.as_str())
     }
 
     /// A new empty folder in which to write case `id`'s time series; [`CaseStore::keep_series`]
@@ -305,7 +313,7 @@ impl CaseStore {
     ///
     /// # Errors
     /// [`Error::Output`] naming the folder.
-    pub fn stage_series(&self, id: &str) -> Result<PathBuf> {
+    pub fn stage_series(&self, id: &CaseId) -> Result<PathBuf> {
         let p = self.dir.join(SERIES_DIR).join(format!("{TMP_PREFIX}{id}"));
         if p.exists() {
             fs::remove_dir_all(&p).map_err(|e| Error::output(&p, e))?;
@@ -321,14 +329,14 @@ impl CaseStore {
     ///
     /// # Errors
     /// [`Error::Output`] naming the folder.
-    pub fn keep_series(&self, id: &str, stamp: &str) -> Result<()> {
+    pub fn keep_series(&self, id: &CaseId, stamp: &str) -> Result<()> {
         let tmp = self.dir.join(SERIES_DIR).join(format!("{TMP_PREFIX}{id}"));
         let stamp_path = tmp.join(SERIES_STAMP);
         fs::write(&stamp_path, stamp).map_err(|e| Error::output(&stamp_path, e))?;
         let mut dirs = vec![tmp.clone()];
         for f in files_below(&tmp)? {
             let p = tmp.join(&f);
-            super::durable::sync_file(&p)?;
+            durable::sync_file(&p)?;
             if let Some(d) = p.parent() {
                 if !dirs.iter().any(|x| x == d) {
                     dirs.push(d.to_path_buf());
@@ -336,14 +344,14 @@ impl CaseStore {
             }
         }
         for d in &dirs {
-            super::durable::sync_dir(d)?;
+            durable::sync_dir(d)?;
         }
         let fin = self.series_path(id);
         if fin.exists() {
             fs::remove_dir_all(&fin).map_err(|e| Error::output(&fin, e))?;
         }
         fs::rename(&tmp, &fin).map_err(|e| Error::output(&fin, e))?;
-        super::durable::sync_dir(&self.dir.join(SERIES_DIR))
+        durable::sync_dir(&self.dir.join(SERIES_DIR))
     }
 
     /// The files of case `id`'s kept series, relative to its folder, when it has series written
@@ -351,7 +359,7 @@ impl CaseStore {
     ///
     /// # Errors
     /// [`Error::Output`] naming the folder when it cannot be read.
-    pub fn series_files(&self, id: &str, stamp: &str) -> Result<Option<Vec<String>>> {
+    pub fn series_files(&self, id: &CaseId, stamp: &str) -> Result<Option<Vec<String>>> {
         let dir = self.series_path(id);
         match fs::read_to_string(dir.join(SERIES_STAMP)) {
             Ok(s) if s == stamp => {}
@@ -367,14 +375,14 @@ impl CaseStore {
     ///
     /// # Errors
     /// [`Error::Output`] naming the folder.
-    pub fn prune_series(&self, keep: &[&str]) -> Result<()> {
+    pub fn prune_series(&self, keep: &[CaseId]) -> Result<()> {
         let dir = self.dir.join(SERIES_DIR);
         let Ok(rd) = fs::read_dir(&dir) else {
             return Ok(());
         };
         for e in rd.flatten() {
             let name = e.file_name().to_string_lossy().into_owned();
-            if !keep.contains(&name.as_str()) {
+            if !keep.iter().any(|k| k.as_str() == name) {
                 fs::remove_dir_all(e.path()).map_err(|err| Error::output(e.path(), err))?;
             }
         }
@@ -494,9 +502,9 @@ fn remove_temporaries(dir: &Path) {
 
 /// Writes `bytes` to `path` through the temporary file `tmp` (in the same folder, named with
 /// [`TMP_PREFIX`] so an interrupted write is swept away), synced, renamed, the folder synced
-/// ([`super::durable::write_atomic`]): a case file that exists after a power loss is whole.
+/// ([`durable::write_atomic`]): a case file that exists after a power loss is whole.
 fn write_atomic(tmp: &Path, path: &Path, bytes: &[u8]) -> Result<()> {
-    super::durable::write_atomic(tmp, path, bytes, || {})
+    durable::write_atomic(tmp, path, bytes, || {})
 }
 
 /// The test hooks of the module docs, after the case file of `id` is in place.
@@ -561,7 +569,10 @@ mod tests {
             scene_file: "s.toml".into(),
             source: String::new(),
             overrides: Vec::new(),
-            model: serde_json::Value::Null,
+            model: ModelRecord {
+                omega_n_rad_s: 1.0,
+                rotor: String::new(),
+            },
         };
         // A folder with only a temporary file: a run killed before its plan was in place.
         fs::create_dir_all(tmp.path().join(CASES_DIR)).unwrap();

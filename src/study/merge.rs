@@ -1,0 +1,236 @@
+//! Reading a study's cases back: every case from the stores that hold them ([`results`]), and
+//! the stores of a sharded study gathered for `rubsim merge` ([`merge_folders`], [`Merged`]).
+
+use super::case::CaseSpec;
+use super::series::SeriesPlan;
+use super::shard::shard_folders;
+use super::store::{scene_hash, CaseStore, CASES_DIR};
+use super::{Kind, Study};
+use crate::analysis::SpeedResults;
+use crate::error::{Error, Result};
+use crate::output::summary::ModelRecord;
+use crate::output::OutDir;
+use crate::plot::Boundary;
+use crate::scene::LoadedScene;
+use std::path::{Path, PathBuf};
+
+/// The results of every case of `study`, read from the first of `stores` that holds each, in
+/// case order; `shard_counts` are the shard counts n seen (`shard-<i>-of-<n>` folders), for
+/// the message about missing cases.
+///
+/// # Errors
+/// [`Error::Study`] listing the missing cases (and, for each shard count, the shards to run
+/// again); a damaged case file ([`CaseStore::read`]).
+pub fn results(
+    stores: &[&CaseStore],
+    study: &Study,
+    shard_counts: &[usize],
+) -> Result<Vec<(SpeedResults, Boundary)>> {
+    let cases = study.cases();
+    let missing: Vec<&CaseSpec> = cases
+        .iter()
+        .filter(|c| !stores.iter().any(|s| s.path(&c.id).is_file()))
+        .collect();
+    if !missing.is_empty() {
+        return Err(Error::study(
+            "",
+            missing_message(&missing, cases.len(), shard_counts),
+        ));
+    }
+    cases
+        .iter()
+        .map(|c| {
+            for s in stores {
+                if let Some(rec) = s.read(&c.id)? {
+                    return Ok(rec.into_parts());
+                }
+            }
+            Err(Error::study(
+                "",
+                format!("case {} disappeared while being read", c.id),
+            ))
+        })
+        .collect()
+}
+
+/// "n of N cases are missing:", up to 20 of them, and the shards they belong to.
+fn missing_message(missing: &[&CaseSpec], total: usize, shard_counts: &[usize]) -> String {
+    let mut msg = format!("{} of {} cases are missing:", missing.len(), total);
+    for c in missing.iter().take(20) {
+        msg.push_str(&format!("\n  {}", c.id));
+    }
+    if missing.len() > 20 {
+        msg.push_str(&format!("\n  … and {} more", missing.len() - 20));
+    }
+    for n in shard_counts {
+        let mut shards: Vec<usize> = missing.iter().map(|c| c.index % n + 1).collect();
+        shards.sort_unstable();
+        shards.dedup();
+        let list: Vec<String> = shards.iter().map(|s| s.to_string()).collect();
+        msg.push_str(&format!(
+            "\nthey belong to shards {} of {n}: run those again (Slurm: sbatch --array={} …)",
+            list.join(", "),
+            list.join(",")
+        ));
+    }
+    msg
+}
+
+/// The folders whose case stores a merge of `dirs` reads: each directory that holds
+/// `cases/`, and its `shard-*/` folders that do.
+///
+/// # Errors
+/// [`Error::Study`]: no directory, a directory that does not exist, or no cases anywhere.
+pub fn merge_folders(dirs: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    if dirs.is_empty() {
+        return Err(Error::study(
+            "",
+            "rubsim merge needs at least one directory",
+        ));
+    }
+    let mut folders = Vec::new();
+    for d in dirs {
+        if !d.is_dir() {
+            return Err(Error::study(d.display(), "no such directory"));
+        }
+        if d.join(CASES_DIR).is_dir() {
+            folders.push(d.clone());
+        }
+        folders.extend(shard_folders(d));
+    }
+    if folders.is_empty() {
+        let names: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
+        return Err(Error::study(
+            names.join(", "),
+            format!("no cases to merge (neither {CASES_DIR}/ nor shard-*/{CASES_DIR}/ found)"),
+        ));
+    }
+    Ok(folders)
+}
+
+/// The case stores of a sharded study, all of one scene, with the scene and study rebuilt
+/// from the stores' plan; each shard folder's lock is held while it lives, so a shard still
+/// running is refused, not read half-way.
+pub struct Merged {
+    /// The scene, parsed from the text and overrides kept in the plan.
+    pub scene: LoadedScene,
+    /// The study.
+    pub study: Study,
+    /// The stores, in the order of the folders.
+    pub stores: Vec<CaseStore>,
+    /// The summary's `model` record, kept in the plan (the model is not rebuilt).
+    pub model: ModelRecord,
+    _locks: Vec<OutDir>,
+}
+
+impl Merged {
+    /// Locks and reads the stores of `folders` (from [`merge_folders`]) other than `out`, the
+    /// merge's output directory, whose lock the caller holds.
+    ///
+    /// # Errors
+    /// A shard folder locked by a running shard ([`Error::Context`]); stores of different
+    /// scenes, of an unknown command, or made by a rubsim that reads the scene differently
+    /// ([`Error::Study`]); an unreadable plan.
+    pub fn open(folders: &[PathBuf], out: &Path) -> Result<Self> {
+        let mut locks = Vec::new();
+        for f in folders.iter().filter(|f| *f != out) {
+            locks.push(
+                OutDir::prepare(f)
+                    .map_err(|e| e.context(format!("{}: a shard still running?", f.display())))?,
+            );
+        }
+        let stores = folders
+            .iter()
+            .map(|f| CaseStore::read_only(&f.join(CASES_DIR)))
+            .collect::<Result<Vec<_>>>()?;
+        let first = stores
+            .first()
+            .ok_or_else(|| Error::study("", "no cases to merge"))?;
+        for s in &stores[1..] {
+            if s.plan().scene_hash != first.plan().scene_hash {
+                return Err(different_scenes(first, s));
+            }
+        }
+        let (scene, kind) = scene_of(first)?;
+        let plan = first.plan();
+        let study = Study::of(&scene, Some(plan.model.omega_n_rad_s), kind)?;
+        let model = plan.model.clone();
+        Ok(Self {
+            scene,
+            study,
+            stores,
+            model,
+            _locks: locks,
+        })
+    }
+
+    /// Links the kept time series of every case that asks for them into `outd`
+    /// ([`SeriesPlan::gather`]).
+    ///
+    /// # Errors
+    /// As [`SeriesPlan::gather`].
+    pub fn gather_series(&self, outd: &mut OutDir) -> Result<()> {
+        SeriesPlan::of(&self.scene, &self.study)?.gather(&self.study, &self.stores, outd)
+    }
+}
+
+/// Why the stores `a` and `b` cannot be merged.
+fn different_scenes(a: &CaseStore, b: &CaseStore) -> Error {
+    let (p, q) = (a.plan(), b.plan());
+    Error::study(
+        format!("{} and {}", a.dir().display(), b.dir().display()),
+        format!(
+            "hold cases of different scenes (scene hashes {} and {}: `rubsim {}` of {} with \
+             {:?}, and `rubsim {}` of {} with {:?}); merge only the shards of one study",
+            p.scene_hash,
+            q.scene_hash,
+            p.command,
+            p.scene_file,
+            p.overrides,
+            q.command,
+            q.scene_file,
+            q.overrides
+        ),
+    )
+}
+
+/// The scene and command of a store, rebuilt from its plan and checked against its scene hash.
+fn scene_of(store: &CaseStore) -> Result<(LoadedScene, Kind)> {
+    let plan = store.plan();
+    let dir = store.dir().display();
+    let kind = Kind::from_name(&plan.command)
+        .ok_or_else(|| Error::study(&dir, format!("unknown command {:?}", plan.command)))?;
+    let ls = crate::scene::parse(Path::new(&plan.scene_file), &plan.source, &plan.overrides)?;
+    if scene_hash(kind.name(), &ls.scene) != plan.scene_hash {
+        return Err(Error::study(
+            &dir,
+            format!(
+                "its cases were made by rubsim {} from a scene this rubsim ({}) reads \
+                 differently; merge them with that version",
+                plan.rubsim_version,
+                env!("CARGO_PKG_VERSION")
+            ),
+        ));
+    }
+    Ok((ls, kind))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::variant::variants;
+
+    #[test]
+    fn missing_cases_are_listed_with_the_shards_that_ran_them() {
+        let cs = crate::study::cases(&variants(None), &[1.0, 2.0, 3.0, 4.0, 5.0]);
+        let missing: Vec<&CaseSpec> = [&cs[1], &cs[4]].into();
+        let m = missing_message(&missing, cs.len(), &[3]);
+        assert!(m.starts_with("2 of 5 cases are missing:"), "{m}");
+        assert!(m.contains("\n  speed_ratio=2\n  speed_ratio=5"), "{m}");
+        // k = 1 and k = 4 are both in shard 2 of 3 (k mod 3 = 1).
+        assert!(
+            m.contains("shards 2 of 3") && m.contains("--array=2 "),
+            "{m}"
+        );
+    }
+}
