@@ -45,7 +45,7 @@ use super::durable;
 use super::manifest::{check_relative, parse_manifest, MANIFEST, PROTOCOL_PREFIX};
 use crate::error::{Error, Result};
 use std::collections::BTreeSet;
-use std::fs::{self, File};
+use std::fs::{self, File, TryLockError};
 use std::io::{ErrorKind, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -273,9 +273,9 @@ fn acquire_lock(dir: &Path) -> Result<File> {
                     format!("output directory is not writable (its lock file {LOCK}): {e}"),
                 )
             })?;
-        match crate::fslock::try_lock(&f) {
-            Ok(true) => {}
-            Ok(false) => {
+        match f.try_lock() {
+            Ok(()) => {}
+            Err(TryLockError::WouldBlock) => {
                 return Err(Error::output(
                     dir,
                     format!(
@@ -284,7 +284,7 @@ fn acquire_lock(dir: &Path) -> Result<File> {
                     ),
                 ))
             }
-            Err(e) => {
+            Err(TryLockError::Error(e)) => {
                 return Err(Error::output(
                     &path,
                     format!("cannot lock the output directory: {e}"),
