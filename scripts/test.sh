@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # The project's test command (README): the fast tier a newcomer runs, build included, in about
 # 10 minutes on a fresh 2-core machine. Installs what the tests need (ROSS excepted), runs the
-# Rust tests (`cargo test --release`: every test not marked `#[ignore = "slow tier …"]`), then
+# Rust tests (`cargo test --release --features fault-injection`: every test not marked
+# `#[ignore = "slow tier …"]`, with the test hooks that kill a run at chosen points), then
 # the Python read-back tests of the VTK/HDF5 outputs with pyvista, VTK, meshio and h5py
-# (tests/post, `-m "not slow"`, against the release binary `cargo test --release` builds).
+# (tests/post, `-m "not slow"`, against the release binary that `cargo test` builds).
 # The slow tier is scripts/test-slow.sh; CI (.ci/run) runs both. Tiers and their cost:
 # docs/PERFORMANCE.md, "Test tiers and build time".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RUBSIM_SKIP_ROSS="${RUBSIM_SKIP_ROSS:-1}" bash scripts/setup.sh
-cargo test --release
+cargo test --release --features fault-injection
 export RUBSIM_BIN="${RUBSIM_BIN:-$PWD/target/release/rubsim}"
 status=0
 .venv/bin/python -m pytest tests/post -q -m "not slow" || status=$?
