@@ -94,6 +94,7 @@ fn reference(cwd: &Path, sets: &[&str]) -> BTreeMap<String, Vec<u8>> {
 
 /// The directory holds `want` plus a `summary.json` whose overrides are `sets`, and nothing
 /// of another run, no staging folder, no journal.
+#[cfg(feature = "fault-injection")]
 fn assert_complete(dir: &Path, want: &BTreeMap<String, Vec<u8>>, sets: &[&str]) {
     let mut got = results(dir);
     let sum: serde_json::Value =

@@ -31,7 +31,7 @@
 //!     [`super::gmsh`]). The handlers stay installed for the rest of the process.
 //! * **Condensed output.** Lines are read as they come (so a chatty child never blocks on a full
 //!   pipe) and counted: each distinct line is kept once, in order of first appearance, with its
-//!   count ([`Condensed`], [`super::condensed`]).
+//!   count ([`Condensed`], from the private module `condensed`).
 
 pub use super::condensed::Condensed;
 use super::condensed::Counter;
