@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-cargo test --release -- --ignored
+cargo test --release --features fault-injection -- --ignored
 export RUBSIM_BIN="${RUBSIM_BIN:-$PWD/target/release/rubsim}"
 status=0
 RUBSIM_REQUIRE_ROSS=1 .venv/bin/python -m pytest tests/post -q -m slow || status=$?

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The project's test command (README): the fast tier a newcomer runs, build included, in about
 # 10 minutes on a fresh 2-core machine. Installs what the tests need (ROSS excepted), runs the
-# Rust tests (`cargo test --release`: every test not marked `#[ignore = "slow tier …"]`), then
+# Rust tests (`cargo test --release --features fault-injection`: every test not marked
+# `#[ignore = "slow tier …"]`, with the test hooks that kill a run at chosen points), then
 # the Python read-back tests of the VTK/HDF5 outputs with pyvista, VTK, meshio and h5py
-# (tests/post, `-m "not slow"`, against the release binary `cargo test --release` builds).
+# (tests/post, `-m "not slow"`, against the release binary that `cargo test` builds).
 # The slow tier is scripts/test-slow.sh; CI (.ci/run) runs both. Tiers and their cost:
 # docs/PERFORMANCE.md, "Test tiers and build time".
 set -euo pipefail
@@ -15,7 +16,7 @@ pylog=$(mktemp)
 RUBSIM_SKIP_APT=1 RUBSIM_SKIP_ROSS="${RUBSIM_SKIP_ROSS:-1}" bash scripts/setup.sh >"$pylog" 2>&1 &
 py=$!
 trap 'kill "$py" 2>/dev/null || true' EXIT
-cargo test --release
+cargo test --release --features fault-injection
 if ! wait "$py"; then
   echo "scripts/test.sh: the Python setup failed:" >&2
   cat "$pylog" >&2

@@ -82,7 +82,6 @@ pub mod assembly;
 pub mod contact;
 pub mod element;
 pub mod error;
-pub mod fslock;
 pub mod linalg;
 pub mod linear;
 pub mod math;

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 /// The stages, lowest first: a module may import modules of its own stage or of a lower one.
 const STAGES: &[&[&str]] = &[
-    &["error", "math", "fslock"],
+    &["error", "math"],
     &["linalg", "signal", "mesh", "element", "assembly", "plot"],
     &["contact"],
     &["scene"],

@@ -1,11 +1,16 @@
 //! Issue 12: the cases of a sweep have identities and files of their own — a sweep killed by
 //! SIGKILL resumes without losing or recomputing a finished case, a changed scene is refused,
 //! shards merge into exactly the one-machine results, bad input fails clearly.
+//!
+//! The tests of resume kill a sweep through the test hooks of `study::store`
+//! (`RUBSIM_KILL_AFTER_CASES`, `RUBSIM_CASE_LOG`), compiled only with the `fault-injection`
+//! feature (`cargo test --release --features fault-injection`, as scripts/test.sh does).
 
 mod common;
 
 use common::cli::{command, fails, ok, text, tree};
 use common::{read, repo};
+#[cfg(feature = "fault-injection")]
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -48,6 +53,7 @@ fn without_timing(csv: &str) -> String {
 }
 
 /// How many times each case id was written, from the test hook's log.
+#[cfg(feature = "fault-injection")]
 fn counts(log: &Path) -> BTreeMap<String, usize> {
     let mut m = BTreeMap::new();
     for l in read(log).lines() {
@@ -56,6 +62,7 @@ fn counts(log: &Path) -> BTreeMap<String, usize> {
     m
 }
 
+#[cfg(feature = "fault-injection")]
 #[test]
 fn a_sweep_killed_by_sigkill_resumes_without_recomputing_or_losing_a_case() {
     let tmp = tempfile::tempdir().unwrap();
@@ -417,6 +424,7 @@ fn files(dir: &Path) -> Vec<String> {
 /// Issue 12, item 4: cases whose per-speed VTK series are asked for used to run again on every
 /// rerun. Their series are kept with the case, so a sweep killed halfway loses none and computes
 /// none twice; only changed time-series settings run those cases again.
+#[cfg(feature = "fault-injection")]
 #[test]
 fn per_speed_series_are_kept_with_their_cases_and_not_recomputed_on_resume() {
     let tmp = tempfile::tempdir().unwrap();

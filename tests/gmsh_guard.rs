@@ -13,6 +13,7 @@ use common::meshes::{need_gmsh, ring_msh};
 use common::repo;
 use rubsim::mesh::CellKind;
 use std::f64::consts::PI;
+use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -241,12 +242,24 @@ fn gmsh_past_its_time_limit_is_killed_with_an_error_naming_geometry_and_limit() 
     );
 }
 
+/// Each of SIGTERM, SIGINT and SIGHUP stops rubsim, gmsh and its files. rubsim starts with the
+/// signal's default disposition, as from a terminal: a test run started in the background of a
+/// script inherits an ignored SIGINT, which rubsim rightly keeps ignored (as under `nohup`) —
+/// that made this test fail with "exit status: 2" (gmsh's 60 s sleep over, its mesh unreadable).
 #[test]
 fn stopping_rubsim_stops_gmsh_and_removes_its_temporary_files() {
     for sig in [libc::SIGTERM, libc::SIGINT, libc::SIGHUP] {
         let dir = tempfile::tempdir().unwrap();
         let gmsh = fake_gmsh(dir.path(), 0, "exec sleep 60");
-        let mut child = mesh_with(dir.path(), &gmsh).spawn().unwrap();
+        let mut cmd = mesh_with(dir.path(), &gmsh);
+        // SAFETY: signal(2) is async-signal-safe, called in the child between fork and exec.
+        unsafe {
+            cmd.pre_exec(move || {
+                libc::signal(sig, libc::SIG_DFL);
+                Ok(())
+            });
+        }
+        let mut child = cmd.spawn().unwrap();
         let pid = gmsh_pid(dir.path(), &mut child);
         assert!(
             cache_files(dir.path())
@@ -270,6 +283,44 @@ fn stopping_rubsim_stops_gmsh_and_removes_its_temporary_files() {
             cache_files(dir.path())
         );
     }
+}
+
+/// A signal ignored when rubsim starts (SIGHUP under `nohup`) stays ignored: the run and gmsh go
+/// on; another signal still stops both.
+#[test]
+fn a_signal_ignored_at_start_stays_ignored_as_under_nohup() {
+    let dir = tempfile::tempdir().unwrap();
+    let gmsh = fake_gmsh(dir.path(), 0, "exec sleep 60");
+    let mut cmd = mesh_with(dir.path(), &gmsh);
+    // SAFETY: signal(2) is async-signal-safe, called in the child between fork and exec.
+    unsafe {
+        cmd.pre_exec(|| {
+            libc::signal(libc::SIGHUP, libc::SIG_IGN);
+            libc::signal(libc::SIGTERM, libc::SIG_DFL);
+            Ok(())
+        });
+    }
+    let mut child = cmd.spawn().unwrap();
+    let pid = gmsh_pid(dir.path(), &mut child);
+    signal(child.id(), libc::SIGHUP);
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(
+        child.try_wait().unwrap().is_none() && alive(pid),
+        "SIGHUP stopped a run that ignores it"
+    );
+    signal(child.id(), libc::SIGTERM);
+    let status = child.wait().unwrap();
+    assert_eq!(
+        std::os::unix::process::ExitStatusExt::signal(&status),
+        Some(libc::SIGTERM),
+        "{status}"
+    );
+    assert!(gone(pid), "gmsh {pid} still runs");
+    assert!(
+        cache_files(dir.path()).is_empty(),
+        "{:?}",
+        cache_files(dir.path())
+    );
 }
 
 #[test]

@@ -3,6 +3,10 @@
 //! killed at every one of its steps leaves either no `summary.json` or exactly one run's
 //! complete results, and the next run recovers; signals and a closed stdout leave the previous
 //! results intact or commit the new ones; reruns leave no empty folders.
+//!
+//! The commit is killed through the test hook `RUBSIM_FAULT_AFTER_STEPS`, compiled only with the
+//! `fault-injection` feature (`cargo test --release --features fault-injection`, as
+//! scripts/test.sh does); without it a test checks that the variable does nothing.
 
 mod common;
 
@@ -79,6 +83,7 @@ const A: &[&str] = &["output.vtk={ from_revolution = 29.8 }"];
 const B: &[&str] = &["output.vtk={ from_revolution = 29.9 }", "output.png=true"];
 
 /// The results of a completed run, without `summary.json` (it holds the wall time).
+#[cfg(feature = "fault-injection")]
 fn reference(cwd: &Path, sets: &[&str]) -> BTreeMap<String, Vec<u8>> {
     let dir = cwd.join(format!("ref-{}", sets.len()));
     assert_ok(&run_out(cwd, &dir, sets));
@@ -89,6 +94,7 @@ fn reference(cwd: &Path, sets: &[&str]) -> BTreeMap<String, Vec<u8>> {
 
 /// The directory holds `want` plus a `summary.json` whose overrides are `sets`, and nothing
 /// of another run, no staging folder, no journal.
+#[cfg(feature = "fault-injection")]
 fn assert_complete(dir: &Path, want: &BTreeMap<String, Vec<u8>>, sets: &[&str]) {
     let mut got = results(dir);
     let sum: serde_json::Value =
@@ -146,6 +152,7 @@ fn manifest_naming_files_outside_the_directory_deletes_nothing() {
 /// The commit is killed (test hook) before each of its steps in turn, from the first to the
 /// last; each time the directory holds no `summary.json` or exactly one run's complete
 /// results, and the next run recovers to its own complete results.
+#[cfg(feature = "fault-injection")]
 #[test]
 fn commit_killed_at_every_step_leaves_one_complete_run_and_recovers() {
     let tmp = TempDir::new().unwrap();
@@ -206,8 +213,29 @@ fn commit_killed_at_every_step_leaves_one_complete_run_and_recovers() {
     println!("fault injection: {steps} kill points checked");
 }
 
+/// Without the `fault-injection` feature the hook is not compiled in: a run that names it
+/// commits as any other.
+#[cfg(not(feature = "fault-injection"))]
+#[test]
+fn without_the_feature_the_fault_hook_does_nothing() {
+    let tmp = TempDir::new().unwrap();
+    let dir = tmp.path().join("o");
+    let o = run_cmd(tmp.path(), &dir, A)
+        .env("RUBSIM_FAULT_AFTER_STEPS", "0")
+        .output()
+        .unwrap();
+    assert_ok(&o);
+    assert!(
+        !text(&o.stderr).contains("test hook"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(dir.join("summary.json").exists() && leftovers(&dir).is_empty());
+}
+
 /// After a kill, a directory with `summary.json` holds exactly that run's files; only the
 /// journal and staging folder of the killed commit may remain beside them.
+#[cfg(feature = "fault-injection")]
 fn assert_complete_but_staged(dir: &Path, want: &BTreeMap<String, Vec<u8>>, sets: &[&str]) {
     let mut got = results(dir);
     let sum: serde_json::Value =

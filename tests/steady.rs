@@ -153,7 +153,7 @@ fn period_agrees_with_the_spectrum_where_a_period_two_crosses_the_section() {
                 "ν {nu}: period {p}, {r:?}"
             );
         }
-        if p % 3 != 0 {
+        if !p.is_multiple_of(3) {
             assert!(
                 num(&cols, r, "amp_third_nd") <= bound,
                 "ν {nu}: period {p}, {r:?}"

@@ -43,13 +43,13 @@ impl FrameSink for Fanout<'_, '_> {
     fn wants(&self, step: usize) -> bool {
         self.sinks
             .iter()
-            .any(|s| s.every() > 0 && step % s.every() == 0 && s.wants(step))
+            .any(|s| s.every() > 0 && step.is_multiple_of(s.every()) && s.wants(step))
     }
 
     fn frame(&mut self, frame: &Frame<'_>) -> Result<()> {
         for s in self.sinks.iter_mut() {
             let e = s.every();
-            if e > 0 && frame.step % e == 0 {
+            if e > 0 && frame.step.is_multiple_of(e) {
                 s.frame(frame)?;
             }
         }

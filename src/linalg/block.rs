@@ -78,7 +78,7 @@ impl BlockTridiag {
     /// times the largest entry of `a`.
     pub fn new(a: &Csc) -> Result<Option<Self>, LinalgError> {
         let n = a.nrows;
-        if n == 0 || n % NODE_BLOCK != 0 || a.ncols != n {
+        if n == 0 || !n.is_multiple_of(NODE_BLOCK) || a.ncols != n {
             return Ok(None);
         }
         let nb = n / NODE_BLOCK;

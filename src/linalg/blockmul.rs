@@ -26,7 +26,7 @@ impl BlockTri {
     /// an entry couples nodes further apart than neighbours (duplicates are summed).
     pub fn new(a: &Csc) -> Option<Self> {
         let n = a.nrows;
-        if n == 0 || n % NODE_BLOCK != 0 || a.ncols != n {
+        if n == 0 || !n.is_multiple_of(NODE_BLOCK) || a.ncols != n {
             return None;
         }
         let nb = n / NODE_BLOCK;

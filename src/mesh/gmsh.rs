@@ -22,12 +22,12 @@
 //! gmsh writes into the cache directory under a temporary name,
 //! `.rubsim-gmsh-<pid>-<n>.msh` (and `.geo` for a CAD wrapper), which is renamed to the cache
 //! name only once gmsh has succeeded. Beside it a lock file `.rubsim-gmsh-<pid>-<n>.lock` is held
-//! (`flock`) while gmsh runs. The temporary files are removed on every way out of [`mesh`]
-//! (success, failure, time-out) and by the signal handlers of [`super::process`] when rubsim is
-//! stopped by `SIGTERM`, `SIGINT` or `SIGHUP`; after a `SIGKILL` of rubsim they are removed by
-//! the next [`mesh`] into the same cache: a temporary file whose lock nobody holds is stale.
-//! (A lock, not the pid, decides, so a process in another PID namespace sharing the cache is
-//! never mistaken for a dead one.)
+//! (std's `File::try_lock`: `flock` on Linux) while gmsh runs. The temporary files are removed
+//! on every way out of [`mesh`] (success, failure, time-out) and by the signal thread of
+//! [`super::process`] when rubsim is stopped by `SIGTERM`, `SIGINT` or `SIGHUP`; after a
+//! `SIGKILL` of rubsim they are removed by the next [`mesh`] into the same cache: a temporary
+//! file whose lock nobody holds is stale. (A lock, not the pid, decides, so a process in
+//! another PID namespace sharing the cache is never mistaken for a dead one.)
 
 use super::geo::declared_parameters;
 pub use super::geo::{defined_parameters, referenced_files};
@@ -358,7 +358,7 @@ impl Scratch {
         let locking = cache.join(format!("{tag}.locking"));
         let lock_path = cache.join(format!("{tag}.lock"));
         let lock = std::fs::File::create(&locking).map_err(io(&locking))?;
-        if !crate::fslock::try_lock(&lock).unwrap_or(false) {
+        if lock.try_lock().is_err() {
             let _ = std::fs::remove_file(&locking);
             return Err(MeshError::Io {
                 file: locking,
@@ -397,8 +397,7 @@ fn remove_stale_temporaries(cache: &Path) {
     for n in &names {
         if let Some(tag) = n.strip_suffix(".lock") {
             let path = cache.join(n);
-            let free = std::fs::File::open(&path)
-                .is_ok_and(|f| crate::fslock::try_lock(&f).unwrap_or(false));
+            let free = std::fs::File::open(&path).is_ok_and(|f| f.try_lock().is_ok());
             if free {
                 for ext in ["msh", "geo"] {
                     let _ = std::fs::remove_file(cache.join(format!("{tag}.{ext}")));

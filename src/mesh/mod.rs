@@ -20,10 +20,11 @@
 //!
 //! [`geo`] reads what rubsim needs of a `.geo` text (declared parameters and their bounds,
 //! imported files); [`process`] runs gmsh under a time limit, in its own process group, killed
-//! with rubsim, its output condensed. The reader lives in `msh`, the topology (group nodes, facets, outward normals, the
+//! with rubsim, its output condensed (`condensed`). The reader lives in `msh`, the topology (group nodes, facets, outward normals, the
 //! conformity check) in `topology`, the report of a mesh ([`Mesh::summary`]) in `summary`;
 //! they add methods to [`Mesh`].
 
+mod condensed;
 pub mod geo;
 pub mod gmsh;
 mod msh;

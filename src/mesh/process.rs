@@ -10,120 +10,36 @@
 //!
 //! # How
 //!
-//! * **Time limit.** [`run`] polls the child (every 5 ms at first, then every 50 ms) and, past
-//!   the limit, kills its whole process group with `SIGKILL` and reports [`Finished::TimedOut`].
-//! * **Process group.** The child is started in a new process group (`setpgid(0, 0)`), so that
-//!   killing the group also kills whatever it started (a wrapper script's children), and a
+//! * **Time limit.** [`run`] waits for the child with `wait-timeout` and, past the limit, kills
+//!   its whole process group with `SIGKILL` and reports [`Finished::TimedOut`].
+//! * **Process group.** The child is started in a new process group (`process_group(0)`), so
+//!   that killing the group also kills whatever it started (a wrapper script's children), and a
 //!   terminal's Ctrl-C reaches rubsim only, which then decides.
 //! * **Killed with rubsim.** Two layers, because neither covers every case alone:
 //!   - On Linux the child asks the kernel for `SIGKILL` when the thread that started it dies
-//!     (`prctl(PR_SET_PDEATHSIG)` between fork and exec). This covers every way rubsim can die,
-//!     `SIGKILL` included. The thread that starts gmsh waits for it, so it outlives it.
-//!   - The first guarded run installs handlers for `SIGTERM`, `SIGINT` and `SIGHUP` that kill
-//!     every registered child group and remove every registered temporary file (`kill` and
-//!     `unlink` are async-signal-safe), then pass the signal on: to the handler installed before
-//!     theirs, if any, or by restoring the default action and raising it again, so rubsim still
-//!     dies of the signal with the usual status. A signal that was ignored when the handlers are
-//!     installed (`nohup`) stays ignored. This layer is what removes the temporary files at
-//!     once; after a `SIGKILL` of rubsim they are removed by the next mesher (see
-//!     [`super::gmsh`]).
+//!     (`PR_SET_PDEATHSIG` through `rustix`, between fork and exec). This covers every way
+//!     rubsim can die, `SIGKILL` included. The thread that starts gmsh waits for it, so it
+//!     outlives it.
+//!   - The first guarded run has `signal-hook` catch `SIGTERM`, `SIGINT` and `SIGHUP` (a signal
+//!     ignored at that moment, as under `nohup`, stays ignored) and starts a thread that, on the
+//!     first of them, kills every registered child group, removes every registered temporary
+//!     file, and makes rubsim die of the signal with the usual status (the default action,
+//!     restored and raised again). The waiting thread that sees its child killed meanwhile does
+//!     not report a gmsh failure: it waits for the process to end, so a stopped rubsim never
+//!     exits with an error status of its own instead. This layer is what removes the temporary
+//!     files at once; after a `SIGKILL` of rubsim they are removed by the next mesher (see
+//!     [`super::gmsh`]). The handlers stay installed for the rest of the process.
 //! * **Condensed output.** Lines are read as they come (so a chatty child never blocks on a full
 //!   pipe) and counted: each distinct line is kept once, in order of first appearance, with its
-//!   count ([`Condensed`]).
+//!   count ([`Condensed`], from the private module `condensed`).
 
-use std::collections::HashMap;
+pub use super::condensed::Condensed;
+use super::condensed::Counter;
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
-use std::process::{Child, Command, ExitStatus, Stdio};
-use std::sync::atomic::{AtomicI32, AtomicPtr, Ordering};
-use std::time::{Duration, Instant};
-
-/// Distinct lines kept by [`Condensed`]; later distinct lines are only counted.
-const MAX_DISTINCT: usize = 200;
-/// Longest line kept (bytes); longer lines are cut.
-const MAX_LINE: usize = 500;
-
-/// A child's output (stdout then stderr lines, in order of first appearance), each distinct
-/// line once with the number of times it was printed.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Condensed {
-    /// `(line, count)`, in order of first appearance (at most 200 distinct lines).
-    pub lines: Vec<(String, usize)>,
-    /// Lines not kept because 200 distinct lines were already kept.
-    pub dropped: usize,
-}
-
-impl Condensed {
-    /// Counts the lines of `text`.
-    pub fn from_text(text: &str) -> Self {
-        let mut c = Counter::default();
-        for l in text.lines() {
-            c.add(l);
-        }
-        c.done()
-    }
-
-    /// The lines `keep` accepts, each as `line` or `line (×n)` when printed n > 1 times, joined
-    /// by newlines.
-    pub fn render(&self, keep: impl Fn(&str) -> bool) -> String {
-        let mut out: Vec<String> = self
-            .lines
-            .iter()
-            .filter(|(l, _)| keep(l))
-            .map(|(l, n)| {
-                if *n > 1 {
-                    format!("{l} (×{n})")
-                } else {
-                    l.clone()
-                }
-            })
-            .collect();
-        if self.dropped > 0 {
-            out.push(format!("… and {} more lines", self.dropped));
-        }
-        out.join("\n")
-    }
-
-    /// Total number of lines printed.
-    pub fn total(&self) -> usize {
-        self.lines.iter().map(|(_, n)| n).sum::<usize>() + self.dropped
-    }
-}
-
-#[derive(Default)]
-struct Counter {
-    index: HashMap<String, usize>,
-    out: Condensed,
-}
-
-impl Counter {
-    fn add(&mut self, line: &str) {
-        self.add_n(line, 1);
-    }
-
-    fn add_n(&mut self, line: &str, n: usize) {
-        let mut line = line.trim_end();
-        if line.len() > MAX_LINE {
-            let mut cut = MAX_LINE;
-            while !line.is_char_boundary(cut) {
-                cut -= 1;
-            }
-            line = &line[..cut];
-        }
-        if let Some(&i) = self.index.get(line) {
-            self.out.lines[i].1 += n;
-        } else if self.out.lines.len() < MAX_DISTINCT {
-            self.index.insert(line.to_string(), self.out.lines.len());
-            self.out.lines.push((line.to_string(), n));
-        } else {
-            self.out.dropped += n;
-        }
-    }
-
-    fn done(self) -> Condensed {
-        self.out
-    }
-}
+use std::process::{Command, ExitStatus, Stdio};
+use std::time::Duration;
+use wait_timeout::ChildExt;
 
 /// How a guarded child ended.
 #[derive(Debug)]
@@ -148,23 +64,17 @@ pub enum Finished {
 /// time-out the group is killed and the files are left to the caller. Errors: the child cannot
 /// be started.
 pub fn run(mut cmd: Command, limit: Duration, temporary: &[&Path]) -> std::io::Result<Finished> {
-    install_handlers();
     cmd.stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    guard_command(&mut cmd);
-    let files: Vec<usize> = temporary.iter().filter_map(|p| register_file(p)).collect();
-    let result = spawn_and_wait(&mut cmd, limit);
-    for slot in files {
-        unregister_file(slot);
-    }
-    result
+    guard::prepare(&mut cmd);
+    let _files = guard::Registered::files(temporary);
+    spawn_and_wait(&mut cmd, limit)
 }
 
 fn spawn_and_wait(cmd: &mut Command, limit: Duration) -> std::io::Result<Finished> {
     let mut child = cmd.spawn()?;
-    let pid = child.id() as i32;
-    let slot = register_child(pid);
+    let group = guard::Registered::group(child.id());
     let (tx, rx) = std::sync::mpsc::channel();
     let mut readers = 0;
     if let Some(out) = child.stdout.take() {
@@ -176,14 +86,15 @@ fn spawn_and_wait(cmd: &mut Command, limit: Duration) -> std::io::Result<Finishe
         readers += 1;
     }
     drop(tx);
-    let status = wait_until(&mut child, limit);
+    // An error waiting for it is treated as a time-out: the group is killed.
+    let status = child.wait_timeout(limit).unwrap_or(None);
+    guard::wait_if_stopping();
     if status.is_none() {
-        kill_group(pid);
+        guard::kill_group(child.id());
+        let _ = child.kill();
         let _ = child.wait();
     }
-    if let Some(s) = slot {
-        CHILDREN[s].store(0, Ordering::SeqCst);
-    }
+    drop(group);
     // The pipes close when the group is gone; a process that left the group and keeps them
     // open is not waited for beyond a second.
     let mut parts: Vec<(usize, Condensed)> = Vec::new();
@@ -199,33 +110,13 @@ fn spawn_and_wait(cmd: &mut Command, limit: Duration) -> std::io::Result<Finishe
         for (l, n) in c.lines {
             counter.add_n(&l, n);
         }
-        counter.out.dropped += c.dropped;
+        counter.add_dropped(c.dropped);
     }
     let output = counter.done();
     Ok(match status {
         Some(status) => Finished::Exited { status, output },
         None => Finished::TimedOut { output },
     })
-}
-
-/// The child's exit status, or `None` when `limit` passed first (child still running).
-fn wait_until(child: &mut Child, limit: Duration) -> Option<ExitStatus> {
-    let start = Instant::now();
-    let mut pause = Duration::from_millis(5);
-    loop {
-        match child.try_wait() {
-            Ok(Some(s)) => return Some(s),
-            Ok(None) => {}
-            // Cannot wait on it: treat as a time-out (the caller kills it).
-            Err(_) => return None,
-        }
-        let elapsed = start.elapsed();
-        if elapsed >= limit {
-            return None;
-        }
-        std::thread::sleep(pause.min(limit - elapsed));
-        pause = (pause * 2).min(Duration::from_millis(50));
-    }
 }
 
 /// A thread reading the lines of a pipe, condensed as they come (identical lines counted, so
@@ -251,208 +142,182 @@ fn reader<R: Read + Send + 'static>(
 }
 
 // ---------------------------------------------------------------------------------------------
-// Process group, parent-death signal, and the registry the signal handlers read.
-
-/// Slots for running child process groups (pgid, 0 = free) and temporary files (a leaked C
-/// string, null = free), read by the signal handlers.
-const SLOTS: usize = 64;
-static CHILDREN: [AtomicI32; SLOTS] = [const { AtomicI32::new(0) }; SLOTS];
-static FILES: [AtomicPtr<libc::c_char>; SLOTS] =
-    [const { AtomicPtr::new(std::ptr::null_mut()) }; SLOTS];
+// Process group, parent-death signal, and the registry the signal thread reads.
 
 #[cfg(unix)]
-fn guard_command(cmd: &mut Command) {
+mod guard {
+    use rustix::process::{Pid, Signal};
     use std::os::unix::process::CommandExt;
-    cmd.process_group(0);
-    #[cfg(target_os = "linux")]
-    {
-        let parent = std::process::id() as libc::pid_t;
-        // SAFETY: between fork and exec only async-signal-safe calls (prctl, getppid, _exit).
-        unsafe {
-            cmd.pre_exec(move || {
-                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                // The parent may have died before prctl: then nobody will signal us.
-                if libc::getppid() != parent {
-                    libc::_exit(1);
-                }
-                Ok(())
-            });
+    use std::path::{Path, PathBuf};
+    use std::process::Command;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::{Mutex, MutexGuard, Once, PoisonError};
+
+    /// What the signal thread kills and removes.
+    #[derive(Clone, PartialEq)]
+    enum Entry {
+        /// A running child's process group (its pid).
+        Group(u32),
+        /// A temporary file of a running child.
+        File(PathBuf),
+    }
+
+    static REGISTRY: Mutex<Vec<Entry>> = Mutex::new(Vec::new());
+    /// Set by the signal thread before it kills anything: rubsim is dying of a signal.
+    static STOPPING: AtomicBool = AtomicBool::new(false);
+
+    fn registry() -> MutexGuard<'static, Vec<Entry>> {
+        REGISTRY.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Entries of the registry, taken out of it when this value is dropped.
+    pub(super) struct Registered(Vec<Entry>);
+
+    impl Registered {
+        /// Registers the temporary files `paths` (and installs the signal thread, once).
+        pub(super) fn files(paths: &[&Path]) -> Self {
+            install();
+            Self::new(paths.iter().map(|p| Entry::File(p.to_path_buf())).collect())
+        }
+
+        /// Registers the process group of the child `pid`.
+        pub(super) fn group(pid: u32) -> Self {
+            Self::new(vec![Entry::Group(pid)])
+        }
+
+        fn new(entries: Vec<Entry>) -> Self {
+            registry().extend(entries.iter().cloned());
+            Self(entries)
         }
     }
-}
 
-#[cfg(not(unix))]
-fn guard_command(_cmd: &mut Command) {}
-
-fn register_child(pid: i32) -> Option<usize> {
-    (0..SLOTS).find(|&i| {
-        CHILDREN[i]
-            .compare_exchange(0, pid, Ordering::SeqCst, Ordering::SeqCst)
-            .is_ok()
-    })
-}
-
-#[cfg(not(unix))]
-fn register_file(_path: &Path) -> Option<usize> {
-    None
-}
-
-#[cfg(unix)]
-fn register_file(path: &Path) -> Option<usize> {
-    use std::os::unix::ffi::OsStrExt;
-    let c = std::ffi::CString::new(path.as_os_str().as_bytes()).ok()?;
-    let raw = c.into_raw();
-    let slot = (0..SLOTS).find(|&i| {
-        FILES[i]
-            .compare_exchange(
-                std::ptr::null_mut(),
-                raw,
-                Ordering::SeqCst,
-                Ordering::SeqCst,
-            )
-            .is_ok()
-    });
-    if slot.is_none() {
-        // SAFETY: `raw` came from `into_raw` just above and was not published.
-        drop(unsafe { std::ffi::CString::from_raw(raw) });
-    }
-    slot
-}
-
-fn unregister_file(slot: usize) {
-    let raw = FILES[slot].swap(std::ptr::null_mut(), Ordering::SeqCst);
-    if !raw.is_null() {
-        // SAFETY: published by `register_file` from `into_raw`; the swap made it ours (a
-        // signal handler that took it first leaves null and leaks it, the process is dying).
-        drop(unsafe { std::ffi::CString::from_raw(raw) });
-    }
-}
-
-fn kill_group(pid: i32) {
-    #[cfg(unix)]
-    // SAFETY: plain system call; a negative pid names the process group.
-    unsafe {
-        libc::kill(-pid, libc::SIGKILL);
-    }
-}
-
-/// Kills every registered group and removes every registered file (async-signal-safe: atomics,
-/// `kill`, `unlink`).
-fn kill_all_and_clean() {
-    for c in &CHILDREN {
-        let pid = c.swap(0, Ordering::SeqCst);
-        if pid > 0 {
-            kill_group(pid);
+    impl Drop for Registered {
+        fn drop(&mut self) {
+            let mut reg = registry();
+            for e in &self.0 {
+                if let Some(i) = reg.iter().position(|r| r == e) {
+                    reg.swap_remove(i);
+                }
+            }
         }
     }
-    for f in &FILES {
-        let raw = f.swap(std::ptr::null_mut(), Ordering::SeqCst);
-        if !raw.is_null() {
-            // SAFETY: a NUL-terminated path published by `register_file` (never freed once
-            // taken here).
+
+    /// Starts the child in a process group of its own and, on Linux, has the kernel kill it
+    /// when the thread that starts it dies.
+    pub(super) fn prepare(cmd: &mut Command) {
+        cmd.process_group(0);
+        #[cfg(target_os = "linux")]
+        {
+            let parent = rustix::process::getpid();
+            // SAFETY: between fork and exec only system calls (prctl, getppid), no allocation.
             unsafe {
-                libc::unlink(raw);
+                cmd.pre_exec(move || {
+                    rustix::process::set_parent_process_death_signal(Some(Signal::KILL))?;
+                    // The parent may have died before prctl: then nobody would signal the child.
+                    if rustix::process::getppid() != Some(parent) {
+                        return Err(rustix::io::Errno::SRCH.into());
+                    }
+                    Ok(())
+                });
             }
         }
     }
-}
 
-#[cfg(unix)]
-mod handlers {
-    use super::kill_all_and_clean;
-    use std::sync::atomic::{AtomicUsize, Ordering};
+    /// Kills the process group of the child `pid` (`SIGKILL`).
+    pub(super) fn kill_group(pid: u32) {
+        if let Some(pid) = i32::try_from(pid).ok().and_then(Pid::from_raw) {
+            let _ = rustix::process::kill_process_group(pid, Signal::KILL);
+        }
+    }
 
-    pub(super) const SIGNALS: [libc::c_int; 3] = [libc::SIGTERM, libc::SIGINT, libc::SIGHUP];
-    /// The handler each signal had before ours (`sa_sigaction`) and its flags.
-    static PREV: [AtomicUsize; 3] = [const { AtomicUsize::new(0) }; 3];
-    static PREV_FLAGS: [AtomicUsize; 3] = [const { AtomicUsize::new(0) }; 3];
+    /// Returns at once unless rubsim is being stopped by a signal; then never (the signal
+    /// thread kills the child and ends the process: its death is not a gmsh failure).
+    pub(super) fn wait_if_stopping() {
+        while STOPPING.load(Ordering::SeqCst) {
+            std::thread::park();
+        }
+    }
 
-    extern "C" fn on_signal(sig: libc::c_int, info: *mut libc::siginfo_t, ctx: *mut libc::c_void) {
-        kill_all_and_clean();
-        let Some(k) = SIGNALS.iter().position(|&s| s == sig) else {
-            return;
-        };
-        let prev = PREV[k].load(Ordering::SeqCst);
-        let flags = PREV_FLAGS[k].load(Ordering::SeqCst) as libc::c_int;
-        // SAFETY: `prev` is a handler the process installed before ours; it is called as it
-        // was installed (with or without SA_SIGINFO). Otherwise the default action is restored
-        // and the signal raised again, so the process dies of it as it would have.
+    /// Catches `SIGTERM`, `SIGINT` and `SIGHUP` (those not ignored) once, in a thread that
+    /// [`stop`]s at the first one. If they cannot be caught, gmsh still dies with rubsim
+    /// (`PR_SET_PDEATHSIG`) and its files are removed by the next mesher.
+    fn install() {
+        use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+        static ONCE: Once = Once::new();
+        ONCE.call_once(|| {
+            let caught: Vec<i32> = [SIGTERM, SIGINT, SIGHUP]
+                .into_iter()
+                .filter(|&s| !ignored(s))
+                .collect();
+            let Ok(mut signals) = signal_hook::iterator::Signals::new(caught) else {
+                return;
+            };
+            let _ = std::thread::Builder::new()
+                .name("rubsim-signals".into())
+                .spawn(move || {
+                    if let Some(sig) = signals.forever().next() {
+                        stop(sig);
+                    }
+                });
+        });
+    }
+
+    /// Kills every registered group, removes every registered file, and dies of `sig`.
+    fn stop(sig: i32) {
+        STOPPING.store(true, Ordering::SeqCst);
+        let reg = registry();
+        for e in reg.iter() {
+            if let Entry::Group(pid) = e {
+                kill_group(*pid);
+            }
+        }
+        for e in reg.iter() {
+            if let Entry::File(p) = e {
+                let _ = std::fs::remove_file(p);
+            }
+        }
+        let _ = signal_hook::low_level::emulate_default_handler(sig);
+        // Only if the default action did not end the process.
+        std::process::exit(128 + sig);
+    }
+
+    /// True when `sig` is ignored (`SIG_IGN`, inherited from `nohup` or a background job).
+    fn ignored(sig: i32) -> bool {
+        // SAFETY: sigaction with a null new action only reads the current one into `old`.
         unsafe {
-            if prev != libc::SIG_DFL && prev != libc::SIG_IGN {
-                if flags & libc::SA_SIGINFO != 0 {
-                    let f: extern "C" fn(libc::c_int, *mut libc::siginfo_t, *mut libc::c_void) =
-                        std::mem::transmute(prev);
-                    f(sig, info, ctx);
-                } else {
-                    let f: extern "C" fn(libc::c_int) = std::mem::transmute(prev);
-                    f(sig);
-                }
-            } else {
-                libc::signal(sig, libc::SIG_DFL);
-                libc::raise(sig);
-            }
-        }
-    }
-
-    pub(super) fn install() {
-        for (k, &sig) in SIGNALS.iter().enumerate() {
-            // SAFETY: sigaction with a zeroed, then filled, struct; the handler only makes
-            // async-signal-safe calls.
-            unsafe {
-                let mut old: libc::sigaction = std::mem::zeroed();
-                if libc::sigaction(sig, std::ptr::null(), &mut old) != 0
-                    || old.sa_sigaction == libc::SIG_IGN
-                {
-                    continue;
-                }
-                PREV[k].store(old.sa_sigaction, Ordering::SeqCst);
-                PREV_FLAGS[k].store(old.sa_flags as usize, Ordering::SeqCst);
-                let mut new: libc::sigaction = std::mem::zeroed();
-                new.sa_sigaction = on_signal as *const () as usize;
-                new.sa_flags = libc::SA_SIGINFO | libc::SA_RESTART;
-                libc::sigemptyset(&mut new.sa_mask);
-                libc::sigaction(sig, &new, std::ptr::null_mut());
-            }
+            let mut old: libc::sigaction = std::mem::zeroed();
+            libc::sigaction(sig, std::ptr::null(), &mut old) == 0
+                && old.sa_sigaction == libc::SIG_IGN
         }
     }
 }
 
-/// Installs the signal handlers once (see the module documentation).
-fn install_handlers() {
-    static ONCE: std::sync::Once = std::sync::Once::new();
-    #[cfg(unix)]
-    ONCE.call_once(handlers::install);
-    #[cfg(not(unix))]
-    ONCE.call_once(|| {});
+/// Elsewhere the child is only killed on a time-out ([`std::process::Child::kill`]).
+#[cfg(not(unix))]
+mod guard {
+    use std::path::Path;
+    use std::process::Command;
+
+    pub(super) struct Registered;
+
+    impl Registered {
+        pub(super) fn files(_: &[&Path]) -> Self {
+            Self
+        }
+        pub(super) fn group(_: u32) -> Self {
+            Self
+        }
+    }
+
+    pub(super) fn prepare(_: &mut Command) {}
+    pub(super) fn kill_group(_: u32) {}
+    pub(super) fn wait_if_stopping() {}
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn repeated_lines_are_counted_once_in_order() {
-        let c = Condensed::from_text("a\nb\na\na\nc\n");
-        assert_eq!(
-            c.lines,
-            vec![("a".into(), 3), ("b".into(), 1), ("c".into(), 1)]
-        );
-        assert_eq!(c.total(), 5);
-        assert_eq!(c.render(|l| l != "b"), "a (×3)\nc");
-    }
-
-    #[test]
-    fn distinct_lines_are_bounded() {
-        let text: String = (0..MAX_DISTINCT + 7)
-            .map(|i| format!("line {i}\n"))
-            .collect();
-        let c = Condensed::from_text(&text);
-        assert_eq!(c.lines.len(), MAX_DISTINCT);
-        assert_eq!(c.dropped, 7);
-        assert!(c.render(|_| true).ends_with("… and 7 more lines"));
-    }
+    use std::time::Instant;
 
     #[cfg(unix)]
     #[test]

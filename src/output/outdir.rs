@@ -37,19 +37,19 @@
 //! loss: the data of every file is on the disk before its name can appear beside a
 //! `summary.json`, and `summary.json` is on the disk before the journal goes.
 //!
-//! **Test hook.** With `RUBSIM_FAULT_AFTER_STEPS=N` in the environment the process aborts (as
-//! if killed) before the commit step N + 1 (every rename and removal of steps 1–7 counts, the
-//! temporary journal write included), so tests can kill a commit at every point.
+//! **Test hook** (compiled only with the cargo feature `fault-injection`, which the test scripts
+//! turn on; without it the variable is never read). With `RUBSIM_FAULT_AFTER_STEPS=N` in the
+//! environment the process aborts (as if killed) before the commit step N + 1 (every rename and
+//! removal of steps 1–7 counts, the temporary journal write included), so tests can kill a
+//! commit at every point.
 
 use super::durable;
 use super::manifest::{check_relative, parse_manifest, MANIFEST, PROTOCOL_PREFIX};
 use crate::error::{Error, Result};
 use std::collections::BTreeSet;
-use std::fs::{self, File};
+use std::fs::{self, File, TryLockError};
 use std::io::{ErrorKind, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::OnceLock;
 
 /// The run's marker: the top-level file written last; its presence means "complete".
 pub const MARKER: &str = "summary.json";
@@ -58,6 +58,7 @@ pub const LOCK: &str = ".rubsim-lock";
 /// The commit journal, present only while a commit is under way (or was killed).
 pub const JOURNAL: &str = ".rubsim-commit";
 /// Environment variable of the fault-injection test hook (see the module docs).
+#[cfg(feature = "fault-injection")]
 pub const FAULT_ENV: &str = "RUBSIM_FAULT_AFTER_STEPS";
 const STAGING_PREFIX: &str = ".rubsim-partial-";
 
@@ -273,9 +274,9 @@ fn acquire_lock(dir: &Path) -> Result<File> {
                     format!("output directory is not writable (its lock file {LOCK}): {e}"),
                 )
             })?;
-        match crate::fslock::try_lock(&f) {
-            Ok(true) => {}
-            Ok(false) => {
+        match f.try_lock() {
+            Ok(()) => {}
+            Err(TryLockError::WouldBlock) => {
                 return Err(Error::output(
                     dir,
                     format!(
@@ -284,7 +285,7 @@ fn acquire_lock(dir: &Path) -> Result<File> {
                     ),
                 ))
             }
-            Err(e) => {
+            Err(TryLockError::Error(e)) => {
                 return Err(Error::output(
                     &path,
                     format!("cannot lock the output directory: {e}"),
@@ -318,7 +319,10 @@ fn is_same_file(_: &File, path: &Path) -> bool {
 }
 
 /// Counts a commit step; with the test hook set, aborts the process before step N + 1.
+#[cfg(feature = "fault-injection")]
 fn fault_point() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::OnceLock;
     static LIMIT: OnceLock<Option<usize>> = OnceLock::new();
     static DONE: AtomicUsize = AtomicUsize::new(0);
     let limit = *LIMIT.get_or_init(|| std::env::var(FAULT_ENV).ok()?.parse().ok());
@@ -329,6 +333,10 @@ fn fault_point() {
         }
     }
 }
+
+/// A commit step (nothing to count: the fault-injection hook is not compiled in).
+#[cfg(not(feature = "fault-injection"))]
+fn fault_point() {}
 
 /// A commit step: renames `from` to `to`.
 fn rename(from: &Path, to: &Path) -> Result<()> {

@@ -127,7 +127,7 @@ impl FramePlan {
 
     /// True when `step` holds a frame.
     pub fn contains(&self, step: usize) -> bool {
-        step >= self.first && step <= self.last && step % self.every == 0
+        step >= self.first && step <= self.last && step.is_multiple_of(self.every)
     }
 
     /// Number of frames.

@@ -32,9 +32,10 @@
 //! not a result. The commit's manifest never lists it, so a commit neither moves nor removes
 //! it; temporary files (`cases/.tmp-*`) left by a killed run are removed under the lock.
 //!
-//! **Test hooks.** `RUBSIM_CASE_LOG=<file>` appends each case id to the file when its case
-//! file is in place; `RUBSIM_KILL_AFTER_CASES=N` kills the process with SIGKILL right after
-//! its N-th case file (tests of resume).
+//! **Test hooks** (compiled only with the cargo feature `fault-injection`, which the test
+//! scripts turn on; without it the variables are never read). `RUBSIM_CASE_LOG=<file>` appends
+//! each case id to the file when its case file is in place; `RUBSIM_KILL_AFTER_CASES=N` kills
+//! the process with SIGKILL right after its N-th case file (tests of resume).
 
 use super::case::CaseId;
 use crate::analysis::SpeedResults;
@@ -57,8 +58,10 @@ pub const PLAN: &str = "plan.json";
 /// Version of the case-file format (2: the results carry the whirl of the full spectrum).
 pub const FORMAT: u32 = 2;
 /// Test hook: append every case id written to this file.
+#[cfg(feature = "fault-injection")]
 pub const CASE_LOG_ENV: &str = "RUBSIM_CASE_LOG";
 /// Test hook: SIGKILL the process after this many case files.
+#[cfg(feature = "fault-injection")]
 pub const KILL_ENV: &str = "RUBSIM_KILL_AFTER_CASES";
 const TMP_PREFIX: &str = ".tmp-";
 const END: &str = "# end ";
@@ -508,6 +511,7 @@ fn write_atomic(tmp: &Path, path: &Path, bytes: &[u8]) -> Result<()> {
 }
 
 /// The test hooks of the module docs, after the case file of `id` is in place.
+#[cfg(feature = "fault-injection")]
 fn test_hooks(id: &str) {
     use std::io::Write;
     if let Some(log) = std::env::var_os(CASE_LOG_ENV) {
@@ -529,6 +533,10 @@ fn test_hooks(id: &str) {
         }
     }
 }
+
+/// Nothing after a case file: the test hooks are not compiled in.
+#[cfg(not(feature = "fault-injection"))]
+fn test_hooks(_id: &str) {}
 
 #[cfg(test)]
 mod tests {

@@ -363,10 +363,10 @@ impl Blocks<'_> {
         let (damped, nb, ni) = (self.damped, self.nb, self.ni);
         let nm = phi.len() / ni;
         let kbi = &kp.bi;
-        let phim = DMatrix::from_column_slice(ni, nm, &phi);
+        let phim = DMatrix::from_column_slice(ni, nm, phi);
         let fill = |ap: &Parts, out: &mut DMatrix<f64>| {
             let mut w = vec![0.0; ni * nm];
-            mul_cols(&ap.ii, 1.0, &phi, &mut w);
+            mul_cols(&ap.ii, 1.0, phi, &mut w);
             let aphi = DMatrix::from_column_slice(ni, nm, &w);
             let ee = phim.transpose() * &aphi;
             for blk in w.chunks_mut(ni * BLOCK) {
@@ -392,7 +392,7 @@ impl Blocks<'_> {
         // K_r,ηη = Φᵀ K_II Φ as computed (Ω² only to the iteration's tolerance on the
         // vectors); K_r,Bη = 0 exactly for any Φ (K_BI Φ − K_BI K_II⁻¹ K_II Φ).
         let mut w = vec![0.0; ni * nm];
-        mul_cols(&kp.ii, 1.0, &phi, &mut w);
+        mul_cols(&kp.ii, 1.0, phi, &mut w);
         let kphi = DMatrix::from_column_slice(ni, nm, &w);
         let ee = phim.transpose() * kphi;
         kr.view_mut((nb, nb), (nm, nm)).copy_from(&ee);

@@ -102,7 +102,7 @@ impl Stepper<'_> {
     #[inline]
     pub(super) fn emit(&mut self, sink: &mut Sink<'_>, n: usize, t: f64) -> Result<(), SolveError> {
         match sink.as_mut() {
-            Some(s) if s.every() > 0 && n % s.every() == 0 && s.wants(n) => {
+            Some(s) if s.every() > 0 && n.is_multiple_of(s.every()) && s.wants(n) => {
                 self.emit_frame(&mut **s, n, t)
             }
             _ => Ok(()),
