@@ -162,6 +162,10 @@ pub struct SpeedResults {
     /// run.
     #[serde(default)]
     pub coexistence: Option<super::Coexistence>,
+    /// What the run reports without failing: a fixed window (`run.duration`) that is not
+    /// steady to `run.tolerance` ([`fixed_window_warning`]). Empty otherwise.
+    #[serde(default)]
+    pub warnings: Vec<String>,
     /// Poincaré points / |Z0| (analysis window).
     pub poincare_nd: Vec<V2>,
     /// Steady orbit / |Z0| (kept on request).
@@ -210,7 +214,7 @@ pub fn prepare(model: &Model, settings: &RunSettings, speed_ratio: f64) -> Resul
     let omega = speed_ratio * model.rotor.natural_frequency();
     let case = model.case_with(omega, settings.reduction_of(model))?;
     let plan = plan_steps(&case, &settings.step)?;
-    let linear_start = if settings.check_coexistence {
+    let linear_start = if settings.check_coexistence && settings.step.duration.is_none() {
         super::coexist::linear_start(model, &case)
     } else {
         None
@@ -248,7 +252,8 @@ impl Prepared {
     /// the run goes on and the window slides — by as many revolutions as the observed decay
     /// asks, at least a third of the window. A window then not periodic (no period up to
     /// [`MAX_PERIOD`], the rule of [`analyse`]) is lengthened to `run.classify_revolutions`
-    /// within `run.max_steps`, for [`super::dynamics`]. Frames go to `sink` throughout. Returns
+    /// within `run.max_steps`, for [`super::dynamics`]. A fixed window (`run.duration`) takes
+    /// its plan and no more: neither lengthening. Frames go to `sink` throughout. Returns
     /// the record, the counters, the plan as it ended and, with `adapt` and
     /// `run.error_estimate`, the bodies' end state (the finer companion of the error estimate
     /// restarts from it).
@@ -280,7 +285,8 @@ impl Prepared {
             st.run_to(p.steps, &mut sink)?;
             let transient = p.steady_from / spr_steps;
             let cap = s.max_transient_revolutions.max(transient);
-            if !adapt || window < 3 || transient >= cap {
+            // A fixed window (`run.duration`) is never lengthened.
+            if !adapt || window < 3 || transient >= cap || s.step.duration.is_some() {
                 break;
             }
             let (w, nrev) = window_points(&self.case, s, &p, st.recorded());
@@ -302,7 +308,7 @@ impl Prepared {
         // A window that is not periodic is lengthened for the 0–1 test (`dynamics`); one that
         // runs away when continued keeps its window (`super::lengthen`).
         let mut runaway = None;
-        if adapt {
+        if adapt && s.step.duration.is_none() {
             (st, runaway) = self.lengthen(st, &mut sink, keep_end, &mut older)?;
         }
         let plan = *st.plan();
@@ -337,8 +343,13 @@ impl Prepared {
         if self.settings.error_estimate {
             res.error = self.error_estimate(&res, end.as_ref());
         }
-        if self.settings.check_coexistence {
+        // The coexistence companion settles from another start past a fixed window's end.
+        if self.settings.check_coexistence && self.settings.step.duration.is_none() {
             res.coexistence = super::coexist::check(self, &res);
+        }
+        if let Some(d) = self.settings.step.duration {
+            res.warnings
+                .extend(fixed_window_warning(&res, d, self.settings.tolerance));
         }
         Ok(res)
     }
@@ -399,7 +410,8 @@ impl Prepared {
         // coarser pair, so it is not run.
         let rub = res.contact_fraction > 0.0 || c.contact_fraction > 0.0;
         let fine = match end {
-            Some(e) if rub && r1 > 1.0 && periodic && p >= 2.0 => {
+            // Not for a fixed window: it restarts from the end and runs past it.
+            Some(e) if rub && r1 > 1.0 && periodic && p >= 2.0 && s.step.duration.is_none() => {
                 self.fine_companion(res, e, window)
             }
             _ => None,
@@ -500,6 +512,18 @@ impl Prepared {
             analyse(&self.case, s, &fplan, &rec, stats, Keep::default()),
         ))
     }
+}
+
+/// The warning of a fixed window of `duration` (s, `run.duration`) whose analysed half is not
+/// steady to `tolerance`: its transient residual and that the run was not lengthened. `None`
+/// when it is steady.
+pub fn fixed_window_warning(res: &SpeedResults, duration: f64, tolerance: f64) -> Option<String> {
+    (!res.steady).then(|| {
+        format!(
+            "ω/ωn = {:.3}: the fixed window (`run.duration` = {duration} s, analysed over its last {} revolutions) is not steady: it still changes by {:.1e} of the orbit's size, above `run.tolerance` = {tolerance:e}; not lengthened (a fixed window), its results carry that (`steady = false`)",
+            res.speed_ratio, res.window_revolutions, res.stationarity.residual
+        )
+    })
 }
 
 /// Runs one speed without sinks: [`prepare`] then [`Prepared::run`].
@@ -678,6 +702,7 @@ pub fn analyse(
         step_choice: s.choice,
         started_from_pilot: false,
         coexistence: None,
+        warnings: Vec::new(),
         poincare_nd: poincare,
         orbit_nd: if keep.orbit { window } else { Vec::new() },
         force_history: if keep.force_history {
