@@ -273,7 +273,7 @@ impl Prepared {
         let mut st = Stepper::new(&self.case, s.step.integrator, plan, s.initial)?;
         let spr_steps = plan.steps_per_rev.max(1);
         let window = (plan.steps - plan.steady_from) / spr_steps;
-        let keep_end = adapt && s.error_estimate;
+        let keep_end = adapt && s.error_estimate && s.step.duration.is_none();
         let mut older = None;
         loop {
             let p = *st.plan();
@@ -410,8 +410,7 @@ impl Prepared {
         // coarser pair, so it is not run.
         let rub = res.contact_fraction > 0.0 || c.contact_fraction > 0.0;
         let fine = match end {
-            // Not for a fixed window: it restarts from the end and runs past it.
-            Some(e) if rub && r1 > 1.0 && periodic && p >= 2.0 && s.step.duration.is_none() => {
+            Some(e) if rub && r1 > 1.0 && periodic && p >= 2.0 => {
                 self.fine_companion(res, e, window)
             }
             _ => None,
@@ -482,6 +481,8 @@ impl Prepared {
     /// The companion at Δt/2 restarted from the run's end state `end` ([`Stepper::restart`]):
     /// [`FINE_SETTLE_REVOLUTIONS`] (at most the run's transient) to settle out the restart, then
     /// `window` analysed. Returns its plan and results; `None` when it cannot restart or fails.
+    /// A fixed window (`run.duration`) keeps no end state (`drive_with`), so it never runs: it
+    /// would integrate past the window's end.
     fn fine_companion(
         &self,
         res: &SpeedResults,
@@ -520,7 +521,7 @@ impl Prepared {
 pub fn fixed_window_warning(res: &SpeedResults, duration: f64, tolerance: f64) -> Option<String> {
     (!res.steady).then(|| {
         format!(
-            "ω/ωn = {:.3}: the fixed window (`run.duration` = {duration} s, analysed over its last {} revolutions) is not steady: it still changes by {:.1e} of the orbit's size, above `run.tolerance` = {tolerance:e}; not lengthened (a fixed window), its results carry that (`steady = false`)",
+            "ω/ωn = {:.3}: the fixed window (`run.duration` = {duration} s, analysed over its second half, {} whole revolutions) is not steady: it still changes by {:.1e} of the orbit's size, above `run.tolerance` = {tolerance:e}; not lengthened (a fixed window), its results carry that (`steady = false`)",
             res.speed_ratio, res.window_revolutions, res.stationarity.residual
         )
     })
@@ -606,11 +607,9 @@ pub fn analyse(
 ) -> SpeedResults {
     let spr = s.step.samples_per_rev;
     let z0 = if case.z0 > 0.0 { case.z0 } else { 1.0 };
-    let fu = if case.unbalance_force > 0.0 {
-        case.unbalance_force
-    } else {
-        1.0
-    };
+    let fu = Some(case.unbalance_force)
+        .filter(|f| *f > 0.0)
+        .unwrap_or(1.0);
     let (window, nrev) = window_points(case, s, plan, rec);
     let first = plan.steady_from / plan.record_every;
     let last = first + window.len();
