@@ -56,6 +56,7 @@ fn bounce(c: f64, mode: &str, scheme: Scheme, dt: f64) -> (f64, f64, f64) {
     let step = StepParams {
         integrator: scheme,
         dt: Some(dt),
+        duration: None,
         harmonics: 4.0,
         revolutions: 1,
         transient_revolutions: 0,

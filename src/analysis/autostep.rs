@@ -259,6 +259,8 @@ fn pilot_settings(s: &RunSettings, kind: Scheme, scale: f64) -> RunSettings {
     p.step.dt_scale = scale;
     p.step.transient_revolutions = PILOT_TRANSIENT;
     p.step.revolutions = PILOT_TRANSIENT + PILOT_WINDOW;
+    // Pilots measure the step on their own short window, whatever the run's length.
+    p.step.duration = None;
     p.error_estimate = false;
     p.check_coexistence = false;
     p

@@ -105,6 +105,7 @@ pub fn choose_cutoff(
     ps.step.dt_scale = PILOT_STEP_SCALE;
     ps.step.transient_revolutions = PILOT_TRANSIENT;
     ps.step.revolutions = PILOT_TRANSIENT + PILOT_WINDOW;
+    ps.step.duration = None;
     ps.error_estimate = false;
     ps.check_coexistence = false;
     let target = TRUNCATION_SHARE * s.tolerance;

@@ -120,6 +120,7 @@ impl RunSettings {
             step: StepParams {
                 integrator: scheme(run.integrator(), run.rho_inf),
                 dt: run.dt,
+                duration: run.duration,
                 harmonics: run.harmonics,
                 revolutions: run.revolutions,
                 transient_revolutions: run.transient_revolutions,

@@ -162,6 +162,10 @@ pub struct SpeedResults {
     /// run.
     #[serde(default)]
     pub coexistence: Option<super::Coexistence>,
+    /// What the run reports without failing: a fixed window (`run.duration`) that is not
+    /// steady to `run.tolerance` ([`fixed_window_warning`]). Empty otherwise.
+    #[serde(default)]
+    pub warnings: Vec<String>,
     /// Poincaré points / |Z0| (analysis window).
     pub poincare_nd: Vec<V2>,
     /// Steady orbit / |Z0| (kept on request).
@@ -210,7 +214,7 @@ pub fn prepare(model: &Model, settings: &RunSettings, speed_ratio: f64) -> Resul
     let omega = speed_ratio * model.rotor.natural_frequency();
     let case = model.case_with(omega, settings.reduction_of(model))?;
     let plan = plan_steps(&case, &settings.step)?;
-    let linear_start = if settings.check_coexistence {
+    let linear_start = if settings.check_coexistence && settings.step.duration.is_none() {
         super::coexist::linear_start(model, &case)
     } else {
         None
@@ -248,7 +252,8 @@ impl Prepared {
     /// the run goes on and the window slides — by as many revolutions as the observed decay
     /// asks, at least a third of the window. A window then not periodic (no period up to
     /// [`MAX_PERIOD`], the rule of [`analyse`]) is lengthened to `run.classify_revolutions`
-    /// within `run.max_steps`, for [`super::dynamics`]. Frames go to `sink` throughout. Returns
+    /// within `run.max_steps`, for [`super::dynamics`]. A fixed window (`run.duration`) takes
+    /// its plan and no more: neither lengthening. Frames go to `sink` throughout. Returns
     /// the record, the counters, the plan as it ended and, with `adapt` and
     /// `run.error_estimate`, the bodies' end state (the finer companion of the error estimate
     /// restarts from it).
@@ -268,7 +273,7 @@ impl Prepared {
         let mut st = Stepper::new(&self.case, s.step.integrator, plan, s.initial)?;
         let spr_steps = plan.steps_per_rev.max(1);
         let window = (plan.steps - plan.steady_from) / spr_steps;
-        let keep_end = adapt && s.error_estimate;
+        let keep_end = adapt && s.error_estimate && s.step.duration.is_none();
         let mut older = None;
         loop {
             let p = *st.plan();
@@ -280,7 +285,8 @@ impl Prepared {
             st.run_to(p.steps, &mut sink)?;
             let transient = p.steady_from / spr_steps;
             let cap = s.max_transient_revolutions.max(transient);
-            if !adapt || window < 3 || transient >= cap {
+            // A fixed window (`run.duration`) is never lengthened.
+            if !adapt || window < 3 || transient >= cap || s.step.duration.is_some() {
                 break;
             }
             let (w, nrev) = window_points(&self.case, s, &p, st.recorded());
@@ -302,7 +308,7 @@ impl Prepared {
         // A window that is not periodic is lengthened for the 0–1 test (`dynamics`); one that
         // runs away when continued keeps its window (`super::lengthen`).
         let mut runaway = None;
-        if adapt {
+        if adapt && s.step.duration.is_none() {
             (st, runaway) = self.lengthen(st, &mut sink, keep_end, &mut older)?;
         }
         let plan = *st.plan();
@@ -337,8 +343,13 @@ impl Prepared {
         if self.settings.error_estimate {
             res.error = self.error_estimate(&res, end.as_ref());
         }
-        if self.settings.check_coexistence {
+        // The coexistence companion settles from another start past a fixed window's end.
+        if self.settings.check_coexistence && self.settings.step.duration.is_none() {
             res.coexistence = super::coexist::check(self, &res);
+        }
+        if let Some(d) = self.settings.step.duration {
+            res.warnings
+                .extend(fixed_window_warning(&res, d, self.settings.tolerance));
         }
         Ok(res)
     }
@@ -470,6 +481,8 @@ impl Prepared {
     /// The companion at Δt/2 restarted from the run's end state `end` ([`Stepper::restart`]):
     /// [`FINE_SETTLE_REVOLUTIONS`] (at most the run's transient) to settle out the restart, then
     /// `window` analysed. Returns its plan and results; `None` when it cannot restart or fails.
+    /// A fixed window (`run.duration`) keeps no end state (`drive_with`), so it never runs: it
+    /// would integrate past the window's end.
     fn fine_companion(
         &self,
         res: &SpeedResults,
@@ -500,6 +513,18 @@ impl Prepared {
             analyse(&self.case, s, &fplan, &rec, stats, Keep::default()),
         ))
     }
+}
+
+/// The warning of a fixed window of `duration` (s, `run.duration`) whose analysed half is not
+/// steady to `tolerance`: its transient residual and that the run was not lengthened. `None`
+/// when it is steady.
+pub fn fixed_window_warning(res: &SpeedResults, duration: f64, tolerance: f64) -> Option<String> {
+    (!res.steady).then(|| {
+        format!(
+            "ω/ωn = {:.3}: the fixed window (`run.duration` = {duration} s, analysed over its second half, {} whole revolutions) is not steady: it still changes by {:.1e} of the orbit's size, above `run.tolerance` = {tolerance:e}; not lengthened (a fixed window), its results carry that (`steady = false`)",
+            res.speed_ratio, res.window_revolutions, res.stationarity.residual
+        )
+    })
 }
 
 /// Runs one speed without sinks: [`prepare`] then [`Prepared::run`].
@@ -582,11 +607,9 @@ pub fn analyse(
 ) -> SpeedResults {
     let spr = s.step.samples_per_rev;
     let z0 = if case.z0 > 0.0 { case.z0 } else { 1.0 };
-    let fu = if case.unbalance_force > 0.0 {
-        case.unbalance_force
-    } else {
-        1.0
-    };
+    let fu = Some(case.unbalance_force)
+        .filter(|f| *f > 0.0)
+        .unwrap_or(1.0);
     let (window, nrev) = window_points(case, s, plan, rec);
     let first = plan.steady_from / plan.record_every;
     let last = first + window.len();
@@ -678,6 +701,7 @@ pub fn analyse(
         step_choice: s.choice,
         started_from_pilot: false,
         coexistence: None,
+        warnings: Vec::new(),
         poincare_nd: poincare,
         orbit_nd: if keep.orbit { window } else { Vec::new() },
         force_history: if keep.force_history {

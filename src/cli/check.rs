@@ -197,13 +197,28 @@ fn print_run(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &StepPlan
         None => format!("single speed ω/ωn = {:.4}", case.speed_ratio),
     };
     println!("run: {speeds}");
+    let length = match s.run.duration {
+        Some(d) => format!(
+            "a fixed window `run.duration` = {d} s from the initial state, never lengthened: {} steps to t = {:.6e} s ({:.2} revolutions), the last {} revolutions analysed (`run.revolutions` and `run.transient_revolutions` do not apply)",
+            plan.steps,
+            plan.steps as f64 * plan.dt,
+            plan.steps as f64 / plan.steps_per_rev.max(1) as f64,
+            (plan.steps - plan.steady_from) / plan.steps_per_rev.max(1)
+        ),
+        None => format!(
+            "{} revolutions, first {} cut as transient",
+            s.run.revolutions, s.run.transient_revolutions
+        ),
+    };
     println!(
-        "  integrator {}; {} revolutions, first {} cut as transient; {} samples/rev recorded; error estimate {}",
+        "  integrator {}; {length}; {} samples/rev recorded; error estimate {}",
         st.step.integrator.name(),
-        s.run.revolutions,
-        s.run.transient_revolutions,
         s.run.samples_per_rev,
-        if s.run.error_estimate { "by companion runs at 2Δt (and Δt/2 or 4Δt at a rub)" } else { "off" }
+        if s.run.error_estimate {
+            "by companion runs at 2Δt (and Δt/2 or 4Δt at a rub)"
+        } else {
+            "off"
+        }
     );
     if let Some(dt) = s.run.dt {
         println!(
@@ -293,6 +308,7 @@ fn print_budget(
         case.speed_ratio,
         b.describe()
     );
+    print_step_bounds(s, st, case, plan);
     if let Some(w) = &s.run.sweep {
         let n = analysis::sweep_speeds(w.from, w.to, w.step).len();
         let last = analysis::prepare(model, st, w.to)?;
@@ -307,6 +323,47 @@ fn print_budget(
         );
     }
     Ok(())
+}
+
+/// The steps of the run at the checked speed: as planned, and the most its lengthenings may
+/// take ([`rubsim::time::budget::step_bounds`]), the pilots that chose Δt counted in both.
+fn print_step_bounds(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &StepPlan) {
+    let l = rubsim::time::budget::Lengthening {
+        fixed: st.step.duration.is_some(),
+        max_transient_revolutions: st.max_transient_revolutions,
+        classify_revolutions: st.classify_revolutions,
+        error_estimate: st.error_estimate,
+        coexistence: st.check_coexistence,
+        max_steps: st.step.max_steps,
+    };
+    let b = rubsim::time::budget::step_bounds(plan, &l, !case.stators.is_empty());
+    let pilots = st.choice.map_or(0.0, |c| c.pilot_steps as f64);
+    let with_pilots = if pilots > 0.0 {
+        format!("; both count the {pilots:.0} steps of the pilots that chose Δt")
+    } else {
+        String::new()
+    };
+    let why = match s.run.duration {
+        Some(d) => format!(
+            "the fixed window `run.duration` = {d} s is never lengthened: the run {:.0}, companions {:.0}",
+            b.run_most, b.companions_most
+        ),
+        None => format!(
+            "if every lengthening runs to its cap: the run {:.0} (transient up to {} revolutions, `run.max_transient_revolutions`; a window that is not periodic up to {} revolutions, `run.classify_revolutions`; within `run.max_steps` = {}), companions {:.0}, coexistence check {:.0}",
+            b.run_most,
+            l.max_transient_revolutions.max(plan.steady_from / plan.steps_per_rev.max(1)),
+            l.classify_revolutions,
+            l.max_steps,
+            b.companions_most,
+            b.coexistence_most
+        ),
+    };
+    println!(
+        "  steps at ω/ωn = {:.2}: {:.0} planned, at most {:.0} ({why}{with_pilots})",
+        case.speed_ratio,
+        b.planned + pilots,
+        b.most + pilots
+    );
 }
 
 /// What is built, what is left out, which files a run writes.

@@ -98,6 +98,10 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
             "warning: ω/ωn = {:.3}: the response runs away when continued: lengthened past its {}-revolution window for the 0–1 test (`run.classify_revolutions`), the run left the divergence bounds at t = {t:.4e} s; the results are those of the window (regime `diverging`, `steady = false`)",
             r.speed_ratio, r.window_revolutions
         );
+    } else if !r.warnings.is_empty() {
+        for w in &r.warnings {
+            eprintln!("warning: {w}");
+        }
     } else if !r.steady {
         eprintln!(
             "warning: ω/ωn = {:.3}: the steady state was not proven within {} transient revolutions (`run.max_transient_revolutions`): the analysed window still changes by {:.1e} of the orbit's size, above `run.tolerance` = {:e}; the results carry that error (summary.json: `steady = false`)",

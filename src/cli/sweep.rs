@@ -165,11 +165,17 @@ fn report(
     let unsteady = speeds_where(&|r| !r.steady && r.dynamics.runaway_at_s.is_none());
     if !unsteady.is_empty() {
         eprintln!(
-            "warning: {}the steady state was not proven at {} of {} speeds (ω/ωn {}): their analysed window still changes by more than `run.tolerance` of the orbit's size after `run.max_transient_revolutions`; their results carry that error (`steady = false`, `transient_residual` in sweep.csv)",
+            "warning: {}the steady state was not proven at {} of {} speeds (ω/ωn {}): their analysed window still changes by more than `run.tolerance` of the orbit's size {}; their results carry that error (`steady = false`, `transient_residual` in sweep.csv)",
             prefix,
             unsteady.len(),
             res.speeds.len(),
-            unsteady.join(", ")
+            unsteady.join(", "),
+            // A fixed window (`run.duration`) carries its warning in each case's record.
+            if res.speeds.iter().any(|r| !r.warnings.is_empty()) {
+                "at the end of the fixed window `run.duration`, not lengthened"
+            } else {
+                "after `run.max_transient_revolutions`"
+            }
         );
     }
     let coexisting = speeds_where(&|r| r.coexistence.is_some_and(|c| c.coexisting));

@@ -65,6 +65,29 @@ pub struct RunSpec {
     /// stator's clearance changing.
     #[serde(default)]
     pub event: Vec<super::EventSpec>,
+    /// A fixed window (s, > 0): the run integrates exactly this long from its start state
+    /// (`initial_displacement`, `initial_velocity` at t = 0) at the given or chosen Δt, and is
+    /// never lengthened — not for the steady state, not for the 0–1 test — ROSS's
+    /// `run_rubbing(t = np.arange(0, duration, dt))`. The steps are ⌈duration/Δt⌉ at the Δt
+    /// the run would take anyway (rounded down so a revolution holds a whole number of
+    /// recorded samples: the Poincaré section and the 1×, ½×, ⅓× lines need a sample at every
+    /// revolution), so the last step ends at most one Δt past `duration` (exactly on it when Δt
+    /// divides it); Δt is not stretched to land on `duration`, which would break that rule.
+    /// The whole run is recorded (frames, force history); the orbit, spectrum, Poincaré
+    /// section, extents and the steady-state verdict are of its second half (the last
+    /// ⌈N/2⌉ of its N whole revolutions, and the part revolution at the end; the whole run
+    /// below two revolutions). A window that is not steady to `tolerance` is reported as a
+    /// warning (summary.json `warnings`, stderr), never lengthened. With it, `revolutions` and
+    /// `transient_revolutions` do not apply (as with `speed_profile`; the scenes write them,
+    /// so `--set run.duration=…` works on any scene); `max_transient_revolutions`,
+    /// `classify_revolutions` and `speed_profile` are refused beside it. A sweep or map runs
+    /// this duration at every speed. The error estimate's companions (2Δt and, at a rub, 4Δt)
+    /// cover the same duration; the Δt/2 companion restarted from the end and the coexistence
+    /// check (`check_coexistence`) would integrate past it and are not run. Pilots of
+    /// `auto_step` still choose Δt when `dt` is not given; the run starts from the scene's
+    /// initial state, not from their settled one. Left out: the run's length is
+    /// `revolutions`, lengthened as the keys above say.
+    pub duration: Option<f64>,
     /// Total simulated revolutions.
     #[serde(default = "default_revs")]
     pub revolutions: usize,

@@ -91,6 +91,119 @@ pub fn companion_steps(plan: &StepPlan, rub: bool) -> f64 {
     first + fine
 }
 
+/// What may lengthen a run past its plan (`analysis::speed`), for [`step_bounds`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lengthening {
+    /// A fixed window (`run.duration`): nothing lengthens it.
+    pub fixed: bool,
+    /// Most transient revolutions while waiting for the steady state
+    /// (`run.max_transient_revolutions`).
+    pub max_transient_revolutions: usize,
+    /// Revolutions a window that is not periodic is lengthened to (`run.classify_revolutions`).
+    pub classify_revolutions: usize,
+    /// The error estimate's companions are run (`run.error_estimate`).
+    pub error_estimate: bool,
+    /// The coexistence check's companion is run (`run.check_coexistence`).
+    pub coexistence: bool,
+    /// Most steps one run may take (`run.max_steps`): every lengthening stops there.
+    pub max_steps: u64,
+}
+
+/// Steps of one run at one speed before it starts: what its plan takes and the most any
+/// lengthening may take ([`step_bounds`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct StepBounds {
+    /// Steps planned: the run's plan and the companions a steady period-1 response takes
+    /// ([`companion_steps`]); with a fixed window, the companions' most.
+    pub planned: f64,
+    /// Most steps of the run itself: the transient at `max_transient_revolutions` and the
+    /// window at `classify_revolutions`, within `max_steps`.
+    pub run_most: f64,
+    /// Most steps of the error estimate's companions over that longest run.
+    pub companions_most: f64,
+    /// Most steps of the coexistence check's companion.
+    pub coexistence_most: f64,
+    /// `run_most + companions_most + coexistence_most`: at least `planned`.
+    pub most: f64,
+}
+
+/// Longest window (revolutions) a companion of a periodic response analyses: lcm(6, period)
+/// for a period up to 8 (lcm(6, 7)).
+const LONGEST_REPEAT: usize = 42;
+
+/// The steps of a run of `plan`: as planned, and the most once every lengthening is at its cap
+/// (`l`; `rub`: the case has stators, so the companions of a rub may run). The run's most is
+/// `(T_max + max(W, classify)) × steps/rev` within `max_steps` (T_max = max(T,
+/// `max_transient_revolutions`), W the planned window); its companions' most is the first
+/// companion over that whole run (at about 2Δt, or Δt/2 where 2Δt is not coarser or not stable)
+/// and, at a rub, the larger of the Δt/2 companion restarted from the end (`min(16, T_max)` +
+/// 42 revolutions at twice the steps per revolution) and the 4Δt one over the whole run; the
+/// coexistence check's companion at most `T_max + max(W, 42)` revolutions at the run's step.
+/// A fixed window takes its plan only: the run, the companions over the same window (no
+/// Δt/2 restart) and no coexistence check — planned and most agree.
+pub fn step_bounds(plan: &StepPlan, l: &Lengthening, rub: bool) -> StepBounds {
+    let spr = plan.steps_per_rev.max(1);
+    let k = plan.record_every.max(1);
+    let kc = k.div_ceil(2);
+    let coarser = kc < k && (plan.dt * k as f64 / kc as f64 <= plan.limit || plan.dt > plan.limit);
+    let samples = (spr / k) as f64;
+    // The companions over a run of `steps`, `t` revolutions of transient; `fine`: the Δt/2
+    // restart may run.
+    let companions = |steps: f64, t: f64, fine: bool| -> f64 {
+        if !l.error_estimate {
+            return 0.0;
+        }
+        let revs = steps / spr as f64;
+        if !coarser {
+            return 2.0 * steps;
+        }
+        let first = revs * samples * kc as f64;
+        let fine = if fine {
+            (t.min(FINE_SETTLE_REVOLUTIONS as f64) + LONGEST_REPEAT as f64) * 2.0 * spr as f64
+        } else {
+            0.0
+        };
+        let coarse = revs * samples * kc.div_ceil(2) as f64;
+        first + if rub { fine.max(coarse) } else { 0.0 }
+    };
+    let steps = plan.steps as f64;
+    if l.fixed {
+        let c = companions(steps, 0.0, false);
+        return StepBounds {
+            planned: steps + c,
+            run_most: steps,
+            companions_most: c,
+            coexistence_most: 0.0,
+            most: steps + c,
+        };
+    }
+    let t = plan.steady_from / spr;
+    let w = plan.steps.saturating_sub(plan.steady_from).div_ceil(spr);
+    let t_max = l.max_transient_revolutions.max(t);
+    let cap = (l.max_steps as f64).max(steps);
+    let run_most = (((t_max + w.max(l.classify_revolutions)) * spr) as f64).min(cap);
+    let companions_most = companions(run_most, t_max as f64, true);
+    let coexistence_most = if l.coexistence && rub {
+        (((t_max + w.max(LONGEST_REPEAT)) * spr) as f64).min(cap)
+    } else {
+        0.0
+    };
+    let planned = steps
+        + if l.error_estimate {
+            companion_steps(plan, rub)
+        } else {
+            0.0
+        };
+    let most = run_most + companions_most + coexistence_most;
+    StepBounds {
+        planned,
+        run_most,
+        companions_most,
+        coexistence_most,
+        most: most.max(planned),
+    }
+}
+
 /// Estimates the cost of running `case` with `plan` (`companion`: with the error estimate's
 /// companion runs, [`companion_steps`]).
 pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
@@ -226,6 +339,34 @@ mod tests {
             companion_steps(&plan(640, 10, 220, 100, 1e-5, 1.5e-5), true),
             106.0 * 1280.0
         );
+        // Every lengthening at its cap: the transient to 500, the window to 400 revolutions,
+        // within max_steps; a fixed window takes its plan, planned and most the same.
+        let mut l = Lengthening {
+            fixed: false,
+            max_transient_revolutions: 500,
+            classify_revolutions: 400,
+            error_estimate: false,
+            coexistence: false,
+            max_steps: 1_000_000_000,
+        };
+        let b = step_bounds(&p, &l, true);
+        assert_eq!(b.planned, main);
+        assert_eq!(b.run_most, 900.0 * 640.0);
+        assert_eq!(b.most, b.run_most);
+        l.max_steps = 300_000;
+        assert_eq!(step_bounds(&p, &l, true).run_most, 300_000.0);
+        l.error_estimate = true;
+        l.coexistence = true;
+        let b = step_bounds(&p, &l, true);
+        assert!(
+            b.companions_most >= 300_000.0 / 2.0 && b.coexistence_most > 0.0,
+            "{b:?}"
+        );
+        assert_eq!(b.most, b.run_most + b.companions_most + b.coexistence_most);
+        l.fixed = true;
+        let b = step_bounds(&p, &l, true);
+        assert_eq!((b.planned, b.most, b.run_most), (b.most, b.planned, main));
+        assert_eq!(b.companions_most, 220.0 * 64.0 * 5.0 + 220.0 * 64.0 * 3.0);
         // A short transient settles the finer companion over it only.
         assert_eq!(
             companion_steps(&plan(640, 10, 30, 10, 1e-5, 1.0), true),

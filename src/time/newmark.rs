@@ -423,6 +423,7 @@ error_estimate = false
         let step = StepParams {
             integrator: Scheme::Newmark,
             dt: Some(2.0 * std::f64::consts::PI / steps_per_rev as f64 * (1.0 + 1e-12)),
+            duration: None,
             harmonics: 4.0,
             revolutions: ls.scene.run.revolutions,
             transient_revolutions: 0,

@@ -115,6 +115,10 @@ pub struct StepParams {
     pub dt: Option<f64>,
     /// Paper rule's n.
     pub harmonics: f64,
+    /// A fixed window (s, `run.duration`): the plan takes ⌈duration/Δt⌉ steps and cuts the
+    /// first half of its whole revolutions as transient ([`plan_steps`]); `revolutions` and
+    /// `transient_revolutions` do not apply. `None`: the run's length is `revolutions`.
+    pub duration: Option<f64>,
     /// Total revolutions.
     pub revolutions: usize,
     /// Revolutions cut as transient before the analysed steady window.
@@ -393,17 +397,30 @@ pub fn plan_steps(case: &Case, p: &StepParams) -> Result<StepPlan, SolveError> {
     // its figures before any count is cast to an integer.
     let per_sample = (t_rev / (c.dt * spr as f64) - 1e-9).ceil().max(1.0);
     let steps_per_rev = per_sample * spr as f64;
-    let revolutions = planned_revolutions(p.revolutions, p.transient_revolutions);
-    let steps = steps_per_rev * revolutions as f64;
+    let dt = t_rev / steps_per_rev;
+    let (steps, revolutions, transient) = match p.duration {
+        // A fixed window: ⌈duration/Δt⌉ steps at the rounded Δt (the last one ends within a
+        // step past `duration`), the first half of its whole revolutions cut as transient.
+        Some(d) => {
+            let steps = (d / dt - 1e-9).ceil().max(1.0);
+            let whole = (steps / steps_per_rev).floor().min(u32::MAX as f64) as usize;
+            (steps, (steps / steps_per_rev).ceil() as usize, whole / 2)
+        }
+        None => {
+            let revolutions = planned_revolutions(p.revolutions, p.transient_revolutions);
+            let transient = p.transient_revolutions.min(revolutions);
+            (steps_per_rev * revolutions as f64, revolutions, transient)
+        }
+    };
     check_steps(case, p, &c, steps, steps_per_rev, revolutions, t_rev)?;
     check_record(case, spr as f64 * revolutions as f64 + 1.0)?;
     let (per_sample, steps_per_rev) = (per_sample as usize, steps_per_rev as usize);
     Ok(StepPlan {
-        dt: t_rev / steps_per_rev as f64,
+        dt,
         steps_per_rev,
         steps: steps as usize,
         record_every: per_sample,
-        steady_from: steps_per_rev * p.transient_revolutions.min(revolutions),
+        steady_from: steps_per_rev * transient,
         limit: c.limit,
         rule_dt: c.rule_dt,
         omega_max: c.omega_max,

@@ -36,9 +36,14 @@ pub fn pilot_start(s: &RunSettings, speed_ratio: f64) -> Option<Initial> {
 /// already did: where its transient adapts (`run.max_transient_revolutions` above it), cut to
 /// at most [`RESTART_TRANSIENT`] revolutions, the window as long as before, and the
 /// steady-state test still decides where the transient ends (`Prepared::run`); a fixed
-/// transient (a reference run's) is kept. Otherwise `s` unchanged.
+/// transient (a reference run's) is kept. Otherwise, and for a fixed window (`run.duration`),
+/// `s` unchanged.
 pub fn start_from_pilot(s: &RunSettings, speed_ratio: f64) -> RunSettings {
     let mut out = *s;
+    if s.step.duration.is_some() {
+        // A fixed window (`run.duration`) starts from the scene's initial state at t = 0.
+        return out;
+    }
     if let Some(init) = pilot_start(s, speed_ratio) {
         let t = s.step.transient_revolutions;
         let cut = if s.max_transient_revolutions > t {

@@ -21,6 +21,9 @@ pub(super) fn validate_run(ls: &LoadedScene) -> Result<(), SceneError> {
         validate_sweep(ls, sw)?;
     }
     validate_windows(ls)?;
+    if let Some(d) = r.duration {
+        validate_duration(ls, d)?;
+    }
     positive(ls, "run.harmonics", r.harmonics)?;
     if let Some(rho) = r.rho_inf {
         validate_rho_inf(ls, rho)?;
@@ -155,6 +158,52 @@ fn validate_windows(ls: &LoadedScene) -> Result<(), SceneError> {
         ));
     }
     Ok(())
+}
+
+/// `run.duration = d` (a fixed window): positive and finite, and none of the keys that lengthen
+/// a run or set its length otherwise beside it — `[run.speed_profile]` (its profile sets the
+/// length), `run.max_transient_revolutions` and `run.classify_revolutions` (a fixed window is
+/// never lengthened). `revolutions` and `transient_revolutions` do not apply and are not
+/// refused: every scene writes them, and `--set run.duration=…` must work on any of them.
+fn validate_duration(ls: &LoadedScene, d: f64) -> Result<(), SceneError> {
+    positive(ls, "run.duration", d)?;
+    let r = &ls.scene.run;
+    let refuse = |key: &str, why: &str| {
+        ls.invalid(
+            "run.duration",
+            format!("`run.duration` cannot be combined with `{key}`: {why}; leave one out"),
+        )
+    };
+    if r.speed_profile.is_some() {
+        return Err(refuse(
+            "run.speed_profile",
+            "a transient's length is its speed profile's",
+        ));
+    }
+    for key in ["max_transient_revolutions", "classify_revolutions"] {
+        if given(ls, "run", key) {
+            return Err(refuse(
+                &format!("run.{key}"),
+                "a fixed window is never lengthened (not for the steady state, not for the 0–1 test)",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Whether the scene gives `[table] key` itself (in its file or by a `--set table.key=…`), not
+/// by its default.
+fn given(ls: &LoadedScene, table: &str, key: &str) -> bool {
+    let in_file = toml::from_str::<toml::Table>(&ls.source)
+        .ok()
+        .and_then(|t| t.get(table)?.as_table()?.get(key).cloned())
+        .is_some();
+    let dotted = format!("{table}.{key}");
+    in_file
+        || ls
+            .overrides
+            .iter()
+            .any(|o| o.split('=').next().is_some_and(|k| k.trim() == dotted))
 }
 
 /// `run.rho_inf = rho`: only for `generalized_alpha`, in 0 ..= 1.
