@@ -93,7 +93,7 @@ fn reference_documents_every_table_with_units_and_defaults() {
         "| `revolutions` | integer | `220` |",
         "exactly one of `clearance`, `clearance_nd`",
         "(m)",
-        "`generalized_alpha`",
+        "`\"generalized_alpha\"`",
     ] {
         assert!(md.contains(needle), "docs/SCENE.md lacks {needle:?}");
     }
