@@ -21,6 +21,7 @@ mod mesh;
 mod refine;
 mod rotordyn;
 mod run;
+mod schema;
 mod stress;
 mod study;
 mod sweep;
@@ -283,6 +284,17 @@ pub enum Cmd {
         /// The scene to write (default: standard output).
         #[arg(long)]
         out: Option<PathBuf>,
+    },
+    /// The JSON Schema of scene files (draft 7, for editors: taplo / Even Better TOML), printed
+    /// or written to `--out`; `--markdown FILE` writes the key reference (docs/SCENE.md)
+    /// generated from it.
+    Schema {
+        /// Write the schema to this file instead of printing it.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Write the Markdown reference of every scene key to this file.
+        #[arg(long)]
+        markdown: Option<PathBuf>,
     },
     /// Time the scene's sweep (no output files) and print wall time, ns per step and error.
     Bench {
@@ -577,6 +589,7 @@ pub fn run() -> Result<()> {
             ..
         } => bench::bench(c, *repeat, *reference),
         Cmd::ImportRoss { file, out } => import_ross(file, out.as_deref()),
+        Cmd::Schema { out, markdown } => schema::schema(out.as_deref(), markdown.as_deref()),
     }
 }
 

@@ -5,10 +5,11 @@
 use super::validate::checks::{finite, non_negative, positive};
 use super::{LoadedScene, RotorSpec, SpeedProfileSpec};
 use crate::error::SceneError;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// What an event does (`run.event.N.kind`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum EventKind {
     /// An unbalance `mass` × `radius` at `phase_deg` on rotor `node` appears at `time`, as a
@@ -20,7 +21,7 @@ pub enum EventKind {
 }
 
 /// `[[run.event]]`: one scheduled change of a transient run.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct EventSpec {
     /// Unbalance or clearance.

@@ -20,6 +20,7 @@ pub mod profile;
 pub mod ross;
 mod rotor;
 mod run;
+pub mod schema;
 mod stator;
 pub mod validate;
 
@@ -33,11 +34,12 @@ pub use stator::*;
 pub use validate::validate;
 
 use crate::error::SceneError;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// A whole scene.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
     /// Free text shown in reports.

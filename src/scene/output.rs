@@ -1,10 +1,11 @@
 //! `[output]`: pictures, the analysed node and component, time series.
 
 use super::yes;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// What to write.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Write PNG pictures.
@@ -24,6 +25,7 @@ pub struct OutputSpec {
     pub snapshot_speeds: Vec<f64>,
     /// Response component analysed in spectra and cascades: `"y"` (vertical, default) or `"x"`.
     #[serde(default = "default_component")]
+    #[schemars(extend("enum" = ["x", "y"]))]
     pub component: String,
     /// Upper frequency of cascades, in units of ω_n (default: the top speed).
     pub cascade_max_freq: Option<f64>,
@@ -44,7 +46,7 @@ pub struct OutputSpec {
 ///
 /// Frames are taken at the integration steps that are multiples of `every` and lie within
 /// `[from_revolution, to_revolution]` (revolutions of the rotor since t = 0).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SeriesSpec {
     /// Steps between frames (default: the recording interval, i.e. `run.samples_per_rev`
@@ -61,7 +63,7 @@ pub struct SeriesSpec {
 }
 
 /// Fields of the time series.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SeriesField {
     /// Node displacements of rotor and stators (m).
@@ -85,7 +87,7 @@ pub fn all_series_fields() -> Vec<SeriesField> {
 }
 
 /// Per-speed time series of a sweep: `false`, `true` or a list of ω/ω_n.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum PerSpeed {
     /// None (`false`) or every speed (`true`).

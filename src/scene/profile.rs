@@ -4,10 +4,11 @@
 use super::validate::checks::{finite, non_negative, positive};
 use super::LoadedScene;
 use crate::error::SceneError;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// What a speed profile is made of (`run.speed_profile.kind`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ProfileKind {
     /// One speed `speed` for `duration` seconds.
@@ -27,7 +28,7 @@ pub enum ProfileKind {
 }
 
 /// How a table's points are joined (`run.speed_profile.interpolation`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Interpolation {
     /// The monotone cubic (PCHIP): C¹, no overshoot.
@@ -38,7 +39,7 @@ pub enum Interpolation {
 }
 
 /// The unit of a profile's speeds (`run.speed_profile.unit`; no default, it must be said).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SpeedUnit {
     /// rad/s.
@@ -78,10 +79,10 @@ impl SpeedUnit {
 
 /// `[run.speed_profile]`: the spin speed Ω(t) ≥ 0 of a transient run (rotation about +z,
 /// counter-clockwise seen from +z; a profile never reverses).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpeedProfileSpec {
-    /// Constant, ramp or table.
+    /// Constant, ramp, table or driven.
     pub kind: ProfileKind,
     /// Unit of every speed of the profile (and of `acceleration`, per second).
     pub unit: SpeedUnit,

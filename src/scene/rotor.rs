@@ -2,10 +2,11 @@
 //! sections that can rub.
 
 use super::{one, yes};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// Rotor models.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum RotorSpec {
     /// Jeffcott rotor: one lateral mode, 2 DOF (x, y) at the disk (paper Eq. 50).
@@ -19,7 +20,7 @@ pub enum RotorSpec {
 /// `u_z` (m, along +z) with `axial = true` and `θ_z` (rad, counter-clockwise seen from +z, the
 /// sense of the spin) with `torsion = true`; both off by default. Axial DOFs need at least one
 /// `[[rotor.axial_support]]`, torsional DOFs at least one `[[rotor.torsional_support]]`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FeRotorSpec {
     /// Shaft segments, left to right (`[[rotor.shaft]]`).
@@ -43,6 +44,7 @@ pub struct FeRotorSpec {
     /// rotor, disks, point masses, pedestals and bearings included) or `"shaft"` (the shaft
     /// elements' own M_e and K_e only, ROSS's convention).
     #[serde(default, skip_serializing_if = "RayleighOn::is_assembly")]
+    #[schemars(extend("default" = "assembly"))]
     pub rayleigh_on: RayleighOn,
     /// Shear deformation (Timoshenko); false = Euler–Bernoulli.
     #[serde(default = "yes")]
@@ -57,18 +59,22 @@ pub struct FeRotorSpec {
     /// Axial DOF `u_z` per node: bar elements E A/L, consistent mass; disks and point masses
     /// add their mass. Uncoupled from bending (linear theory).
     #[serde(default, skip_serializing_if = "is_false")]
+    #[schemars(extend("default" = false))]
     pub axial: bool,
     /// Torsional DOF `θ_z` per node: G J/L, G = E/(2(1+ν)), J = π(D⁴ − d⁴)/32; disks add I_p.
     /// Contact friction at a station of radius R loads it with the torque −R μ p (for Ω > 0).
     #[serde(default, skip_serializing_if = "is_false")]
+    #[schemars(extend("default" = false))]
     pub torsion: bool,
     /// Thrust bearings: spring and dashpot from a node's `u_z` to ground
     /// (`[[rotor.axial_support]]`, N/m and N·s/m).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[schemars(extend("default" = []))]
     pub axial_support: Vec<GroundSpringSpec>,
     /// Torsional restraints (coupling or drive stiffness): spring and dashpot from a node's
     /// `θ_z` to ground (`[[rotor.torsional_support]]`, N·m/rad and N·m·s/rad).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[schemars(extend("default" = []))]
     pub torsional_support: Vec<GroundSpringSpec>,
     /// Modal damping (`[rotor.modal_damping]`): ζ on the lowest undamped modes, added to the
     /// Rayleigh and bearing damping.
@@ -80,7 +86,7 @@ pub struct FeRotorSpec {
 /// modes φᵢ (at rest, bearings at the run's speed, no gyroscopics) with ωᵢ ≤ `max_frequency`,
 /// at most `modes` of them (both optional: without either, every mode — a dense term of full
 /// rank, slow for large rotors). A repeated frequency is never split. Higher modes get none.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ModalDampingSpec {
     /// ζ (dimensionless, ≥ 0).
@@ -92,7 +98,7 @@ pub struct ModalDampingSpec {
 }
 
 /// What `rotor.rayleigh` acts on.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum RayleighOn {
     /// `α M + β K(Ω)` of the assembled rotor (bearings, disks, point masses, pedestals).
@@ -115,7 +121,7 @@ fn is_false(b: &bool) -> bool {
 /// A spring and dashpot from one scalar DOF of a rotor node to ground: `u_z` for
 /// `[[rotor.axial_support]]` (N/m, N·s/m), `θ_z` for `[[rotor.torsional_support]]`
 /// (N·m/rad, N·m·s/rad).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GroundSpringSpec {
     /// Node.
@@ -131,7 +137,7 @@ pub struct GroundSpringSpec {
 /// diameters at its right end, linear in z from the left ones; ROSS's tapered elements). Material by `material` name (`steel`: E 211 GPa, ν 0.3,
 /// ρ 7810 kg/m³; `aluminium`: 69 GPa, 0.33, 2700; `titanium`: 110 GPa, 0.34, 4430) or by
 /// `youngs_modulus`, `poisson`, `density` (these override the named values).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ShaftSegmentSpec {
     /// Segment length (m).
@@ -162,7 +168,7 @@ pub struct ShaftSegmentSpec {
 
 /// A rigid disk: give `mass`, `polar_inertia`, `diametral_inertia`, or the geometry
 /// `outer_diameter`, `width`, `bore` (default 0) and `density` (or `material`).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FeDiskSpec {
     /// Node.
@@ -187,7 +193,7 @@ pub struct FeDiskSpec {
 }
 
 /// A scalar or a table aligned with `speeds`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(untagged)]
 pub enum ScalarOrTable {
     /// Constant.
@@ -199,7 +205,7 @@ pub enum ScalarOrTable {
 /// A bearing between a rotor node and ground (or a pedestal). Isotropic `stiffness` /
 /// `damping`, or the 2×2 coefficients `kxx kxy kyx kyy`, `cxx cxy cyx cyy` (N/m, N·s/m);
 /// each may be a table over `speeds` (rad/s).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BearingSpec {
     /// Node.
@@ -232,7 +238,7 @@ pub struct BearingSpec {
 }
 
 /// Pedestal: mass on isotropic spring and damper to ground.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PedestalSpec {
     /// Mass (kg).
@@ -245,7 +251,7 @@ pub struct PedestalSpec {
 }
 
 /// A point mass on a node's translations.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PointMassSpec {
     /// Node.
@@ -266,8 +272,13 @@ pub fn material(name: &str) -> Option<(f64, f64, f64)> {
 
 /// Jeffcott rotor data. Give `mass` or `disk`; `stiffness` or `shaft`; `damping` or
 /// `damping_ratio`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(extend("allOf" = [
+    {"oneOf": [{"required": ["mass"]}, {"required": ["disk"]}]},
+    {"oneOf": [{"required": ["stiffness"]}, {"required": ["shaft"]}]},
+    {"oneOf": [{"required": ["damping"]}, {"required": ["damping_ratio"]}]}
+]))]
 pub struct JeffcottSpec {
     /// Modal mass m_r (kg).
     pub mass: Option<f64>,
@@ -287,7 +298,7 @@ pub struct JeffcottSpec {
 }
 
 /// A solid disk.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DiskSpec {
     /// Outer diameter (m).
@@ -299,7 +310,7 @@ pub struct DiskSpec {
 }
 
 /// A uniform solid shaft, simply supported at both ends.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ShaftSpec {
     /// Young's modulus (Pa).
@@ -311,7 +322,7 @@ pub struct ShaftSpec {
 }
 
 /// An unbalance: force m_u e ω² (cos(ωt+φ), sin(ωt+φ)).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct UnbalanceSpec {
     /// Unbalance mass m_u (kg).
@@ -327,7 +338,7 @@ pub struct UnbalanceSpec {
 }
 
 /// A contact station: a radially rigid circular rotor section.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StationSpec {
     /// Name the stators refer to.

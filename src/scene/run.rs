@@ -1,10 +1,11 @@
 //! `[run]`: speed or sweep, duration, integrator and time step.
 
 use super::yes;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// Time integrators.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum IntegratorKind {
     /// The paper's scheme: explicit central differences with forward-increment Lagrange
@@ -46,8 +47,9 @@ impl IntegratorKind {
 }
 
 /// What to run.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(extend("not" = {"required": ["speed_ratio", "speed"]}))]
 pub struct RunSpec {
     /// Speed as ω/ω_n (single run).
     pub speed_ratio: Option<f64>,
@@ -125,6 +127,7 @@ pub struct RunSpec {
     /// Spectral radius at infinite frequency ρ∞ ∈ [0, 1] of `integrator = "generalized_alpha"`
     /// (default [`DEFAULT_RHO_INF`]; refused with any other integrator): 1 keeps every mode,
     /// lower values damp the modes the step does not resolve.
+    #[schemars(extend("default" = DEFAULT_RHO_INF))]
     pub rho_inf: Option<f64>,
     /// Time step override (s). Rounded down so a revolution holds a whole number of steps.
     /// Left out, the commands choose Δt (and the integrator, when not given) from
@@ -149,7 +152,7 @@ pub struct RunSpec {
     /// extents). Default `true`.
     #[serde(default = "yes")]
     pub check_coexistence: bool,
-    /// Most integration steps one run may take (default [`crate::time::MAX_STEPS`]): a run
+    /// Most integration steps one run may take (default 10⁹, [`crate::time::MAX_STEPS`]): a run
     /// whose plan needs more is refused before it starts, naming the figure. Raise it for a
     /// long run that is meant.
     pub max_steps: Option<u64>,
@@ -166,7 +169,7 @@ pub struct RunSpec {
 }
 
 /// `[run.reduction]`: the cut-off of an FE rotor's modal reduction.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ReductionSpec {
     /// Cut-off ω_cut (rad/s): every undamped mode below it is kept. Left out: `cutoff_factor`
@@ -174,6 +177,7 @@ pub struct ReductionSpec {
     /// case's speed, ω_c the contact frequency √((k_r + Σk_s)/m_r)).
     pub cutoff: Option<f64>,
     /// κ of the default cut-off κ max(n ω, ω_c) (default [`DEFAULT_CUTOFF_FACTOR`], at least 1).
+    #[schemars(extend("default" = DEFAULT_CUTOFF_FACTOR))]
     pub cutoff_factor: Option<f64>,
     /// Reduce the FE rotor (default: true for an FE rotor; a Jeffcott rotor cannot be).
     pub rotor: Option<bool>,
@@ -194,7 +198,7 @@ impl RunSpec {
 }
 
 /// Speed sweep over ω/ω_n, inclusive of both ends.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SweepSpec {
     /// First ω/ω_n.
@@ -208,7 +212,7 @@ pub struct SweepSpec {
 }
 
 /// A sensitivity study: the sweep is repeated for each value of one scene key.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct VarySpec {
     /// Dotted key, as for `--set` (e.g. `stator.0.clearance_nd`).
@@ -222,7 +226,7 @@ pub const DEFAULT_RHO_INF: f64 = 0.8;
 
 /// A 2-D regime map (`rubsim map`): one run for every pair of values of two parameters — the
 /// speed ω/ω_n (key `speed_ratio`) and a scene key, or two scene keys at the scene's speed.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MapSpec {
     /// The horizontal axis.
@@ -232,7 +236,7 @@ pub struct MapSpec {
 }
 
 /// One axis of a map: a key and its values, as a list or an inclusive range.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MapAxis {
     /// `speed_ratio` (ω/ω_n), or a dotted scene key as for `--set` (`stator.0.clearance_nd`).

@@ -2,10 +2,11 @@
 
 use super::one;
 use crate::element::solid2d::Plane;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// Stator models.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum StatorSpec {
     /// The paper's elastic rod, meshed with 2-D bar elements, its axis radial.
@@ -81,8 +82,9 @@ impl StatorSpec {
 /// holds the nodes that can touch the rotor, the `fixed*` groups the supports; 2-D groups of a
 /// 2-D mesh (volumes of a 3-D mesh) are material regions, `regions` overriding the default
 /// material per group.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(extend("not" = {"required": ["clearance", "clearance_nd"]}))]
 pub struct MeshStatorSpec {
     /// Stator name.
     pub name: String,
@@ -95,6 +97,7 @@ pub struct MeshStatorSpec {
     pub parameters: std::collections::BTreeMap<String, f64>,
     /// Element order: 1 (linear) or 2 (quadratic).
     #[serde(default = "one_u8")]
+    #[schemars(extend("enum" = [1, 2]))]
     pub order: u8,
     /// Quadrilaterals instead of triangles (gmsh `Mesh.RecombineAll`); 2-D only.
     #[serde(default)]
@@ -107,6 +110,7 @@ pub struct MeshStatorSpec {
     pub size_factor: f64,
     /// 2-D meshes: `"stress"` (default) or `"strain"`.
     #[serde(default = "plane_stress")]
+    #[schemars(extend("enum" = ["stress", "strain"]))]
     pub plane: String,
     /// 2-D meshes: out-of-plane thickness (m).
     pub thickness: Option<f64>,
@@ -170,6 +174,7 @@ pub struct MeshStatorSpec {
     /// What the contact dashpot damps: `"normal"` (default, the normal velocity) or `"full"`
     /// (also the tangential velocity of the rotor section, as ROSS's rub model does).
     #[serde(default = "normal_mode")]
+    #[schemars(extend("enum" = ["normal", "full"]))]
     pub contact_damping_mode: String,
 }
 
@@ -185,7 +190,7 @@ impl MeshStatorSpec {
 }
 
 /// Material of a region (physical group) of a meshed stator; unset values are the stator's.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RegionSpec {
     /// Physical group name.
@@ -202,7 +207,7 @@ pub struct RegionSpec {
 
 /// Grounded springs on the nodes of a group: the stiffness is the group's total, shared
 /// equally by its nodes.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpringSupportSpec {
     /// Physical group name.
@@ -212,7 +217,7 @@ pub struct SpringSupportSpec {
 }
 
 /// Bars (without `inertia`) or frames (with it) on the line elements of a group.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FrameSpec {
     /// Physical group of lines (dimension 1).
@@ -255,8 +260,12 @@ fn fixed_groups() -> Vec<String> {
 /// Elastic rod stator (paper Fig. 4). The tip faces the station at clearance δ along
 /// `angle_deg` (90° = +y, above the rotor); the far end is fixed; lateral DOFs are guided so the
 /// bar model is not singular. Stiffness k_s = E A / L, or ε k_r when `stiffness_ratio` is given.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(extend("allOf" = [
+    {"oneOf": [{"required": ["clearance"]}, {"required": ["clearance_nd"]}]},
+    {"oneOf": [{"required": ["youngs_modulus"]}, {"required": ["stiffness_ratio"]}]}
+]))]
 pub struct RodSpec {
     /// Stator name.
     pub name: String,
@@ -295,6 +304,7 @@ pub struct RodSpec {
     /// What the contact dashpot damps: `"normal"` (default, the normal velocity) or `"full"`
     /// (also the tangential velocity of the rotor section, as ROSS's rub model does).
     #[serde(default = "normal_mode")]
+    #[schemars(extend("enum" = ["normal", "full"]))]
     pub contact_damping_mode: String,
 }
 
@@ -303,8 +313,12 @@ pub struct RodSpec {
 /// to the moving centre reaches δ. `kinematics = "radial"` keeps instead the classic radially
 /// elastic stator (Black): force `k_s(R − δ)` along the rotor's radius R, friction reacted by
 /// ground.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(extend("allOf" = [
+    {"oneOf": [{"required": ["clearance"]}, {"required": ["clearance_nd"]}]},
+    {"oneOf": [{"required": ["stiffness"]}, {"required": ["stiffness_ratio"]}]}
+]))]
 pub struct RingSpec {
     /// Stator name.
     pub name: String,
@@ -333,6 +347,7 @@ pub struct RingSpec {
     /// What the contact dashpot damps: `"normal"` (default, the normal velocity) or `"full"`
     /// (also the tangential velocity of the rotor section, as ROSS's rub model does).
     #[serde(default = "normal_mode")]
+    #[schemars(extend("enum" = ["normal", "full"]))]
     pub contact_damping_mode: String,
     /// `"exact"` (default): the ring's centre takes the whole contact force, its
     /// friction-driven tangential displacement enters the gap (docs/VALIDATION.md §15.1).
@@ -340,6 +355,7 @@ pub struct RingSpec {
     /// (docs/ORACLES.md §2–3): the ring's centre moves only along the contact normal, the
     /// friction force goes to ground; massless rings only.
     #[serde(default = "exact_kinematics")]
+    #[schemars(extend("enum" = ["exact", "radial"]))]
     pub kinematics: String,
 }
 
@@ -349,7 +365,7 @@ fn exact_kinematics() -> String {
 
 /// General 2-D FE stator in the station plane, coordinates relative to the undeformed station
 /// centre. Node DOFs are `[u_x, u_y]`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FeStatorSpec {
     /// Stator name.
@@ -379,11 +395,12 @@ pub struct FeStatorSpec {
     /// What the contact dashpot damps: `"normal"` (default, the normal velocity) or `"full"`
     /// (also the tangential velocity of the rotor section, as ROSS's rub model does).
     #[serde(default = "normal_mode")]
+    #[schemars(extend("enum" = ["normal", "full"]))]
     pub contact_damping_mode: String,
 }
 
 /// Elements of the general FE stator.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum FeElementSpec {
     /// 2-node bar (truss) element: axial stiffness E A / L, lumped mass ρ A L / 2 per node.
