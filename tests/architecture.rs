@@ -44,16 +44,7 @@ const LONG_FUNCTION_EXCEPTIONS: &[(&str, &str, usize)] = &[
 /// Temporary exceptions to the file-level acyclicity: import edges of the files other
 /// developers are reworking this session (see [`LONG_FUNCTION_EXCEPTIONS`]), which close a
 /// cycle today. Remove a row when its branch merges; a row no longer needed fails the test.
-const CYCLE_EXCEPTIONS: &[(&str, &str)] = &[
-    // (importing file, imported file under src/) — the run path ("driver").
-    ("analysis/autostep.rs", "analysis/cutoff.rs"),
-    ("analysis/cutoff.rs", "analysis/autostep.rs"),
-    ("analysis/coexist.rs", "analysis/speed.rs"),
-    ("analysis/speed.rs", "analysis/coexist.rs"),
-    ("analysis/speed.rs", "analysis/whirl.rs"),
-    ("analysis/transient.rs", "analysis/speed.rs"),
-    ("analysis/whirl.rs", "analysis/transient.rs"),
-];
+const CYCLE_EXCEPTIONS: &[(&str, &str)] = &[];
 
 fn stage(module: &str) -> usize {
     STAGES

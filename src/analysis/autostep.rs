@@ -83,8 +83,10 @@
 //! reduced with κ chosen so; with a cut-off, as the scene reduces it.
 
 use super::cutoff::{choose_cutoff, CutoffChoice};
+pub use super::discrepancy::difference;
+use super::pilot::pilot_settings;
+pub use super::pilot::{PILOT_TRANSIENT, PILOT_WINDOW};
 use super::{analyse, prepare, scheme, sweep::run_all, Keep, RunSettings, SpeedResults};
-use super::{extents_error, ExtentsScale};
 use crate::error::{Error, Result, SolveError};
 use crate::model::{Model, Rotor};
 use crate::resolve::ReductionInput;
@@ -95,8 +97,6 @@ use serde::{Deserialize, Serialize};
 mod start;
 pub use start::{pilot_start, start_from_pilot, PilotStart, RESTART_TRANSIENT};
 
-/// Transient revolutions of a pilot run before its analysed window (started as the run is).
-pub const PILOT_TRANSIENT: usize = 10;
 /// Revolutions of a pilot started from the settled state before its analysed window: the
 /// pilot step's own start-up (its velocity estimate) settles in them.
 pub const PILOT_RESETTLE: usize = 2;
@@ -105,8 +105,6 @@ pub const SETTLE_REVOLUTIONS: usize = 30;
 /// The smallest order the step is chosen with (`p = clamp(p_obs, MIN_ORDER, p_nominal)`): a
 /// smaller observed order is taken as this one, bounded by [`MAX_EXTRAPOLATION`].
 pub const MIN_ORDER: f64 = 0.5;
-/// Analysed revolutions of a pilot run (the shortest window, [`crate::time::plan::WINDOW_MULTIPLE`]).
-pub const PILOT_WINDOW: usize = 6;
 /// The chosen step's predicted error is this fraction of `run.tolerance`.
 pub const SAFETY: f64 = 0.5;
 /// Most pilot steps per scheme and speed (the coarsest and six halvings).
@@ -232,36 +230,6 @@ impl Fit {
     fn error_at(&self, h: f64) -> f64 {
         self.c * h.powf(self.p)
     }
-}
-
-/// The relative difference of two runs' results: the largest of the orbit-extents difference
-/// (relative to the largest extent of `b`) and the 1×, ½×, ⅓× line differences (relative to
-/// the largest line of `b`) — the measure of [`super::ErrorEstimate`].
-pub fn difference(a: &SpeedResults, b: &SpeedResults) -> f64 {
-    let ext = extents_error(&a.extents_nd, &b.extents_nd, ExtentsScale::Largest);
-    let la = [a.amp_1x_nd, a.amp_half_nd, a.amp_third_nd];
-    let lb = [b.amp_1x_nd, b.amp_half_nd, b.amp_third_nd];
-    let lmax = lb.iter().fold(1e-300_f64, |m, v| m.max(*v));
-    let lines = la
-        .iter()
-        .zip(lb)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-        / lmax;
-    ext.max(lines)
-}
-
-/// The pilot settings of `s` with `kind`: a short window, no error estimate, no adaptation.
-fn pilot_settings(s: &RunSettings, kind: Scheme, scale: f64) -> RunSettings {
-    let mut p = *s;
-    p.step.integrator = kind;
-    p.step.dt = None;
-    p.step.dt_scale = scale;
-    p.step.transient_revolutions = PILOT_TRANSIENT;
-    p.step.revolutions = PILOT_TRANSIENT + PILOT_WINDOW;
-    p.error_estimate = false;
-    p.check_coexistence = false;
-    p
 }
 
 /// The settled state the pilots start from: the run from `s.initial` with the plan of

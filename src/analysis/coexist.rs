@@ -32,8 +32,8 @@
 //! basins both starts miss, and a run in full contact whose linear orbit does not fit the
 //! clearance.
 
-use super::speed::{extent_scale, max_diff, orbit_span, Prepared, SpeedResults};
-use super::{analyse, Keep, RunSettings};
+use super::discrepancy::{extent_scale, max_diff, orbit_span};
+use super::{analyse, Keep, Prepared, RunSettings, SpeedResults};
 use crate::math::{lcm, V2};
 use crate::model::{Case, Model};
 use crate::time::{Initial, StepPlan, WINDOW_MULTIPLE};

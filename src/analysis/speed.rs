@@ -2,6 +2,7 @@
 //! frame sinks ([`Prepared::run`]), analyse the record ([`analyse`]) and estimate the
 //! discretisation error by a companion run.
 
+use super::discrepancy::{extent_scale, max_diff, orbit_span};
 use super::dynamics::{dynamics, never_repeats, Dynamics, Regime};
 use super::fanout::with_sinks;
 pub use super::fanout::Fanout;
@@ -70,14 +71,6 @@ pub struct ErrorEstimate {
 pub use crate::time::budget::FINE_SETTLE_REVOLUTIONS;
 
 pub use super::richardson::{attractor_error, combine_fine, combine_levels, richardson};
-
-/// The largest of `|a_i − b_i|` over two equal-length slices.
-pub(super) fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
 
 /// Results of a run at one speed.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -532,37 +525,6 @@ pub(super) fn window_points(
         .collect();
     let nrev = w.len() / spr.max(1);
     (w, nrev)
-}
-
-/// How an orbit-extents difference is made relative ([`extents_error`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ExtentsScale {
-    /// By the largest |extent| of the reference, `max_i |e_i|` ([`extent_scale`]): the error
-    /// estimate and the convergence study.
-    Largest,
-    /// By the size of the reference orbit, `max(x_max − x_min, y_max − y_min)`
-    /// ([`orbit_span`]): the bench's comparison with a converged sweep.
-    Span,
-}
-
-/// Largest |extent| of `[x_min, x_max, y_min, y_max]`, at least 1e-300.
-pub fn extent_scale(e: &[f64; 4]) -> f64 {
-    e.iter().fold(1e-300_f64, |m, v| m.max(v.abs()))
-}
-
-/// Size of an orbit from its extents: `max(x_max − x_min, y_max − y_min)`.
-pub fn orbit_span(e: &[f64; 4]) -> f64 {
-    (e[1] - e[0]).max(e[3] - e[2])
-}
-
-/// The orbit-extents error of `x` against `reference`: `max_i |x_i − ref_i|` over
-/// `[x_min, x_max, y_min, y_max]`, divided by the reference's scale ([`ExtentsScale`]).
-pub fn extents_error(x: &[f64; 4], reference: &[f64; 4], scale: ExtentsScale) -> f64 {
-    max_diff(x, reference)
-        / match scale {
-            ExtentsScale::Largest => extent_scale(reference),
-            ExtentsScale::Span => orbit_span(reference),
-        }
 }
 
 /// Analysis of a record: transient cut, Poincaré section, extents, spectrum; the contact
