@@ -32,14 +32,7 @@ const MAX_FUNCTION_LINES: usize = 100;
 /// reworking this session (the run path: "driver"; studies, sweeps and maps: "study"), each
 /// accepted only while it is at most its length of today. Remove a row when its branch merges;
 /// a row no longer needed fails the test so that it cannot be forgotten.
-const LONG_FUNCTION_EXCEPTIONS: &[(&str, &str, usize)] = &[
-    // (file under src/, function, lines today) — the run path ("driver").
-    ("analysis/autostep.rs", "choose", 202),
-    ("analysis/autostep.rs", "fit_from", 121),
-    ("analysis/convergence.rs", "convergence_with", 157),
-    ("analysis/speed.rs", "analyse", 119),
-    ("analysis/speed.rs", "error_estimate", 113),
-];
+const LONG_FUNCTION_EXCEPTIONS: &[(&str, &str, usize)] = &[];
 
 /// Temporary exceptions to the file-level acyclicity: import edges of the files other
 /// developers are reworking this session (see [`LONG_FUNCTION_EXCEPTIONS`]), which close a
