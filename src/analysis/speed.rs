@@ -645,6 +645,9 @@ pub fn analyse(
     }
 }
 
+/// A spectrum as kept: (f/ω_n, amplitude/|Z0|) pairs.
+type Spectrum = Vec<(f64, f64)>;
+
 /// The spectra [`analyse`] keeps (`keep.spectrum_up_to`): of the analysed component `comp`
 /// over its window of `nrev_f` revolutions (f/ω_n, amplitude/|Z0|), and — with
 /// `keep.full_spectrum` — the full spectrum `full` of x + iy over `lrev` revolutions as
@@ -656,7 +659,7 @@ fn spectra(
     full: &crate::signal::FullSpectrum,
     lrev: usize,
     nrev_f: f64,
-) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+) -> (Spectrum, Spectrum) {
     let full_spectrum = match keep.spectrum_up_to {
         Some(fm) if keep.full_spectrum => {
             let nu = case.speed_ratio;
