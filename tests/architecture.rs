@@ -32,28 +32,12 @@ const MAX_FUNCTION_LINES: usize = 100;
 /// reworking this session (the run path: "driver"; studies, sweeps and maps: "study"), each
 /// accepted only while it is at most its length of today. Remove a row when its branch merges;
 /// a row no longer needed fails the test so that it cannot be forgotten.
-const LONG_FUNCTION_EXCEPTIONS: &[(&str, &str, usize)] = &[
-    // (file under src/, function, lines today) — the run path ("driver").
-    ("analysis/autostep.rs", "choose", 202),
-    ("analysis/autostep.rs", "fit_from", 121),
-    ("analysis/convergence.rs", "convergence_with", 157),
-    ("analysis/speed.rs", "analyse", 119),
-    ("analysis/speed.rs", "error_estimate", 113),
-];
+const LONG_FUNCTION_EXCEPTIONS: &[(&str, &str, usize)] = &[];
 
 /// Temporary exceptions to the file-level acyclicity: import edges of the files other
 /// developers are reworking this session (see [`LONG_FUNCTION_EXCEPTIONS`]), which close a
 /// cycle today. Remove a row when its branch merges; a row no longer needed fails the test.
-const CYCLE_EXCEPTIONS: &[(&str, &str)] = &[
-    // (importing file, imported file under src/) — the run path ("driver").
-    ("analysis/autostep.rs", "analysis/cutoff.rs"),
-    ("analysis/cutoff.rs", "analysis/autostep.rs"),
-    ("analysis/coexist.rs", "analysis/speed.rs"),
-    ("analysis/speed.rs", "analysis/coexist.rs"),
-    ("analysis/speed.rs", "analysis/whirl.rs"),
-    ("analysis/transient.rs", "analysis/speed.rs"),
-    ("analysis/whirl.rs", "analysis/transient.rs"),
-];
+const CYCLE_EXCEPTIONS: &[(&str, &str)] = &[];
 
 fn stage(module: &str) -> usize {
     STAGES

@@ -83,20 +83,21 @@
 //! reduced with κ chosen so; with a cut-off, as the scene reduces it.
 
 use super::cutoff::{choose_cutoff, CutoffChoice};
-use super::{analyse, prepare, scheme, sweep::run_all, Keep, RunSettings, SpeedResults};
-use super::{extents_error, ExtentsScale};
+pub use super::discrepancy::difference;
+use super::pilot::pilot_settings;
+pub use super::pilot::{PILOT_TRANSIENT, PILOT_WINDOW};
+use super::{prepare, scheme, sweep::run_all, RunSettings};
 use crate::error::{Error, Result, SolveError};
 use crate::model::{Model, Rotor};
 use crate::resolve::ReductionInput;
 use crate::scene::IntegratorKind;
-use crate::time::{estimate, integrate, plan_steps, Initial, Scheme};
+use crate::time::{estimate, plan_steps, Scheme};
 use serde::{Deserialize, Serialize};
 
+mod fit;
 mod start;
 pub use start::{pilot_start, start_from_pilot, PilotStart, RESTART_TRANSIENT};
 
-/// Transient revolutions of a pilot run before its analysed window (started as the run is).
-pub const PILOT_TRANSIENT: usize = 10;
 /// Revolutions of a pilot started from the settled state before its analysed window: the
 /// pilot step's own start-up (its velocity estimate) settles in them.
 pub const PILOT_RESETTLE: usize = 2;
@@ -105,8 +106,6 @@ pub const SETTLE_REVOLUTIONS: usize = 30;
 /// The smallest order the step is chosen with (`p = clamp(p_obs, MIN_ORDER, p_nominal)`): a
 /// smaller observed order is taken as this one, bounded by [`MAX_EXTRAPOLATION`].
 pub const MIN_ORDER: f64 = 0.5;
-/// Analysed revolutions of a pilot run (the shortest window, [`crate::time::plan::WINDOW_MULTIPLE`]).
-pub const PILOT_WINDOW: usize = 6;
 /// The chosen step's predicted error is this fraction of `run.tolerance`.
 pub const SAFETY: f64 = 0.5;
 /// Most pilot steps per scheme and speed (the coarsest and six halvings).
@@ -177,291 +176,12 @@ pub fn pilot_speeds(speeds: &[f64]) -> Vec<f64> {
     }
 }
 
-/// One scheme's fit at one speed.
-#[derive(Debug, Clone, Copy)]
-struct Fit {
-    /// Observed order (NaN when undefined).
-    p_obs: f64,
-    /// Order used.
-    p: f64,
-    /// Error constant: error ≈ c·h^p.
-    c: f64,
-    /// The finest step the choice may take (s): [`MAX_EXTRAPOLATION`] below the finest pilot.
-    h_min: f64,
-    /// Whether the pilots started from the settled state.
-    settled: bool,
-    /// The finest pilot's end state (pilots from the settled state only).
-    end: Option<Initial>,
-    /// The paper's rule at this speed (s).
-    rule_dt: f64,
-    /// The coarsest step the choice may take (s): the coarsest of the three pilots fitted (no
-    /// extrapolation above the steps that showed the order), and no coarser than the pilot
-    /// step from which on the 2Δt estimate the run will make, as the pilots measure it, is
-    /// within the target.
-    h0: f64,
-    /// The steps of the three pilots fitted (s), coarsest first.
-    levels: [f64; 3],
-    /// Pilot steps and loop wall time.
-    steps: u64,
-    wall_s: f64,
-}
-
-impl Fit {
-    /// The multiple of the rule of the step chosen: the coarsest of the fitted pilots' steps
-    /// (at most `h0`) whose fitted error is within `tolerance` — a step the pilots ran, so
-    /// the run repeats a measured pilot over a longer window rather than an extrapolated
-    /// step — else the step whose extrapolated error is `target` (within `h_min … h0`).
-    fn scale_for(&self, target: f64, tolerance: f64) -> f64 {
-        let piloted = self
-            .levels
-            .iter()
-            .find(|&&h| h <= self.h0 * (1.0 + 1e-9) && self.error_at(h) <= tolerance);
-        if let (Some(&h), true) = (piloted, self.c > 0.0) {
-            return h / self.rule_dt;
-        }
-        let h = if self.c > 0.0 {
-            (target / self.c)
-                .powf(1.0 / self.p)
-                .min(self.h0)
-                .max(self.h_min)
-        } else {
-            self.h0
-        };
-        h / self.rule_dt
-    }
-    fn error_at(&self, h: f64) -> f64 {
-        self.c * h.powf(self.p)
-    }
-}
-
-/// The relative difference of two runs' results: the largest of the orbit-extents difference
-/// (relative to the largest extent of `b`) and the 1×, ½×, ⅓× line differences (relative to
-/// the largest line of `b`) — the measure of [`super::ErrorEstimate`].
-pub fn difference(a: &SpeedResults, b: &SpeedResults) -> f64 {
-    let ext = extents_error(&a.extents_nd, &b.extents_nd, ExtentsScale::Largest);
-    let la = [a.amp_1x_nd, a.amp_half_nd, a.amp_third_nd];
-    let lb = [b.amp_1x_nd, b.amp_half_nd, b.amp_third_nd];
-    let lmax = lb.iter().fold(1e-300_f64, |m, v| m.max(*v));
-    let lines = la
-        .iter()
-        .zip(lb)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-        / lmax;
-    ext.max(lines)
-}
-
-/// The pilot settings of `s` with `kind`: a short window, no error estimate, no adaptation.
-fn pilot_settings(s: &RunSettings, kind: Scheme, scale: f64) -> RunSettings {
-    let mut p = *s;
-    p.step.integrator = kind;
-    p.step.dt = None;
-    p.step.dt_scale = scale;
-    p.step.transient_revolutions = PILOT_TRANSIENT;
-    p.step.revolutions = PILOT_TRANSIENT + PILOT_WINDOW;
-    // Pilots measure the step on their own short window, whatever the run's length.
-    p.step.duration = None;
-    p.error_estimate = false;
-    p.check_coexistence = false;
-    p
-}
-
-/// The settled state the pilots start from: the run from `s.initial` with the plan of
-/// `settle` (whole steps per revolution) over `min(s`'s transient, [`SETTLE_REVOLUTIONS`]`)`
-/// revolutions, its disk displacement at the last instant (a whole revolution: the unbalance
-/// at the phase of t = 0) and velocity by the one-sided second-order difference of the last
-/// three samples `(3x_N − 4x_{N−1} + x_{N−2})/(2δ)`, δ the sampling interval. `None` where
-/// that is not the whole state: a rotor with more than the disk's two DOFs, a stator with
-/// mass. Returned with the settling run's steps and loop wall time (s).
-fn settled_start(
-    prep: &super::Prepared,
-    s: &RunSettings,
-    settle: f64,
-) -> Result<Option<(Initial, u64, f64)>> {
-    let case = &prep.case;
-    if case.loop_rotor().ndof != 2 || !case.stators.iter().all(|st| st.massless()) {
-        return Ok(None);
-    }
-    let mut st = prep.settings.step;
-    st.dt_scale = settle;
-    st.revolutions = s.step.transient_revolutions.clamp(1, SETTLE_REVOLUTIONS);
-    st.transient_revolutions = 0;
-    let plan = plan_steps(case, &st)?;
-    let (rec, stats) = integrate(case, st.integrator, &plan, s.initial)?;
-    Ok(end_state(&rec).map(|init| (init, stats.steps as u64, stats.wall_s)))
-}
-
-/// The disk's state at the last recorded instant of `rec`: displacement as recorded, velocity
-/// by the one-sided second-order difference of the last three samples
-/// `(3x_N − 4x_{N−1} + x_{N−2})/(2δ)`, δ the sampling interval. `None` with fewer than three
-/// samples.
-fn end_state(rec: &crate::time::Record) -> Option<Initial> {
-    let n = rec.observed.len();
-    if n < 3 || rec.t.len() != n {
-        return None;
-    }
-    let (a, b, c) = (
-        rec.observed[n - 3],
-        rec.observed[n - 2],
-        rec.observed[n - 1],
-    );
-    let d = rec.t[n - 1] - rec.t[n - 2];
-    let v = [0, 1].map(|i| (3.0 * c[i] - 4.0 * b[i] + a[i]) / (2.0 * d));
-    Some(Initial { u: c, v })
-}
-
-/// Pilots `kind` at speed `v` at halving steps from the coarsest it allows — three, and more
-/// (up to [`MAX_LEVELS`]) while the finest one's error is above `target` and the last three
-/// show no convergence (`d₁₂ ≥ d₀₁/`[`CONVERGING`]) or ask a step more than
-/// [`MAX_EXTRAPOLATION`] below the finest — from the settled state where there is one
-/// ([`settled_start`]), and fits its order and error constant on the last three.
-fn fit(model: &Model, s: &RunSettings, kind: Scheme, v: f64, target: f64) -> Result<Fit> {
-    let f = fit_from(model, s, kind, v, target, true)?;
-    // From the settled state the pilots did not converge (a response that is not periodic
-    // there: the paper's rod at ε = 10⁵, ν = 1.5): piloted again from the run's start, as the
-    // run begins, whose fit is used (both pilots counted).
-    if f.settled && f.p_obs.is_finite() && f.p_obs < MIN_ORDER && f.error_at(f.h_min) > target {
-        let g = fit_from(model, s, kind, v, target, false)?;
-        return Ok(Fit {
-            steps: f.steps + g.steps,
-            end: None,
-            wall_s: f.wall_s + g.wall_s,
-            ..g
-        });
-    }
-    Ok(f)
-}
-
-/// [`fit`]'s pilots, from the settled state when `settled` and there is one, else from the
-/// run's start.
-fn fit_from(
-    model: &Model,
-    s: &RunSettings,
-    kind: Scheme,
-    v: f64,
-    target: f64,
-    settled: bool,
-) -> Result<Fit> {
-    let mut ps = pilot_settings(s, kind, COARSEST);
-    let mut prep = prepare(model, &ps, v)?;
-    let coarsest = prep.plan.dt;
-    let rule_dt = prep.plan.rule_dt;
-    let settle = coarsest / rule_dt / 2.0 * (1.0 + 1e-9);
-    let (mut steps, mut wall_s) = (0u64, 0.0);
-    let start = if settled {
-        settled_start(&prep, s, settle)?
-    } else {
-        None
-    };
-    let from_settled = start.is_some();
-    if let Some((init, n, w)) = start {
-        ps.initial = init;
-        steps += n;
-        wall_s += w;
-        ps.step.transient_revolutions = PILOT_RESETTLE;
-        ps.step.revolutions = PILOT_RESETTLE + PILOT_WINDOW;
-        prep = prepare(model, &ps, v)?;
-    }
-    let mut res: Vec<(f64, SpeedResults)> = Vec::with_capacity(MAX_LEVELS);
-    let mut k = 0;
-    let (d01, d12) = loop {
-        let mut st = ps.step;
-        st.dt_scale = coarsest / rule_dt / (1u64 << k) as f64 * (1.0 + 1e-9);
-        prep.plan = plan_steps(&prep.case, &st)?;
-        let (rec, stats) = prep.integrate(&mut [])?;
-        steps += stats.steps as u64;
-        wall_s += stats.wall_s;
-        let r = analyse(&prep.case, &ps, &prep.plan, &rec, stats, Keep::default());
-        // From the settled state, the next (finer) pilot starts where this one ended (a whole
-        // revolution): its start differs from its own steady state only by the step's change,
-        // not by the settling step's error.
-        if from_settled {
-            if let Some(init) = end_state(&rec) {
-                prep.settings.initial = init;
-            }
-        }
-        res.push((prep.plan.dt, r));
-        k += 1;
-        let n = res.len();
-        if n < 3 {
-            continue;
-        }
-        let d01 = difference(&res[n - 3].1, &res[n - 2].1);
-        let d12 = difference(&res[n - 2].1, &res[n - 1].1);
-        // The finest pilot's error by the order as it will be used: within the target, or
-        // converging with the step it asks within [`MAX_EXTRAPOLATION`] of the finest pilot,
-        // the fit is used; otherwise the pilots go on towards that step.
-        let r = res[n - 2].0 / res[n - 1].0;
-        let p_raw = (d01 / d12).ln() / r.ln();
-        let p = p_raw.clamp(MIN_ORDER, kind.nominal_order());
-        let e2 = if p.is_finite() {
-            d12 / (r.powf(p) - 1.0)
-        } else {
-            0.0
-        };
-        // The fit is used only on an order near the scheme's own: a lower observed order is
-        // the coarse pilots' pre-asymptotic range (on `diaphragm` at ν = 2 forward
-        // increment's error is not monotone up to 512 steps/rev and of order 1 beyond; at
-        // ν = 1.3 the differences shrink at order 0.65 up to 2048 steps/rev and are at a
-        // 1e-4 floor beyond), so the pilots go on halving (up to [`MAX_LEVELS`]).
-        let asymptotic = p_raw >= ASYMPTOTIC * kind.nominal_order();
-        let near = (target / e2).powf(1.0 / p) * MAX_EXTRAPOLATION >= 1.0;
-        if n >= MAX_LEVELS
-            || e2 == 0.0
-            || (asymptotic && (e2 <= target || (d12 * CONVERGING < d01 && near)))
-        {
-            break (d01, d12);
-        }
-    };
-    let n = res.len();
-    let (h0, h1, h2) = (res[n - 3].0, res[n - 2].0, res[n - 1].0);
-    let ratio = h1 / h2;
-    let nominal = kind.nominal_order();
-    // The run's own 2Δt estimate at a pilot step, d(h, 2h)/(2^p_nominal − 1), as measured: the
-    // step may not exceed the coarsest pilot step from which on every such estimate is within
-    // the target.
-    let mut cap = h2;
-    for k in (1..n).rev() {
-        let r = res[k - 1].0 / res[k].0;
-        let est = difference(&res[k - 1].1, &res[k].1) / (r.powf(nominal) - 1.0);
-        if est > ESTIMATE_SAFETY * s.tolerance {
-            break;
-        }
-        cap = res[k].0;
-    }
-    let p_obs = (d01 / d12).ln() / ratio.ln();
-    let p = if p_obs.is_finite() {
-        p_obs.clamp(MIN_ORDER, nominal)
-    } else {
-        nominal
-    };
-    let p_obs = if p_obs.is_finite() { p_obs } else { f64::NAN };
-    let e2 = if d12 > 0.0 {
-        d12 / (ratio.powf(p) - 1.0)
-    } else {
-        0.0
-    };
-    Ok(Fit {
-        p_obs,
-        p,
-        c: e2 / h2.powf(p),
-        rule_dt,
-        h0: h0.min(cap),
-        levels: [h0, h1, h2],
-        h_min: h2 / MAX_EXTRAPOLATION,
-        settled: from_settled,
-        end: from_settled.then_some(prep.settings.initial),
-        steps,
-        wall_s,
-    })
-}
-
 /// A scheme's outcome over the pilot speeds.
 struct Outcome {
     kind: IntegratorKind,
     /// The reduction its runs integrate (`RunSettings::reduction`).
     reduction: Option<(ReductionInput, CutoffChoice)>,
-    fits: Vec<Fit>,
+    fits: Vec<fit::Fit>,
     scale: f64,
     cost: f64,
     /// Whether the predicted error at `scale` is within the tolerance at every pilot speed.
@@ -549,7 +269,6 @@ pub fn choose(
     // step: a scheme that cannot beat the best found is not piloted.
     // A scheme that cannot even be planned keeps its reason: when none can, that reason (a
     // speed, clearance or stator the run itself would refuse, naming its key) is the error.
-    let mut order = Vec::new();
     let mut last_err: Option<Error> = None;
     let (mut pilot_steps, mut pilot_wall, mut piloted) = (0u64, 0.0, 0usize);
     let kinds = candidates(model, run_integrator);
@@ -563,26 +282,6 @@ pub fn choose(
         Some(_) => None,
         None => reducible(model, s, pilots[0]),
     };
-    let mut choose_red = |steps: &mut u64, wall: &mut f64| {
-        if auto_red.is_none() {
-            let c = reduced_base.and_then(|base| {
-                let c = choose_cutoff(model, s, base, &pilots, rho).ok()?;
-                *steps += c.pilot_steps;
-                *wall += c.pilot_wall_s;
-                Some((
-                    ReductionInput {
-                        cutoff: None,
-                        cutoff_factor: c.cutoff_factor,
-                        auto: false,
-                        ..base
-                    },
-                    c,
-                ))
-            });
-            auto_red = Some(c);
-        }
-        auto_red.flatten()
-    };
     let scene_auto = scene_red.is_some_and(|r| r.auto);
     let mut variants: Vec<(IntegratorKind, bool)> =
         kinds.iter().map(|k| (*k, scene_auto)).collect();
@@ -592,30 +291,14 @@ pub fn choose(
             .filter(|k| kinds.len() == 1 || **k != IntegratorKind::ForwardIncrement);
         variants.extend(reduced.map(|k| (*k, true)));
     }
-    for (kind, reduced) in variants {
-        let sch = scheme(kind, rho);
-        // The floor of a reduced candidate: its cost at the default κ (a larger κ costs more).
-        let sr = if reduced {
-            let base = reduced_base.map(|b| ReductionInput {
-                cutoff: None,
-                cutoff_factor: crate::scene::DEFAULT_CUTOFF_FACTOR,
-                auto: false,
-                ..b
-            });
-            RunSettings {
-                reduction: base,
-                ..*s
-            }
-        } else {
-            *s
-        };
-        match cost(model, &sr, sch, &pilots, COARSEST) {
-            Ok(c) => order.push((kind, reduced, c)),
-            Err(e) => {
-                last_err.get_or_insert(e);
-            }
-        }
-    }
+    let floors = Floors {
+        model,
+        s,
+        reduced_base,
+        rho,
+        pilots: &pilots,
+    };
+    let order = floors.order(&variants, &mut last_err);
     let mut best: Option<Outcome> = None;
     for (kind, reduced, floor) in order {
         if best.as_ref().is_some_and(|b| b.meets && b.cost <= floor) {
@@ -623,64 +306,31 @@ pub fn choose(
         }
         let sch = scheme(kind, rho);
         let red = if reduced {
-            match choose_red(&mut pilot_steps, &mut pilot_wall) {
+            let counts = (&mut pilot_steps, &mut pilot_wall);
+            let chosen = auto_red.get_or_insert_with(|| {
+                reduced_base.and_then(|base| auto_reduction(model, s, base, &pilots, rho, counts))
+            });
+            match *chosen {
                 Some(r) => Some(r),
                 None => continue,
             }
         } else {
             None
         };
-        let s = &RunSettings {
-            reduction: red.map(|r| r.0).or(s.reduction),
-            ..*s
-        };
-        let trunc = red.map_or(0.0, |r| r.1.truncation_error);
-        let fits = run_all(&pilots, &|&v| fit(model, s, sch, v, target), &|| {});
-        let fits = match fits {
-            Ok(f) => f,
-            Err(e) => {
-                last_err = Some(e);
-                continue;
+        let mut counts = (pilot_steps, pilot_wall, piloted);
+        let outcome = pilot_scheme(model, s, (kind, sch), red, &pilots, target, &mut counts);
+        (pilot_steps, pilot_wall, piloted) = counts;
+        match outcome {
+            // A scheme predicted to meet the tolerance beats one that is not (a step bounded
+            // by `MAX_EXTRAPOLATION` on pilots that did not converge), then the cheaper one.
+            Ok(o) => {
+                if best.as_ref().is_none_or(|b| {
+                    (o.meets && !b.meets) || (o.meets == b.meets && o.cost < b.cost)
+                }) {
+                    best = Some(o);
+                }
             }
-        };
-        piloted += 1;
-        pilot_steps += fits.iter().map(|f| f.steps).sum::<u64>();
-        pilot_wall += fits.iter().map(|f| f.wall_s).sum::<f64>();
-        let mut scale = fits
-            .iter()
-            .map(|f| f.scale_for(target, s.tolerance))
-            .fold(f64::INFINITY, f64::min);
-        // The paper's rule is kept where the pilots predict it meets the tolerance itself.
-        let rule_meets = fits
-            .iter()
-            .all(|f| f.error_at(f.rule_dt.min(f.h0)) <= s.tolerance);
-        if scale < 1.0 && rule_meets {
-            scale = 1.0;
-        }
-        let c = match cost(model, s, sch, &pilots, scale) {
-            Ok(c) => c,
-            Err(e) => {
-                last_err = Some(unreachable(s.tolerance, sch, e));
-                continue;
-            }
-        };
-        // A scheme predicted to meet the tolerance beats one that is not (a step bounded by
-        // `MAX_EXTRAPOLATION` on pilots that did not converge), then the cheaper one.
-        let meets = fits
-            .iter()
-            .all(|f| f.error_at((scale * f.rule_dt).min(f.h0)) + trunc <= s.tolerance);
-        if best
-            .as_ref()
-            .is_none_or(|b| (meets && !b.meets) || (meets == b.meets && c < b.cost))
-        {
-            best = Some(Outcome {
-                kind,
-                reduction: red,
-                fits,
-                scale,
-                cost: c,
-                meets,
-            });
+            Err(e) => last_err = Some(e),
         }
     }
     let Some(b) = best else {
@@ -692,6 +342,90 @@ pub fn choose(
             .into()
         }));
     };
+    let counts = (pilot_steps, pilot_wall, piloted);
+    finish(model, s, &b, rho, (&pilots, speeds), counts)
+}
+
+/// The multiple of the paper's rule a scheme's `fits` at the pilot speeds choose: the smallest
+/// of their [`fit::Fit::scale_for`], the rule itself (1) where the pilots predict it meets
+/// `tolerance` at every pilot speed.
+fn scale_of(fits: &[fit::Fit], target: f64, tolerance: f64) -> f64 {
+    let mut scale = fits
+        .iter()
+        .map(|f| f.scale_for(target, tolerance))
+        .fold(f64::INFINITY, f64::min);
+    // The paper's rule is kept where the pilots predict it meets the tolerance itself.
+    let rule_meets = fits
+        .iter()
+        .all(|f| f.error_at(f.rule_dt.min(f.h0)) <= tolerance);
+    if scale < 1.0 && rule_meets {
+        scale = 1.0;
+    }
+    scale
+}
+
+/// The cost floors of the candidate `variants` (scheme, reduced) at the pilot speeds.
+struct Floors<'a> {
+    model: &'a Model,
+    s: &'a RunSettings,
+    /// The reduction the reduced variants run (κ to be chosen).
+    reduced_base: Option<ReductionInput>,
+    rho: Option<f64>,
+    pilots: &'a [f64],
+}
+
+impl Floors<'_> {
+    /// Each variant that can be planned with the cost of its coarsest step (a reduced one at
+    /// the default κ: a larger κ costs more), in the variants' order; the first planning error
+    /// is kept in `last_err`.
+    fn order(
+        &self,
+        variants: &[(IntegratorKind, bool)],
+        last_err: &mut Option<Error>,
+    ) -> Vec<(IntegratorKind, bool, f64)> {
+        let mut order = Vec::new();
+        for &(kind, reduced) in variants {
+            let sch = scheme(kind, self.rho);
+            // The floor of a reduced candidate: its cost at the default κ (a larger κ costs more).
+            let sr = if reduced {
+                let base = self.reduced_base.map(|b| ReductionInput {
+                    cutoff: None,
+                    cutoff_factor: crate::scene::DEFAULT_CUTOFF_FACTOR,
+                    auto: false,
+                    ..b
+                });
+                RunSettings {
+                    reduction: base,
+                    ..*self.s
+                }
+            } else {
+                *self.s
+            };
+            match cost(self.model, &sr, sch, self.pilots, COARSEST) {
+                Ok(c) => order.push((kind, reduced, c)),
+                Err(e) => {
+                    last_err.get_or_insert(e);
+                }
+            }
+        }
+        order
+    }
+}
+
+/// `s` with the best scheme's choice `b` set (`step.integrator`, `step.dt_scale`, the
+/// reduction, `choice`), its budget checked at the ends of `speeds`; `counts`: the pilots'
+/// steps, wall time (s) and schemes piloted.
+///
+/// # Errors
+/// As [`check_budget`].
+fn finish(
+    model: &Model,
+    s: &RunSettings,
+    b: &Outcome,
+    rho: Option<f64>,
+    (pilots, speeds): (&[f64], &[f64]),
+    counts: (u64, f64, usize),
+) -> Result<RunSettings> {
     let mut out = *s;
     out.step.integrator = scheme(b.kind, rho);
     out.step.dt_scale = b.scale;
@@ -703,7 +437,7 @@ pub fn choose(
     let error_predicted = b
         .fits
         .iter()
-        .map(|f| f.error_at((b.scale * f.rule_dt).min(f.h0)) + trunc)
+        .map(|f| f.predicted(b.scale) + trunc)
         .fold(0.0, f64::max);
     let order_observed = b.fits.iter().map(|f| f.p_obs).fold(f64::NAN, f64::min);
     out.choice = Some(StepChoice {
@@ -714,9 +448,9 @@ pub fn choose(
         error_predicted,
         tolerance: s.tolerance,
         pilot_speeds: pilots.len(),
-        pilot_steps,
-        pilot_wall_s: pilot_wall,
-        schemes_piloted: piloted,
+        pilot_steps: counts.0,
+        pilot_wall_s: counts.1,
+        schemes_piloted: counts.2,
         reduction: b.reduction.map(|r| r.1),
         starts: std::array::from_fn(|i| {
             let (v, f) = (pilots.get(i)?, b.fits.get(i)?);
@@ -727,6 +461,70 @@ pub fn choose(
         }),
     });
     Ok(out)
+}
+
+/// Pilots `kind` (the time loop's `sch`), reduced as `red` when given, at the `pilots` speeds
+/// and chooses its step for `target`; its pilots' steps, wall time (s) and one scheme piloted
+/// are added to `counts` once they ran.
+///
+/// # Errors
+/// A pilot's error; a chosen step the budget refuses ([`unreachable`]).
+fn pilot_scheme(
+    model: &Model,
+    s: &RunSettings,
+    (kind, sch): (IntegratorKind, Scheme),
+    red: Option<(ReductionInput, CutoffChoice)>,
+    pilots: &[f64],
+    target: f64,
+    counts: &mut (u64, f64, usize),
+) -> Result<Outcome> {
+    let s = &RunSettings {
+        reduction: red.map(|r| r.0).or(s.reduction),
+        ..*s
+    };
+    let trunc = red.map_or(0.0, |r| r.1.truncation_error);
+    let fits = run_all(pilots, &|&v| fit::fit(model, s, sch, v, target), &|| {})?;
+    counts.2 += 1;
+    counts.0 += fits.iter().map(|f| f.steps).sum::<u64>();
+    counts.1 += fits.iter().map(|f| f.wall_s).sum::<f64>();
+    let scale = scale_of(&fits, target, s.tolerance);
+    let c = cost(model, s, sch, pilots, scale).map_err(|e| unreachable(s.tolerance, sch, e))?;
+    let meets = fits
+        .iter()
+        .all(|f| f.predicted(scale) + trunc <= s.tolerance);
+    Ok(Outcome {
+        kind,
+        reduction: red,
+        fits,
+        scale,
+        cost: c,
+        meets,
+    })
+}
+
+/// The reduction `base` with κ chosen from the tolerance at the `pilots` speeds
+/// ([`choose_cutoff`]), its pilots' steps and wall time (s) added to `counts`; `None` when the
+/// cut-off cannot be chosen.
+fn auto_reduction(
+    model: &Model,
+    s: &RunSettings,
+    base: ReductionInput,
+    pilots: &[f64],
+    rho: Option<f64>,
+    counts: (&mut u64, &mut f64),
+) -> Option<(ReductionInput, CutoffChoice)> {
+    let c = choose_cutoff(model, s, base, pilots, rho).ok()?;
+    *counts.0 += c.pilot_steps;
+    *counts.1 += c.pilot_wall_s;
+    Some((
+        ReductionInput {
+            cutoff: None,
+            cutoff_factor: c.cutoff_factor,
+            auto: false,
+            ..base
+        },
+        c,
+    ))
 }
 
 /// A plan refused for its steps, as the tolerance that asked for them; other errors as they

@@ -32,8 +32,8 @@
 //! basins both starts miss, and a run in full contact whose linear orbit does not fit the
 //! clearance.
 
-use super::speed::{extent_scale, max_diff, orbit_span, Prepared, SpeedResults};
-use super::{analyse, Keep, RunSettings};
+use super::discrepancy::{max_diff, orbit_span, Discrepancy, ExtentsScale, Scales};
+use super::{analyse, Keep, Prepared, RunSettings, SpeedResults};
 use crate::math::{lcm, V2};
 use crate::model::{Case, Model};
 use crate::time::{Initial, StepPlan, WINDOW_MULTIPLE};
@@ -201,8 +201,7 @@ pub fn check(prep: &Prepared, res: &SpeedResults) -> Option<Coexistence> {
 /// How the companion `c`, started at `start`, compares with the run `res` at `tolerance`
 /// (module doc).
 pub fn compare(start: Start, res: &SpeedResults, c: &SpeedResults, tolerance: f64) -> Coexistence {
-    let lines = |r: &SpeedResults| [r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd];
-    let lmax = lines(res).iter().fold(1e-300_f64, |m, v| m.max(*v));
+    let d = Discrepancy::between(c, res, Scales::of(res, ExtentsScale::Largest));
     let d_ext = max_diff(&c.extents_nd, &res.extents_nd);
     let d_cf = (c.contact_fraction - res.contact_fraction).abs();
     let periodic = res.steady && c.steady && res.period > 0 && c.period > 0;
@@ -220,8 +219,8 @@ pub fn compare(start: Start, res: &SpeedResults, c: &SpeedResults, tolerance: f6
         period: c.period,
         steady: c.steady,
         extents_nd: c.extents_nd,
-        extents_rel: d_ext / extent_scale(&res.extents_nd),
-        lines_rel: max_diff(&lines(c), &lines(res)) / lmax,
+        extents_rel: d.extents,
+        lines_rel: d.lines,
         transient_revolutions: c.transient_revolutions,
         steps: c.stats.steps,
     }

@@ -9,7 +9,8 @@
 //! ([`crate::analysis::choose`]) the chosen point is measured against the same reference
 //! ([`convergence_with`]).
 
-use super::{analyse, extents_error, ExtentsScale, Keep, RunSettings, SpeedResults};
+use super::discrepancy::{Discrepancy, ExtentsScale, Scales};
+use super::{analyse, Keep, RunSettings, SpeedResults};
 use crate::error::{Error, Result};
 use crate::math::{loglog_slope, V2};
 use crate::model::{Case, Model, Rotor};
@@ -106,6 +107,91 @@ pub fn convergence(
     convergence_with(model, s, speed_ratio, levels, ref_level, compare_revs, None)
 }
 
+/// A run of `case` with `s`'s settings by `kind` at `spr·2^level` steps per revolution of
+/// `t_rev` (s): its results and record.
+fn run_at(
+    case: &Case,
+    s: &RunSettings,
+    kind: Scheme,
+    level: u32,
+    t_rev: f64,
+) -> Result<(SpeedResults, Record)> {
+    let spr = s.step.samples_per_rev;
+    let mut st = *s;
+    st.step.integrator = kind;
+    st.step.dt = Some(t_rev / (spr as f64 * (1u64 << level) as f64) * (1.0 + 1e-12));
+    let plan = plan_steps(case, &st.step)?;
+    let (rec, stats) = integrate(case, kind, &plan, st.initial)?;
+    let r = analyse(case, &st, &plan, &rec, stats, Keep::default());
+    Ok((r, rec))
+}
+
+/// The reference run of a study and what a run is measured against.
+struct Reference {
+    /// The reference's results.
+    results: SpeedResults,
+    /// Its record's length.
+    nrec: usize,
+    /// Its orbit over the compared revolutions (m).
+    orbit: Vec<V2>,
+    /// The largest |orbit| over them (m, at least 1e-300).
+    size: f64,
+    /// Its scales ([`ExtentsScale::Largest`]).
+    scales: Scales,
+    /// Samples compared: `compare_revs · samples_per_rev + 1`.
+    compared: usize,
+    /// ω_n (rad/s).
+    wn: f64,
+}
+
+impl Reference {
+    fn new(results: SpeedResults, rec: &Record, compared: usize, wn: f64) -> Self {
+        let nrec = rec.len();
+        let cmp_from = nrec.saturating_sub(compared);
+        let orbit: Vec<V2> = (cmp_from..nrec).map(|i| rec.observed[i]).collect();
+        let size = orbit
+            .iter()
+            .fold(0.0_f64, |m, p| m.max(p[0].hypot(p[1])))
+            .max(1e-300);
+        let scales = Scales::of(&results, ExtentsScale::Largest);
+        Self {
+            results,
+            nrec,
+            orbit,
+            size,
+            scales,
+            compared,
+            wn,
+        }
+    }
+
+    /// A run's point: orbit error over the compared revolutions (phase-locked sample by sample
+    /// with the reference), extents and lines against the reference's ([`Discrepancy`]).
+    fn measure(&self, label: &'static str, r: &SpeedResults, rec: &Record) -> ConvergencePoint {
+        let n = rec.len().min(self.nrec);
+        let from = n.saturating_sub(self.compared);
+        let mut oerr = 0.0_f64;
+        for (k, i) in (from..n).enumerate() {
+            let a = rec.observed[i];
+            let b = self.orbit[k.min(self.orbit.len() - 1)];
+            oerr = oerr.max((a[0] - b[0]).hypot(a[1] - b[1]));
+        }
+        let d = Discrepancy::between(r, &self.results, self.scales);
+        ConvergencePoint {
+            integrator: label,
+            dt: r.plan.dt,
+            dt_wn: r.plan.dt * self.wn,
+            steps_per_rev: r.plan.steps_per_rev,
+            orbit_err: oerr / self.size,
+            extents_err: d.extents,
+            lines_err: d.each_line,
+            period: r.period,
+            wall_s: r.stats.wall_s,
+            steps: r.stats.steps,
+        }
+    }
+}
+
 /// [`convergence`], and the run of `chosen` (settings returned by
 /// [`crate::analysis::choose`]: integrator and `dt_scale` set, Δt from the paper's rule)
 /// measured against the same reference as [`ConvergenceResults::chosen`].
@@ -122,16 +208,7 @@ pub fn convergence_with(
     let case = model.case(omega)?;
     let spr = s.step.samples_per_rev;
     let t_rev = 2.0 * std::f64::consts::PI / omega;
-    let run_on = |case: &Case, kind: Scheme, level: u32| -> Result<(SpeedResults, Record)> {
-        let mut st = *s;
-        st.step.integrator = kind;
-        st.step.dt = Some(t_rev / (spr as f64 * (1u64 << level) as f64) * (1.0 + 1e-12));
-        let plan = plan_steps(case, &st.step)?;
-        let (rec, stats) = integrate(case, kind, &plan, st.initial)?;
-        let r = analyse(case, &st, &plan, &rec, stats, Keep::default());
-        Ok((r, rec))
-    };
-    let run = |kind: Scheme, level: u32| run_on(&case, kind, level);
+    let run = |kind: Scheme, level: u32| run_at(&case, s, kind, level, t_rev);
     // The reference: collocated, or generalised-α at the same step where that is above the
     // explicit stability limit (a stiff stator with mass).
     let rho = match s.step.integrator {
@@ -145,46 +222,8 @@ pub fn convergence_with(
         }
         r => (Scheme::Collocated, r?),
     };
-    let nrec = recref.len();
-    let cmp_from = nrec.saturating_sub(compare_revs * spr + 1);
-    let ref_orbit: Vec<V2> = (cmp_from..nrec).map(|i| recref.observed[i]).collect();
-    let ref_size = ref_orbit
-        .iter()
-        .fold(0.0_f64, |m, p| m.max(p[0].hypot(p[1])))
-        .max(1e-300);
-    let ref_lines = [rref.amp_1x_nd, rref.amp_half_nd, rref.amp_third_nd];
-    let lmax = ref_lines.iter().fold(1e-300_f64, |m, v| m.max(*v));
-    // A run's point: orbit error over the compared revolutions (phase-locked sample by sample
-    // with the reference), extents and lines against the reference's.
-    let measure = |label: &'static str, r: &SpeedResults, rec: &Record| -> ConvergencePoint {
-        let n = rec.len().min(nrec);
-        let from = n.saturating_sub(compare_revs * spr + 1);
-        let mut oerr = 0.0_f64;
-        for (k, i) in (from..n).enumerate() {
-            let a = rec.observed[i];
-            let b = ref_orbit[k.min(ref_orbit.len() - 1)];
-            oerr = oerr.max((a[0] - b[0]).hypot(a[1] - b[1]));
-        }
-        let lines = [r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd];
-        ConvergencePoint {
-            integrator: label,
-            dt: r.plan.dt,
-            dt_wn: r.plan.dt * model.rotor.natural_frequency(),
-            steps_per_rev: r.plan.steps_per_rev,
-            orbit_err: oerr / ref_size,
-            extents_err: extents_error(&r.extents_nd, &rref.extents_nd, ExtentsScale::Largest),
-            lines_err: [
-                (lines[0] - ref_lines[0]).abs() / lmax,
-                (lines[1] - ref_lines[1]).abs() / lmax,
-                (lines[2] - ref_lines[2]).abs() / lmax,
-            ],
-            period: r.period,
-            wall_s: r.stats.wall_s,
-            steps: r.stats.steps,
-        }
-    };
-    let mut points = Vec::new();
-    let mut orders = Vec::new();
+    let wn = model.rotor.natural_frequency();
+    let reference = Reference::new(rref, &recref, compare_revs * spr + 1, wn);
     // Generalised-α at the scene's ρ∞ when it asks for it, else at the default.
     let alpha = match s.step.integrator {
         g @ Scheme::GeneralizedAlpha { .. } => g,
@@ -207,11 +246,13 @@ pub fn convergence_with(
         runs.push((Scheme::Collocated, REDUCED_COLLOCATED, rc));
         runs.push((alpha, REDUCED_GENERALIZED_ALPHA, rc));
     }
+    let mut points = Vec::new();
+    let mut orders = Vec::new();
     for (kind, label, on) in runs {
         let mut dts = Vec::new();
         let mut errs = Vec::new();
         for &l in levels {
-            let (r, rec) = match run_on(on, kind, l) {
+            let (r, rec) = match run_at(on, s, kind, l, t_rev) {
                 Ok(x) => x,
                 // A level above the scheme's limits, a scheme the scene refuses (Newmark with
                 // a stator with mass) or a run that diverges at that step is left out (the
@@ -225,7 +266,7 @@ pub fn convergence_with(
                 )) => continue,
                 Err(e) => return Err(e),
             };
-            let p = measure(label, &r, &rec);
+            let p = reference.measure(label, &r, &rec);
             dts.push(r.plan.dt);
             errs.push(p.orbit_err);
             points.push(p);
@@ -233,36 +274,45 @@ pub fn convergence_with(
         orders.push((label, loglog_slope(&dts, &errs)));
     }
     let chosen = match chosen {
-        Some(c) => {
-            // A reduced scheme chosen: its own reduction (the cut-off chosen with it), labelled
-            // as the reduced rows are.
-            let reduced_case;
-            let (on, label) = match &c.reduction {
-                Some(red) => {
-                    reduced_case = model.case_with(omega, Some(red))?;
-                    let label = match c.step.integrator {
-                        Scheme::Collocated => REDUCED_COLLOCATED,
-                        Scheme::GeneralizedAlpha { .. } => REDUCED_GENERALIZED_ALPHA,
-                        _ => "reduced",
-                    };
-                    (&reduced_case, label)
-                }
-                None => (&case, c.step.integrator.name()),
-            };
-            let plan = plan_steps(on, &c.step)?;
-            let (rec, stats) = integrate(on, c.step.integrator, &plan, c.initial)?;
-            let r = analyse(on, c, &plan, &rec, stats, Keep::default());
-            Some(measure(label, &r, &rec))
-        }
+        Some(c) => Some(measure_chosen(model, omega, &case, c, &reference)?),
         None => None,
     };
     Ok(ConvergenceResults {
         speed_ratio,
-        reference_dt: rref.plan.dt,
+        reference_dt: reference.results.plan.dt,
         reference_integrator: ref_scheme.name(),
-        reference_period: rref.period,
+        reference_period: reference.results.period,
         points,
         orders,
         chosen,
     })
+}
+
+/// The run of the chosen settings `c` at ω = `omega` (rad/s) measured against `reference`: a
+/// reduced scheme chosen runs its own reduction (the cut-off chosen with it), labelled as the
+/// reduced rows are.
+fn measure_chosen(
+    model: &Model,
+    omega: f64,
+    case: &Case,
+    c: &RunSettings,
+    reference: &Reference,
+) -> Result<ConvergencePoint> {
+    let reduced_case;
+    let (on, label) = match &c.reduction {
+        Some(red) => {
+            reduced_case = model.case_with(omega, Some(red))?;
+            let label = match c.step.integrator {
+                Scheme::Collocated => REDUCED_COLLOCATED,
+                Scheme::GeneralizedAlpha { .. } => REDUCED_GENERALIZED_ALPHA,
+                _ => "reduced",
+            };
+            (&reduced_case, label)
+        }
+        None => (case, c.step.integrator.name()),
+    };
+    let plan = plan_steps(on, &c.step)?;
+    let (rec, stats) = integrate(on, c.step.integrator, &plan, c.initial)?;
+    let r = analyse(on, c, &plan, &rec, stats, Keep::default());
+    Ok(reference.measure(label, &r, &rec))
 }

@@ -27,7 +27,8 @@
 //! damped by the scheme — from the run's initial state, [`super::autostep::PILOT_WINDOW`]
 //! revolutions analysed after [`super::autostep::PILOT_TRANSIENT`].
 
-use super::autostep::{difference, PILOT_TRANSIENT, PILOT_WINDOW};
+use super::discrepancy::difference;
+use super::pilot::pilot_settings;
 use super::{analyse, prepare, scheme, Keep, RunSettings, SpeedResults};
 use crate::error::Result;
 use crate::model::Model;
@@ -99,15 +100,8 @@ pub fn choose_cutoff(
     speeds: &[f64],
     rho_inf: Option<f64>,
 ) -> Result<CutoffChoice> {
-    let mut ps = *s;
-    ps.step.integrator = scheme(IntegratorKind::GeneralizedAlpha, rho_inf);
-    ps.step.dt = None;
-    ps.step.dt_scale = PILOT_STEP_SCALE;
-    ps.step.transient_revolutions = PILOT_TRANSIENT;
-    ps.step.revolutions = PILOT_TRANSIENT + PILOT_WINDOW;
-    ps.step.duration = None;
-    ps.error_estimate = false;
-    ps.check_coexistence = false;
+    let sch = scheme(IntegratorKind::GeneralizedAlpha, rho_inf);
+    let ps = pilot_settings(s, sch, PILOT_STEP_SCALE);
     let target = TRUNCATION_SHARE * s.tolerance;
     let at = |k: f64| ReductionInput {
         cutoff: None,

@@ -28,7 +28,8 @@
 //! (stationarity of the window, period classification, where lines are resolved), [`dynamics`]
 //! (quasi-periodic or chaotic: the 0–1 test on the Poincaré section), `lengthen` (the window
 //! lengthened for that test, and a run that runs away when continued), `richardson` (the step
-//! pairs' error estimates; a run that never repeats), [`coexist`] (a second response at the same
+//! pairs' error estimates; a run that never repeats), [`discrepancy`] (how far apart two runs'
+//! results are, relative to a reference run), `pilot` (what every pilot run shares), [`coexist`] (a second response at the same
 //! speed, found from another start), [`sweep`](mod@sweep) (speeds, variants, the
 //! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),
 //! [`bench`](mod@bench) (timing and the comparison with a converged sweep), [`stress`] (stator stress
@@ -39,9 +40,11 @@ pub mod bench;
 pub mod coexist;
 pub mod convergence;
 pub mod cutoff;
+pub mod discrepancy;
 pub mod dynamics;
 pub mod fanout;
 mod lengthen;
+mod pilot;
 pub mod refine;
 pub mod regimes;
 mod richardson;
@@ -58,15 +61,13 @@ pub use convergence::{
     convergence, reduced_case, ConvergencePoint, ConvergenceResults, REDUCED_COLLOCATED,
     REDUCED_GENERALIZED_ALPHA,
 };
+pub use discrepancy::{extent_scale, extents_error, orbit_span, ExtentsScale};
 pub use dynamics::{Dynamics, Regime};
 pub use regimes::{
     quasi_resonances, regime_class, regime_label, regime_name, regime_ranges, RegimeRange,
     REGIME_CLASSES,
 };
-pub use speed::{
-    analyse, extent_scale, extents_error, orbit_span, prepare, run_speed, ErrorEstimate,
-    ExtentsScale, Fanout, Prepared, SpeedResults,
-};
+pub use speed::{analyse, prepare, run_speed, ErrorEstimate, Fanout, Prepared, SpeedResults};
 pub use stress::{StressProbe, StressResults, StressTrace};
 pub use sweep::{sweep, sweep_speeds, Sweep, SweepResults};
 pub use transient::{

@@ -2,6 +2,7 @@
 //! frame sinks ([`Prepared::run`]), analyse the record ([`analyse`]) and estimate the
 //! discretisation error by a companion run.
 
+use super::discrepancy::{extent_scale, orbit_span, Discrepancy, ExtentsScale, Scales};
 use super::dynamics::{dynamics, never_repeats, Dynamics, Regime};
 use super::fanout::with_sinks;
 pub use super::fanout::Fanout;
@@ -70,14 +71,6 @@ pub struct ErrorEstimate {
 pub use crate::time::budget::FINE_SETTLE_REVOLUTIONS;
 
 pub use super::richardson::{attractor_error, combine_fine, combine_levels, richardson};
-
-/// The largest of `|a_i − b_i|` over two equal-length slices.
-pub(super) fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
 
 /// Results of a run at one speed.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -364,24 +357,9 @@ impl Prepared {
         // window repeats every `period` revolutions: its extents and lines are those of
         // lcm(6, period) of them, so the companions analyse that many (the whole window when
         // the run is not steady or not periodic).
-        let mut s = self.settings;
-        let repeat = lcm(WINDOW_MULTIPLE, res.period);
-        let periodic = res.steady && res.period > 0 && repeat <= res.window_revolutions;
-        let window = if periodic {
-            repeat
-        } else {
-            res.window_revolutions
-        };
-        s.step.transient_revolutions = res.transient_revolutions;
-        s.step.revolutions = res.transient_revolutions + window;
+        let (s, window, periodic) = self.companion_settings(res);
         let s = &s;
-        let coarser_than = |p: &StepPlan, cap: f64| {
-            let mut coarse = s.step;
-            coarse.dt = Some((2.0 * p.dt).min(cap));
-            plan_steps(case, &coarse)
-                .ok()
-                .filter(|c| c.steps_per_rev < p.steps_per_rev)
-        };
+        let coarser_than = |p: &StepPlan, cap: f64| coarser_plan(case, s, p, cap);
         let cplan = coarser_than(plan, f64::INFINITY)
             .or_else(|| {
                 let mut fine = s.step;
@@ -396,11 +374,11 @@ impl Prepared {
         let c = companion(&cplan)?;
         let p = s.step.integrator.nominal_order();
         let r1 = plan.steps_per_rev as f64 / cplan.steps_per_rev as f64;
-        let scale = extent_scale(&res.extents_nd);
-        let lines = |r: &SpeedResults| [r.amp_1x_nd, r.amp_half_nd, r.amp_third_nd];
-        let lmax = lines(res).iter().fold(1e-300_f64, |m, v| m.max(*v));
-        let ext1 = richardson(max_diff(&c.extents_nd, &res.extents_nd) / scale, r1, p);
-        let lin1 = richardson(max_diff(&lines(&c), &lines(res)) / lmax, r1, p);
+        // Every pair's difference relative to the run's scales.
+        let scales = Scales::of(res, ExtentsScale::Largest);
+        let d1 = Discrepancy::between(&c, res, scales);
+        let ext1 = richardson(d1.extents, r1, p);
+        let lin1 = richardson(d1.lines, r1, p);
         // A second level at rubs only: without contact the error is the smooth expansion
         // C h^p and one pair measures it (docs/VALIDATION.md §15). A steady periodic run of a
         // second-order scheme gets a companion at Δt/2 restarted from its end state (its
@@ -430,30 +408,29 @@ impl Prepared {
             Some((p4, c4)) => {
                 let r2 = cplan.steps_per_rev as f64 / p4.steps_per_rev as f64;
                 let down = r1.powf(p);
-                let e = richardson(max_diff(&c4.extents_nd, &c.extents_nd) / scale, r2, p) / down;
-                let l = richardson(max_diff(&lines(c4), &lines(&c)) / lmax, r2, p) / down;
+                let d = Discrepancy::between(c4, &c, scales);
+                let e = richardson(d.extents, r2, p) / down;
+                let l = richardson(d.lines, r2, p) / down;
                 (Some(p4.dt), Some(e), Some(l))
             }
             None => (None, None, None),
         };
         let (dt_fine, extf, linf) = match &fine {
-            Some((fp, f)) => (
-                Some(fp.dt),
-                Some(richardson(
-                    max_diff(&f.extents_nd, &res.extents_nd) / scale,
-                    0.5,
-                    p,
-                )),
-                Some(richardson(max_diff(&lines(f), &lines(res)) / lmax, 0.5, p)),
-            ),
+            Some((fp, f)) => {
+                let d = Discrepancy::between(f, res, scales);
+                (
+                    Some(fp.dt),
+                    Some(richardson(d.extents, 0.5, p)),
+                    Some(richardson(d.lines, 0.5, p)),
+                )
+            }
             None => (None, None, None),
         };
         let (extents_rel, lines_rel) = match (extf, linf, s_run) {
             (Some(ef), Some(lf), _) => (combine_fine(ef, ext1), combine_fine(lf, lin1)),
             (_, _, Some(sr)) => {
-                let d = max_diff(&c.extents_nd, &res.extents_nd) / scale;
-                let sc = sampling(&c).unwrap_or(0.0) * extent_scale(&c.extents_nd) / scale;
-                (attractor_error(d, sr, sc, r1, p), lin1)
+                let sc = sampling(&c).unwrap_or(0.0) * extent_scale(&c.extents_nd) / scales.extents;
+                (attractor_error(d1.extents, sr, sc, r1, p), lin1)
             }
             _ => (combine_levels(ext1, ext2), combine_levels(lin1, lin2)),
         };
@@ -471,6 +448,34 @@ impl Prepared {
             extents_rel_sampling: s_run,
         })
     }
+}
+
+impl Prepared {
+    /// The error estimate's companions' settings for the run `res`: its transient cut, then
+    /// lcm(6, period) revolutions analysed when it is steady and periodic (`periodic`), its
+    /// whole window otherwise. Returns the settings, the analysed revolutions and `periodic`.
+    fn companion_settings(&self, res: &SpeedResults) -> (RunSettings, usize, bool) {
+        let mut s = self.settings;
+        let repeat = lcm(WINDOW_MULTIPLE, res.period);
+        let periodic = res.steady && res.period > 0 && repeat <= res.window_revolutions;
+        let window = if periodic {
+            repeat
+        } else {
+            res.window_revolutions
+        };
+        s.step.transient_revolutions = res.transient_revolutions;
+        s.step.revolutions = res.transient_revolutions + window;
+        (s, window, periodic)
+    }
+}
+
+/// The plan of `s` at 2Δt of `p` (at most `cap`, s) when it has fewer steps per revolution.
+fn coarser_plan(case: &Case, s: &RunSettings, p: &StepPlan, cap: f64) -> Option<StepPlan> {
+    let mut coarse = s.step;
+    coarse.dt = Some((2.0 * p.dt).min(cap));
+    plan_steps(case, &coarse)
+        .ok()
+        .filter(|c| c.steps_per_rev < p.steps_per_rev)
 }
 
 /// What [`Prepared::drive`] returns: the record, the counters, the plan as it ended, the
@@ -559,37 +564,6 @@ pub(super) fn window_points(
     (w, nrev)
 }
 
-/// How an orbit-extents difference is made relative ([`extents_error`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ExtentsScale {
-    /// By the largest |extent| of the reference, `max_i |e_i|` ([`extent_scale`]): the error
-    /// estimate and the convergence study.
-    Largest,
-    /// By the size of the reference orbit, `max(x_max − x_min, y_max − y_min)`
-    /// ([`orbit_span`]): the bench's comparison with a converged sweep.
-    Span,
-}
-
-/// Largest |extent| of `[x_min, x_max, y_min, y_max]`, at least 1e-300.
-pub fn extent_scale(e: &[f64; 4]) -> f64 {
-    e.iter().fold(1e-300_f64, |m, v| m.max(v.abs()))
-}
-
-/// Size of an orbit from its extents: `max(x_max − x_min, y_max − y_min)`.
-pub fn orbit_span(e: &[f64; 4]) -> f64 {
-    (e[1] - e[0]).max(e[3] - e[2])
-}
-
-/// The orbit-extents error of `x` against `reference`: `max_i |x_i − ref_i|` over
-/// `[x_min, x_max, y_min, y_max]`, divided by the reference's scale ([`ExtentsScale`]).
-pub fn extents_error(x: &[f64; 4], reference: &[f64; 4], scale: ExtentsScale) -> f64 {
-    max_diff(x, reference)
-        / match scale {
-            ExtentsScale::Largest => extent_scale(reference),
-            ExtentsScale::Span => orbit_span(reference),
-        }
-}
-
 /// Analysis of a record: transient cut, Poincaré section, extents, spectrum; the contact
 /// figures come from the loop's counters `stats`, taken at every step (the record keeps one
 /// step in `record_every`).
@@ -650,27 +624,8 @@ pub fn analyse(
     let lines = &comp[(nrev - lrev) * spr..nrev * spr];
     let amp = |order: f64| line_exact(lines, spr, order);
     let (whirl, full) = whirl_lines(&window[(nrev - lrev) * spr..nrev * spr], lrev);
-    let full_spectrum = match keep.spectrum_up_to {
-        Some(fm) if keep.full_spectrum => {
-            let nu = case.speed_ratio;
-            signed_orders(&full, lrev, fm as f64 / nu.max(1e-300))
-                .into_iter()
-                .map(|(o, a)| (o * nu, a))
-                .collect()
-        }
-        _ => Vec::new(),
-    };
     let nrev_f = (last - first) as f64 / spr as f64;
-    let spectrum = match keep.spectrum_up_to {
-        Some(fm) => hann_spectrum(&comp)
-            .iter()
-            .enumerate()
-            .map(|(k, a)| (k as f64 / nrev_f * case.speed_ratio, *a))
-            .take_while(|(f, _)| *f <= fm as f64 + 1e-9)
-            .collect(),
-        None => Vec::new(),
-    };
-    let t_rev = 2.0 * std::f64::consts::PI / case.omega;
+    let (spectrum, full_spectrum) = spectra(case, keep, &comp, &full, lrev, nrev_f);
     SpeedResults {
         speed_ratio: case.speed_ratio,
         omega: case.omega,
@@ -705,13 +660,56 @@ pub fn analyse(
         poincare_nd: poincare,
         orbit_nd: if keep.orbit { window } else { Vec::new() },
         force_history: if keep.force_history {
-            (0..rec.len())
-                .map(|i| (rec.t[i] / t_rev, -rec.force_at(i, 0)[1] / fu))
-                .collect()
+            force_history(case, rec, fu)
         } else {
             Vec::new()
         },
         spectrum,
         full_spectrum,
     }
+}
+
+/// A spectrum as kept: (f/ω_n, amplitude/|Z0|) pairs.
+type Spectrum = Vec<(f64, f64)>;
+
+/// The spectra [`analyse`] keeps (`keep.spectrum_up_to`): of the analysed component `comp`
+/// over its window of `nrev_f` revolutions (f/ω_n, amplitude/|Z0|), and — with
+/// `keep.full_spectrum` — the full spectrum `full` of x + iy over `lrev` revolutions as
+/// (signed f/ω_n, amplitude/|Z0|).
+fn spectra(
+    case: &Case,
+    keep: Keep,
+    comp: &[f64],
+    full: &crate::signal::FullSpectrum,
+    lrev: usize,
+    nrev_f: f64,
+) -> (Spectrum, Spectrum) {
+    let full_spectrum = match keep.spectrum_up_to {
+        Some(fm) if keep.full_spectrum => {
+            let nu = case.speed_ratio;
+            signed_orders(full, lrev, fm as f64 / nu.max(1e-300))
+                .into_iter()
+                .map(|(o, a)| (o * nu, a))
+                .collect()
+        }
+        _ => Vec::new(),
+    };
+    let spectrum = match keep.spectrum_up_to {
+        Some(fm) => hann_spectrum(comp)
+            .iter()
+            .enumerate()
+            .map(|(k, a)| (k as f64 / nrev_f * case.speed_ratio, *a))
+            .take_while(|(f, _)| *f <= fm as f64 + 1e-9)
+            .collect(),
+        None => Vec::new(),
+    };
+    (spectrum, full_spectrum)
+}
+
+/// The whole record's time in revolutions and vertical force on the stator over |U|ω² (`fu`).
+fn force_history(case: &Case, rec: &Record, fu: f64) -> Vec<(f64, f64)> {
+    let t_rev = 2.0 * std::f64::consts::PI / case.omega;
+    (0..rec.len())
+        .map(|i| (rec.t[i] / t_rev, -rec.force_at(i, 0)[1] / fu))
+        .collect()
 }

@@ -6,7 +6,7 @@
 //! window of whole revolutions in the angle domain — beside the steady unbalance response at
 //! the same speeds (the run-up Bode).
 
-use super::speed::Fanout;
+use super::fanout::Fanout;
 use super::RunSettings;
 use crate::error::{ModelError, Result, SolveError};
 use crate::model::{Case, Drive, Events, Model, SpeedProfile, SpinState};
