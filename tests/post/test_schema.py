@@ -70,7 +70,7 @@ stiffness_ratio = 25
 
 [run]
 speed_ratio = 1.7
-revolutions = 40
+revolutions = 140
 """
 
 
@@ -80,8 +80,8 @@ def with_(old, new):
 
 
 CASES = [
-    ("misspelt run key", with_("revolutions = 40", "revolution = 3"), "/run"),
-    ("wrong type", with_("revolutions = 40", 'revolutions = "many"'), "/run/revolutions"),
+    ("misspelt run key", with_("revolutions = 140", "revolution = 3"), "/run"),
+    ("wrong type", with_("revolutions = 140", 'revolutions = "many"'), "/run/revolutions"),
     ("misspelt key in a tagged table", with_("length = 0.04", "lenght = 0.04"), "/stator/0"),
     ("unknown stator kind", with_('kind = "rod"', 'kind = "bar"'), "/stator/0"),
     ("misspelt top-level table", with_("[run]", "[runs]"), "/"),
