@@ -9,14 +9,7 @@ mod common;
 
 use common::cli::{in_repo, ok};
 use common::{read, repo};
-use serde_json::Value;
-use std::path::{Path, PathBuf};
 use tempfile::TempDir;
-
-/// The committed schema, parsed.
-fn committed_schema() -> Value {
-    serde_json::from_str(&read(&repo("schema/scene.schema.json"))).expect("schema is JSON")
-}
 
 #[test]
 fn committed_schema_and_reference_are_what_the_binary_generates() {
