@@ -1,6 +1,6 @@
 //! Linear rotordynamics of the rotor alone, in the frequency domain: damped modes at a speed
-//! ([`modes`]), the Campbell diagram and critical speeds ([`campbell`]), the undamped critical
-//! speed map against bearing stiffness ([`critical_map`]), a mode's whirl ellipses and shaft
+//! ([`modes`]), the Campbell diagram and critical speeds ([`mod@campbell`]), the undamped critical
+//! speed map against bearing stiffness ([`mod@critical_map`]), a mode's whirl ellipses and shaft
 //! lines ([`mode_shape`]), the unbalance response and the static deflection ([`response`]).
 //!
 //! This stage stands beside the time loop: it needs the model's matrices `M`, `K(Ω)`, `C(Ω)`,

@@ -1,5 +1,5 @@
 //! The damped modes of the rotor alone at one spin speed (the Campbell diagram built on them is
-//! [`super::campbell`], the forced response [`super::response`]).
+//! [`mod@super::campbell`], the forced response [`super::response`]).
 //!
 //! The rotor obeys `M q̈ + (C + Ω G) q̇ + K q = f` with the matrices of
 //! [`crate::model::Rotor::matrices`]. Modes come from the first-order form
