@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::cli::{fails, json, ok, rubsim, text};
+use common::cli::{fails, json, ok, paper_light_damping};
 use common::repo;
 use std::path::Path;
 use tempfile::TempDir;
@@ -16,29 +16,8 @@ const ROSS: &str = "scenes/fe/ross_rub_example.toml";
 /// lengthens its window to 400 revolutions, `tests/dynamics.rs`) with `sets`: summary.json and
 /// stderr.
 fn paper_run(dir: &Path, name: &str, sets: &[&str]) -> (serde_json::Value, String) {
-    let scene = repo(PAPER);
-    let out = dir.join(name);
-    let mut args = vec![
-        "run",
-        scene.to_str().unwrap(),
-        "--speed",
-        "2.45",
-        "--set",
-        "rotor.damping_ratio=0.02",
-        "--set",
-        "run.dt=2e-5",
-        "--set",
-        "output.png=false",
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    for s in sets {
-        args.extend(["--set", s]);
-    }
-    let o = rubsim(dir, &args);
-    let err = text(&o.stderr);
-    assert!(o.status.success(), "{args:?}: {err}");
-    (json(&out.join("summary.json")), err)
+    let sets: Vec<&str> = ["run.dt=2e-5"].iter().chain(sets).copied().collect();
+    paper_light_damping(dir, name, "2.45", &sets)
 }
 
 fn u(v: &serde_json::Value) -> usize {

@@ -6,32 +6,14 @@
 
 mod common;
 
-use common::cli::{json, ok};
+use common::cli::{json, ok, paper_light_damping};
 use common::repo;
 use std::path::Path;
 use tempfile::TempDir;
 
 /// `rubsim run` of the paper case at `speed` with `sets`; returns summary.json.
 fn run(dir: &Path, name: &str, speed: &str, sets: &[&str]) -> serde_json::Value {
-    let scene = repo("scenes/paper/partial_rub.toml");
-    let out = dir.join(name);
-    let mut args = vec![
-        "run",
-        scene.to_str().unwrap(),
-        "--speed",
-        speed,
-        "--set",
-        "rotor.damping_ratio=0.02",
-        "--set",
-        "output.png=false",
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    for s in sets {
-        args.extend(["--set", s]);
-    }
-    ok(dir, &args);
-    json(&out.join("summary.json"))
+    paper_light_damping(dir, name, speed, sets).0
 }
 
 fn section(s: &serde_json::Value) -> Vec<[f64; 2]> {

@@ -403,11 +403,7 @@ fn section(
     let hashes = "#".repeat(level.min(4));
     let head = header(path, array);
     if let Some(alts) = variants(t) {
-        let desc = text(t.get("description"));
-        out.push_str(&format!("{hashes} `{head}`\n\n"));
-        if !desc.is_empty() {
-            out.push_str(&format!("{desc}\n\n"));
-        }
+        heading(out, &format!("{hashes} `{head}`"), t);
         let kinds: Vec<String> = alts
             .iter()
             .map(|a| format!("`{}`", toml_text(&a["properties"]["kind"]["const"])))
@@ -420,11 +416,7 @@ fn section(
                 continue;
             }
             done.push(name.clone());
-            out.push_str(&format!("{hashes}# `{head}` kind = {kind}\n\n"));
-            let desc = text(a.get("description"));
-            if !desc.is_empty() {
-                out.push_str(&format!("{desc}\n\n"));
-            }
+            heading(out, &format!("{hashes}# `{head}` kind = {kind}"), a);
             table_section(defs, a, path, level + 2, done, out);
         }
         return;
@@ -433,12 +425,18 @@ fn section(
         return;
     }
     done.push(head.clone());
-    out.push_str(&format!("{hashes} `{head}`\n\n"));
-    let desc = text(t.get("description"));
+    heading(out, &format!("{hashes} `{head}`"), t);
+    table_section(defs, t, path, level + 1, done, out);
+}
+
+/// A Markdown heading line `title`, then the schema `node`'s description as a paragraph when
+/// it has one.
+fn heading(out: &mut String, title: &str, node: &Value) {
+    out.push_str(&format!("{title}\n\n"));
+    let desc = text(node.get("description"));
     if !desc.is_empty() {
         out.push_str(&format!("{desc}\n\n"));
     }
-    table_section(defs, t, path, level + 1, done, out);
 }
 
 /// The key reference of a scene file (docs/SCENE.md) from the schema [`json_schema`] gives:

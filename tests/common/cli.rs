@@ -43,6 +43,43 @@ pub fn ok(cwd: &Path, args: &[&str]) -> String {
     text(&o.stdout)
 }
 
+/// `rubsim run` of the paper's case (`scenes/paper/partial_rub.toml`) at ω/ω_n = `speed` with
+/// light damping ξ = 0.02 — where its rub is quasi-periodic or chaotic (`tests/dynamics.rs`) —,
+/// no PNGs, and `sets` (`key=value`), into `dir/name`; asserts success and returns its
+/// summary.json and stderr.
+pub fn paper_light_damping(
+    dir: &Path,
+    name: &str,
+    speed: &str,
+    sets: &[&str],
+) -> (serde_json::Value, String) {
+    let scene = super::repo("scenes/paper/partial_rub.toml");
+    let out = dir.join(name);
+    let mut args = vec![
+        "run",
+        scene.to_str().unwrap(),
+        "--speed",
+        speed,
+        "--set",
+        "rotor.damping_ratio=0.02",
+        "--set",
+        "output.png=false",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    let o = rubsim(dir, &args);
+    let err = text(&o.stderr);
+    assert!(
+        o.status.success(),
+        "rubsim {args:?} failed ({}):\n{err}",
+        o.status
+    );
+    (json(&out.join("summary.json")), err)
+}
+
 /// Asserts a clean failure (non-zero exit, an `error:` message, no panic) and returns stderr.
 pub fn fails(cwd: &Path, args: &[&str]) -> String {
     let o = rubsim(cwd, args);
