@@ -27,7 +27,10 @@ fn main() -> anyhow::Result<()> {
     // else 0.8 — 0 with a stator with mass), the case and the step plan prepared once, then the
     // plan integrated as it stands: no steady-state test, no companion run.
     let settings = RunSettings::from_scene(&ls.scene);
-    let prep = analysis::prepare(&model, &settings, omega / model.rotor.natural_frequency())?;
+    let prep = analysis::prepare(
+        &model,
+        &settings.request(omega / model.rotor.natural_frequency()),
+    )?;
     let setup = start.elapsed().as_secs_f64();
     let (rec, stats) = prep.integrate(&mut [])?;
     eprintln!(

@@ -71,7 +71,7 @@
 //! let model = Model::from_scene(&ls)?;
 //! let settings = analysis::RunSettings::from_run(&ls.scene.run, &ls.scene.output.component);
 //! // ω/ω_n = 1.7: the first quasi-resonance, synchronous (Poincaré period 1).
-//! let r = analysis::run_speed(&model, &settings, 1.7, analysis::Keep::default())?;
+//! let r = analysis::run_speed(&model, &settings.request(1.7), analysis::Keep::default())?;
 //! assert_eq!(r.period, 1);
 //! assert!(r.stats.min_gap > -1e-12); // no penetration after the correction
 //! # Ok::<(), rubsim::error::Error>(())

@@ -30,14 +30,15 @@ fn chosen_and_true_error(
 ) -> (RunSettings, SpeedResults, f64) {
     let s0 = settings(ls);
     let s = analysis::choose(model, &s0, ls.scene.run.integrator, None, &[nu]).unwrap();
-    let r = analysis::run_speed(model, &s, nu, Keep::default()).unwrap();
+    let r = analysis::run_speed(model, &s.request_at(0, nu), Keep::default()).unwrap();
     let mut rs = s;
     rs.error_estimate = false;
     rs.step.dt = Some(r.plan.dt / refine);
     rs.step.transient_revolutions = r.transient_revolutions;
     rs.step.revolutions = r.transient_revolutions + r.window_revolutions;
     rs.max_transient_revolutions = r.transient_revolutions;
-    let reference = analysis::run_speed(model, &rs, nu, Keep::default()).unwrap();
+    // From where the run started (its pilot's state when it kept one), over the same window.
+    let reference = analysis::run_speed(model, &rs.request_at(0, nu), Keep::default()).unwrap();
     assert_eq!(reference.transient_revolutions, r.transient_revolutions);
     let err = autostep::difference(&r, &reference);
     (s, r, err)
@@ -115,7 +116,7 @@ fn stator_of_stiffness_ratio_a_million_runs_at_the_chosen_step() {
         ],
     );
     let s = analysis::choose(&model, &settings(&ls), None, None, &[3.0]).unwrap();
-    let r = analysis::run_speed(&model, &s, 3.0, Keep::default()).unwrap();
+    let r = analysis::run_speed(&model, &s.request_at(0, 3.0), Keep::default()).unwrap();
     let c = r.step_choice.unwrap();
     assert!(r.stats.steps < 80 * 20_000, "{} steps", r.stats.steps);
     let est = r.error.unwrap().extents_rel;
@@ -228,8 +229,8 @@ fn stiff_diaphragm_step_is_not_needlessly_fine_and_meets_the_tolerance() {
     )
     .unwrap();
     let c = s.choice.expect("a step chosen from the tolerance");
-    for nu in [1.3, 2.0] {
-        let r = analysis::run_speed(&model, &s, nu, Keep::default()).unwrap();
+    for (k, nu) in [1.3, 2.0].into_iter().enumerate() {
+        let r = analysis::run_speed(&model, &s.request_at(k, nu), Keep::default()).unwrap();
         assert!(
             r.plan.dt * NEEDLESS_FACTOR >= DIAPHRAGM_HAND_DT,
             "ν = {nu}: Δt = {:e} s chosen ({} steps/rev, observed order {}), more than \
@@ -249,7 +250,8 @@ fn stiff_diaphragm_step_is_not_needlessly_fine_and_meets_the_tolerance() {
         rs.step.transient_revolutions = r.transient_revolutions;
         rs.step.revolutions = r.transient_revolutions + r.window_revolutions;
         rs.max_transient_revolutions = r.transient_revolutions;
-        let reference = analysis::run_speed(&model, &rs, nu, Keep::default()).unwrap();
+        let reference =
+            analysis::run_speed(&model, &rs.request_at(k, nu), Keep::default()).unwrap();
         let err = autostep::difference(&r, &reference);
         assert!(
             err <= TRUE_ERROR_FACTOR * tol,
@@ -509,10 +511,10 @@ fn meshed_stator_runs_share_their_compliance_columns() {
         g.0.iter().filter(|&&c| c != usize::MAX).count()
     };
     assert_eq!(known(), 0, "columns before any run");
-    let a = analysis::run_speed(&model, &s, 1.3, Keep::default()).unwrap();
+    let a = analysis::run_speed(&model, &s.request(1.3), Keep::default()).unwrap();
     let n = known();
     assert!(n > 0, "no column kept by the first run");
-    let b = analysis::run_speed(&model, &s, 1.3, Keep::default()).unwrap();
+    let b = analysis::run_speed(&model, &s.request(1.3), Keep::default()).unwrap();
     assert_eq!(a.extents_nd, b.extents_nd);
     assert_eq!(
         [a.amp_1x_nd, a.amp_half_nd, a.amp_third_nd],
@@ -522,7 +524,7 @@ fn meshed_stator_runs_share_their_compliance_columns() {
 }
 
 /// A run at a pilot speed starts from the state the chosen scheme's pilots ended in (a whole
-/// revolution, `autostep::start_from_pilot`) with a transient of
+/// revolution, `RunSettings::request_at`, `RunRequest::from_pilot`) with a transient of
 /// `autostep::RESTART_TRANSIENT` revolutions, the steady-state test deciding where it ends:
 /// on the paper's case at ω/ω_n = 3.3 it is proven steady, takes fewer steps than the same
 /// scheme and step from rest over the scene's transient, and its extents and lines equal that
@@ -534,18 +536,16 @@ fn run_at_a_pilot_speed_starts_from_the_pilot_state_and_equals_the_run_from_rest
     let tol = ls.scene.run.tolerance;
     let transient = ls.scene.run.transient_revolutions;
     let s = analysis::choose(&model, &settings(&ls), None, None, &[3.3]).unwrap();
-    assert!(
-        autostep::pilot_start(&s, 3.3).is_some(),
-        "no pilot state kept"
-    );
-    let r = analysis::run_speed(&model, &s, 3.3, Keep::default()).unwrap();
+    let kept = s
+        .choice
+        .and_then(|c| c.start_at(0))
+        .expect("no pilot state kept");
+    assert_eq!((kept.speed_index, kept.speed_ratio), (0, 3.3));
+    let r = analysis::run_speed(&model, &s.request_at(0, 3.3), Keep::default()).unwrap();
     assert!(r.started_from_pilot && r.steady, "{:?}", r.stationarity);
     assert!(r.transient_revolutions < transient);
-    let mut rest = s;
-    if let Some(c) = rest.choice.as_mut() {
-        c.starts = Default::default();
-    }
-    let q = analysis::run_speed(&model, &rest, 3.3, Keep::default()).unwrap();
+    // The same request from the scene's start: `request` instead of `request_at`.
+    let q = analysis::run_speed(&model, &s.request(3.3), Keep::default()).unwrap();
     assert!(!q.started_from_pilot && q.steady);
     assert!(q.transient_revolutions >= transient);
     assert_eq!((r.plan.dt, r.period), (q.plan.dt, q.period));
@@ -564,7 +564,7 @@ fn run_at_a_pilot_speed_starts_from_the_pilot_state_and_equals_the_run_from_rest
     assert!(d <= 0.1 * tol, "difference {d:e} from the run from rest");
     let est = r.error.expect("estimate").extents_rel;
     assert!(est <= tol, "estimated error {est:e} above {tol:e}");
-    let other = analysis::run_speed(&model, &s, 3.2, Keep::default()).unwrap();
+    let other = analysis::run_speed(&model, &s.request(3.2), Keep::default()).unwrap();
     assert!(!other.started_from_pilot);
     assert!(other.transient_revolutions >= transient);
 }

@@ -203,20 +203,20 @@ fn contact_statistics_count_every_step() {
         ov.extend(stator.iter().map(|s| s.to_string()));
         let (ls, model) = scene_model(&paper_single_si(), &ov);
         let mut st = settings(&ls);
-        let coarse = prepare(&model, &st, 1.7).unwrap();
+        let coarse = prepare(&model, &st.request(1.7)).unwrap();
         assert!(
             coarse.plan.record_every > 1,
             "{integrator}: {:?}",
             coarse.plan
         );
         st.step.samples_per_rev = coarse.plan.steps_per_rev;
-        let every = prepare(&model, &st, 1.7).unwrap();
+        let every = prepare(&model, &st.request(1.7)).unwrap();
         assert_eq!(every.plan.record_every, 1);
         assert_eq!(every.plan.steps, coarse.plan.steps, "{integrator}");
         let what = format!("{integrator}, stator {stator:?}");
         for p in [&every, &coarse] {
             let (rec, stats) = p.integrate(&mut []).unwrap();
-            let (plan, spr) = (&p.plan, p.settings.step.samples_per_rev);
+            let (plan, spr) = (&p.plan, p.request.step.samples_per_rev);
             let (first, last) = (8 * spr, 20 * spr);
             assert_eq!(plan.steady_from, 8 * plan.steps_per_rev, "{what}");
             let (s, w) = (stats.steady, stats.whole);
@@ -243,7 +243,7 @@ fn contact_statistics_count_every_step() {
                     "{what}"
                 );
             }
-            let r = analyse(&p.case, &p.settings, plan, &rec, stats, Keep::default());
+            let r = analyse(&p.case, &p.request, plan, &rec, stats, Keep::default());
             assert_eq!(
                 r.contact_force_max_nd,
                 s.force_max / p.case.unbalance_force,
@@ -280,8 +280,7 @@ fn extreme_cases_run_to_the_end() {
             let s = settings(&ls);
             let r = analysis::run_speed(
                 &model,
-                &s,
-                ls.scene.run.speed_ratio.unwrap(),
+                &s.request(ls.scene.run.speed_ratio.unwrap()),
                 Keep::default(),
             )
             .unwrap_or_else(|e| panic!("{ov:?} {kind}: {e}"));
@@ -308,7 +307,7 @@ fn unstable_step_is_refused_with_the_limit() {
     let text = paper_single();
     let (ls, model) = scene_model(&text, &["run.speed_ratio=1.7", "run.dt=1e-2"]);
     let s = settings(&ls);
-    let e = analysis::run_speed(&model, &s, 1.7, Keep::default())
+    let e = analysis::run_speed(&model, &s.request(1.7), Keep::default())
         .unwrap_err()
         .to_string();
     assert!(e.contains("stability limit"), "{e}");
@@ -413,7 +412,7 @@ fn penetration_stays_below_1e_3_of_the_clearance_for_every_stator_kind() {
             let path = common::repo(&format!("scenes/stators/{file}.toml"));
             let (ls, m) =
                 common::file_model(&path, &[short[0], short[1], "run.error_estimate=false"]);
-            let r = analysis::run_speed(&m, &settings(&ls), nu, Keep::default()).unwrap();
+            let r = analysis::run_speed(&m, &settings(&ls).request(nu), Keep::default()).unwrap();
             check(&format!("meshed {file} at ν = {nu}"), &r);
         }
     }

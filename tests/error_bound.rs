@@ -38,8 +38,8 @@ fn measured(speeds: &[f64]) -> Vec<(f64, f64, f64, f64)> {
     speeds
         .iter()
         .map(|&nu| {
-            let r = analysis::run_speed(&model, &s, nu, Keep::default()).unwrap();
-            let reference = analysis::run_speed(&rmodel, &rs, nu, Keep::default()).unwrap();
+            let r = analysis::run_speed(&model, &s.request(nu), Keep::default()).unwrap();
+            let reference = analysis::run_speed(&rmodel, &rs.request(nu), Keep::default()).unwrap();
             assert!(reference.steady && reference.error.is_none());
             let e = r.error.expect("the estimate");
             assert!(
@@ -115,7 +115,7 @@ fn a_run_restarted_from_its_end_state_goes_on_as_the_longer_run() {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/paper/partial_rub.toml");
     let (ls, model) = file_model(&scene, &[] as &[&str]);
     let s = settings(&ls);
-    let p = analysis::speed::prepare(&model, &s, 3.5).unwrap();
+    let p = analysis::speed::prepare(&model, &s.request(3.5)).unwrap();
     let z0 = p.case.z0;
     let plan = |revs: usize, per_step: usize| StepPlan {
         dt: p.plan.dt / per_step as f64,
@@ -204,10 +204,10 @@ fn a_run_restarted_from_its_end_state_goes_on_as_the_longer_run() {
 fn no_estimate_when_off_and_one_pair_without_contact() {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/paper/partial_rub.toml");
     let (ls, model) = file_model(&scene, &["run.error_estimate=false"]);
-    let r = analysis::run_speed(&model, &settings(&ls), 3.5, Keep::default()).unwrap();
+    let r = analysis::run_speed(&model, &settings(&ls).request(3.5), Keep::default()).unwrap();
     assert!(r.error.is_none());
     let (ls, model) = file_model(&scene, &["stator.0.clearance_nd=50"]);
-    let r = analysis::run_speed(&model, &settings(&ls), 3.5, Keep::default()).unwrap();
+    let r = analysis::run_speed(&model, &settings(&ls).request(3.5), Keep::default()).unwrap();
     assert_eq!(r.contact_fraction, 0.0);
     let e = r.error.expect("the estimate");
     assert!(e.dt_coarser.is_none() && e.extents_rel_coarse_pair.is_none());

@@ -64,7 +64,7 @@ fn newmark_equals_converged_explicit_on_the_fe_paper_rotor() {
             let mut sets: Vec<String> = SHORT_RUN.iter().map(|s| s.to_string()).collect();
             sets.push(format!("run.integrator=\"{integrator}\""));
             let (ls, model) = file_model(Path::new(&path), &sets);
-            analysis::run_speed(&model, &settings(&ls), nu, Keep::default()).unwrap()
+            analysis::run_speed(&model, &settings(&ls).request(nu), Keep::default()).unwrap()
         };
         let explicit = run("collocated");
         let implicit = run("newmark");
@@ -168,7 +168,7 @@ fn a_stator_with_mass_takes_generalized_alpha_and_not_newmark() {
         let mut sets: Vec<String> = base.iter().map(|s| s.to_string()).collect();
         sets.push(format!("run.integrator=\"{integrator}\""));
         let (ls, model) = scene_model(&text, &sets);
-        analysis::run_speed(&model, &settings(&ls), 3.1, Keep::default())
+        analysis::run_speed(&model, &settings(&ls).request(3.1), Keep::default())
     };
     let e = run("newmark").unwrap_err().to_string();
     assert!(
@@ -327,7 +327,7 @@ fn generalized_alpha_equals_the_converged_explicit_run_on_a_ring_with_mass() {
         &repo("tests/data/scenes/ring.toml"),
         &["run.integrator=\"generalized_alpha\"", "run.rho_inf=0.8"],
     );
-    let e = analysis::run_speed(&model8, &settings(&ls8), 1.7, Keep::default())
+    let e = analysis::run_speed(&model8, &settings(&ls8).request(1.7), Keep::default())
         .unwrap_err()
         .to_string();
     assert!(
@@ -354,7 +354,7 @@ fn generalized_alpha_equals_the_converged_explicit_run_on_the_rod_with_mass() {
         let mut sets: Vec<String> = base.iter().map(|s| s.to_string()).collect();
         sets.extend(extra.iter().map(|s| s.to_string()));
         let (ls, model) = scene_model(&paper_single(), &sets);
-        analysis::run_speed(&model, &settings(&ls), 1.7, Keep::default()).unwrap()
+        analysis::run_speed(&model, &settings(&ls).request(1.7), Keep::default()).unwrap()
     };
     let reference = run(&["run.integrator=\"collocated\"", "run.dt=5e-6"]);
     let implicit = run(&["run.integrator=\"generalized_alpha\""]);
@@ -375,7 +375,7 @@ fn generalized_alpha_equals_the_converged_explicit_run_on_the_rod_with_mass() {
     sets.push("run.integrator=\"generalized_alpha\"".into());
     sets.push("run.rho_inf=0.8".into());
     let (ls, model) = scene_model(&paper_single(), &sets);
-    let e = analysis::run_speed(&model, &settings(&ls), 1.7, Keep::default())
+    let e = analysis::run_speed(&model, &settings(&ls).request(1.7), Keep::default())
         .unwrap_err()
         .to_string();
     assert!(

@@ -402,7 +402,7 @@ fn three_d_contact_nodes_face_the_station_at_their_axial_position() {
     // not periodic).
     st.max_transient_revolutions = 3;
     st.classify_revolutions = 0;
-    let r = rubsim::analysis::run_speed(&model, &st, 1.0, Default::default()).unwrap();
+    let r = rubsim::analysis::run_speed(&model, &st.request(1.0), Default::default()).unwrap();
     assert!(
         r.stats.contact_steps > 0 && r.stats.min_gap > -1e-9,
         "{:?}",

@@ -193,7 +193,7 @@ fn check(m: &Mutant) -> Result<(), String> {
     let speed = analysis::single_speed(&ls.scene.run, &model)
         .or_else(|| ls.scene.run.sweep.as_ref().map(|w| w.from))
         .unwrap_or(1.0);
-    let prep = analysis::prepare(&model, &settings, speed).map_err(|e| e.to_string())?;
+    let prep = analysis::prepare(&model, &settings.request(speed)).map_err(|e| e.to_string())?;
     let b = rubsim::time::estimate(&prep.case, &prep.plan, settings.error_estimate);
     assert!(b.steps.is_finite() && b.wall_s.is_finite());
     Ok(())

@@ -159,7 +159,7 @@ fn paper_run(
     let mut s = settings(ls);
     s.step.integrator = Scheme::Collocated;
     s.step.dt = dt;
-    let r = analysis::run_speed(model, &s, nu, Keep::default()).unwrap();
+    let r = analysis::run_speed(model, &s.request(nu), Keep::default()).unwrap();
     (r.period, r.extents_nd, r.plan.steps, r.plan.dt)
 }
 
@@ -196,7 +196,7 @@ fn the_ross_rub_example_reduced_converges_to_the_full_run_as_the_cutoff_rises() 
     let s0 = ["rotor.unbalance.0.mass=6e-4"];
     let history = |m: &Model, ls: &scene::LoadedScene| {
         let nu = 125.66370614359172 / m.rotor.natural_frequency();
-        let p = analysis::prepare(m, &settings(ls), nu).unwrap();
+        let p = analysis::prepare(m, &settings(ls).request(nu)).unwrap();
         let (rec, stats) = p.integrate(&mut []).unwrap();
         (rec, stats, p.plan.steps)
     };
@@ -260,7 +260,7 @@ fn frames_of_a_reduced_rotor_carry_the_full_displacement() {
     let dt = plan_steps(&case_at(&full, nu), &s.step).unwrap().dt;
     s.step.dt = Some(dt);
     let frames = |m: &Model| {
-        let p = analysis::prepare(m, &s, nu).unwrap();
+        let p = analysis::prepare(m, &s.request(nu)).unwrap();
         let mut k = Keepall {
             every: p.plan.steps / 20,
             u: Vec::new(),

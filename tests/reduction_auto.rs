@@ -49,7 +49,7 @@ fn run_at(
     st.step.dt = Some(dt);
     st.error_estimate = false;
     st.reduction = red;
-    run_speed(model, &st, nu, Keep::default()).unwrap()
+    run_speed(model, &st.request(nu), Keep::default()).unwrap()
 }
 
 #[test]
@@ -123,7 +123,7 @@ fn auto_step_picks_a_reduced_scheme_on_the_fe_rotor_and_meets_the_tolerance() {
     assert!(choice.error_predicted <= tol, "{choice:?}");
     let mut run = c;
     run.error_estimate = false;
-    let r = run_speed(&model, &run, nu, Keep::default()).unwrap();
+    let r = run_speed(&model, &run.request_at(0, nu), Keep::default()).unwrap();
     // The converged full run: collocated at a quarter of the full model's stability limit,
     // over the same revolutions as the chosen run ended with.
     let mut conv = s;
@@ -133,7 +133,7 @@ fn auto_step_picks_a_reduced_scheme_on_the_fe_rotor_and_meets_the_tolerance() {
     conv.step.revolutions = r.plan.steps / r.plan.steps_per_rev;
     conv.max_transient_revolutions = conv.step.transient_revolutions;
     conv.error_estimate = false;
-    let full = run_speed(&model, &conv, nu, Keep::default()).unwrap();
+    let full = run_speed(&model, &conv.request(nu), Keep::default()).unwrap();
     let e = difference(&r, &full);
     println!(
         "chosen {:?} at {:.3} × rule, κ = {}, predicted {:.2e}; against the converged full run {e:.2e}; steps {} against {}",
@@ -254,10 +254,10 @@ fn the_two_disk_rotor_reduced_equals_the_converged_explicit_run() {
     let mut st = s;
     st.step.integrator = Scheme::Collocated;
     st.reduction = Some(red);
-    let r = run_speed(&model, &st, nu, Keep::default()).unwrap();
+    let r = run_speed(&model, &st.request(nu), Keep::default()).unwrap();
     // Converged explicit: the full model at its stability limit's step and at half of it.
     let limit = r.plan.limit.min(
-        rubsim::analysis::prepare(&model, &s, nu)
+        rubsim::analysis::prepare(&model, &s.request(nu))
             .unwrap()
             .plan
             .limit,

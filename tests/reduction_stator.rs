@@ -216,8 +216,8 @@ fn annulus_run(extra: &[&str]) -> ([f64; 4], f64) {
     let ls = common::load(&repo(ANNULUS), &all);
     let mut s = common::settings(&ls);
     s.step.integrator = rubsim::time::Scheme::ForwardIncrement;
-    let r =
-        rubsim::analysis::run_speed(&model, &s, 1.2, rubsim::analysis::Keep::default()).unwrap();
+    let r = rubsim::analysis::run_speed(&model, &s.request(1.2), rubsim::analysis::Keep::default())
+        .unwrap();
     (r.extents_nd, r.contact_fraction)
 }
 
@@ -333,7 +333,7 @@ fn the_budget_counts_a_reduced_stator_by_its_reduced_dofs() {
         let ls = common::load(&repo(ANNULUS), &[SMALL.as_slice(), &all].concat());
         let mut s = common::settings(&ls);
         s.step.integrator = rubsim::time::Scheme::ForwardIncrement;
-        let prep = rubsim::analysis::prepare(&model, &s, 1.2).unwrap();
+        let prep = rubsim::analysis::prepare(&model, &s.request(1.2)).unwrap();
         let r = prep.case.stators[0].reduced.as_ref().map(|r| r.rdof());
         (
             estimate(&prep.case, &prep.plan, false),

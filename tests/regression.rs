@@ -183,7 +183,7 @@ fn paper_regimes_at_pinned_speeds_and_no_penetration() {
             (4.5, 3),
             (5.5, 3),
         ] {
-            let r = analysis::run_speed(&model, &s, nu, Keep::default()).unwrap();
+            let r = analysis::run_speed(&model, &s.request(nu), Keep::default()).unwrap();
             assert_eq!(r.period, period, "{kind} ν = {nu}");
             let clearance = r.clearances[0];
             assert!(

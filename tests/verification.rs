@@ -36,7 +36,7 @@ fn no_contact_response_matches_z0() {
     let (ls, model) = scene_model(&unit_rotor(0.2, ""), NO_SETS);
     let s = settings(&ls);
     for nu in [0.5_f64, 1.0426, 2.0] {
-        let r = analysis::run_speed(&model, &s, nu, Keep::default()).unwrap();
+        let r = analysis::run_speed(&model, &s.request(nu), Keep::default()).unwrap();
         let z0 = 1e-3 * nu * nu / ((1.0 - nu * nu).powi(2) + (0.4 * nu).powi(2)).sqrt();
         assert!((r.z0 / z0 - 1.0).abs() < 1e-12);
         // Circular orbit of radius |Z0|: both extents and the 1× line.

@@ -19,7 +19,7 @@ fn a_free_rotor_whirls_forward_on_a_circle() {
     // backward 0.
     let (ls, model) = scene_model(&unit_rotor(0.2, ""), NO_SETS);
     for nu in [0.5, 2.0] {
-        let r = analysis::run_speed(&model, &settings(&ls), nu, Keep::default()).unwrap();
+        let r = analysis::run_speed(&model, &settings(&ls).request(nu), Keep::default()).unwrap();
         let w = &r.whirl;
         assert!((w.forward_1x_nd - 1.0).abs() < 2e-3, "ν = {nu}: {w:?}");
         assert!(w.backward_1x_nd < 1e-6, "ν = {nu}: {w:?}");
@@ -58,7 +58,7 @@ fn dry_whip_reads_backward_at_the_oracle_whirl_frequency() {
     // the run leaves this orbit and runs away (the divergence guard stops it at t ≈ 398 s), so
     // the window read here is the plan's, on the orbit.
     s.classify_revolutions = 0;
-    let r = analysis::run_speed(&model, &s, 2.0, Keep::default()).unwrap();
+    let r = analysis::run_speed(&model, &s.request(2.0), Keep::default()).unwrap();
     let w = &r.whirl;
     assert_eq!(w.direction, WhirlDirection::Backward, "{w:?}");
     let expected = -ww / 2.0;
@@ -87,7 +87,7 @@ fn dry_whip_lengthened_for_the_zero_one_test_runs_away_and_keeps_its_window() {
     // not steady, with the time the continuation ran away.
     let (model, s, ww, _) = dry_whip(24);
     assert!(s.classify_revolutions >= 200, "{}", s.classify_revolutions);
-    let r = analysis::run_speed(&model, &s, 2.0, Keep::default())
+    let r = analysis::run_speed(&model, &s.request(2.0), Keep::default())
         .unwrap_or_else(|e| panic!("the lengthening's runaway must not fail the run: {e}"));
     assert_eq!(
         r.dynamics.regime,
@@ -105,7 +105,7 @@ fn dry_whip_lengthened_for_the_zero_one_test_runs_away_and_keeps_its_window() {
     assert_eq!(r.window_revolutions, 24);
     let mut kept = s;
     kept.classify_revolutions = 0;
-    let k = analysis::run_speed(&model, &kept, 2.0, Keep::default()).unwrap();
+    let k = analysis::run_speed(&model, &kept.request(2.0), Keep::default()).unwrap();
     assert_eq!(k.dynamics.regime, analysis::Regime::Undetermined);
     assert_eq!(k.dynamics.runaway_at_s, None);
     assert_eq!(r.extents_nd, k.extents_nd);
@@ -114,7 +114,7 @@ fn dry_whip_lengthened_for_the_zero_one_test_runs_away_and_keeps_its_window() {
     // A run that diverges inside its own window still stops with the divergence error: 200
     // planned revolutions (628 s) hold the runaway.
     let (model, long, ..) = dry_whip(200);
-    match analysis::run_speed(&model, &long, 2.0, Keep::default()) {
+    match analysis::run_speed(&model, &long.request(2.0), Keep::default()) {
         Err(e) => assert!(e.to_string().contains("response diverged"), "{e}"),
         Ok(r) => panic!("ran through: {:?}", r.dynamics),
     }

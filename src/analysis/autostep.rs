@@ -84,9 +84,9 @@
 
 use super::cutoff::{choose_cutoff, CutoffChoice};
 pub use super::discrepancy::difference;
-use super::pilot::pilot_settings;
 pub use super::pilot::{PILOT_TRANSIENT, PILOT_WINDOW};
-use super::{prepare, scheme, sweep::run_all, RunSettings};
+pub use super::request::{PilotStart, PILOT_RESETTLE, RESTART_TRANSIENT};
+use super::{prepare, scheme, sweep::run_all, RunRequest, RunSettings};
 use crate::error::{Error, Result, SolveError};
 use crate::model::{Model, Rotor};
 use crate::resolve::ReductionInput;
@@ -95,12 +95,7 @@ use crate::time::{estimate, plan_steps, Scheme};
 use serde::{Deserialize, Serialize};
 
 mod fit;
-mod start;
-pub use start::{pilot_start, start_from_pilot, PilotStart, RESTART_TRANSIENT};
 
-/// Revolutions of a pilot started from the settled state before its analysed window: the
-/// pilot step's own start-up (its velocity estimate) settles in them.
-pub const PILOT_RESETTLE: usize = 2;
 /// Most revolutions of the settling run (`settled_start`).
 pub const SETTLE_REVOLUTIONS: usize = 30;
 /// The smallest order the step is chosen with (`p = clamp(p_obs, MIN_ORDER, p_nominal)`): a
@@ -162,17 +157,37 @@ pub struct StepChoice {
     pub reduction: Option<CutoffChoice>,
     /// The state the chosen scheme's pilots ended in at each pilot speed (a whole revolution;
     /// pilots from the settled state only), from which the run at that speed starts
-    /// ([`start_from_pilot`]). Not written out.
+    /// ([`StepChoice::start_at`], [`RunSettings::request_at`]). Not written out.
     #[serde(skip)]
     pub starts: [Option<PilotStart>; 3],
 }
 
-/// The pilot speeds of a run over `speeds`: all of up to two speeds, else the first, the
-/// middle and the last.
+/// The pilot speeds of a run over `speeds`: those at [`pilot_indices`].
 pub fn pilot_speeds(speeds: &[f64]) -> Vec<f64> {
-    match speeds.len() {
-        0..=2 => speeds.to_vec(),
-        n => vec![speeds[0], speeds[n / 2], speeds[n - 1]],
+    pilot_indices(speeds.len())
+        .iter()
+        .map(|&k| speeds[k])
+        .collect()
+}
+
+/// The pilot speeds of a run over `n` speeds, as indices: all of up to two speeds, else the
+/// first, the middle and the last.
+pub fn pilot_indices(n: usize) -> Vec<usize> {
+    match n {
+        0..=2 => (0..n).collect(),
+        n => vec![0, n / 2, n - 1],
+    }
+}
+
+impl StepChoice {
+    /// The state the pilots ended in at the `index`-th of the speeds the choice was made for,
+    /// if that speed was a pilot speed and its pilots kept one.
+    pub fn start_at(&self, index: usize) -> Option<PilotStart> {
+        self.starts
+            .iter()
+            .flatten()
+            .find(|p| p.speed_index == index)
+            .copied()
     }
 }
 
@@ -232,7 +247,7 @@ fn reducible(model: &Model, s: &RunSettings, v: f64) -> Option<ReductionInput> {
 fn cost(model: &Model, s: &RunSettings, kind: Scheme, speeds: &[f64], scale: f64) -> Result<f64> {
     let mut total = 0.0;
     for &v in speeds {
-        let prep = prepare(model, &pilot_settings(s, kind, scale), v)?;
+        let prep = prepare(model, &RunRequest::pilot(s, v, kind, scale))?;
         let b = estimate(&prep.case, &prep.plan, false);
         total += b.step_s * prep.plan.steps_per_rev as f64;
     }
@@ -453,9 +468,11 @@ fn finish(
         schemes_piloted: counts.2,
         reduction: b.reduction.map(|r| r.1),
         starts: std::array::from_fn(|i| {
-            let (v, f) = (pilots.get(i)?, b.fits.get(i)?);
+            let (&v, f) = (pilots.get(i)?, b.fits.get(i)?);
+            let speed_index = pilot_indices(speeds.len())[i];
             f.end.map(|initial| PilotStart {
-                speed_ratio: *v,
+                speed_index,
+                speed_ratio: v,
                 initial,
             })
         }),

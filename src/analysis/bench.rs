@@ -1,11 +1,12 @@
 //! The bench: a scene's sweep timed (best of several repetitions, no output) and, on request,
 //! compared with a converged reference sweep.
 
-use super::{extents_error, run_speed, sweep, ExtentsScale, Keep, RunSettings, SweepResults};
+use super::{
+    extents_error, run_speed, sweep, ExtentsScale, Keep, RunRequest, RunSettings, SweepResults,
+};
 use crate::error::Result;
 use crate::model::Model;
 use crate::scene::RunSpec;
-use crate::time::Scheme;
 
 /// The speeds a bench times: the scene's sweep, or its single speed (ν = 1 without one).
 pub fn speeds(run: &RunSpec, model: &Model) -> Vec<f64> {
@@ -25,7 +26,8 @@ pub fn best_of(
 ) -> Result<SweepResults> {
     let mut best: Option<SweepResults> = None;
     for _ in 0..repeat.max(1) {
-        let r = sweep(speeds, &|v| run_speed(model, s, v, Keep::default()), &|| {})?;
+        let run = |k, v| run_speed(model, &s.request_at(k, v), Keep::default());
+        let r = sweep(speeds, &run, &|| {})?;
         if best.as_ref().is_none_or(|b| r.wall_s < b.wall_s) {
             best = Some(r);
         }
@@ -39,25 +41,11 @@ pub fn ns_per_step(r: &SweepResults) -> f64 {
     loop_s / r.total_steps() as f64 * 1e9
 }
 
-/// The converged reference of a bench: the collocated integrator at Δt 16× finer (16× the
-/// harmonics of the paper's step rule), without error estimate.
-pub fn reference_settings(s: &RunSettings) -> RunSettings {
-    let mut rs = *s;
-    rs.error_estimate = false;
-    rs.check_coexistence = false;
-    rs.step.integrator = Scheme::Collocated;
-    rs.step.harmonics *= 16.0;
-    rs
-}
-
-/// The converged reference sweep over `speeds` ([`reference_settings`]).
+/// The converged reference sweep over `speeds`: each speed's [`RunRequest::reference`]
+/// (collocated at Δt 16× finer, from the scene's start, without error estimate).
 pub fn reference(model: &Model, s: &RunSettings, speeds: &[f64]) -> Result<SweepResults> {
-    let rs = reference_settings(s);
-    sweep(
-        speeds,
-        &|v| run_speed(model, &rs, v, Keep::default()),
-        &|| {},
-    )
+    let run = |_, v| run_speed(model, &RunRequest::reference(s, v), Keep::default());
+    sweep(speeds, &run, &|| {})
 }
 
 /// The orbit-extents error of a timed sweep against a reference sweep over the same speeds:

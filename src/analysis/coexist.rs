@@ -23,7 +23,8 @@
 //! The companion settles as the run does (the same stationarity test, `run.tolerance`) from
 //! `min(`[`SETTLE_REVOLUTIONS`]`, the run's transient)` revolutions up to the run's own
 //! transient, and is analysed over lcm(6, period) revolutions of a steady periodic run (the
-//! scene's window otherwise). The responses differ ([`Coexistence::coexisting`]) when their
+//! scene's window otherwise); a window then not periodic is lengthened to
+//! `run.classify_revolutions` as the run's is ([`crate::analysis::RunRequest::coexistence`]). The responses differ ([`Coexistence::coexisting`]) when their
 //! contact fractions differ by more than [`CONTACT_FRACTION_DIFF`] (a response not steady or not
 //! periodic: [`CONTACT_FRACTION_DIFF_APERIODIC`]), or, both steady and periodic, their periods
 //! differ or their extents differ by more than [`EXTENTS_FACTOR`] × `run.tolerance` of the
@@ -33,7 +34,7 @@
 //! clearance.
 
 use super::discrepancy::{max_diff, orbit_span, Discrepancy, ExtentsScale, Scales};
-use super::{analyse, Keep, Prepared, RunSettings, SpeedResults};
+use super::{Keep, Prepared, SpeedResults};
 use crate::math::{lcm, V2};
 use crate::model::{Case, Model};
 use crate::time::{Initial, StepPlan, WINDOW_MULTIPLE};
@@ -170,14 +171,9 @@ pub fn start_for(res: &SpeedResults, case: &Case, linear: [V2; 2]) -> Option<(St
 /// start applies or the companion fails (it never stops the run).
 pub fn check(prep: &Prepared, res: &SpeedResults) -> Option<Coexistence> {
     let (start, init) = start_for(res, &prep.case, prep.linear_start?)?;
-    let s = &prep.settings;
-    let mut cs: RunSettings = *s;
-    cs.initial = init;
-    cs.error_estimate = false;
-    cs.check_coexistence = false;
-    cs.classify_revolutions = 0;
+    let s = &prep.request;
     let settle = SETTLE_REVOLUTIONS.min(res.transient_revolutions).max(1);
-    cs.max_transient_revolutions = res.transient_revolutions.max(settle);
+    let cs = s.coexistence(init, res.transient_revolutions.max(settle));
     let repeat = lcm(WINDOW_MULTIPLE, res.period);
     let window = if res.steady && res.period > 0 {
         repeat
@@ -193,8 +189,7 @@ pub fn check(prep: &Prepared, res: &SpeedResults) -> Option<Coexistence> {
         steady_from: settle * spr,
         ..res.plan
     };
-    let (rec, stats, plan, _, _) = prep.drive_with(&plan, &cs, None, true).ok()?;
-    let c = analyse(&prep.case, &cs, &plan, &rec, stats, Keep::default());
+    let c = prep.execute(&cs, &plan, Keep::default()).ok()?;
     Some(compare(start, res, &c, s.tolerance))
 }
 

@@ -10,7 +10,7 @@
 //! ([`convergence_with`]).
 
 use super::discrepancy::{Discrepancy, ExtentsScale, Scales};
-use super::{analyse, Keep, RunSettings, SpeedResults};
+use super::{analyse, Keep, RunRequest, RunSettings, SpeedResults};
 use crate::error::{Error, Result};
 use crate::math::{loglog_slope, V2};
 use crate::model::{Case, Model, Rotor};
@@ -117,12 +117,16 @@ fn run_at(
     t_rev: f64,
 ) -> Result<(SpeedResults, Record)> {
     let spr = s.step.samples_per_rev;
-    let mut st = *s;
-    st.step.integrator = kind;
-    st.step.dt = Some(t_rev / (spr as f64 * (1u64 << level) as f64) * (1.0 + 1e-12));
-    let plan = plan_steps(case, &st.step)?;
-    let (rec, stats) = integrate(case, kind, &plan, st.initial)?;
-    let r = analyse(case, &st, &plan, &rec, stats, Keep::default());
+    let dt = t_rev / (spr as f64 * (1u64 << level) as f64) * (1.0 + 1e-12);
+    run_fixed(case, &RunRequest::at_step(s, case.speed_ratio, kind, dt))
+}
+
+/// `request` on `case` over its own plan as it stands (a study's level, not a settling run):
+/// its results and record.
+fn run_fixed(case: &Case, request: &RunRequest) -> Result<(SpeedResults, Record)> {
+    let plan = plan_steps(case, &request.step)?;
+    let (rec, stats) = integrate(case, request.step.integrator, &plan, request.initial())?;
+    let r = analyse(case, request, &plan, &rec, stats, Keep::default());
     Ok((r, rec))
 }
 
@@ -311,8 +315,6 @@ fn measure_chosen(
         }
         None => (case, c.step.integrator.name()),
     };
-    let plan = plan_steps(on, &c.step)?;
-    let (rec, stats) = integrate(on, c.step.integrator, &plan, c.initial)?;
-    let r = analyse(on, c, &plan, &rec, stats, Keep::default());
+    let (r, rec) = run_fixed(on, &c.request(case.speed_ratio).fixed())?;
     Ok(reference.measure(label, &r, &rec))
 }

@@ -28,8 +28,7 @@
 //! revolutions analysed after [`super::autostep::PILOT_TRANSIENT`].
 
 use super::discrepancy::difference;
-use super::pilot::pilot_settings;
-use super::{analyse, prepare, scheme, Keep, RunSettings, SpeedResults};
+use super::{prepare, scheme, Keep, RunRequest, RunSettings, SpeedResults};
 use crate::error::Result;
 use crate::model::Model;
 use crate::resolve::ReductionInput;
@@ -60,30 +59,24 @@ pub struct CutoffChoice {
     pub pilot_wall_s: f64,
 }
 
-/// The pilot results of `model` reduced as `red` at each of `speeds` (ω/ω_n).
+/// The pilot results of `model` reduced as `red` at each of `speeds` (ω/ω_n), by `sch` at
+/// [`PILOT_STEP_SCALE`] × the paper's rule ([`RunRequest::pilot`]).
 fn pilots(
     model: &Model,
     s: &RunSettings,
+    sch: crate::time::Scheme,
     red: &ReductionInput,
     speeds: &[f64],
     acc: &mut (u64, f64),
 ) -> Result<Vec<SpeedResults>> {
     let mut out = Vec::with_capacity(speeds.len());
     for &v in speeds {
-        let mut ps = *s;
-        ps.reduction = Some(*red);
-        let prep = prepare(model, &ps, v)?;
-        let (rec, stats) = prep.integrate(&mut [])?;
-        acc.0 += stats.steps as u64;
-        acc.1 += stats.wall_s;
-        out.push(analyse(
-            &prep.case,
-            &ps,
-            &prep.plan,
-            &rec,
-            stats,
-            Keep::default(),
-        ));
+        let ps = RunRequest::pilot(s, v, sch, PILOT_STEP_SCALE).reduced(*red);
+        let prep = prepare(model, &ps)?;
+        let r = prep.execute(&ps, &prep.plan, Keep::default())?;
+        acc.0 += r.stats.steps as u64;
+        acc.1 += r.stats.wall_s;
+        out.push(r);
     }
     Ok(out)
 }
@@ -101,7 +94,6 @@ pub fn choose_cutoff(
     rho_inf: Option<f64>,
 ) -> Result<CutoffChoice> {
     let sch = scheme(IntegratorKind::GeneralizedAlpha, rho_inf);
-    let ps = pilot_settings(s, sch, PILOT_STEP_SCALE);
     let target = TRUNCATION_SHARE * s.tolerance;
     let at = |k: f64| ReductionInput {
         cutoff: None,
@@ -110,7 +102,7 @@ pub fn choose_cutoff(
     };
     let mut acc = (0u64, 0.0);
     let mut kappa = crate::scene::DEFAULT_CUTOFF_FACTOR;
-    let mut lo = pilots(model, &ps, &at(kappa), speeds, &mut acc)?;
+    let mut lo = pilots(model, s, sch, &at(kappa), speeds, &mut acc)?;
     let mut modes_lo = modes(model, &at(kappa), speeds)?;
     loop {
         // The next κ whose basis differs (a cut-off that passes no new mode changes nothing:
@@ -131,7 +123,7 @@ pub fn choose_cutoff(
                 pilot_wall_s: acc.1,
             });
         }
-        let hi = pilots(model, &ps, &at(next), speeds, &mut acc)?;
+        let hi = pilots(model, s, sch, &at(next), speeds, &mut acc)?;
         let e = lo
             .iter()
             .zip(&hi)

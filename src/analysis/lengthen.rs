@@ -14,7 +14,7 @@
 
 use super::speed::{window_points, Prepared};
 use super::steady::judge;
-use super::MAX_PERIOD;
+use super::{RunRequest, MAX_PERIOD};
 use crate::error::{Result, SolveError};
 use crate::time::{History, Sink, Stepper};
 
@@ -28,8 +28,8 @@ fn runaway_time(e: &SolveError) -> Option<f64> {
 }
 
 impl Prepared {
-    /// Lengthens the window of `st` (run to the end of its plan) to `run.classify_revolutions`
-    /// when it is not periodic (the rule of [`super::analyse`]), within `run.max_steps`; with
+    /// Lengthens the window of `st` (run to the end of its plan, the request `s`) to `classify`
+    /// revolutions (`run.classify_revolutions`) when it is not periodic (the rule of [`super::analyse`]), within `run.max_steps`; with
     /// `keep_end`, `older` receives uᴺ⁻² of the run's end on the way. Returns the stepper to
     /// finish and, when the lengthening ran away, the time (s) the guard stopped it: the
     /// stepper is then a fresh run of the plan as it stood before the lengthening, without
@@ -41,17 +41,18 @@ impl Prepared {
     pub(super) fn lengthen<'a>(
         &'a self,
         mut st: Stepper<'a>,
+        s: &RunRequest,
+        classify: usize,
         sink: &mut Sink<'_>,
         keep_end: bool,
         older: &mut Option<History>,
     ) -> Result<(Stepper<'a>, Option<f64>)> {
-        let s = &self.settings;
         let p = *st.plan();
         let spr_steps = p.steps_per_rev.max(1);
         let (w, nrev) = window_points(&self.case, s, &p, st.recorded());
         let (_, _, class) = judge(&w, s.step.samples_per_rev, nrev, s.tolerance, MAX_PERIOD);
         let by_steps = (s.step.max_steps as usize).saturating_sub(p.steps) / spr_steps;
-        let more = s.classify_revolutions.saturating_sub(nrev).min(by_steps);
+        let more = classify.saturating_sub(nrev).min(by_steps);
         if class.period > 0 || more == 0 {
             return Ok((st, None));
         }
@@ -73,7 +74,7 @@ impl Prepared {
             },
         };
         // The window as planned, again: the same steps up to the lengthening's start.
-        let mut again = Stepper::new(&self.case, s.step.integrator, &p, s.initial)?;
+        let mut again = Stepper::new(&self.case, s.step.integrator, &p, s.initial())?;
         let mut none: Sink<'_> = None;
         if keep_end {
             again.run_to(p.steps.saturating_sub(1), &mut none)?;

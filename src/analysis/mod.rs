@@ -6,13 +6,19 @@
 //!
 //! A run at one speed is prepared once and run once:
 //!
-//! 1. [`prepare`] builds the [`Case`](crate::model::Case) at ω = ν ω_n and its
+//! 1. [`prepare`] builds, for a [`RunRequest`] (ν, scheme and Δt rule, start state, window
+//!    policy, follow-ups: [`request`]), the [`Case`](crate::model::Case) at ω = ν ω_n and its
 //!    [`StepPlan`](crate::time::StepPlan) (Δt, steps, recording interval) into a [`Prepared`];
 //! 2. whoever wants frames — the VTK/HDF5 writers (`crate::results::ResultsSink`), the
 //!    [`StressProbe`] — is built from that prepared case and plan by the command layer;
 //! 3. [`Prepared::run`] integrates with any set of those sinks (none, one, or several through a
-//!    [`Fanout`]), analyses the record into [`SpeedResults`] and, when the settings ask for it,
-//!    estimates the discretisation error by a companion run without sinks.
+//!    [`Fanout`]), analyses the record into [`SpeedResults`] and runs the follow-ups the
+//!    request asks for (the error estimate's companions, the coexistence check).
+//!
+//! [`RunSettings`] are the scene's settings, shared by a sweep's runs; each run is a request
+//! made from them ([`RunSettings::request`], [`RunSettings::request_at`]), and every derived
+//! run — a pilot, a companion, a coexistence start, a bench reference — is a request of its
+//! own ([`request`]), run by the same driver (`Prepared::execute`).
 //!
 //! A sweep ([`sweep()`]) is a parallel map of such a per-speed run over the speeds. Sinks never
 //! drive a run, and nothing here writes files (see `crate::output`).
@@ -29,7 +35,7 @@
 //! (quasi-periodic or chaotic: the 0–1 test on the Poincaré section), `lengthen` (the window
 //! lengthened for that test, and a run that runs away when continued), `richardson` (the step
 //! pairs' error estimates; a run that never repeats), [`discrepancy`] (how far apart two runs'
-//! results are, relative to a reference run), `pilot` (what every pilot run shares), [`coexist`] (a second response at the same
+//! results are, relative to a reference run), `pilot` (what every pilot run shares), [`request`] (the typed run request), [`coexist`] (a second response at the same
 //! speed, found from another start), [`sweep`](mod@sweep) (speeds, variants, the
 //! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),
 //! [`bench`](mod@bench) (timing and the comparison with a converged sweep), [`stress`] (stator stress
@@ -47,6 +53,7 @@ mod lengthen;
 mod pilot;
 pub mod refine;
 pub mod regimes;
+pub mod request;
 mod richardson;
 pub mod speed;
 pub mod steady;
@@ -67,6 +74,7 @@ pub use regimes::{
     quasi_resonances, regime_class, regime_label, regime_name, regime_ranges, RegimeRange,
     REGIME_CLASSES,
 };
+pub use request::{FollowUps, PilotStart, RunRequest, StartState, Window};
 pub use speed::{analyse, prepare, run_speed, ErrorEstimate, Fanout, Prepared, SpeedResults};
 pub use stress::{StressProbe, StressResults, StressTrace};
 pub use sweep::{sweep, sweep_speeds, Sweep, SweepResults};
@@ -146,17 +154,6 @@ impl RunSettings {
         }
     }
 
-    /// The reduction the runs integrate: [`RunSettings::reduction`] when set, else the
-    /// scene's (`model.reduction`).
-    pub fn reduction_of<'a>(
-        &'a self,
-        model: &'a crate::model::Model,
-    ) -> Option<&'a crate::resolve::ReductionInput> {
-        self.reduction.as_ref().or(model.reduction.as_ref())
-    }
-}
-
-impl RunSettings {
     /// [`RunSettings::from_run`] of a whole scene: `generalized_alpha` without `run.rho_inf`
     /// takes ρ∞ = [`crate::time::STATOR_WITH_MASS_RHO_INF`] when a stator has mass (the only ρ∞
     /// that resolves its rigid contact with the rotor, [`default_rho_inf`]).

@@ -63,7 +63,7 @@ pub fn refine_point(
         full_spectrum: false,
     };
     let t0 = std::time::Instant::now();
-    let prep = prepare(model, s, speed_ratio)?;
+    let prep = prepare(model, &s.request(speed_ratio))?;
     let r = prep.run(keep, &mut [])?;
     let setup_s = t0.elapsed().as_secs_f64() - r.stats.wall_s;
     let us_per_step = 1e6 * r.stats.wall_s / r.stats.steps.max(1) as f64;

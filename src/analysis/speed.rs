@@ -10,14 +10,13 @@ use super::steady::{
     judge, judge_attractor, lines_revolutions, stationarity, Classification, Stationarity,
 };
 use super::whirl::{signed_orders, whirl_lines, WhirlLines};
-use super::{Keep, RunSettings, MAX_PERIOD};
+use super::{Keep, RunRequest, Window, MAX_PERIOD};
 use crate::error::Result;
 use crate::math::{lcm, V2};
 use crate::model::{Case, Model};
 use crate::signal::{extents, hann_spectrum, line_exact};
 use crate::time::{
-    integrate, plan_steps, EndState, FrameSink, Record, RunStats, Sink, StepPlan, Stepper,
-    WINDOW_MULTIPLE,
+    plan_steps, EndState, FrameSink, Record, RunStats, Sink, StepPlan, Stepper, WINDOW_MULTIPLE,
 };
 use serde::{Deserialize, Serialize};
 
@@ -147,7 +146,7 @@ pub struct SpeedResults {
     #[serde(default)]
     pub step_choice: Option<super::StepChoice>,
     /// Whether the run started from the pilots' settled state at its speed
-    /// ([`super::autostep::start_from_pilot`]).
+    /// ([`super::RunSettings::request_at`], [`super::RunRequest::from_pilot`]).
     #[serde(default)]
     pub started_from_pilot: bool,
     /// The check for a coexisting response: the companion from another start and whether it
@@ -186,8 +185,8 @@ pub struct Prepared {
     pub speed_ratio: f64,
     /// ω = ν ω_n (rad/s).
     pub omega: f64,
-    /// The run's settings.
-    pub settings: RunSettings,
+    /// The run requested.
+    pub request: RunRequest,
     /// The case at ω.
     pub case: Case,
     /// The step plan (Δt, steps, recording interval).
@@ -198,16 +197,16 @@ pub struct Prepared {
     pub linear_start: Option<[V2; 2]>,
 }
 
-/// Prepares a run of `model` at ν = `speed_ratio`: the case at ω = ν ω_n and its step plan.
+/// Prepares the run `request` of `model`: the case at ω = ν ω_n and its step plan.
 ///
 /// # Errors
 /// Model errors of the case; [`crate::error::SolveError::StepTooLarge`] and other plan errors.
-pub fn prepare(model: &Model, settings: &RunSettings, speed_ratio: f64) -> Result<Prepared> {
-    let settings = &super::autostep::start_from_pilot(settings, speed_ratio);
+pub fn prepare(model: &Model, request: &RunRequest) -> Result<Prepared> {
+    let speed_ratio = request.speed_ratio;
     let omega = speed_ratio * model.rotor.natural_frequency();
-    let case = model.case_with(omega, settings.reduction_of(model))?;
-    let plan = plan_steps(&case, &settings.step)?;
-    let linear_start = if settings.check_coexistence && settings.step.duration.is_none() {
+    let case = model.case_with(omega, request.reduction_of(model))?;
+    let plan = plan_steps(&case, &request.step)?;
+    let linear_start = if request.follow_ups.coexistence {
         super::coexist::linear_start(model, &case)
     } else {
         None
@@ -215,7 +214,7 @@ pub fn prepare(model: &Model, settings: &RunSettings, speed_ratio: f64) -> Resul
     Ok(Prepared {
         speed_ratio,
         omega,
-        settings: *settings,
+        request: *request,
         case,
         plan,
         linear_start,
@@ -235,38 +234,69 @@ impl Prepared {
     /// # Errors
     /// [`crate::error::SolveError`] of the loop, a sink's error included.
     pub fn integrate(&self, sinks: &mut [&mut dyn FrameSink]) -> Result<(Record, RunStats)> {
-        let (rec, stats, ..) = with_sinks(sinks, |sink| self.drive(sink, false))?;
+        let fixed = self.request.fixed();
+        let (rec, stats, ..) = with_sinks(sinks, |sink| self.drive_with(&self.plan, &fixed, sink))?;
         Ok((rec, stats))
     }
 
-    /// Integrates until the steady state is proven: the plan's run, then, while the analysed
-    /// window's transient residual ([`stationarity`]) is above `run.tolerance` and the
-    /// transient below `run.max_transient_revolutions` (and the steps below `run.max_steps`),
-    /// the run goes on and the window slides — by as many revolutions as the observed decay
-    /// asks, at least a third of the window. A window then not periodic (no period up to
-    /// [`MAX_PERIOD`], the rule of [`analyse`]) is lengthened to `run.classify_revolutions`
-    /// within `run.max_steps`, for [`super::dynamics`]. A fixed window (`run.duration`) takes
-    /// its plan and no more: neither lengthening. Frames go to `sink` throughout. Returns
-    /// the record, the counters, the plan as it ended and, with `adapt` and
-    /// `run.error_estimate`, the bodies' end state (the finer companion of the error estimate
-    /// restarts from it).
-    fn drive(&self, sink: Sink<'_>, adapt: bool) -> Result<Driven> {
-        self.drive_with(&self.plan, &self.settings, sink, adapt)
+    /// `request` on this case over its own plan (of its step rule), without frames: the plan,
+    /// the record and the counters (a pilot's levels, its settling run).
+    ///
+    /// # Errors
+    /// Plan errors; as `Prepared::drive_with`.
+    pub fn record(&self, request: &RunRequest) -> Result<(StepPlan, Record, RunStats)> {
+        let plan = plan_steps(&self.case, &request.step)?;
+        let (rec, stats, plan, ..) = self.drive_with(&plan, request, None)?;
+        Ok((plan, rec, stats))
     }
 
-    /// [`Prepared::drive`] of this case with another plan and settings (the same Δt and scheme
-    /// from another start: the coexistence check, [`super::coexist`]).
+    /// The one driver of every run on this case: `request` integrated over `plan` by
+    /// `Prepared::drive_with` (its window policy), without frames, and analysed
+    /// ([`analyse`], `keep`). The error-estimate companions, the coexistence check and the
+    /// pilots run through it; the run itself adds its sinks and follow-ups
+    /// ([`Prepared::run`]).
+    ///
+    /// # Errors
+    /// As `Prepared::drive_with`.
+    pub fn execute(
+        &self,
+        request: &RunRequest,
+        plan: &StepPlan,
+        keep: Keep,
+    ) -> Result<SpeedResults> {
+        let (rec, stats, plan, ..) = self.drive_with(plan, request, None)?;
+        Ok(analyse(&self.case, request, &plan, &rec, stats, keep))
+    }
+
+    /// Integrates `request` over `plan` from its start, handing frames to `sink`. A
+    /// [`Window::Settle`] run goes on until the steady state is proven: while the analysed
+    /// window's transient residual ([`stationarity`]) is above the tolerance and the transient
+    /// below `max_transient` revolutions (and the steps below `run.max_steps`), the run goes on
+    /// and the window slides — by as many revolutions as the observed decay asks, at least a
+    /// third of the window; a window then not periodic (no period up to [`MAX_PERIOD`], the
+    /// rule of [`analyse`]) is lengthened to `classify` revolutions within `run.max_steps`,
+    /// for [`super::dynamics`]. A [`Window::Fixed`] run (a pilot, a companion,
+    /// `run.duration`) takes its plan and no more. Returns the record, the counters, the plan
+    /// as it ended and, for a settling run with an error estimate to follow, the bodies' end
+    /// state (the finer companion of the error estimate restarts from it).
     pub(super) fn drive_with(
         &self,
         plan: &StepPlan,
-        s: &RunSettings,
+        request: &RunRequest,
         mut sink: Sink<'_>,
-        adapt: bool,
     ) -> Result<Driven> {
-        let mut st = Stepper::new(&self.case, s.step.integrator, plan, s.initial)?;
+        let s = request;
+        let mut st = Stepper::new(&self.case, s.step.integrator, plan, s.initial())?;
         let spr_steps = plan.steps_per_rev.max(1);
         let window = (plan.steps - plan.steady_from) / spr_steps;
-        let keep_end = adapt && s.error_estimate && s.step.duration.is_none();
+        let settle = match s.window {
+            Window::Settle {
+                max_transient,
+                classify,
+            } => Some((max_transient, classify)),
+            Window::Fixed => None,
+        };
+        let keep_end = settle.is_some() && s.follow_ups.error_estimate;
         let mut older = None;
         loop {
             let p = *st.plan();
@@ -276,10 +306,12 @@ impl Prepared {
                 older = Some(st.history());
             }
             st.run_to(p.steps, &mut sink)?;
+            let Some((max_transient, _)) = settle else {
+                break;
+            };
             let transient = p.steady_from / spr_steps;
-            let cap = s.max_transient_revolutions.max(transient);
-            // A fixed window (`run.duration`) is never lengthened.
-            if !adapt || window < 3 || transient >= cap || s.step.duration.is_some() {
+            let cap = max_transient.max(transient);
+            if window < 3 || transient >= cap {
                 break;
             }
             let (w, nrev) = window_points(&self.case, s, &p, st.recorded());
@@ -301,8 +333,8 @@ impl Prepared {
         // A window that is not periodic is lengthened for the 0–1 test (`dynamics`); one that
         // runs away when continued keeps its window (`super::lengthen`).
         let mut runaway = None;
-        if adapt && s.step.duration.is_none() {
-            (st, runaway) = self.lengthen(st, &mut sink, keep_end, &mut older)?;
+        if let Some((_, classify)) = settle {
+            (st, runaway) = self.lengthen(st, s, classify, &mut sink, keep_end, &mut older)?;
         }
         let plan = *st.plan();
         let end = older.and_then(|o| st.end_state(&o));
@@ -313,36 +345,36 @@ impl Prepared {
         Ok((rec, stats, plan, end, runaway))
     }
 
-    /// Integrates until the steady state is proven or the transient reaches its cap (see
-    /// `drive` above: the analysed window slides while its transient residual is above
-    /// `run.tolerance`), handing frames to `sinks`, then [`analyse`]s the window; with
-    /// `settings.error_estimate` companion runs (no sinks, the same transient) estimate the
-    /// discretisation error ([`ErrorEstimate`]). Frames cover the revolutions their sinks
-    /// ask for, counted from the start of the run.
+    /// Runs the request: integrates it by its window policy (`Prepared::drive_with`: a
+    /// settling run until the steady state is proven or the transient reaches its cap),
+    /// handing frames to `sinks`, then [`analyse`]s the window and runs its follow-ups: the
+    /// error estimate's companions (no sinks, the same transient, [`ErrorEstimate`]) and the
+    /// coexistence check. Frames cover the revolutions their sinks ask for, counted from the
+    /// start of the run.
     ///
     /// # Errors
     /// As [`Prepared::integrate`]; the companion run's failure only leaves the estimate out.
     pub fn run(&self, keep: Keep, sinks: &mut [&mut dyn FrameSink]) -> Result<SpeedResults> {
-        let (rec, stats, plan, end, runaway) = with_sinks(sinks, |sink| self.drive(sink, true))?;
-        let mut res = analyse(&self.case, &self.settings, &plan, &rec, stats, keep);
-        res.started_from_pilot = super::autostep::pilot_start(&self.settings, self.speed_ratio)
-            .is_some_and(|i| i == self.settings.initial);
+        let req = &self.request;
+        let (rec, stats, plan, end, runaway) =
+            with_sinks(sinks, |sink| self.drive_with(&self.plan, req, sink))?;
+        let mut res = analyse(&self.case, req, &plan, &rec, stats, keep);
+        res.started_from_pilot = req.from_pilot_state();
         if let Some(t) = runaway {
             // Bounded over its window, running away when continued: not a steady state.
             res.steady = false;
             res.dynamics.regime = Regime::Diverging;
             res.dynamics.runaway_at_s = Some(t);
         }
-        if self.settings.error_estimate {
+        if req.follow_ups.error_estimate {
             res.error = self.error_estimate(&res, end.as_ref());
         }
-        // The coexistence companion settles from another start past a fixed window's end.
-        if self.settings.check_coexistence && self.settings.step.duration.is_none() {
+        if req.follow_ups.coexistence {
             res.coexistence = super::coexist::check(self, &res);
         }
-        if let Some(d) = self.settings.step.duration {
+        if let Some(d) = req.step.duration {
             res.warnings
-                .extend(fixed_window_warning(&res, d, self.settings.tolerance));
+                .extend(fixed_window_warning(&res, d, req.tolerance));
         }
         Ok(res)
     }
@@ -357,7 +389,7 @@ impl Prepared {
         // window repeats every `period` revolutions: its extents and lines are those of
         // lcm(6, period) of them, so the companions analyse that many (the whole window when
         // the run is not steady or not periodic).
-        let (s, window, periodic) = self.companion_settings(res);
+        let (s, window, periodic) = self.companion_request(res);
         let s = &s;
         let coarser_than = |p: &StepPlan, cap: f64| coarser_plan(case, s, p, cap);
         let cplan = coarser_than(plan, f64::INFINITY)
@@ -367,10 +399,7 @@ impl Prepared {
                 plan_steps(case, &fine).ok()
             })
             .filter(|c| c.steps_per_rev != plan.steps_per_rev)?;
-        let companion = |p: &StepPlan| -> Option<SpeedResults> {
-            let (rec, stats) = integrate(case, s.step.integrator, p, s.initial).ok()?;
-            Some(analyse(case, s, p, &rec, stats, Keep::default()))
-        };
+        let companion = |p: &StepPlan| self.execute(s, p, Keep::default()).ok();
         let c = companion(&cplan)?;
         let p = s.step.integrator.nominal_order();
         let r1 = plan.steps_per_rev as f64 / cplan.steps_per_rev as f64;
@@ -451,11 +480,11 @@ impl Prepared {
 }
 
 impl Prepared {
-    /// The error estimate's companions' settings for the run `res`: its transient cut, then
+    /// The error estimate's companion request for the run `res`: its transient cut, then
     /// lcm(6, period) revolutions analysed when it is steady and periodic (`periodic`), its
-    /// whole window otherwise. Returns the settings, the analysed revolutions and `periodic`.
-    fn companion_settings(&self, res: &SpeedResults) -> (RunSettings, usize, bool) {
-        let mut s = self.settings;
+    /// whole window otherwise ([`RunRequest::companion`]). Returns the request, the analysed
+    /// revolutions and `periodic`.
+    fn companion_request(&self, res: &SpeedResults) -> (RunRequest, usize, bool) {
         let repeat = lcm(WINDOW_MULTIPLE, res.period);
         let periodic = res.steady && res.period > 0 && repeat <= res.window_revolutions;
         let window = if periodic {
@@ -463,14 +492,13 @@ impl Prepared {
         } else {
             res.window_revolutions
         };
-        s.step.transient_revolutions = res.transient_revolutions;
-        s.step.revolutions = res.transient_revolutions + window;
+        let s = self.request.companion(res.transient_revolutions, window);
         (s, window, periodic)
     }
 }
 
 /// The plan of `s` at 2Δt of `p` (at most `cap`, s) when it has fewer steps per revolution.
-fn coarser_plan(case: &Case, s: &RunSettings, p: &StepPlan, cap: f64) -> Option<StepPlan> {
+fn coarser_plan(case: &Case, s: &RunRequest, p: &StepPlan, cap: f64) -> Option<StepPlan> {
     let mut coarse = s.step;
     coarse.dt = Some((2.0 * p.dt).min(cap));
     plan_steps(case, &coarse)
@@ -494,7 +522,7 @@ impl Prepared {
         end: &EndState,
         window: usize,
     ) -> Option<(StepPlan, SpeedResults)> {
-        let (plan, s) = (&res.plan, &self.settings);
+        let (plan, s) = (&res.plan, &self.request);
         if end.step != plan.steps || plan.steps % plan.steps_per_rev.max(1) != 0 {
             return None;
         }
@@ -508,7 +536,7 @@ impl Prepared {
             steady_from: settle * spr,
             ..*plan
         };
-        let mut st = Stepper::new(&self.case, s.step.integrator, &fplan, s.initial).ok()?;
+        let mut st = Stepper::new(&self.case, s.step.integrator, &fplan, s.initial()).ok()?;
         if !st.restart(end) {
             return None;
         }
@@ -532,21 +560,16 @@ pub fn fixed_window_warning(res: &SpeedResults, duration: f64, tolerance: f64) -
     })
 }
 
-/// Runs one speed without sinks: [`prepare`] then [`Prepared::run`].
-pub fn run_speed(
-    model: &Model,
-    s: &RunSettings,
-    speed_ratio: f64,
-    keep: Keep,
-) -> Result<SpeedResults> {
-    prepare(model, s, speed_ratio)?.run(keep, &mut [])
+/// Runs `request` without sinks: [`prepare`] then [`Prepared::run`].
+pub fn run_speed(model: &Model, request: &RunRequest, keep: Keep) -> Result<SpeedResults> {
+    prepare(model, request)?.run(keep, &mut [])
 }
 
 /// The analysed window of a record, non-dimensional (/|Z0|): the samples at the instants
 /// `plan.steady_from ≤ k < plan.steps`, and its whole revolutions.
 pub(super) fn window_points(
     case: &Case,
-    s: &RunSettings,
+    s: &RunRequest,
     plan: &StepPlan,
     rec: &Record,
 ) -> (Vec<V2>, usize) {
@@ -573,7 +596,7 @@ pub(super) fn window_points(
 /// [`RunStats::steady`]'s over the same instants.
 pub fn analyse(
     case: &Case,
-    s: &RunSettings,
+    s: &RunRequest,
     plan: &StepPlan,
     rec: &Record,
     stats: RunStats,

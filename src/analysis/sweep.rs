@@ -54,19 +54,21 @@ impl<A, B> Sweep<(A, B)> {
     }
 }
 
-/// Runs `run(ω/ω_n)` for every speed in parallel (rayon), e.g. [`super::prepare`] then
-/// [`super::Prepared::run`] with the sinks that speed wants; `progress` is called after each
-/// speed. A failing speed fails the sweep with [`Error::AtSpeed`] naming it.
+/// Runs `run(k, ω/ω_n)` for every speed (k its index in `speeds`) in parallel (rayon), e.g.
+/// [`super::prepare`] of [`super::RunSettings::request_at`] then [`super::Prepared::run`] with
+/// the sinks that speed wants; `progress` is called after each speed. A failing speed fails
+/// the sweep with [`Error::AtSpeed`] naming it.
 pub fn sweep<T: Send>(
     speeds: &[f64],
-    run: &(dyn Fn(f64) -> Result<T> + Sync),
+    run: &(dyn Fn(usize, f64) -> Result<T> + Sync),
     progress: &(dyn Fn() + Sync),
 ) -> Result<Sweep<T>> {
     let t0 = std::time::Instant::now();
+    let indexed: Vec<(usize, f64)> = speeds.iter().copied().enumerate().collect();
     let speeds = run_all(
-        speeds,
-        &|&v| {
-            run(v).map_err(|e| Error::AtSpeed {
+        &indexed,
+        &|&(k, v)| {
+            run(k, v).map_err(|e| Error::AtSpeed {
                 speed_ratio: v,
                 source: Box::new(e),
             })

@@ -310,8 +310,9 @@ fn print_budget(
     );
     print_step_bounds(s, st, case, plan);
     if let Some(w) = &s.run.sweep {
-        let n = analysis::sweep_speeds(w.from, w.to, w.step).len();
-        let last = analysis::prepare(model, st, w.to)?;
+        let speeds = analysis::sweep_speeds(w.from, w.to, w.step);
+        let n = speeds.len();
+        let last = analysis::prepare(model, &st.request_at(n - 1, speeds[n - 1]))?;
         let bl = rubsim::time::estimate(&last.case, &last.plan, st.error_estimate);
         let variants = w.vary.as_ref().map_or(1, |v| v.values.len());
         let runs = (n * variants) as f64;

@@ -401,7 +401,11 @@ pub fn progress_bar(n: usize) -> ProgressBar {
 
 /// Prints the up-front estimate of a prepared run to stderr (stdout stays the report).
 pub fn announce(prep: &Prepared) {
-    let b = rubsim::time::estimate(&prep.case, &prep.plan, prep.settings.error_estimate);
+    let b = rubsim::time::estimate(
+        &prep.case,
+        &prep.plan,
+        prep.request.follow_ups.error_estimate,
+    );
     eprintln!(
         "estimate at ω/ωn = {:.3}: {}",
         prep.speed_ratio,
@@ -412,11 +416,10 @@ pub fn announce(prep: &Prepared) {
 /// Prints the up-front estimate of a sweep of `runs` runs over `speeds` to stderr, from the
 /// plans of its first and last speeds. A speed whose plan is refused is reported by the sweep.
 pub fn announce_sweep(model: &Model, settings: &RunSettings, speeds: &[f64], runs: usize) {
-    let ends = [speeds.first(), speeds.last()];
-    let b: Vec<_> = ends
-        .into_iter()
-        .flatten()
-        .filter_map(|v| rubsim::analysis::prepare(model, settings, *v).ok())
+    let ends = [0, speeds.len().saturating_sub(1)];
+    let b: Vec<_> = ends[..speeds.len().min(2)]
+        .iter()
+        .filter_map(|&k| rubsim::analysis::prepare(model, &settings.request_at(k, speeds[k])).ok())
         .map(|p| rubsim::time::estimate(&p.case, &p.plan, settings.error_estimate))
         .collect();
     if b.is_empty() {

@@ -38,7 +38,7 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &[v])?;
     let keep = Keep::single_run(&ls.scene.output, v);
-    let prep = analysis::prepare(&model, &s, v)?;
+    let prep = analysis::prepare(&model, &s.request_at(0, v))?;
     // VTK/HDF5 time series (output.vtk, output.hdf5) stream into the staging folder.
     let scene_json = serde_json::to_string(&ls.scene)?;
     let series = Series {

@@ -58,7 +58,7 @@ pub fn stress(a: &StressArgs) -> Result<()> {
     let mut runs = Vec::new();
     let mut records = Vec::new();
     for &v in &speeds {
-        let prep = analysis::prepare(&model, &settings, v)?;
+        let prep = analysis::prepare(&model, &settings.request(v))?;
         let mut probe = StressProbe::for_run(&prep, a.per_rev, a.window);
         prep.integrate(&mut [&mut probe])
             .map_err(|e| Error::AtSpeed {

@@ -117,9 +117,9 @@ impl<'a> ResultsSink<'a> {
             speed_ratio: prep.case.speed_ratio,
             omega: prep.omega,
             plan: prep.plan,
-            integrator: prep.settings.step.integrator.name(),
+            integrator: prep.request.step.integrator.name(),
         };
-        let init_v = prep.settings.initial.v;
+        let init_v = prep.request.initial().v;
         Self::build(model, &prep.case, info, init_v, output, staging, prefix)
     }
 

@@ -42,6 +42,9 @@ pub struct CaseSpec {
     pub index: usize,
     /// Index of its variant in the study's variants.
     pub variant: usize,
+    /// Index of its speed in the study's speeds (the speeds the step choice was made for:
+    /// [`crate::analysis::RunSettings::request_at`]).
+    pub speed: usize,
     /// ω/ω_n.
     pub speed_ratio: f64,
     /// Its stable id.
@@ -54,11 +57,12 @@ pub fn cases(variants: &[Variant], speeds: &[f64]) -> Vec<CaseSpec> {
     variants
         .iter()
         .enumerate()
-        .flat_map(|(i, var)| speeds.iter().map(move |&v| (i, var, v)))
+        .flat_map(|(i, var)| speeds.iter().enumerate().map(move |(j, &v)| (i, var, j, v)))
         .enumerate()
-        .map(|(k, (i, var, v))| CaseSpec {
+        .map(|(k, (i, var, j, v))| CaseSpec {
             index: k,
             variant: i,
+            speed: j,
             speed_ratio: v,
             id: CaseId::new(var, v),
         })

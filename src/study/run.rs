@@ -261,7 +261,7 @@ fn run_case(req: &CasesRequest, var: &VariantRun, case: &CaseSpec, scene_json: &
         .as_ref()
         .map_or((req.scene, req.model), |(l, m)| (l, m));
     let v = case.speed_ratio;
-    let prep = analysis::prepare(m, &var.settings, v)?;
+    let prep = analysis::prepare(m, &var.settings.request_at(case.speed, v))?;
     let keep = req.study.keep(l, v);
     let r = if req.series.wants(case) {
         let staging = req.store.stage_series(&case.id)?;

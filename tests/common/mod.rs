@@ -86,7 +86,7 @@ pub fn settings(ls: &LoadedScene) -> RunSettings {
 /// written).
 pub fn run_speed(text: &str, sets: &[impl AsRef<str>], nu: f64) -> SpeedResults {
     let (ls, m) = scene_model(text, sets);
-    analysis::run_speed(&m, &settings(&ls), nu, Keep::default()).expect("run")
+    analysis::run_speed(&m, &settings(&ls).request(nu), Keep::default()).expect("run")
 }
 
 /// Overrides for a shorter steady run: 80 revolutions, the first 40 cut, no 2Δt companion run.

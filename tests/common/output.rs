@@ -29,7 +29,7 @@ pub fn run_scene(
     let mut out = OutDir::prepare(dir).expect("prepare");
     let staging = out.staging_dir().to_path_buf();
     let speed = speed.unwrap_or_else(|| ls.scene.run.speed_ratio.expect("single speed"));
-    let prep = rubsim::analysis::prepare(&model, &s, speed).expect("prepare");
+    let prep = rubsim::analysis::prepare(&model, &s.request(speed)).expect("prepare");
     let mut sink = results::ResultsSink::for_output(
         &model,
         &prep,

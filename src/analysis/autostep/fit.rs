@@ -3,14 +3,13 @@
 
 use super::{
     ASYMPTOTIC, COARSEST, CONVERGING, ESTIMATE_SAFETY, MAX_EXTRAPOLATION, MAX_LEVELS, MIN_ORDER,
-    PILOT_RESETTLE, PILOT_WINDOW, SETTLE_REVOLUTIONS,
+    SETTLE_REVOLUTIONS,
 };
 use crate::analysis::discrepancy::difference;
-use crate::analysis::pilot::pilot_settings;
-use crate::analysis::{analyse, prepare, Keep, Prepared, RunSettings, SpeedResults};
+use crate::analysis::{analyse, prepare, Keep, Prepared, RunRequest, RunSettings, SpeedResults};
 use crate::error::Result;
 use crate::model::Model;
-use crate::time::{integrate, plan_steps, Initial, Scheme};
+use crate::time::{Initial, Scheme};
 
 /// One scheme's fit at one speed.
 #[derive(Debug, Clone, Copy)]
@@ -73,28 +72,26 @@ impl Fit {
     }
 }
 
-/// The settled state the pilots start from: the run from `s.initial` with the plan of
-/// `settle` (whole steps per revolution) over `min(s`'s transient, [`SETTLE_REVOLUTIONS`]`)`
-/// revolutions, its disk displacement at the last instant (a whole revolution: the unbalance
-/// at the phase of t = 0) and velocity by the one-sided second-order difference of the last
-/// three samples `(3x_N − 4x_{N−1} + x_{N−2})/(2δ)`, δ the sampling interval. `None` where
-/// that is not the whole state: a rotor with more than the disk's two DOFs, a stator with
-/// mass. Returned with the settling run's steps and loop wall time (s).
+/// The settled state the pilots start from: the pilot request `pilot` of `prep` run from its
+/// start with the plan of `settle` (whole steps per revolution) over `min(s`'s transient,
+/// [`SETTLE_REVOLUTIONS`]`)` revolutions ([`RunRequest::settling`]), its disk displacement at
+/// the last instant (a whole revolution: the unbalance at the phase of t = 0) and velocity by
+/// the one-sided second-order difference of the last three samples
+/// `(3x_N − 4x_{N−1} + x_{N−2})/(2δ)`, δ the sampling interval. `None` where that is not the
+/// whole state: a rotor with more than the disk's two DOFs, a stator with mass. Returned with
+/// the settling run's steps and loop wall time (s).
 fn settled_start(
     prep: &Prepared,
     s: &RunSettings,
+    pilot: &RunRequest,
     settle: f64,
 ) -> Result<Option<(Initial, u64, f64)>> {
     let case = &prep.case;
     if case.loop_rotor().ndof != 2 || !case.stators.iter().all(|st| st.massless()) {
         return Ok(None);
     }
-    let mut st = prep.settings.step;
-    st.dt_scale = settle;
-    st.revolutions = s.step.transient_revolutions.clamp(1, SETTLE_REVOLUTIONS);
-    st.transient_revolutions = 0;
-    let plan = plan_steps(case, &st)?;
-    let (rec, stats) = integrate(case, st.integrator, &plan, s.initial)?;
+    let revolutions = s.step.transient_revolutions.clamp(1, SETTLE_REVOLUTIONS);
+    let (_, rec, stats) = prep.record(&pilot.settling(settle, revolutions))?;
     Ok(end_state(&rec).map(|init| (init, stats.steps as u64, stats.wall_s)))
 }
 
@@ -155,45 +152,40 @@ fn fit_from(
     target: f64,
     settled: bool,
 ) -> Result<Fit> {
-    let mut ps = pilot_settings(s, kind, COARSEST);
-    let mut prep = prepare(model, &ps, v)?;
+    let mut ps = RunRequest::pilot(s, v, kind, COARSEST);
+    let prep = prepare(model, &ps)?;
     let coarsest = prep.plan.dt;
     let rule_dt = prep.plan.rule_dt;
     let settle = coarsest / rule_dt / 2.0 * (1.0 + 1e-9);
     let (mut steps, mut wall_s) = (0u64, 0.0);
     let start = if settled {
-        settled_start(&prep, s, settle)?
+        settled_start(&prep, s, &ps, settle)?
     } else {
         None
     };
     let from_settled = start.is_some();
     if let Some((init, n, w)) = start {
-        ps.initial = init;
+        ps = ps.resettled(init);
         steps += n;
         wall_s += w;
-        ps.step.transient_revolutions = PILOT_RESETTLE;
-        ps.step.revolutions = PILOT_RESETTLE + PILOT_WINDOW;
-        prep = prepare(model, &ps, v)?;
     }
     let mut res: Vec<(f64, SpeedResults)> = Vec::with_capacity(MAX_LEVELS);
     let mut k = 0;
     let (d01, d12) = loop {
-        let mut st = ps.step;
-        st.dt_scale = coarsest / rule_dt / (1u64 << k) as f64 * (1.0 + 1e-9);
-        prep.plan = plan_steps(&prep.case, &st)?;
-        let (rec, stats) = prep.integrate(&mut [])?;
+        let level = ps.at_scale(coarsest / rule_dt / (1u64 << k) as f64 * (1.0 + 1e-9));
+        let (plan, rec, stats) = prep.record(&level)?;
         steps += stats.steps as u64;
         wall_s += stats.wall_s;
-        let r = analyse(&prep.case, &ps, &prep.plan, &rec, stats, Keep::default());
+        let r = analyse(&prep.case, &level, &plan, &rec, stats, Keep::default());
         // From the settled state, the next (finer) pilot starts where this one ended (a whole
         // revolution): its start differs from its own steady state only by the step's change,
         // not by the settling step's error.
         if from_settled {
             if let Some(init) = end_state(&rec) {
-                prep.settings.initial = init;
+                ps = ps.from_state(init);
             }
         }
-        res.push((prep.plan.dt, r));
+        res.push((plan.dt, r));
         k += 1;
         let n = res.len();
         if n < 3 {
@@ -226,7 +218,7 @@ fn fit_from(
             break (d01, d12);
         }
     };
-    let end = from_settled.then_some(prep.settings.initial);
+    let end = from_settled.then_some(ps.initial());
     Ok(fitted(
         &res,
         (d01, d12),
