@@ -23,7 +23,7 @@
 //! tests and against ROSS `shaft_element.py`). The element is statically exact, but its shear
 //! force is constant along it, so with shear on the frequencies converge at second order:
 //! `ω_h/ω − 1 ≈ (kh)²/24 · U_shear/U` (k the wavenumber, U_shear/U the mode's share of shear
-//! strain energy), against fourth order for Euler–Bernoulli (`tests/convergence.rs`,
+//! strain energy), against fourth order for Euler–Bernoulli (`tests/suite/convergence.rs`,
 //! `pinned_timoshenko_error_is_second_order_through_the_shear_energy`).
 //!
 //! # Tapered (conical) elements

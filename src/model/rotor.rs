@@ -47,7 +47,7 @@ pub struct RotorBody {
     /// R loads it with the torque `τ_z = R (n × F)_z = −R μ p (n × a)_z` (`−R μ p` for Ω > 0).
     /// Uncoupled from the lateral DOFs in M, C (including Ω G) and K. The twist does not turn
     /// the friction force: the contact keeps slipping along `a` because the sliding speed
-    /// `Ω R + R θ̇_z` stays ≈ `Ω R` (|θ̇_z| ≪ Ω; 2e-3 Ω measured in `tests/verification.rs`).
+    /// `Ω R + R θ̇_z` stays ≈ `Ω R` (|θ̇_z| ≪ Ω; 2e-3 Ω measured in `tests/suite/verification.rs`).
     pub node_torsion: Vec<Option<usize>>,
     /// Axial position z of each node (m); the Jeffcott rotor's single node is at 0.
     pub node_z: Vec<f64>,

@@ -450,7 +450,7 @@ pub fn markdown(schema: &Value) -> String {
         .unwrap_or(&empty);
     let mut out = format!(
         "# Scene keys\n\n<!-- Generated from the scene types (src/scene/) by `{MARKDOWN_COMMAND}`: do not edit; \
-         tests/schema.rs fails when it is stale. -->\n\n\
+         tests/suite/schema.rs fails when it is stale. -->\n\n\
          Every key of a scene file, generated from the scene types — the same source as the JSON \
          Schema `schema/scene.schema.json` (`{SCHEMA_COMMAND}`) that editors use to complete and \
          check scene files (docs/GUIDE.md). All values are SI (kg, m, s, N, Pa, rad/s) unless a \

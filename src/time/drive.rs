@@ -18,7 +18,7 @@
 //! * the state at tₙ that loads the lateral prediction (the unbalance force, the gyroscopic
 //!   correction) and the motor curve is `Ω̂̇ⁿ = 2φ̈ⁿ⁻¹ − φ̈ⁿ⁻²` (linear extrapolation of the
 //!   last two accelerations), `Ω̂ⁿ = Ω^{n−½} + ½Δt Ω̂̇ⁿ`: both O(Δt²), so the coupled
-//!   step keeps the scheme's second order (`tests/driven.rs`, fitted slope). The first step
+//!   step keeps the scheme's second order (`tests/suite/driven.rs`, fitted slope). The first step
 //!   is the half step `J (Ω^{½} − Ω₀)/(Δt/2) = T⁰ − c_t (Ω^{½} + Ω₀)/2` with the torques of
 //!   step 0 (rub and unbalance reaction included): an estimate of φ̈⁰ would put an O(Δt)
 //!   error into every later φ. The prediction of step 0 takes

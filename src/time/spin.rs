@@ -11,7 +11,7 @@
 //! one pass by node blocks serves both) and one more solve with the factor M̃ per step.
 //!
 //! Accuracy: δ = O(dΔt² q̇) is smooth, δⁿ − δⁿ⁻¹ = O(Δt³), so the lag puts an O(Δt⁴) error in
-//! a step — the scheme's own local order: the step stays second order (`tests/transients.rs`,
+//! a step — the scheme's own local order: the step stays second order (`tests/suite/transients.rs`,
 //! fitted slope). Stability: the lag's share of the gyroscopic force is δ's size against the
 //! step, `|d| Δt I_p/(2 I_d)` ≪ 1. A fully explicit velocity (the second-order backward
 //! difference `(3uⁿ − 4uⁿ⁻¹ + uⁿ⁻²)/(2Δt)`, no second solve) was tried first and measured

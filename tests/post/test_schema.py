@@ -5,7 +5,7 @@ alternative keys together, a missing required alternative and a value outside an
 rejected at the right place — and rubsim's own loader (`rubsim check`) refuses each of them too,
 so the schema is not stricter than the program there.
 
-That the committed schema is what the binary generates now is tests/schema.rs's job.
+That the committed schema is what the binary generates now is tests/suite/schema.rs's job.
 The rubsim binary is $RUBSIM_BIN, else target/release/rubsim.
 """
 

@@ -20,7 +20,7 @@
 //!
 //! **Frequencies.** Rayleigh–Ritz in the span of T: every reduced frequency bounds the full
 //! model's of the same rank from above; modes well below ω_cut are reproduced closely (the
-//! error is measured, not bounded, in `tests/reduction_stator.rs`).
+//! error is measured, not bounded, in `tests/suite/reduction_stator.rs`).
 //!
 //! The fixed-interface eigenproblem of a large sparse stator is solved by shift-invert
 //! subspace iteration on the sparse Cholesky factor of `K_II` (no dense eigenproblem of the

@@ -1,0 +1,252 @@
+//! The check for coexisting responses (`analysis::coexist`, docs/VALIDATION.md §16.2): a
+//! companion at the run's scheme and Δt from the other extreme of the contact — the no-contact
+//! linear response for a run in full annular rub, full contact at the clearance for any other —
+//! settles and is compared with the run. Checked where two responses are known to coexist (the
+//! unit rotor in a ring just above its critical speed: no contact and synchronous full annular
+//! rub, the latter against its closed form, docs/ORACLES.md §2; the paper case at ν = 5.8:
+//! period-3 and period-2 partial rubs; `segmented_casing_beams` at ν = 1.8), where the response
+//! is unique (the paper case at ν = 1.7), and from the command line (summary.json, sweep.csv,
+//! the warning, the opt-out and a bad value).
+
+use crate::common;
+
+use common::oracles::radial_annular_rub;
+use common::scenes::{unit_ring, unit_rotor};
+use common::{cli, read, repo, run_speed, NO_SETS};
+use rubsim::analysis::{SpeedResults, Start};
+use tempfile::TempDir;
+
+/// Unit rotor (m = 1 kg, k = 1 N/m, e = 1e-3 m), ξ = 0.2, μ = 0.1, in a ring of κ = 25 with the
+/// radially elastic contact law at δ = 1.5 e; ν = 1.8, above the critical speed, where the
+/// linear orbit |Z0| = 1.377 e fits inside the clearance and a full annular rub of radius
+/// 1.762 e exists too.
+const XI: f64 = 0.2;
+const KAPPA: f64 = 25.0;
+const MU: f64 = 0.1;
+const D: f64 = 1.5;
+const E: f64 = 1e-3;
+const NU: f64 = 1.8;
+
+fn ring_scene() -> String {
+    unit_rotor(XI, &unit_ring(D * E))
+}
+
+/// The largest |extent| of a result, in units of e.
+fn radius_over_e(extents_nd: &[f64; 4], z0: f64) -> f64 {
+    extents_nd.iter().fold(0.0_f64, |m, v| m.max(v.abs())) * z0 / E
+}
+
+/// The sampled extents of a circle at 64 samples per revolution read up to 1 − cos(π/64) =
+/// 1.2e-3 below its radius.
+const SAMPLING: f64 = 2e-3;
+
+fn coexistence(r: &SpeedResults) -> rubsim::analysis::Coexistence {
+    r.coexistence
+        .unwrap_or_else(|| panic!("ν = {}: the check was not run", r.speed_ratio))
+}
+
+#[test]
+fn full_annular_rub_from_rest_coexists_with_the_no_contact_orbit() {
+    let r = run_speed(&ring_scene(), NO_SETS, NU);
+    let (full, _) = radial_annular_rub(NU, KAPPA, MU, XI, D);
+    let radius = radius_over_e(&r.extents_nd, r.z0);
+    println!(
+        "run: contact {:.3}, radius {radius:.5} e (closed form {full:.5} e); {:?}",
+        r.contact_fraction, r.coexistence
+    );
+    assert!(r.contact_fraction >= 0.99, "{}", r.contact_fraction);
+    assert!(
+        (radius / full - 1.0).abs() <= SAMPLING,
+        "full annular rub radius {radius} e against {full} e"
+    );
+    let c = coexistence(&r);
+    assert_eq!(c.start, Start::Free);
+    assert!(c.coexisting, "{c:?}");
+    assert!(c.steady && c.period == 1, "{c:?}");
+    assert_eq!(c.contact_fraction, 0.0);
+    // The companion is on the linear orbit, |Z0| = 1.377 e.
+    let linear = radius_over_e(&c.extents_nd, r.z0) * E / r.z0;
+    assert!((linear - 1.0).abs() <= SAMPLING, "{linear} |Z0|");
+    assert!(c.extents_rel > 0.2, "{c:?}");
+}
+
+#[test]
+fn no_contact_orbit_started_on_the_linear_response_coexists_with_full_annular_rub() {
+    // X = e ν² / (1 − ν² + 2iξν): u = Re X, v = Re(iωX) at t = 0 (ω = ν rad/s).
+    let den = (1.0 - NU * NU, 2.0 * XI * NU);
+    let m = den.0 * den.0 + den.1 * den.1;
+    let x = (E * NU * NU * den.0 / m, -E * NU * NU * den.1 / m);
+    let sets = [
+        format!("run.initial_displacement=[{:e},{:e}]", x.0, x.1),
+        format!("run.initial_velocity=[{:e},{:e}]", -NU * x.1, NU * x.0),
+    ];
+    let r = run_speed(&ring_scene(), &sets, NU);
+    let c = coexistence(&r);
+    let (full, _) = radial_annular_rub(NU, KAPPA, MU, XI, D);
+    let radius = radius_over_e(&c.extents_nd, r.z0);
+    println!(
+        "run: contact {:.3}; companion from full contact: {c:?}, radius {radius:.5} e (closed form {full:.5} e)",
+        r.contact_fraction
+    );
+    assert_eq!(r.contact_fraction, 0.0);
+    assert_eq!(c.start, Start::FullContact);
+    assert!(c.coexisting, "{c:?}");
+    assert!(c.contact_fraction >= 0.99, "{c:?}");
+    assert!(
+        (radius / full - 1.0).abs() <= SAMPLING,
+        "the companion's full annular rub radius {radius} e against {full} e"
+    );
+}
+
+fn paper(nu: f64) -> SpeedResults {
+    run_speed(
+        &read(&repo("scenes/paper/partial_rub.toml")),
+        &["run.error_estimate=false"],
+        nu,
+    )
+}
+
+#[test]
+fn a_unique_partial_rub_is_not_flagged() {
+    // The paper case at ν = 1.7: a periodic partial rub that the full-contact start reaches too.
+    let r = paper(1.7);
+    let c = coexistence(&r);
+    println!("ν 1.7: contact {:.4}; {c:?}", r.contact_fraction);
+    assert!(r.contact_fraction > 0.0 && r.contact_fraction < 0.5);
+    assert_eq!(c.start, Start::FullContact);
+    assert!(!c.coexisting, "{c:?}");
+    assert_eq!(c.period, r.period);
+    assert!(
+        (c.contact_fraction - r.contact_fraction).abs() < 1e-3,
+        "{c:?}"
+    );
+    assert!(c.extents_rel < 1e-6, "{c:?}");
+}
+
+#[test]
+fn the_paper_case_at_5_8_has_coexisting_partial_rubs_of_periods_3_and_2() {
+    // From rest a period-3 partial rub (the paper's ⅓× range); from full contact a period-2
+    // one, steady to 1e-10 of its size (it stays there over 600 transient revolutions:
+    // docs/VALIDATION.md §16.2).
+    let r = paper(5.8);
+    let c = coexistence(&r);
+    println!(
+        "ν 5.8: period {}, contact {:.4}; {c:?}",
+        r.period, r.contact_fraction
+    );
+    assert_eq!(r.period, 3);
+    assert!(c.coexisting && c.steady, "{c:?}");
+    assert_eq!(c.period, 2);
+    assert!(c.extents_rel > 0.1, "{c:?}");
+}
+
+#[test]
+fn segmented_casing_beams_at_1_8_is_flagged_from_the_command_line() {
+    if !common::meshes::gmsh_wanted() {
+        return;
+    }
+    let tmp = TempDir::new().unwrap();
+    let out = tmp.path().join("r");
+    let o = cli::rubsim(
+        &repo(""),
+        &[
+            "run",
+            "scenes/stators/segmented_casing_beams.toml",
+            "--speed",
+            "1.8",
+            "--set",
+            "output.png=false",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let err = cli::text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("warning: ω/ωn = 1.800: the response depends on the start"),
+        "{err}"
+    );
+    let s = cli::json(&out.join("summary.json"));
+    assert_eq!(s["coexisting"], true);
+    let res = &s["result"];
+    let c = &res["coexistence"];
+    println!("run contact {}, companion {c}", res["contact_fraction"]);
+    // From rest: full annular rub; from the linear orbit (|Z0| = 0.94 δ): no contact.
+    assert!(res["contact_fraction"].as_f64().unwrap() >= 0.99);
+    assert_eq!(c["start"], "free");
+    assert!(c["contact_fraction"].as_f64().unwrap() <= 0.01);
+    assert!(c["extents_rel"].as_f64().unwrap() > 0.01);
+    // The time-step estimate is kept as it is, beside the branch difference.
+    assert!(res["error"]["extents_rel"].as_f64().unwrap() < 1e-3);
+}
+
+#[test]
+fn sweep_csv_marks_the_speed_and_the_check_can_be_turned_off() {
+    let tmp = TempDir::new().unwrap();
+    let sweep = |name: &str, extra: &[&str]| {
+        let out = tmp.path().join(name);
+        let mut args = vec![
+            "sweep",
+            "scenes/paper/partial_rub.toml",
+            "--set",
+            "run.sweep.from=5.7",
+            "--set",
+            "run.sweep.to=5.8",
+            "--set",
+            "output.png=false",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = cli::rubsim(&repo(""), &args);
+        let err = cli::text(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        let text = read(&out.join("sweep.csv"));
+        let mut lines = text.lines();
+        let cols: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+        let at = |c: &str| cols.iter().position(|x| x == c).unwrap();
+        let rows: Vec<(String, String, String, String)> = lines
+            .map(|l| {
+                let r: Vec<&str> = l.split(',').collect();
+                (
+                    r[at("speed_ratio")].into(),
+                    r[at("coexisting")].into(),
+                    r[at("coexist_start")].into(),
+                    r[at("coexist_period")].into(),
+                )
+            })
+            .collect();
+        (rows, err)
+    };
+    let (rows, err) = sweep("on", &[]);
+    println!("{rows:?}");
+    assert_eq!(rows.len(), 2);
+    assert_eq!(rows[1].0, "5.8000");
+    assert_eq!(
+        (rows[1].1.as_str(), rows[1].2.as_str(), rows[1].3.as_str()),
+        ("true", "full_contact", "2")
+    );
+    assert_eq!(rows[0].1, "false");
+    assert!(
+        err.contains("the response depends on the start at 1 of 2 speeds (ω/ωn 5.80)"),
+        "{err}"
+    );
+    let (rows, err) = sweep("off", &["--set", "run.check_coexistence=false"]);
+    assert!(
+        rows.iter().all(|r| r.1.is_empty() && r.2.is_empty()),
+        "{rows:?}"
+    );
+    assert!(!err.contains("depends on the start"), "{err}");
+    let bad = cli::fails(
+        &repo(""),
+        &[
+            "run",
+            "scenes/paper/partial_rub.toml",
+            "--speed",
+            "1.7",
+            "--set",
+            "run.check_coexistence=1",
+        ],
+    );
+    assert!(bad.contains("run.check_coexistence"), "{bad}");
+}
