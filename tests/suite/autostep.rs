@@ -28,7 +28,9 @@ fn chosen_and_true_error(
     nu: f64,
     refine: f64,
 ) -> (RunSettings, SpeedResults, f64) {
-    let s0 = settings(ls);
+    let mut s0 = settings(ls);
+    // The step choice is tested, not the coexistence check (its companion's cost).
+    s0.check_coexistence = false;
     let s = analysis::choose(model, &s0, ls.scene.run.integrator, None, &[nu]).unwrap();
     let r = analysis::run_speed(model, &s.request_at(0, nu), Keep::default()).unwrap();
     let mut rs = s;
