@@ -7,7 +7,7 @@
 //! cut-off, collocated and generalised-α: [`REDUCED_COLLOCATED`], [`REDUCED_GENERALIZED_ALPHA`])
 //! against the full model's reference. With settings chosen from `run.tolerance`
 //! ([`crate::analysis::choose`]) the chosen point is measured against the same reference
-//! ([`convergence_with`]).
+//! ([`convergence`]'s `chosen`).
 
 use super::discrepancy::{Discrepancy, ExtentsScale, Scales};
 use super::{analyse, Keep, RunRequest, RunSettings, SpeedResults};
@@ -92,19 +92,6 @@ pub struct ConvergenceResults {
     /// of the paper's rule, [`crate::analysis::StepChoice`]), measured like the others; `None`
     /// when the study was not given one.
     pub chosen: Option<ConvergencePoint>,
-}
-
-/// Runs each integrator at steps-per-revolution `spr·2^k` for `k in levels` and compares with a
-/// collocated reference at `spr·2^ref_level`. Revolutions and transient from `s`.
-pub fn convergence(
-    model: &Model,
-    s: &RunSettings,
-    speed_ratio: f64,
-    levels: &[u32],
-    ref_level: u32,
-    compare_revs: usize,
-) -> Result<ConvergenceResults> {
-    convergence_with(model, s, speed_ratio, levels, ref_level, compare_revs, None)
 }
 
 /// A run of `case` with `s`'s settings by `kind` at `spr·2^level` steps per revolution of
@@ -196,10 +183,12 @@ impl Reference {
     }
 }
 
-/// [`convergence`], and the run of `chosen` (settings returned by
-/// [`crate::analysis::choose`]: integrator and `dt_scale` set, Δt from the paper's rule)
-/// measured against the same reference as [`ConvergenceResults::chosen`].
-pub fn convergence_with(
+/// Runs each integrator at steps-per-revolution `spr·2^k` for `k in levels` and compares with
+/// a collocated reference at `spr·2^ref_level` (revolutions and transient from `s`); with
+/// `chosen` (settings returned by [`crate::analysis::choose`]: integrator and `dt_scale` set,
+/// Δt from the paper's rule), that run too, measured against the same reference
+/// ([`ConvergenceResults::chosen`]).
+pub fn convergence(
     model: &Model,
     s: &RunSettings,
     speed_ratio: f64,

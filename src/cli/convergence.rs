@@ -2,11 +2,7 @@
 
 use super::{default_out, finish, load, settings, Common, UnitArg};
 use anyhow::Result;
-use rubsim::analysis::{
-    self,
-    convergence::{convergence_with, COMPARE_REVOLUTIONS},
-    ConvergenceResults,
-};
+use rubsim::analysis::{self, convergence::COMPARE_REVOLUTIONS, ConvergenceResults};
 use rubsim::output::summary::{Base, ConvergenceBody, Summary};
 use rubsim::output::{csv, figures};
 use std::path::PathBuf;
@@ -43,7 +39,7 @@ pub fn convergence(
     let lv: Vec<u32> = (0..=levels).collect();
     let mut all = Vec::new();
     for v in &speeds {
-        let res = convergence_with(
+        let res = analysis::convergence(
             &model,
             &s,
             *v,

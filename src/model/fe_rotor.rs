@@ -199,14 +199,7 @@ impl FeRotor {
         };
         let node_axial = scalar_dofs(d.axial);
         let node_torsion = scalar_dofs(d.torsion);
-        let Triplets {
-            mt,
-            kt,
-            gt,
-            rt,
-            total_mass,
-            total_ip,
-        } = Triplets::assemble(d, &pedestal_dofs, &node_axial, &node_torsion);
+        let t = Triplets::assemble(d, &pedestal_dofs, &node_axial, &node_torsion);
         let unbalance = d
             .unbalances
             .iter()
@@ -227,20 +220,20 @@ impl FeRotor {
             torsional_supports: d.torsional_supports.clone(),
             free_axial: d.axial && !d.axial_supports.iter().any(|s| s.stiffness > 0.0),
             free_torsion: d.torsion && !d.torsional_supports.iter().any(|s| s.stiffness > 0.0),
-            m: Csc::from_triplets(ndof, ndof, &mt),
-            k_shaft: Csc::from_triplets(ndof, ndof, &kt),
-            g: Csc::from_triplets(ndof, ndof, &gt),
+            m: Csc::from_triplets(ndof, ndof, &t.mt),
+            k_shaft: Csc::from_triplets(ndof, ndof, &t.kt),
+            g: Csc::from_triplets(ndof, ndof, &t.gt),
             bearings: d.bearings.clone(),
             rayleigh: d.rayleigh,
             rayleigh_shaft: d
                 .rayleigh_shaft_only
-                .then(|| Csc::from_triplets(ndof, ndof, &rt)),
+                .then(|| Csc::from_triplets(ndof, ndof, &t.rt)),
             modal_damping: d.modal_damping,
             unbalance,
             disks: d.disks.clone(),
             pedestal_dofs,
-            total_mass,
-            total_polar_inertia: total_ip,
+            total_mass: t.total_mass,
+            total_polar_inertia: t.total_ip,
             refill: Refill {
                 k: Csc::zeros(0, 0),
                 c: Csc::zeros(0, 0),

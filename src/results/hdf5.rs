@@ -13,19 +13,17 @@
 //! buffered in blocks of about 256 KiB per dataset and appended block by block, so memory does
 //! not grow with the run.
 
-use super::hdf5_io::{attr, attr_str, close_on_exec, static_ds, Column};
+use super::hdf5_io::{attr, attr_str, close_on_exec, static_ds, vtkhdf_group, Column};
 use super::hdf5_spin::SpinColumns;
 use super::{Fields, FramePlan, FrameState, Layout, RunInfo};
 use crate::error::{Error, Result};
 use crate::model::Case;
-use h5::types::FixedAscii;
 use hdf5_metno as h5;
 use std::path::{Path, PathBuf};
 
 /// Name of the file, relative to the run's folder.
 pub const FILE: &str = "results.vtkhdf";
-/// VTKHDF format version written.
-pub const VTKHDF_VERSION: [i64; 2] = [2, 2];
+pub use super::hdf5_io::VTKHDF_VERSION;
 /// A column written only when its field is asked for.
 type MaybeColumn = Option<Column<f64>>;
 /// A point data column of `/VTKHDF/PointData`, its offsets column and what it holds.
@@ -446,13 +444,7 @@ fn stator_groups(f: &h5::File, layout: &Layout, case: &Case) -> h5::Result<()> {
 
 /// `/VTKHDF` with its version, type and the grid (points, connectivity, offsets, types).
 fn vtkhdf_grid(f: &h5::File, layout: &Layout) -> h5::Result<h5::Group> {
-    let v = f.create_group("VTKHDF")?;
-    v.new_attr_builder()
-        .with_data(&VTKHDF_VERSION[..])
-        .create("Version")?;
-    let ty = FixedAscii::<16>::from_ascii("UnstructuredGrid")
-        .map_err(|e| h5::Error::from(e.to_string().as_str()))?;
-    attr(&v, "Type", ty)?;
+    let v = vtkhdf_group(f)?;
     let g = &layout.grid;
     let npts = g.points.len();
     let nc = g.num_cells();

@@ -117,6 +117,22 @@ pub(super) fn attr_str(loc: &h5::Location, name: &str, v: &str) -> h5::Result<()
         .write_scalar(&s)
 }
 
+/// VTKHDF format version written.
+pub const VTKHDF_VERSION: [i64; 2] = [2, 2];
+
+/// The group `/VTKHDF` of `f` with its `Version` ([`VTKHDF_VERSION`]) and `Type`
+/// (`UnstructuredGrid`) attributes: what every VTKHDF file starts with.
+pub(super) fn vtkhdf_group(f: &h5::File) -> h5::Result<h5::Group> {
+    let v = f.create_group("VTKHDF")?;
+    v.new_attr_builder()
+        .with_data(&VTKHDF_VERSION[..])
+        .create("Version")?;
+    let ty = h5::types::FixedAscii::<16>::from_ascii("UnstructuredGrid")
+        .map_err(|e| h5::Error::from(e.to_string().as_str()))?;
+    attr(&v, "Type", ty)?;
+    Ok(v)
+}
+
 /// Writes the scalar attribute `name` = `v` on `loc`.
 pub(super) fn attr<T: H5Type>(loc: &h5::Location, name: &str, v: T) -> h5::Result<()> {
     loc.new_attr::<T>().create(name)?.write_scalar(&v)

@@ -4,13 +4,11 @@
 //! the `displacement` of the [`super::modes::FRAMES`] frames of one period — that
 //! `pyvista.read`/ParaView animate. Layout: `docs/OUTPUTS.md`, "Mode shapes".
 
-use super::hdf5::VTKHDF_VERSION;
-use super::hdf5_io::{attr, attr_str, close_on_exec, static_ds};
+use super::hdf5_io::{attr, attr_str, close_on_exec, static_ds, vtkhdf_group};
 use super::modes::{frame_displacement, phases, shape_arrays, ShapeArrays, FRAMES};
 use crate::error::{Error, Result};
 use crate::linear::mode_shape::{node_shape, RotorLine};
 use crate::linear::modes::Mode;
-use h5::types::FixedAscii;
 use hdf5_metno as h5;
 use std::path::Path;
 
@@ -73,13 +71,7 @@ fn write_h5(
 /// step) and the frames' `displacement` (and `twist`).
 fn vtkhdf(f: &h5::File, line: &RotorLine, mode: &Mode) -> h5::Result<()> {
     let n = line.z.len();
-    let v = f.create_group("VTKHDF")?;
-    v.new_attr_builder()
-        .with_data(&VTKHDF_VERSION[..])
-        .create("Version")?;
-    let ty = FixedAscii::<16>::from_ascii("UnstructuredGrid")
-        .map_err(|e| h5::Error::from(e.to_string().as_str()))?;
-    attr(&v, "Type", ty)?;
+    let v = vtkhdf_group(f)?;
     static_ds(&v, "NumberOfPoints", &[1], &[n as i64], "")?;
     static_ds(&v, "NumberOfCells", &[1], &[1_i64], "")?;
     static_ds(&v, "NumberOfConnectivityIds", &[1], &[n as i64], "")?;

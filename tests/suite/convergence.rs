@@ -34,7 +34,7 @@ fn observed_orders_are_one_and_two() {
         ],
     );
     let s = settings(&ls);
-    let c = analysis::convergence(&model, &s, 1.7, &[0, 1, 2, 3, 4], 9, 6).unwrap();
+    let c = analysis::convergence(&model, &s, 1.7, &[0, 1, 2, 3, 4], 9, 6, None).unwrap();
     let order = |n: &str| c.orders.iter().find(|o| o.0 == n).unwrap().1;
     let fi = order("forward_increment");
     let co = order("collocated");

@@ -24,7 +24,8 @@ fn order(sets: &[&str], name: &str) -> (f64, f64) {
     ];
     all.extend_from_slice(sets);
     let (ls, model) = scene_model(&paper_single(), &all);
-    let c = analysis::convergence(&model, &settings(&ls), 1.7, &[0, 1, 2, 3, 4], 9, 6).unwrap();
+    let c =
+        analysis::convergence(&model, &settings(&ls), 1.7, &[0, 1, 2, 3, 4], 9, 6, None).unwrap();
     let p = c.orders.iter().find(|o| o.0 == name).unwrap().1;
     let finest = c
         .points
@@ -294,7 +295,7 @@ fn generalized_alpha_equals_the_converged_explicit_run_on_a_ring_with_mass() {
         Scheme::GeneralizedAlpha { rho_inf: 0.0 },
         "default ρ∞ on a ring with mass"
     );
-    let c = analysis::convergence(&model, &s, 1.7, &[0, 1, 2, 3], 9, 10).unwrap();
+    let c = analysis::convergence(&model, &s, 1.7, &[0, 1, 2, 3], 9, 10, None).unwrap();
     assert_eq!(c.reference_integrator, "collocated");
     assert_eq!(c.reference_period, 1);
     let ga: Vec<_> = c

@@ -350,7 +350,7 @@ fn convergence_shows_the_reduced_fe_rotor_beside_the_full_one() {
         &["run.revolutions=30", "run.transient_revolutions=15"],
     );
     let s = settings(&ls);
-    let c = analysis::convergence(&model, &s, 1.7, &[0, 1, 2, 3], 6, 10).unwrap();
+    let c = analysis::convergence(&model, &s, 1.7, &[0, 1, 2, 3], 6, 10, None).unwrap();
     let of = |name: &str| -> Vec<analysis::ConvergencePoint> {
         c.points
             .iter()
