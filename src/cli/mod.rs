@@ -278,7 +278,7 @@ pub enum Cmd {
         out: Option<PathBuf>,
     },
     /// Read a rotor saved by ROSS (`Rotor.save`, TOML or JSON) and write the equivalent rubsim scene
-    /// (what rubsim cannot represent is refused by the element's name).
+    /// (what rubsim cannot represent is refused at the ROSS file's line and key).
     ImportRoss {
         /// The ROSS file.
         file: PathBuf,

@@ -197,7 +197,11 @@ fn the_scene_is_written_by_a_serializer_and_nothing_is_injected() {
             "{name}: {scene}"
         );
         assert!(
-            scene.lines().filter(|l| l.starts_with("speed_ratio")).count() == 1,
+            scene
+                .lines()
+                .filter(|l| l.starts_with("speed_ratio"))
+                .count()
+                == 1,
             "{scene}"
         );
         common::parse(&scene, common::NO_SETS);
@@ -242,6 +246,11 @@ fn errors_name_the_ross_file_line_and_key() {
             vec![":11: key", ".L`", "not a finite number"],
         ),
         ("odl = 0.05", "odl = 0.0", vec![":13: key", ".odl`"]),
+        (
+            "beta = 0.0",
+            "beta = -1.0",
+            vec![":25: key", ".beta`", "zero or positive"],
+        ),
         (
             "E = 211000000000.0",
             "E = -1.0",

@@ -38,7 +38,7 @@
 //! value by up to √(number of points) in SI units (N/m, N·s/m). The scene says so above each
 //! tabulated bearing.
 //!
-//! What rubsim cannot represent is refused by the element's table name: elements that differ in
+//! What rubsim cannot represent is refused at the element's key: elements that differ in
 //! their switches or Rayleigh factors, axial force or torque on an element, bearing mass
 //! coefficients (`mxx … mzz` ≠ 0), speed-dependent kzz, bearings linked to another node
 //! (`n_link`), magnetic bearings (`MagneticBearingElement`, saved by ROSS as a
@@ -279,7 +279,13 @@ fn shaft(el: &Element) -> Result<Shaft, SceneError> {
     let mut flags = [0.0; 5];
     for (f, k) in flags.iter_mut().zip(FLAGS) {
         *f = match k {
-            "alpha" | "beta" => el.number_or(k, Some(0.0))?,
+            "alpha" | "beta" => match el.number_or(k, Some(0.0))? {
+                x if x < 0.0 => {
+                    let m = format!("`{k}` = {x}: Rayleigh factors must be zero or positive");
+                    return Err(el.error(k, m));
+                }
+                x => x,
+            },
             _ => f64::from(u8::from(el.flag(k, true)?)),
         };
     }
@@ -411,8 +417,15 @@ impl Origins {
     /// The scene's error `e` as an error in the ROSS file: at the ROSS key the scene's key
     /// came from (the nearest recorded one above it), the scene's key named in the message.
     fn translate(&self, src: &Source, e: SceneError) -> SceneError {
-        let SceneError::Invalid { key, message, .. } = e else {
-            return e;
+        let (key, message) = match e {
+            SceneError::Invalid { key, message, .. } => (key, message),
+            SceneError::Parse { file, message } => {
+                return SceneError::Parse {
+                    file,
+                    message: format!("the scene converted from it does not parse (a rubsim bug, please report it): {message}"),
+                }
+            }
+            e => return e,
         };
         let under = |scene: &str| key == scene || key.starts_with(&format!("{scene}."));
         let Some((scene, table, ross, label)) = self
@@ -465,12 +478,10 @@ impl Writer {
             ));
         }
         rotor.insert("rayleigh", Item::Value(floats(&flags[3..])));
-        origins.push((
-            "rotor.rayleigh".into(),
-            table.to_string(),
-            "alpha",
-            String::new(),
-        ));
+        for (key, ross) in [("", "alpha"), (".0", "alpha"), (".1", "beta")] {
+            let origin = (format!("rotor.rayleigh{key}"), table.to_string(), ross);
+            origins.push((origin.0, origin.1, origin.2, String::new()));
+        }
         rotor.insert("rayleigh_on", toml_edit::value("shaft"));
         Writer {
             rotor,
