@@ -99,7 +99,13 @@ fn write(out: &Path, text: &str) -> Result<()> {
         .write(true)
         .create_new(true)
         .open(&tmp)
-        .with_context(|| format!("{}: cannot create the temporary file", tmp.display()))?;
+        .with_context(|| {
+            format!(
+                "{}: cannot write the scene: cannot create the temporary file {} beside it",
+                out.display(),
+                tmp.display()
+            )
+        })?;
     write_atomic(&tmp, out, text.as_bytes(), || {}).inspect_err(|_| {
         let _ = fs::remove_file(&tmp);
     })?;
