@@ -16,6 +16,7 @@ macro_rules! println {
 mod bench;
 mod check;
 mod convergence;
+mod import_ross;
 mod map;
 mod mesh;
 mod refine;
@@ -277,13 +278,18 @@ pub enum Cmd {
         out: Option<PathBuf>,
     },
     /// Read a rotor saved by ROSS (`Rotor.save`, TOML or JSON) and write the equivalent rubsim scene
-    /// (what rubsim cannot represent is refused by the element's name).
+    /// (what rubsim cannot represent is refused at the ROSS file's line and key).
     ImportRoss {
         /// The ROSS file.
         file: PathBuf,
-        /// The scene to write (default: standard output).
+        /// The scene to write (default: standard output). An existing file is refused
+        /// unless `--force` is given; the ROSS file itself and symbolic links always are; the
+        /// file is written whole or not at all (temporary file, then rename).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Overwrite an existing `--out` file (never the ROSS file, never through a link).
+        #[arg(long)]
+        force: bool,
     },
     /// The JSON Schema of scene files (draft 7, for editors: taplo / Even Better TOML), printed
     /// or written to `--out`; `--markdown FILE` writes the key reference (docs/SCENE.md)
@@ -591,25 +597,9 @@ pub fn run() -> Result<()> {
             reference,
             ..
         } => bench::bench(c, *repeat, *reference),
-        Cmd::ImportRoss { file, out } => import_ross(file, out.as_deref()),
+        Cmd::ImportRoss { file, out, force } => {
+            import_ross::import_ross(file, out.as_deref(), *force)
+        }
         Cmd::Schema { out, markdown } => schema::schema(out.as_deref(), markdown.as_deref()),
     }
-}
-
-/// `rubsim import-ross FILE [--out SCENE]`: the scene of a ROSS rotor, checked by building its
-/// model before it is written.
-fn import_ross(file: &Path, out: Option<&Path>) -> Result<()> {
-    let text = std::fs::read_to_string(file)
-        .with_context(|| format!("{}: cannot read the ROSS file", file.display()))?;
-    let scene_text = rubsim::scene::ross::import(file, &text)?;
-    let ls = scene::parse(file, &scene_text, &[])
-        .with_context(|| format!("{}: the imported scene is not valid", file.display()))?;
-    Model::from_scene(&ls)
-        .with_context(|| format!("{}: building the imported rotor", file.display()))?;
-    match out {
-        Some(p) => std::fs::write(p, &scene_text)
-            .with_context(|| format!("{}: cannot write the scene", p.display()))?,
-        None => print!("{scene_text}"),
-    }
-    Ok(())
 }

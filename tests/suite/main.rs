@@ -27,6 +27,7 @@ mod fuzz_corpus;
 mod gmsh_guard;
 mod hardening;
 mod implicit;
+mod import_ross;
 mod io;
 mod mesh;
 mod mutation;
