@@ -346,3 +346,28 @@ fn the_last_mutants_refused_without_their_key_now_name_it() {
         ],
     );
 }
+
+#[test]
+fn slurm_numbers_that_would_wrap_around_are_refused() {
+    // MIN = 2⁶⁴ − 1 with COUNT = 3 made MIN + COUNT wrap to 2 = MAX + 1: the contiguity check
+    // passed and the task ran as shard 1/3.
+    let tmp = tempfile::tempdir().unwrap();
+    let max = u64::MAX.to_string();
+    let o = common::cli::command(&repo(""))
+        .args(["sweep", STUDY, "--out"])
+        .arg(tmp.path().join("d"))
+        .env("SLURM_ARRAY_TASK_ID", &max)
+        .env("SLURM_ARRAY_TASK_MIN", &max)
+        .env("SLURM_ARRAY_TASK_MAX", "1")
+        .env("SLURM_ARRAY_TASK_COUNT", "3")
+        .output()
+        .unwrap();
+    let err = common::cli::text(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.contains("SLURM_ARRAY_TASK_MIN=18446744073709551615")
+            && err.contains("is not a task number"),
+        "{err}"
+    );
+    assert!(!tmp.path().join("d").exists(), "nothing written: {err}");
+}
