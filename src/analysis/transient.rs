@@ -101,6 +101,20 @@ pub fn prepare_transient(
         .into());
     }
     let plan = plan_duration(&case, &settings.step, top, profile.duration())?;
+    // The spin angle is at most the top speed over the whole duration.
+    let most_revs = top * profile.duration() / (2.0 * std::f64::consts::PI);
+    if spec.window_revolutions as f64 > most_revs.floor().max(1.0) {
+        return Err(ModelError::Inconsistent {
+            what: "run.speed_profile.window_revolutions".into(),
+            message: format!(
+                "{} revolutions per order-tracking window, but the profile turns at most {:.0} revolutions (its top speed {top:.4e} rad/s over {:.4e} s): no window fits",
+                spec.window_revolutions,
+                most_revs.floor(),
+                profile.duration()
+            ),
+        }
+        .into());
+    }
     let mut orders = vec![1.0, 0.5, 1.0 / 3.0];
     for o in &spec.orders {
         if !orders.iter().any(|k| (k - o).abs() < 1e-12) {
@@ -467,6 +481,10 @@ pub fn track_orders(
         return Vec::new();
     }
     let revs = (phi[n - 1] / (2.0 * PI)).floor() as usize;
+    if w > revs {
+        // No window fits: nothing to resample (a buffer of w revolutions is never allocated).
+        return Vec::new();
+    }
     let mut out = Vec::new();
     let mut cursor = 0usize;
     let big_n = w * PER_REV;

@@ -371,3 +371,68 @@ fn slurm_numbers_that_would_wrap_around_are_refused() {
     );
     assert!(!tmp.path().join("d").exists(), "nothing written: {err}");
 }
+
+#[test]
+fn sizes_that_would_abort_on_memory_are_refused_with_their_estimate() {
+    // 20 000 elements: a 51 GB dense matrix aborted `check` (exit 134); 2 000: `check` ran for
+    // an hour and a half without a word. Both are refused before the model is built, naming
+    // the key, the DOFs and the estimate.
+    for (elements, needs) in [("20000", "≈ 307.23 GB"), ("2000", "≈ 94.0 min")] {
+        let err = refused(
+            FE,
+            &[
+                &format!("rotor.shaft.0.elements={elements}"),
+                &format!("rotor.bearing.1.node={elements}"),
+            ],
+            &[
+                "paper_rotor_rub.toml:14: key `rotor.shaft.0.elements`",
+                &format!("rotor.shaft.0.elements = {elements}"),
+                needs,
+                "above the limit of",
+            ],
+        );
+        assert!(!err.contains("memory allocation"), "{err}");
+    }
+    // Within the limit, `check` states the estimate.
+    let out = common::cli::ok(&repo(""), &["check", FE]);
+    assert!(
+        out.contains("for the dense operations of the model's set-up on its 36 DOFs"),
+        "{out}"
+    );
+    // A window of 10⁹ revolutions allocated 512 GB in `track_orders`: the run is refused before
+    // it starts, naming the key and how many revolutions the profile turns.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("o");
+    let (ok, _, err) = in_repo(&[
+        "run",
+        "scenes/transients/paper_runup.toml",
+        "--set",
+        "run.speed_profile.window_revolutions=1000000000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok, "{err}");
+    assert!(
+        err.contains("run.speed_profile.window_revolutions")
+            && err.contains("the profile turns at most 4778 revolutions"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing written: {err}");
+}
+
+#[test]
+fn order_tracking_with_a_window_longer_than_the_signal_allocates_nothing() {
+    // Three revolutions of signal and a window of usize::MAX revolutions: no window fits, and
+    // the w × 64 resampling buffer (a capacity overflow) is never asked for.
+    let t: Vec<f64> = (0..=300).map(|i| f64::from(i) * 0.01).collect();
+    let phi: Vec<f64> = t.iter().map(|t| 2.0 * std::f64::consts::PI * t).collect();
+    let x: Vec<f64> = phi.iter().map(|p| p.cos()).collect();
+    let orders = [1.0];
+    for w in [4, usize::MAX / 64, usize::MAX] {
+        assert!(rubsim::analysis::transient::track_orders(&t, &phi, &x, &orders, w).is_empty());
+    }
+    assert_eq!(
+        rubsim::analysis::transient::track_orders(&t, &phi, &x, &orders, 1).len(),
+        3
+    );
+}
