@@ -436,3 +436,105 @@ fn order_tracking_with_a_window_longer_than_the_signal_allocates_nothing() {
         3
     );
 }
+
+/// `rubsim check scene --set set…` (a path in the repository or an absolute one) fails
+/// cleanly naming every one of `needles`, with no sign of a saturated number or a run that
+/// started.
+fn transient_refused(scene: &str, sets: &[&str], needles: &[&str]) {
+    let err = refused(scene, sets, needles);
+    for bad in [
+        "18446744073709551615",
+        "4294967295",
+        "non-finite",
+        "diverged",
+    ] {
+        assert!(!err.contains(bad), "{sets:?}: {err}");
+    }
+}
+
+#[test]
+fn absurd_speed_profiles_are_refused_by_check_naming_the_key() {
+    const RUNUP: &str = "scenes/transients/paper_runup.toml";
+    const TABLE: &str = "scenes/transients/paper_runup_coastdown.toml";
+    // A ramp in 1e-300 s: "18446744073709551615 steps/rev", then "non-finite value at step 1".
+    // Now below the smallest magnitude, with its line; 1e-20 s is a single step of the run.
+    transient_refused(
+        RUNUP,
+        &["run.speed_profile.duration=1e-300"],
+        &[
+            "paper_runup.toml:51: key `run.speed_profile.duration`",
+            "below 1e-50",
+        ],
+    );
+    transient_refused(
+        RUNUP,
+        &["run.speed_profile.duration=1e-20"],
+        &["run.speed_profile.duration", "a single time step"],
+    );
+    // The same by an acceleration of 1e300.
+    let tmp = tempfile::tempdir().unwrap();
+    let src = std::fs::read_to_string(repo(RUNUP)).unwrap();
+    let acc = tmp.path().join("acc.toml");
+    std::fs::write(&acc, src.replace("duration = 30.0", "acceleration = 1e300")).unwrap();
+    transient_refused(
+        acc.to_str().unwrap(),
+        &[],
+        &["run.speed_profile.acceleration", "a single time step"],
+    );
+    // A table jumping from 0.5 to 6 ω_n in 1e-300 s: "response diverged at step 1".
+    transient_refused(
+        TABLE,
+        &["run.speed_profile.points=[[0,0.5],[1e-300,6],[2,6]]"],
+        &["run.speed_profile.points.1", "below 1e-50"],
+    );
+    transient_refused(
+        TABLE,
+        &["run.speed_profile.points=[[0,0.5],[1e-9,6],[2,6]]"],
+        &["run.speed_profile.points.1", "less than one time step"],
+    );
+    // 10⁹ s: refused as before, but with the true number of revolutions (not 4294967295) and
+    // the profile named instead of `run.revolutions`.
+    transient_refused(
+        RUNUP,
+        &["run.speed_profile.duration=1e9"],
+        &[
+            "× 159282420040 revolutions",
+            "a shorter profile (`run.speed_profile`",
+        ],
+    );
+    // Three numbers in a point: the third was dropped.
+    let src = std::fs::read_to_string(repo(TABLE)).unwrap();
+    let three = tmp.path().join("three.toml");
+    std::fs::write(
+        &three,
+        src.replace("[[0.0, 0.5], [30.0", "[[0.0, 0.5, 7.0], [30.0"),
+    )
+    .unwrap();
+    transient_refused(
+        three.to_str().unwrap(),
+        &[],
+        &[
+            "line 41",
+            "`run.speed_profile.points.0` has 3 numbers",
+            "each point is [t, speed]",
+        ],
+    );
+}
+
+#[test]
+fn absurdly_small_values_are_refused_naming_their_key() {
+    // Finite and positive, but 1e-300: "rotor mass matrix … singular", or the stator blamed.
+    for (scene, set, key) in [
+        (FE, "rotor.shaft.0.length=1e-300", "`rotor.shaft.0.length`"),
+        (
+            FE,
+            "rotor.shaft.0.outer_diameter=1e-300",
+            "`rotor.shaft.0.outer_diameter`",
+        ),
+        (PAPER, "rotor.damping_ratio=1e-300", "`rotor.damping_ratio`"),
+        (PAPER, "stator.0.length=1e-300", "`stator.0.length`"),
+    ] {
+        let err = refused(scene, &[set], &[key, "below 1e-50 in magnitude"]);
+        assert!(!err.contains("singular"), "{set}: {err}");
+    }
+}

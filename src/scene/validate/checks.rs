@@ -122,6 +122,13 @@ pub const MAX_DAMPING_RATIO: f64 = 10.0;
 /// second moments, stiffnesses) overflow or lose every digit, and no physical value is near it.
 pub const MAX_MAGNITUDE: f64 = 1e100;
 
+/// Smallest magnitude of a number in a scene other than 0: below it the fourth powers of
+/// lengths (second moments of area) and the products of small factors underflow or lose every
+/// digit, the matrices turn singular and the error would blame some other part (a shaft
+/// 1e-300 m long gave "rotor mass matrix … singular", a damping ratio of 1e-300 blamed the
+/// stator). The Planck length is 1.6e-35 m.
+pub const MIN_MAGNITUDE: f64 = 1e-50;
+
 /// Which of two alternative keys a scene gives (e.g. `clearance` or `clearance_nd`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum OneOf<A, B> {
@@ -259,12 +266,18 @@ pub(crate) fn finite(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneErr
     bounded(ls, key, v)
 }
 
-/// `|v|` within [`MAX_MAGNITUDE`].
+/// `|v|` within [`MAX_MAGNITUDE`], and zero or at least [`MIN_MAGNITUDE`].
 pub(crate) fn bounded(ls: &LoadedScene, key: &str, v: f64) -> Result<(), SceneError> {
     if v.abs() > MAX_MAGNITUDE {
         return Err(ls.invalid(
             key,
             format!("{} is beyond {MAX_MAGNITUDE:e} in magnitude: no physical value is, and the model's arithmetic overflows", show(v)),
+        ));
+    }
+    if v != 0.0 && v.abs() < MIN_MAGNITUDE {
+        return Err(ls.invalid(
+            key,
+            format!("{} is below {MIN_MAGNITUDE:e} in magnitude (and not 0): no physical value is, and the model's arithmetic underflows", show(v)),
         ));
     }
     Ok(())
