@@ -101,6 +101,7 @@ pub fn prepare_transient(
         .into());
     }
     let plan = plan_duration(&case, &settings.step, top, profile.duration())?;
+    profile_fits(spec, &profile, omega_n, top, &plan)?;
     let mut orders = vec![1.0, 0.5, 1.0 / 3.0];
     for o in &spec.orders {
         if !orders.iter().any(|k| (k - o).abs() < 1e-12) {
@@ -119,6 +120,89 @@ pub fn prepare_transient(
         omega_n,
         rotor: model.rotor.clone(),
     })
+}
+
+/// The profile (speeds in `spec.unit`, ω_n for a ratio; `top` its top speed in rad/s) against
+/// the run's `plan` (its step Δt; a profile of one step is shorter than the step the run would
+/// take) and its order tracking: the run lasts at least one
+/// step; a ramp's change of speed too (`duration`, or `acceleration`: |to − from|/|a|); a
+/// table's interval across which the speed changes too (`points.i`) — shorter, the speed
+/// would jump within a step, Ω̇ beyond anything the step resolves; and a window of
+/// `window_revolutions` fits in the revolutions the profile turns at most (its top speed over
+/// its duration).
+///
+/// # Errors
+/// [`ModelError::Inconsistent`] naming the key.
+fn profile_fits(
+    spec: &SpeedProfileSpec,
+    profile: &SpeedProfile,
+    omega_n: f64,
+    top: f64,
+    plan: &StepPlan,
+) -> std::result::Result<(), ModelError> {
+    let (dt, steps) = (plan.dt, plan.steps);
+    let u = spec.unit.to_rad_per_s(omega_n);
+    let bad = |key: &str, message: String| ModelError::Inconsistent {
+        what: format!("run.speed_profile.{key}"),
+        message,
+    };
+    let total = profile.duration();
+    // One step for the whole profile: Δt was shortened to its length, every change is in it.
+    let one_step = steps <= 1;
+    let jump = |lasts: f64, from: f64, to: f64| {
+        let step = if one_step {
+            "the run's whole profile is a single time step".to_string()
+        } else {
+            format!("less than one time step Δt = {dt:.4e} s")
+        };
+        format!(
+            "the speed goes from {from} to {to} in {lasts:e} s, {step} (Ω̇ = {:.3e} rad/s²): the step cannot resolve it; let the change last at least one step",
+            (to - from) * u / lasts
+        )
+    };
+    match (spec.kind, spec.from, spec.to) {
+        (ProfileKind::Ramp, Some(from), Some(to)) if from != to => {
+            let (key, lasts) = match (spec.duration, spec.acceleration) {
+                (Some(d), _) => ("duration", d),
+                (None, Some(a)) => ("acceleration", (to - from) / a),
+                (None, None) => ("duration", total),
+            };
+            if lasts < dt || one_step {
+                return Err(bad(key, jump(lasts, from, to)));
+            }
+        }
+        (ProfileKind::Table, ..) => {
+            let pts = spec.points.as_deref().unwrap_or_default();
+            for (i, w) in pts.windows(2).enumerate() {
+                let lasts = w[1][0] - w[0][0];
+                if w[1][1] != w[0][1] && (lasts < dt || one_step) {
+                    return Err(bad(
+                        &format!("points.{}", i + 1),
+                        jump(lasts, w[0][1], w[1][1]),
+                    ));
+                }
+            }
+        }
+        _ => {}
+    }
+    if one_step {
+        return Err(bad(
+            "duration",
+            format!("the profile lasts {total:e} s, a single time step of the run"),
+        ));
+    }
+    let most_revs = top * total / (2.0 * std::f64::consts::PI);
+    if spec.window_revolutions as f64 > most_revs.floor().max(1.0) {
+        return Err(bad(
+            "window_revolutions",
+            format!(
+                "{} revolutions per order-tracking window, but the profile turns at most {:.0} revolutions (its top speed {top:.4e} rad/s over {total:.4e} s): no window fits",
+                spec.window_revolutions,
+                most_revs.floor(),
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// One order-tracking window: `window_revolutions` whole revolutions of the spin angle.
@@ -467,6 +551,10 @@ pub fn track_orders(
         return Vec::new();
     }
     let revs = (phi[n - 1] / (2.0 * PI)).floor() as usize;
+    if w > revs {
+        // No window fits: nothing to resample (a buffer of w revolutions is never allocated).
+        return Vec::new();
+    }
     let mut out = Vec::new();
     let mut cursor = 0usize;
     let big_n = w * PER_REV;

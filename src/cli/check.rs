@@ -20,6 +20,12 @@ pub fn check(c: &Common) -> Result<()> {
         println!("override: {o}");
     }
     println!("rotor: {}", model.rotor.describe());
+    if let rubsim::model::Rotor::Fe(f) = &model.rotor {
+        println!(
+            "  {}",
+            rubsim::scene::validate::dense_rotor_cost(f.rotor.ndof).describe()
+        );
+    }
     let case = model.case(
         analysis::single_speed(&s.run, &model)
             .or_else(|| s.run.sweep.as_ref().map(|w| w.from))

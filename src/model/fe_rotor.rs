@@ -199,6 +199,14 @@ impl FeRotor {
         };
         let node_axial = scalar_dofs(d.axial);
         let node_torsion = scalar_dofs(d.torsion);
+        // Before anything n × n is allocated (the scene's validation refuses it first, naming
+        // the keys; this guards the library's callers).
+        if let Some(why) = crate::scene::validate::dense_rotor_cost(ndof).excess() {
+            return Err(ModelError::Inconsistent {
+                what: "FE rotor".into(),
+                message: format!("{why}: use fewer elements"),
+            });
+        }
         let t = Triplets::assemble(d, &pedestal_dofs, &node_axial, &node_torsion);
         let unbalance = d
             .unbalances

@@ -97,6 +97,7 @@ pub struct SpeedProfileSpec {
     /// Ramp: dΩ/dt (unit/s), the sign of `to − from`.
     pub acceleration: Option<f64>,
     /// Table: `[t, speed]` pairs.
+    #[serde(default, deserialize_with = "pairs")]
     pub points: Option<Vec<[f64; 2]>>,
     /// Table: how the points are joined (default `pchip`).
     #[serde(default)]
@@ -293,6 +294,25 @@ fn ramp_ok(ls: &LoadedScene, p: &SpeedProfileSpec) -> Result<(), SceneError> {
         }
     }
     Ok(())
+}
+
+/// `[[t, speed], …]` with exactly two numbers in each point: serde's `[f64; 2]` alone reads the
+/// first two of a longer array and drops the rest.
+fn pairs<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Vec<[f64; 2]>>, D::Error> {
+    let Some(points) = Option::<Vec<Vec<f64>>>::deserialize(d)? else {
+        return Ok(None);
+    };
+    (points.iter().enumerate())
+        .map(|(i, p)| {
+            <[f64; 2]>::try_from(p.as_slice()).map_err(|_| {
+                serde::de::Error::custom(format!(
+                    "`run.speed_profile.points.{i}` has {} numbers, {p:?}: each point is [t, speed]",
+                    p.len()
+                ))
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
 }
 
 /// Table points: finite times from 0, strictly increasing; speeds finite and ≥ 0.

@@ -16,9 +16,10 @@ mod stator;
 use super::*;
 use crate::error::SceneError;
 pub use checks::{
-    at_most_one, extra_station_index, mesh_plane, one_of, output_component, station_index, OneOf,
-    MAX_DAMPING_RATIO, MAX_MAGNITUDE, MAX_REVOLUTIONS, MAX_ROD_ELEMENTS, MAX_ROTOR_NODES,
-    MAX_SAMPLES_PER_REV, MAX_SWEEP_SPEEDS,
+    at_most_one, dense_rotor_cost, extra_station_index, mesh_plane, one_of, output_component,
+    station_index, DenseCost, OneOf, MAX_DAMPING_RATIO, MAX_DENSE_BYTES, MAX_DENSE_SECONDS,
+    MAX_MAGNITUDE, MAX_REVOLUTIONS, MAX_ROD_ELEMENTS, MAX_ROTOR_NODES, MAX_SAMPLES_PER_REV,
+    MAX_SWEEP_SPEEDS,
 };
 pub(crate) use rotor::damping_ratio_bound;
 use rotor::*;

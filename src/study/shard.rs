@@ -53,44 +53,80 @@ impl Shard {
     /// The shard of a Slurm array task, from `SLURM_ARRAY_TASK_ID`, `SLURM_ARRAY_TASK_MIN`
     /// and `SLURM_ARRAY_TASK_COUNT` (read through `var`): i = ID − MIN + 1, n = COUNT. `None`
     /// outside an array job. An array that is not contiguous (`--array=3,5`, a step) is
-    /// refused: its tasks do not number the shards; give `--shard i/n` then.
+    /// refused: its tasks do not number the shards; give `--shard i/n` then. Every number is
+    /// read whole and combined with checked arithmetic: a value that is not a whole number,
+    /// or whose sums would wrap around, is refused naming the variable, never run as some
+    /// other shard.
     ///
     /// # Errors
     /// [`Error::Shard`] naming the variables.
     pub fn from_slurm(var: impl Fn(&str) -> Option<String>) -> Result<Option<Self>> {
-        let Some(id) = var("SLURM_ARRAY_TASK_ID") else {
+        if var("SLURM_ARRAY_TASK_ID").is_none() {
             return Ok(None);
-        };
-        let get = |k: &str| var(k).and_then(|v| v.trim().parse::<usize>().ok());
-        let given = format!(
-            "SLURM_ARRAY_TASK_ID={id}, SLURM_ARRAY_TASK_MIN={}, SLURM_ARRAY_TASK_MAX={}, \
-             SLURM_ARRAY_TASK_COUNT={}",
-            var("SLURM_ARRAY_TASK_MIN").unwrap_or_default(),
-            var("SLURM_ARRAY_TASK_MAX").unwrap_or_default(),
-            var("SLURM_ARRAY_TASK_COUNT").unwrap_or_default()
-        );
+        }
+        let given = [
+            "SLURM_ARRAY_TASK_ID",
+            "SLURM_ARRAY_TASK_MIN",
+            "SLURM_ARRAY_TASK_MAX",
+            "SLURM_ARRAY_TASK_COUNT",
+        ]
+        .map(|k| format!("{k}={}", var(k).unwrap_or_default()))
+        .join(", ");
         let bad = |m: String| Error::Shard {
             given: given.clone(),
             message: m,
         };
+        // `None` when unset; an error when set but not a whole number.
+        let get = |k: &str| -> Result<Option<usize>> {
+            var(k)
+                .map(|v| {
+                    v.trim().parse::<usize>().map_err(|_| {
+                        bad(format!(
+                            "{k}=`{v}` is not a whole number from 0 to {}",
+                            usize::MAX
+                        ))
+                    })
+                })
+                .transpose()
+        };
         let (Some(id), Some(min), Some(count)) = (
-            get("SLURM_ARRAY_TASK_ID"),
-            get("SLURM_ARRAY_TASK_MIN"),
-            get("SLURM_ARRAY_TASK_COUNT"),
+            get("SLURM_ARRAY_TASK_ID")?,
+            get("SLURM_ARRAY_TASK_MIN")?,
+            get("SLURM_ARRAY_TASK_COUNT")?,
         ) else {
             return Err(bad(
-                "a Slurm array task without readable task numbers".into()
+                "a Slurm array task without SLURM_ARRAY_TASK_MIN and SLURM_ARRAY_TASK_COUNT".into(),
             ));
         };
-        let max = get("SLURM_ARRAY_TASK_MAX").unwrap_or(min + count.saturating_sub(1));
-        let step = get("SLURM_ARRAY_TASK_STEP").unwrap_or(1);
-        if step != 1 || max + 1 != min + count || id < min {
-            return Err(bad(
+        let not_contiguous = || {
+            bad(
                 "the array's tasks are not contiguous, so they do not number the shards; \
                  pass --shard i/n explicitly"
                     .into(),
-            ));
+            )
+        };
+        // MIN + COUNT − 1, the last task of a contiguous array; past usize::MAX it is none.
+        let last = count
+            .checked_sub(1)
+            .and_then(|c| min.checked_add(c))
+            .ok_or_else(|| {
+                bad(format!(
+                    "SLURM_ARRAY_TASK_MIN + SLURM_ARRAY_TASK_COUNT − 1 = {min} + {count} − 1 \
+                     is not a task number (COUNT must be at least 1 and the sum at most {})",
+                    usize::MAX
+                ))
+            })?;
+        let max = get("SLURM_ARRAY_TASK_MAX")?.unwrap_or(last);
+        let step = get("SLURM_ARRAY_TASK_STEP")?.unwrap_or(1);
+        if step != 1 || max != last {
+            return Err(not_contiguous());
         }
+        if !(min..=max).contains(&id) {
+            return Err(bad(format!(
+                "the task ID {id} is outside the array's tasks {min} to {max}"
+            )));
+        }
+        // id − min < count ≤ usize::MAX, so the index is count at most.
         Self::new(id - min + 1, count).map(Some).map_err(bad)
     }
 
@@ -134,4 +170,73 @@ pub fn shard_counts(dir: &Path) -> Vec<usize> {
     v.sort_unstable();
     v.dedup();
     v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn slurm(vars: &[(&str, &str)]) -> Result<Option<Shard>> {
+        Shard::from_slurm(|k| {
+            vars.iter()
+                .find(|(n, _)| *n == k)
+                .map(|(_, v)| (*v).to_string())
+        })
+    }
+
+    #[test]
+    fn a_contiguous_array_numbers_the_shards() {
+        let s = slurm(&[
+            ("SLURM_ARRAY_TASK_ID", "1"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+            ("SLURM_ARRAY_TASK_MAX", "2"),
+            ("SLURM_ARRAY_TASK_COUNT", "3"),
+        ]);
+        assert_eq!(s.unwrap(), Some(Shard { index: 2, count: 3 }));
+        assert_eq!(slurm(&[]).unwrap(), None);
+    }
+
+    #[test]
+    fn numbers_that_would_wrap_around_are_refused() {
+        let max = usize::MAX.to_string();
+        for (vars, says) in [
+            (
+                vec![
+                    ("MIN", max.as_str()),
+                    ("MAX", "1"),
+                    ("COUNT", "3"),
+                    ("ID", &max),
+                ],
+                "is not a task number",
+            ),
+            (
+                vec![("MIN", "0"), ("COUNT", "0"), ("ID", "0")],
+                "is not a task number",
+            ),
+            (
+                vec![("MIN", "0"), ("MAX", &max), ("COUNT", &max), ("ID", &max)],
+                "not contiguous",
+            ),
+            (
+                vec![("MIN", "1"), ("MAX", "3"), ("COUNT", "3"), ("ID", "0")],
+                "outside the array's tasks 1 to 3",
+            ),
+            (
+                vec![("MIN", "1"), ("MAX", "-1"), ("COUNT", "3"), ("ID", "1")],
+                "SLURM_ARRAY_TASK_MAX=`-1` is not a whole number",
+            ),
+            (
+                vec![("MIN", "1"), ("COUNT", "3"), ("ID", "99999999999999999999")],
+                "SLURM_ARRAY_TASK_ID=`99999999999999999999` is not a whole number",
+            ),
+        ] {
+            let named: Vec<(String, &str)> = vars
+                .iter()
+                .map(|(k, v)| (format!("SLURM_ARRAY_TASK_{k}"), *v))
+                .collect();
+            let refs: Vec<(&str, &str)> = named.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+            let err = slurm(&refs).expect_err(says).to_string();
+            assert!(err.contains(says), "{vars:?}: {err}");
+        }
+    }
 }

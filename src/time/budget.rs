@@ -15,6 +15,8 @@
 
 use super::plan::{sample_bytes, StepPlan, WINDOW_MULTIPLE};
 use crate::model::Case;
+/// How byte counts and durations are written (shared with the scene's size limits).
+pub use crate::scene::validate::checks::{bytes, duration};
 use serde::Serialize;
 
 /// Fixed cost of a step (ns): the Jeffcott rotor with a massless rod, 0.1 µs per step.
@@ -272,28 +274,6 @@ impl Budget {
             duration(self.wall_s),
             self.step_s * 1e6
         )
-    }
-}
-
-/// A byte count in kB, MB or GB.
-pub fn bytes(b: f64) -> String {
-    if b < 1e6 {
-        format!("{:.1} kB", b / 1e3)
-    } else if b < 1e9 {
-        format!("{:.1} MB", b / 1e6)
-    } else {
-        format!("{:.2} GB", b / 1e9)
-    }
-}
-
-/// A duration in s, min or h.
-pub fn duration(s: f64) -> String {
-    if s < 120.0 {
-        format!("{s:.2} s")
-    } else if s < 7200.0 {
-        format!("{:.1} min", s / 60.0)
-    } else {
-        format!("{:.1} h", s / 3600.0)
     }
 }
 

@@ -346,3 +346,195 @@ fn the_last_mutants_refused_without_their_key_now_name_it() {
         ],
     );
 }
+
+#[test]
+fn slurm_numbers_that_would_wrap_around_are_refused() {
+    // MIN = 2⁶⁴ − 1 with COUNT = 3 made MIN + COUNT wrap to 2 = MAX + 1: the contiguity check
+    // passed and the task ran as shard 1/3.
+    let tmp = tempfile::tempdir().unwrap();
+    let max = u64::MAX.to_string();
+    let o = common::cli::command(&repo(""))
+        .args(["sweep", STUDY, "--out"])
+        .arg(tmp.path().join("d"))
+        .env("SLURM_ARRAY_TASK_ID", &max)
+        .env("SLURM_ARRAY_TASK_MIN", &max)
+        .env("SLURM_ARRAY_TASK_MAX", "1")
+        .env("SLURM_ARRAY_TASK_COUNT", "3")
+        .output()
+        .unwrap();
+    let err = common::cli::text(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.contains("SLURM_ARRAY_TASK_MIN=18446744073709551615")
+            && err.contains("is not a task number"),
+        "{err}"
+    );
+    assert!(!tmp.path().join("d").exists(), "nothing written: {err}");
+}
+
+#[test]
+fn sizes_that_would_abort_on_memory_are_refused_with_their_estimate() {
+    // 20 000 elements: a 51 GB dense matrix aborted `check` (exit 134); 2 000: `check` ran for
+    // an hour and a half without a word. Both are refused before the model is built, naming
+    // the key, the DOFs and the estimate.
+    for (elements, needs) in [("20000", "≈ 307.23 GB"), ("2000", "≈ 94.0 min")] {
+        let err = refused(
+            FE,
+            &[
+                &format!("rotor.shaft.0.elements={elements}"),
+                &format!("rotor.bearing.1.node={elements}"),
+            ],
+            &[
+                "paper_rotor_rub.toml:14: key `rotor.shaft.0.elements`",
+                &format!("rotor.shaft.0.elements = {elements}"),
+                needs,
+                "above the limit of",
+            ],
+        );
+        assert!(!err.contains("memory allocation"), "{err}");
+    }
+    // Within the limit, `check` states the estimate.
+    let out = common::cli::ok(&repo(""), &["check", FE]);
+    assert!(
+        out.contains("for the dense operations of the model's set-up on its 36 DOFs"),
+        "{out}"
+    );
+    // A window of 10⁹ revolutions allocated 512 GB in `track_orders`: the run is refused before
+    // it starts, naming the key and how many revolutions the profile turns.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("o");
+    let (ok, _, err) = in_repo(&[
+        "run",
+        "scenes/transients/paper_runup.toml",
+        "--set",
+        "run.speed_profile.window_revolutions=1000000000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok, "{err}");
+    assert!(
+        err.contains("run.speed_profile.window_revolutions")
+            && err.contains("the profile turns at most 4778 revolutions"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing written: {err}");
+}
+
+#[test]
+fn order_tracking_with_a_window_longer_than_the_signal_allocates_nothing() {
+    // Three revolutions of signal and a window of usize::MAX revolutions: no window fits, and
+    // the w × 64 resampling buffer (a capacity overflow) is never asked for.
+    let t: Vec<f64> = (0..=300).map(|i| f64::from(i) * 0.01).collect();
+    let phi: Vec<f64> = t.iter().map(|t| 2.0 * std::f64::consts::PI * t).collect();
+    let x: Vec<f64> = phi.iter().map(|p| p.cos()).collect();
+    let orders = [1.0];
+    for w in [4, usize::MAX / 64, usize::MAX] {
+        assert!(rubsim::analysis::transient::track_orders(&t, &phi, &x, &orders, w).is_empty());
+    }
+    assert_eq!(
+        rubsim::analysis::transient::track_orders(&t, &phi, &x, &orders, 1).len(),
+        3
+    );
+}
+
+/// `rubsim check scene --set set…` (a path in the repository or an absolute one) fails
+/// cleanly naming every one of `needles`, with no sign of a saturated number or a run that
+/// started.
+fn transient_refused(scene: &str, sets: &[&str], needles: &[&str]) {
+    let err = refused(scene, sets, needles);
+    for bad in [
+        "18446744073709551615",
+        "4294967295",
+        "non-finite",
+        "diverged",
+    ] {
+        assert!(!err.contains(bad), "{sets:?}: {err}");
+    }
+}
+
+#[test]
+fn absurd_speed_profiles_are_refused_by_check_naming_the_key() {
+    const RUNUP: &str = "scenes/transients/paper_runup.toml";
+    const TABLE: &str = "scenes/transients/paper_runup_coastdown.toml";
+    // A ramp in 1e-300 s: "18446744073709551615 steps/rev", then "non-finite value at step 1".
+    // Now below the smallest magnitude, with its line; 1e-20 s is a single step of the run.
+    transient_refused(
+        RUNUP,
+        &["run.speed_profile.duration=1e-300"],
+        &[
+            "paper_runup.toml:51: key `run.speed_profile.duration`",
+            "below 1e-50",
+        ],
+    );
+    transient_refused(
+        RUNUP,
+        &["run.speed_profile.duration=1e-20"],
+        &["run.speed_profile.duration", "a single time step"],
+    );
+    // The same by an acceleration of 1e300.
+    let tmp = tempfile::tempdir().unwrap();
+    let src = std::fs::read_to_string(repo(RUNUP)).unwrap();
+    let acc = tmp.path().join("acc.toml");
+    std::fs::write(&acc, src.replace("duration = 30.0", "acceleration = 1e300")).unwrap();
+    transient_refused(
+        acc.to_str().unwrap(),
+        &[],
+        &["run.speed_profile.acceleration", "a single time step"],
+    );
+    // A table jumping from 0.5 to 6 ω_n in 1e-300 s: "response diverged at step 1".
+    transient_refused(
+        TABLE,
+        &["run.speed_profile.points=[[0,0.5],[1e-300,6],[2,6]]"],
+        &["run.speed_profile.points.1", "below 1e-50"],
+    );
+    transient_refused(
+        TABLE,
+        &["run.speed_profile.points=[[0,0.5],[1e-9,6],[2,6]]"],
+        &["run.speed_profile.points.1", "less than one time step"],
+    );
+    // 10⁹ s: refused as before, but with the true number of revolutions (not 4294967295) and
+    // the profile named instead of `run.revolutions`.
+    transient_refused(
+        RUNUP,
+        &["run.speed_profile.duration=1e9"],
+        &[
+            "× 159282420040 revolutions",
+            "a shorter profile (`run.speed_profile`",
+        ],
+    );
+    // Three numbers in a point: the third was dropped.
+    let src = std::fs::read_to_string(repo(TABLE)).unwrap();
+    let three = tmp.path().join("three.toml");
+    std::fs::write(
+        &three,
+        src.replace("[[0.0, 0.5], [30.0", "[[0.0, 0.5, 7.0], [30.0"),
+    )
+    .unwrap();
+    transient_refused(
+        three.to_str().unwrap(),
+        &[],
+        &[
+            "line 41",
+            "`run.speed_profile.points.0` has 3 numbers",
+            "each point is [t, speed]",
+        ],
+    );
+}
+
+#[test]
+fn absurdly_small_values_are_refused_naming_their_key() {
+    // Finite and positive, but 1e-300: "rotor mass matrix … singular", or the stator blamed.
+    for (scene, set, key) in [
+        (FE, "rotor.shaft.0.length=1e-300", "`rotor.shaft.0.length`"),
+        (
+            FE,
+            "rotor.shaft.0.outer_diameter=1e-300",
+            "`rotor.shaft.0.outer_diameter`",
+        ),
+        (PAPER, "rotor.damping_ratio=1e-300", "`rotor.damping_ratio`"),
+        (PAPER, "stator.0.length=1e-300", "`stator.0.length`"),
+    ] {
+        let err = refused(scene, &[set], &[key, "below 1e-50 in magnitude"]);
+        assert!(!err.contains("singular"), "{set}: {err}");
+    }
+}

@@ -109,6 +109,7 @@ pub(super) fn node_ok(
 
 pub(super) fn validate_fe_rotor(ls: &LoadedScene, f: &FeRotorSpec) -> Result<(), SceneError> {
     let nodes = validate_shaft(ls, f)?;
+    dense_ok(ls, f, nodes)?;
     validate_disks(ls, f, nodes)?;
     validate_bearings(ls, f, nodes)?;
     validate_supports(ls, f, nodes)?;
@@ -142,6 +143,31 @@ pub(super) fn validate_fe_rotor(ls: &LoadedScene, f: &FeRotorSpec) -> Result<(),
         node_ok(ls, "output.node".into(), n, nodes)?;
     }
     Ok(())
+}
+
+/// The rotor's DOFs (4 a shaft node, 2 a pedestal, 1 a node's axial and torsional DOF each)
+/// within what its dense operations may cost ([`dense_rotor_cost`]); the error names the
+/// segment with the most elements and every segment's count.
+fn dense_ok(ls: &LoadedScene, f: &FeRotorSpec, nodes: usize) -> Result<(), SceneError> {
+    let per_node = 4 + usize::from(f.axial) + usize::from(f.torsion);
+    let pedestals = f.bearing.iter().filter(|b| b.pedestal.is_some()).count();
+    let dofs = nodes.saturating_mul(per_node).saturating_add(2 * pedestals);
+    let Some(why) = dense_rotor_cost(dofs).excess() else {
+        return Ok(());
+    };
+    let (most, _) = (f.shaft.iter().enumerate())
+        .max_by_key(|(i, s)| (s.elements, std::cmp::Reverse(*i)))
+        .unwrap_or((0, &f.shaft[0]));
+    let keys: Vec<String> = (f.shaft.iter().enumerate())
+        .map(|(i, s)| format!("rotor.shaft.{i}.elements = {}", s.elements))
+        .collect();
+    Err(ls.invalid(
+        &format!("rotor.shaft.{most}.elements"),
+        format!(
+            "the FE rotor ({}) {why}: use fewer elements",
+            keys.join(", ")
+        ),
+    ))
 }
 
 /// Checks the shaft segments; returns the number of shaft nodes.
