@@ -447,30 +447,16 @@ pub fn plan_duration(
     let steps_f = (duration / c.dt - 1e-9).ceil().max(1.0);
     // `as` saturates: at usize::MAX (≈ 1.8e19) rather than a wrapped or u32-capped count.
     let revolutions = (duration / t_rev).ceil() as usize;
-    check_steps(case, p, &c, steps_f, t_rev / c.dt, revolutions, t_rev).map_err(|e| match e {
+    check_steps(case, p, &c, steps_f, t_rev / c.dt, revolutions, t_rev).map_err(|mut e| {
         // A transient's length is its profile's, not `run.revolutions`: the last advice
         // (fewer revolutions or a larger budget) says so.
-        SolveError::TooManySteps {
-            steps,
-            steps_per_rev,
-            revolutions,
-            dt,
-            why,
-            max,
-            advice,
-        } => SolveError::TooManySteps {
-            advice: format!(
+        if let SolveError::TooManySteps { advice, .. } = &mut e {
+            *advice = format!(
                 "{}a shorter profile (`run.speed_profile`, {duration:e} s) or, for a run that is meant, a larger `run.max_steps`",
                 advice.rsplit_once("; ").map_or(String::new(), |(a, _)| format!("{a}; "))
-            ),
-            steps,
-            steps_per_rev,
-            revolutions,
-            dt,
-            why,
-            max,
-        },
-        e => e,
+            );
+        }
+        e
     })?;
     let steps = steps_f as usize;
     let dt = duration / steps as f64;
