@@ -7,7 +7,7 @@ use crate::common;
 
 use common::cli::command;
 use common::meshes::gmsh_wanted;
-use common::output::{array, cells, has_array, ints, points, pvd, run, run_scene, vectors3, vtu};
+use common::output::{array, cells, has_array, ints, points, pvd, run, vectors3, vtu};
 use common::{data, file_model, repo, settings, NO_SETS};
 use rubsim::output::MANIFEST;
 use rubsim::results::{FramePlan, Layout};
@@ -679,7 +679,7 @@ mod hdf5_file {
         let (_, model) = file_model(&scene, &sets);
         let case = model.case(speed * model.rotor.natural_frequency()).unwrap();
         let layout = Layout::new(&model, &case);
-        run_scene(&scene, &sets, Some(speed), &dir);
+        common::output::run_scene(&scene, &sets, Some(speed), &dir);
 
         // The DOF map: lateral 4i..4i+4, no u_z, θ_z after every lateral DOF.
         let nn = case.rotor.node_dofs.len();
