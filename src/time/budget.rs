@@ -140,7 +140,9 @@ const LONGEST_REPEAT: usize = 42;
 /// companion over that whole run (at about 2Δt, or Δt/2 where 2Δt is not coarser or not stable)
 /// and, at a rub, the larger of the Δt/2 companion restarted from the end (`min(16, T_max)` +
 /// 42 revolutions at twice the steps per revolution) and the 4Δt one over the whole run; the
-/// coexistence check's companion at most `T_max + max(W, 42)` revolutions at the run's step.
+/// coexistence check's companion at most `T_max + max(W, 42, classify)` revolutions at the
+/// run's step (it settles as the run does and a window of it that is not periodic is
+/// lengthened as the run's is, `analysis::RunRequest::coexistence`).
 /// A fixed window takes its plan only: the run, the companions over the same window (no
 /// Δt/2 restart) and no coexistence check — planned and most agree.
 pub fn step_bounds(plan: &StepPlan, l: &Lengthening, rub: bool) -> StepBounds {
@@ -186,7 +188,8 @@ pub fn step_bounds(plan: &StepPlan, l: &Lengthening, rub: bool) -> StepBounds {
     let run_most = (((t_max + w.max(l.classify_revolutions)) * spr) as f64).min(cap);
     let companions_most = companions(run_most, t_max as f64, true);
     let coexistence_most = if l.coexistence && rub {
-        (((t_max + w.max(LONGEST_REPEAT)) * spr) as f64).min(cap)
+        let window = w.max(LONGEST_REPEAT).max(l.classify_revolutions);
+        (((t_max + window) * spr) as f64).min(cap)
     } else {
         0.0
     };
@@ -343,6 +346,13 @@ mod tests {
             "{b:?}"
         );
         assert_eq!(b.most, b.run_most + b.companions_most + b.coexistence_most);
+        // The coexistence companion settles as the run does and its window is lengthened as
+        // the run's is: up to 500 + 400 revolutions.
+        let wide = Lengthening {
+            max_steps: 1_000_000_000,
+            ..l
+        };
+        assert_eq!(step_bounds(&p, &wide, true).coexistence_most, 900.0 * 640.0);
         l.fixed = true;
         let b = step_bounds(&p, &l, true);
         assert_eq!((b.planned, b.most, b.run_most), (b.most, b.planned, main));
