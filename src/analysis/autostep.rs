@@ -455,6 +455,7 @@ fn finish(
         .map(|f| f.predicted(b.scale) + trunc)
         .fold(0.0, f64::max);
     let order_observed = b.fits.iter().map(|f| f.p_obs).fold(f64::NAN, f64::min);
+    let indices = pilot_indices(speeds.len());
     out.choice = Some(StepChoice {
         integrator: b.kind,
         dt_scale: b.scale,
@@ -468,11 +469,10 @@ fn finish(
         schemes_piloted: counts.2,
         reduction: b.reduction.map(|r| r.1),
         starts: std::array::from_fn(|i| {
-            let (&v, f) = (pilots.get(i)?, b.fits.get(i)?);
-            let speed_index = pilot_indices(speeds.len())[i];
+            let (&speed_index, f) = (indices.get(i)?, b.fits.get(i)?);
             f.end.map(|initial| PilotStart {
                 speed_index,
-                speed_ratio: v,
+                speed_ratio: speeds[speed_index],
                 initial,
             })
         }),

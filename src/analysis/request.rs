@@ -193,9 +193,7 @@ impl RunRequest {
         step.revolutions = super::pilot::PILOT_TRANSIENT + super::pilot::PILOT_WINDOW;
         Self {
             step,
-            window: Window::Fixed,
-            follow_ups: FollowUps::default(),
-            ..s.request(speed_ratio)
+            ..s.request(speed_ratio).fixed()
         }
     }
 
@@ -250,9 +248,7 @@ impl RunRequest {
         step.transient_revolutions = 0;
         Self {
             step,
-            window: Window::Fixed,
-            follow_ups: FollowUps::default(),
-            ..*self
+            ..self.fixed()
         }
     }
 
@@ -273,9 +269,7 @@ impl RunRequest {
         step.revolutions = transient + window;
         Self {
             step,
-            window: Window::Fixed,
-            follow_ups: FollowUps::default(),
-            ..*self
+            ..self.fixed()
         }
     }
 
@@ -313,7 +307,7 @@ impl RunRequest {
     }
 
     /// This run's plan as it stands, never lengthened and without follow-ups (the stress
-    /// probe's runs).
+    /// probe's runs; what every pilot, companion and study level is).
     pub fn fixed(&self) -> Self {
         Self {
             window: Window::Fixed,
