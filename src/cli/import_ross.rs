@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use rubsim::model::Model;
 use rubsim::output::durable::write_atomic;
 use rubsim::scene;
-use std::fs::{self, Metadata, OpenOptions};
+use std::fs::{self, Metadata};
 use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
 
@@ -82,9 +82,9 @@ fn same_file(a: &Metadata, b: &Metadata, pa: &Path, pb: &Path) -> bool {
     }
 }
 
-/// Writes `text` to `out` atomically: a new temporary file beside it (created exclusively, so
-/// never through a link), synced, renamed onto `out`; the temporary file is removed when any
-/// step fails.
+/// Writes `text` to `out` atomically: a temporary file beside it (never through a link,
+/// [`write_atomic`]), synced, renamed onto `out`; the temporary file is removed when any step
+/// fails.
 fn write(out: &Path, text: &str) -> Result<()> {
     let dir = match out.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -95,19 +95,9 @@ fn write(out: &Path, text: &str) -> Result<()> {
         .map(|n| n.to_string_lossy().to_string())
         .unwrap_or_default();
     let tmp = dir.join(format!(".{name}.import-ross-{}.tmp", std::process::id()));
-    OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp)
-        .with_context(|| {
-            format!(
-                "{}: cannot write the scene: cannot create the temporary file {} beside it",
-                out.display(),
-                tmp.display()
-            )
-        })?;
-    write_atomic(&tmp, out, text.as_bytes(), || {}).inspect_err(|_| {
-        let _ = fs::remove_file(&tmp);
-    })?;
-    Ok(())
+    write_atomic(&tmp, out, text.as_bytes(), || {})
+        .inspect_err(|_| {
+            let _ = fs::remove_file(&tmp);
+        })
+        .with_context(|| format!("{}: cannot write the scene", out.display()))
 }

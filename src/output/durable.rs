@@ -47,12 +47,19 @@ pub fn sync_dir(dir: &Path) -> Result<()> {
 /// Writes `bytes` to `path` atomically and durably: into the temporary file `tmp` (same
 /// folder), synced, then `before_rename()` (the output protocol's fault-injection point), the
 /// rename onto `path`, and the folder synced. A reader sees the old file or the whole new
-/// one; after a power loss, the new name never holds unwritten data.
+/// one; after a power loss, the new name never holds unwritten data. A symbolic link at `tmp`
+/// is not followed (opening it fails): the bytes go into a file of the folder, never through a
+/// link someone put at the temporary name.
 ///
 /// # Errors
-/// [`Error::Output`] naming the temporary file (write, sync) or `path` (rename, folder sync).
+/// [`Error::Output`] naming the temporary file (create, write, sync) or `path` (rename,
+/// folder sync).
 pub fn write_atomic(tmp: &Path, path: &Path, bytes: &[u8], before_rename: fn()) -> Result<()> {
-    let mut f = File::create(tmp).map_err(|e| Error::output(tmp, e))?;
+    let mut o = fs::OpenOptions::new();
+    o.write(true).create(true).truncate(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut o, libc::O_NOFOLLOW);
+    let mut f = o.open(tmp).map_err(|e| Error::output(tmp, e))?;
     f.write_all(bytes)
         .and_then(|()| f.sync_all())
         .map_err(|e| Error::output(tmp, e))?;
@@ -74,6 +81,16 @@ mod tests {
         write_atomic(&tmp, &p, b"two", || {}).unwrap();
         assert_eq!(fs::read(&p).unwrap(), b"two");
         assert!(!tmp.exists());
+        // A link at the temporary name is not written through.
+        #[cfg(unix)]
+        {
+            let target = d.path().join("elsewhere");
+            std::os::unix::fs::symlink(&target, &tmp).unwrap();
+            assert!(write_atomic(&tmp, &p, b"three", || {}).is_err());
+            assert!(!target.exists());
+            assert_eq!(fs::read(&p).unwrap(), b"two");
+            fs::remove_file(&tmp).unwrap();
+        }
         sync_file(&p).unwrap();
         sync_dir(d.path()).unwrap();
         // A missing file is an error naming it.
