@@ -103,6 +103,11 @@ impl Cholesky {
         self.n
     }
 
+    /// Stored entries of the factor `L` (its values; 8 bytes each): a solve reads each twice.
+    pub fn nnz(&self) -> usize {
+        self.values.len()
+    }
+
     /// Workspace for solves of up to `k` right-hand sides with
     /// [`Cholesky::solve_in_place_with`] (one allocation; sequential solves).
     pub fn solve_scratch(&self, k: usize) -> CholeskyScratch {

@@ -29,10 +29,16 @@ pub const NS_STATOR_DOF: f64 = 30.0;
 /// products with K_r, C_r and the solve with the factored operator (81 µs of CPU a step at
 /// r = 256, the annulus with mass at h = 3 mm: docs/PERFORMANCE.md).
 pub const NS_DENSE_ENTRY: f64 = 1.1;
-/// Cost per contact DOF of a massless stator beyond the first [`super::EAGER_DOFS`] and step
-/// (ns): 50–65 µs per step for meshed stators of about 200 contact DOFs with cached columns;
-/// a few contact DOFs (a rod, a ring) are part of [`NS_STEP`].
-pub const NS_CONTACT_DOF: f64 = 300.0;
+/// Cost per step of a massless meshed stator (more than [`super::EAGER_DOFS`] contact DOFs)
+/// in contact (ns): its broad phase, the flexibility blocks of the pairs entering the contact
+/// problem and the complementarity solve, which grow with the pairs in contact, not with the
+/// mesh — about 40–60 µs for the 3-D labyrinth seal in full annular rub (≈ 36 pairs selected,
+/// docs/PERFORMANCE.md §12); a few contact DOFs (a rod, a ring) are part of [`NS_STEP`].
+pub const NS_CONTACT_MESH: f64 = 50_000.0;
+/// Cost per entry of a massless stator's Cholesky factor and compliance column (ns): a column
+/// is one blocked forward and back solve, computed once per contact DOF that touches and kept
+/// for the stator's later runs; the estimate counts every contact DOF.
+pub const NS_FACTOR_ENTRY: f64 = 0.5;
 
 /// Up-front estimate of one run at one speed.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -43,7 +49,8 @@ pub struct Budget {
     pub companion_steps: f64,
     /// Bytes of the record (main run).
     pub record_bytes: f64,
-    /// Bytes of the matrices and compliance columns the loop holds (an upper bound).
+    /// Bytes of the matrices, factors and compliance columns the loop holds (an upper bound:
+    /// a massless stator's compliance among every contact DOF, `8·n_c(n_c+1)/2`).
     pub matrix_bytes: f64,
     /// Estimated cost of one step (s).
     pub step_s: f64,
@@ -214,7 +221,8 @@ pub fn step_bounds(plan: &StepPlan, l: &Lengthening, rub: bool) -> StepBounds {
 pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
     let n_rotor = case.loop_rotor().ndof as f64;
     let mut n_mass = 0.0;
-    let mut n_contact = 0.0;
+    let mut n_meshed = 0.0;
+    let mut columns_s = 0.0;
     let mut n_dense = 0.0;
     // Sparse matrices: about 12 bytes per stored entry (value and row index), six of them per
     // body (M, K, C and the step operators); compliance columns: 8 bytes × DOFs per contact DOF.
@@ -224,8 +232,20 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
         matrix_bytes += 2.0 * 12.0 * nnz;
         if s.massless() {
             let nc = s.contact_dofs().len() as f64;
-            n_contact += (nc - super::EAGER_DOFS as f64).max(0.0);
-            matrix_bytes += 8.0 * nc * s.ndof as f64;
+            if nc > super::EAGER_DOFS as f64 {
+                n_meshed += 1.0;
+            }
+            // The factor of K (a meshed stator's, factored when the model was built; an
+            // estimate of 30 entries per DOF otherwise) and the packed compliance among the
+            // contact DOFs, all of them touched: 8·nc(nc+1)/2 bytes.
+            let nnz_l = s
+                .mesh
+                .as_ref()
+                .and_then(|md| md.factor.get())
+                .and_then(|f| f.as_ref().ok())
+                .map_or(30.0 * s.ndof as f64, |f| f.nnz() as f64);
+            matrix_bytes += 8.0 * nnz_l + 4.0 * nc * (nc + 1.0);
+            columns_s += NS_FACTOR_ENTRY * 1e-9 * nnz_l * nc;
         } else if let Some(r) = &s.reduced {
             // The loop holds the reduced body (dense M_r, C_r, K_r, the step operator and its
             // factor), the fixed-interface modes Φ (n_I × modes) and the factor of K_II for
@@ -242,7 +262,7 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
         + NS_ROTOR_DOF * n_rotor
         + NS_STATOR_DOF * n_mass
         + NS_DENSE_ENTRY * n_dense
-        + NS_CONTACT_DOF * n_contact)
+        + NS_CONTACT_MESH * n_meshed)
         * 1e-9;
     let steps = plan.steps as f64;
     let companion_steps = if companion {
@@ -257,7 +277,7 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
         record_bytes: samples * sample_bytes(case.stations.len()),
         matrix_bytes,
         step_s,
-        wall_s: step_s * (steps + companion_steps),
+        wall_s: step_s * (steps + companion_steps) + columns_s,
     }
 }
 

@@ -1,8 +1,9 @@
 //! A massless stator in the loop (Eq. 49): the compliance `K⁻¹` of its contact DOFs.
 
 use crate::linalg::{Cholesky, CholeskyScratch, LinalgError};
-use crate::model::stator::MeshStatorData;
+use crate::model::stator::{ContactColumns, MeshStatorData};
 use crate::model::StatorModel;
+use std::cell::Cell;
 use std::sync::Arc;
 
 /// Boundaries with at most this many contact DOFs are condensed up front (every column of
@@ -10,14 +11,20 @@ use std::sync::Arc;
 /// first time a node enters a contact problem.
 pub const EAGER_DOFS: usize = 32;
 
-/// A massless stator condensed to its contact boundary (Eq. 49): the columns `K⁻¹ e_d` of the
-/// contact DOFs `d`, kept only at the contact DOFs (`ncd` numbers each), from one sparse
-/// Cholesky factor of K (shared by every run of a meshed stator). Small boundaries
-/// (≤ [`EAGER_DOFS`] contact DOFs) get every column up front; larger ones get a column
-/// the first time its DOF enters a contact problem, cached for the run. The loop's work is then
-/// proportional to the contact DOFs, not to the mesh: only the contact entries of `u` are kept
-/// current, and the full field is rebuilt by one solve when a frame asks for it
-/// ([`Compliance::refresh`]).
+/// A massless stator condensed to the contact DOFs that touch (Eq. 49): `u = F f` with
+/// `F = K⁻¹` and `f` the contact forces (N) applied since the stator was last undeformed, from
+/// one sparse Cholesky factor of K (shared by every run of a meshed stator).
+///
+/// What a step costs is what its contact problem holds, not the mesh nor the boundary:
+/// - `F` is kept only among the contact DOFs that have entered a contact problem
+///   ([`ContactColumns`], packed symmetric): a DOF's column is computed by a blocked solve the
+///   first time it is prepared ([`Compliance::ensure`]; small boundaries, ≤ [`EAGER_DOFS`]
+///   contact DOFs, all up front) and kept for the stator's later runs;
+/// - the forces are a short list (one entry per DOF pushed); applying one is O(1), undeforming
+///   the stator is O(forces), and the displacement of a DOF ([`Compliance::disp_at`]) is
+///   `Σ_k F[d, d_k] f_k` over that list;
+/// - the whole field is rebuilt by one solve only when a frame asks for it
+///   ([`Compliance::refresh`]).
 #[derive(Debug)]
 pub(crate) struct Compliance {
     chol: Option<Arc<Cholesky>>,
@@ -25,18 +32,25 @@ pub(crate) struct Compliance {
     /// allocates nothing.
     scratch: Option<Box<CholeskyScratch>>,
     /// Contact DOFs, sorted.
-    pub(crate) cd: Vec<usize>,
+    cd: Vec<usize>,
     /// Free DOF → index in `cd` (`usize::MAX` for interior DOFs).
     slot: Vec<usize>,
-    /// Contact slot → start of its column in `cols` (`usize::MAX` until computed).
-    col: Vec<usize>,
-    /// Cached columns, `cd.len()` entries each (rows at the contact DOFs).
-    cols: Vec<f64>,
-    /// Force applied at each contact slot since the last reset (N).
-    f: Vec<f64>,
-    /// Scratch of length n for column solves and refreshes.
+    /// Contact slot → index of its DOF in `cols.touched` (`usize::MAX` until computed).
+    loc: Vec<usize>,
+    /// The columns computed so far (this run's and the earlier runs').
+    cols: ContactColumns,
+    /// Per touched index `j`: block of its column and the column's start in it.
+    start: Vec<(usize, usize)>,
+    /// Forces applied since the last reset: (touched index, DOF, force in N), one entry per DOF.
+    forces: Vec<(usize, usize, f64)>,
+    /// Touched index → position in `forces` (`usize::MAX`: no force there).
+    fpos: Vec<usize>,
+    /// Entries of `F` read by the loop (flexibilities and displacements), the work counter of
+    /// [`super::RunStats::stator_reads`]; column solves and frames not counted.
+    reads: Cell<u64>,
+    /// Scratch of length n for refreshes.
     rhs: Vec<f64>,
-    /// Displacement (m): contact entries current, interior entries valid after `refresh`.
+    /// The whole displacement field (m), valid after [`Compliance::refresh`] only.
     pub(crate) u: Vec<f64>,
     /// A meshed stator's columns shared between its runs
     /// ([`MeshStatorData::compliance_columns`]): read at the start, written back at the end.
@@ -51,10 +65,8 @@ impl Drop for Compliance {
             .compliance_columns
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
-        let known = |c: &[usize]| c.iter().filter(|&&k| k != usize::MAX).count();
-        if g.0.len() != self.col.len() || known(&self.col) > known(&g.0) {
-            g.0 = std::mem::take(&mut self.col);
-            g.1 = std::mem::take(&mut self.cols);
+        if self.cols.touched.len() > g.touched.len() {
+            *g = std::mem::take(&mut self.cols);
         }
     }
 }
@@ -79,9 +91,12 @@ impl Compliance {
         let mut c = Self {
             scratch: chol.as_ref().map(|ch| Box::new(ch.solve_scratch(1))),
             chol,
-            col: vec![usize::MAX; ncd],
-            cols: Vec::with_capacity(ncd * ncd.min(EAGER_DOFS.max(16))),
-            f: vec![0.0; ncd],
+            loc: vec![usize::MAX; ncd],
+            cols: ContactColumns::default(),
+            start: Vec::new(),
+            forces: Vec::new(),
+            fpos: Vec::new(),
+            reads: Cell::new(0),
             rhs: vec![0.0; n],
             u: vec![0.0; n],
             cd,
@@ -93,50 +108,76 @@ impl Compliance {
                 .compliance_columns
                 .lock()
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
-            if g.0.len() == ncd {
-                c.col.clone_from(&g.0);
-                c.cols.clone_from(&g.1);
-            }
+            c.adopt(&g);
         }
-        if ncd <= EAGER_DOFS && c.col.contains(&usize::MAX) {
-            c.col.fill(usize::MAX);
-            c.cols.clear();
-            // One blocked solve for every column.
-            let n = c.rhs.len();
-            let mut block = vec![0.0; n * ncd];
-            for (j, &d) in c.cd.iter().enumerate() {
-                block[j * n + d] = 1.0;
-            }
-            if let Some(ch) = &c.chol {
-                ch.solve_in_place(&mut block);
-            }
-            for j in 0..ncd {
-                c.col[j] = c.cols.len();
-                let col = &block[j * n..(j + 1) * n];
-                let cd = &c.cd;
-                c.cols.extend(cd.iter().map(|&e| col[e]));
-            }
+        if ncd <= EAGER_DOFS && c.loc.contains(&usize::MAX) {
+            c.compute(
+                &(0..ncd)
+                    .filter(|&j| c.loc[j] == usize::MAX)
+                    .collect::<Vec<_>>(),
+            );
         }
         Ok(c)
     }
+
+    /// Starts from the columns earlier runs computed (blocks shared, not copied).
+    fn adopt(&mut self, store: &ContactColumns) {
+        let contact = |d: usize| self.slot.get(d).is_some_and(|&s| s != usize::MAX);
+        if !store.touched.iter().all(|&d| contact(d)) {
+            return;
+        }
+        let mut j = 0;
+        for (b, blk) in store.blocks.iter().enumerate() {
+            let mut off = 0;
+            while off < blk.len() {
+                self.start.push((b, off));
+                off += j + 1;
+                j += 1;
+            }
+        }
+        if j != store.touched.len() {
+            self.start.clear();
+            return;
+        }
+        for (k, &d) in store.touched.iter().enumerate() {
+            self.loc[self.slot[d]] = k;
+        }
+        self.fpos = vec![usize::MAX; j];
+        self.cols = store.clone();
+    }
+
     /// Columns computed together when one is missing: the next missing contact DOFs in DOF
     /// order, which for a meshed boundary are its neighbours (one blocked solve is several
     /// times cheaper per column than single ones).
     const BATCH: usize = 16;
 
-    /// Computes the column of contact DOF `d` (and a batch after it) if it is not cached yet.
+    /// Computes the column of contact DOF `d` (and a batch after it) if it is not known yet.
+    #[inline]
     pub(crate) fn ensure(&mut self, d: usize) {
         let j = self.slot[d];
-        if self.col[j] != usize::MAX {
-            return;
+        if self.loc[j] == usize::MAX {
+            self.ensure_slow(j);
         }
+    }
+
+    #[cold]
+    fn ensure_slow(&mut self, j: usize) {
         let ncd = self.cd.len();
-        let n = self.rhs.len();
         let batch: Vec<usize> = (0..ncd)
             .map(|k| (j + k) % ncd)
-            .filter(|&s| self.col[s] == usize::MAX)
+            .filter(|&s| self.loc[s] == usize::MAX)
             .take(Self::BATCH)
             .collect();
+        self.compute(&batch);
+    }
+
+    /// One blocked solve for the contact slots `batch` (none known yet): their columns packed
+    /// after the known ones, rows at every touched DOF up to their own.
+    fn compute(&mut self, batch: &[usize]) {
+        if batch.is_empty() {
+            return;
+        }
+        let n = self.rhs.len();
         let mut block = vec![0.0; n * batch.len()];
         for (b, &s) in batch.iter().enumerate() {
             block[b * n + self.cd[s]] = 1.0;
@@ -144,40 +185,122 @@ impl Compliance {
         if let Some(ch) = &self.chol {
             ch.solve_in_place(&mut block);
         }
-        for (b, &s) in batch.iter().enumerate() {
-            self.col[s] = self.cols.len();
-            let c = &block[b * n..(b + 1) * n];
-            self.cols.extend(self.cd.iter().map(|&e| c[e]));
+        let m = self.cols.touched.len();
+        for &s in batch {
+            self.cols.touched.push(self.cd[s]);
         }
+        let bi = self.cols.blocks.len();
+        let mut packed = Vec::with_capacity(batch.len() * (m + batch.len()));
+        for (b, &s) in batch.iter().enumerate() {
+            self.loc[s] = m + b;
+            self.start.push((bi, packed.len()));
+            let x = &block[b * n..(b + 1) * n];
+            packed.extend(self.cols.touched[..=m + b].iter().map(|&e| x[e]));
+        }
+        self.cols.blocks.push(packed.into());
+        self.fpos.resize(m + batch.len(), usize::MAX);
     }
+
+    /// `F[i, j]` by touched indices.
+    #[inline]
+    fn entry(&self, i: usize, j: usize) -> f64 {
+        let (i, j) = if i <= j { (i, j) } else { (j, i) };
+        let (b, off) = self.start[j];
+        self.cols.blocks[b][off + i]
+    }
+
+    /// `F[a, b]` (m/N) of two prepared contact DOFs.
     #[inline]
     pub(crate) fn flex(&self, a: usize, b: usize) -> f64 {
-        let c = self.col[self.slot[b]];
-        debug_assert!(c != usize::MAX, "compliance column of DOF {b} not prepared");
-        self.cols[c + self.slot[a]]
+        let (la, lb) = (self.loc[self.slot[a]], self.loc[self.slot[b]]);
+        debug_assert!(
+            la != usize::MAX && lb != usize::MAX,
+            "compliance of DOFs {a}, {b} not prepared"
+        );
+        self.reads.set(self.reads.get() + 1);
+        self.entry(la, lb)
     }
+
+    /// The 2 × 2 block of `F` between two prepared targets' DOFs (m/N; 0 for a DOF a target
+    /// does not have).
+    #[inline]
+    pub(crate) fn block(&self, ti: [Option<usize>; 2], tj: [Option<usize>; 2]) -> [[f64; 2]; 2] {
+        let at = |d: Option<usize>| d.map(|d| self.loc[self.slot[d]]);
+        let (li, lj) = ([at(ti[0]), at(ti[1])], [at(tj[0]), at(tj[1])]);
+        let mut f = [[0.0; 2]; 2];
+        for (a, la) in li.iter().enumerate() {
+            for (b, lb) in lj.iter().enumerate() {
+                if let (Some(x), Some(y)) = (la, lb) {
+                    debug_assert!(*x != usize::MAX && *y != usize::MAX, "block not prepared");
+                    f[a][b] = self.entry(*x, *y);
+                }
+            }
+        }
+        self.reads.set(self.reads.get() + 4);
+        f
+    }
+
+    /// Displacement of contact DOF `d` (m): `Σ_k F[d, d_k] f_k` over the forces applied since
+    /// the last reset (0 without any; `d` must be prepared otherwise).
+    #[inline]
+    pub(crate) fn disp_at(&self, d: usize) -> f64 {
+        if self.forces.is_empty() {
+            return 0.0;
+        }
+        let l = self.slot.get(d).and_then(|&s| self.loc.get(s)).copied();
+        let Some(l) = l.filter(|&l| l != usize::MAX) else {
+            debug_assert!(false, "displacement of DOF {d} not prepared");
+            return 0.0;
+        };
+        self.reads.set(self.reads.get() + self.forces.len() as u64);
+        self.forces
+            .iter()
+            .map(|&(k, _, f)| self.entry(l, k) * f)
+            .sum()
+    }
+
+    /// Adds the force `f` (N) at contact DOF `d` (prepared by [`Compliance::ensure`] here).
     #[inline]
     pub(crate) fn apply(&mut self, d: usize, f: f64) {
         self.ensure(d);
-        let j = self.slot[d];
-        self.f[j] += f;
-        let c = &self.cols[self.col[j]..self.col[j] + self.cd.len()];
-        for (&e, v) in self.cd.iter().zip(c) {
-            self.u[e] += v * f;
+        let l = self.loc[self.slot[d]];
+        match self.fpos[l] {
+            usize::MAX => {
+                self.fpos[l] = self.forces.len();
+                self.forces.push((l, d, f));
+            }
+            k => self.forces[k].2 += f,
         }
     }
+
     /// Undeformed: no contact force (Eq. 49).
+    #[inline]
     pub(crate) fn reset(&mut self) {
-        for &e in &self.cd {
-            self.u[e] = 0.0;
+        for &(l, _, _) in &self.forces {
+            self.fpos[l] = usize::MAX;
         }
-        self.f.fill(0.0);
+        self.forces.clear();
     }
-    /// Rebuilds the whole displacement field from the contact forces (one solve).
+
+    /// The first DOF whose force is not finite (the displacement is finite where the forces
+    /// are: the columns are).
+    pub(crate) fn first_non_finite(&self) -> Option<usize> {
+        self.forces
+            .iter()
+            .find(|(_, _, f)| !f.is_finite())
+            .map(|&(_, d, _)| d)
+    }
+
+    /// Entries of `F` the loop has read so far.
+    pub(crate) fn reads(&self) -> u64 {
+        self.reads.get()
+    }
+
+    /// Rebuilds the whole displacement field `u` from the contact forces (one solve).
     pub(crate) fn refresh(&mut self) {
         self.rhs.fill(0.0);
-        for (&e, f) in self.cd.iter().zip(&self.f) {
-            self.rhs[e] = *f;
+        for &(_, d, f) in &self.forces {
+            self.rhs[d] += f;
         }
         if let (Some(ch), Some(s)) = (&self.chol, &mut self.scratch) {
             ch.solve_in_place_with(&mut self.rhs, s);

@@ -76,6 +76,13 @@ pub struct RunStats {
     pub contact_steps: usize,
     /// Total principal pivots of the complementarity solves.
     pub pivots: usize,
+    /// Entries of the massless stators' compliance `K⁻¹` the loop read (the flexibilities of
+    /// its contact problems and the displacements at their pairs): the work of the stator side
+    /// of the contact, which grows with the pairs in contact and not with the mesh. The column
+    /// solves (once per touched DOF, shared by later runs) and frames' field rebuilds are not
+    /// counted.
+    #[serde(default)]
+    pub stator_reads: u64,
     /// Energy taken by the contact dashpots over the run (J, `contact_damping`): Σ over steps
     /// and pairs of `D Δd` (normal) and `c (a·v)² Δt` (tangential, mode `"full"`).
     #[serde(default)]

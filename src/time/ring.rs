@@ -16,7 +16,6 @@
 use super::stepper::Stepper;
 use super::workspace::Held;
 use crate::contact::ring::align_normal;
-use crate::contact::target_disp;
 use crate::math::{dot, V2};
 use crate::model::Target;
 
@@ -48,7 +47,7 @@ impl Stepper<'_> {
             } = &case.stators[c.stator].targets[c.target]
             {
                 let uc = pairs.centre(ci, u);
-                let us = target_disp(*dofs, stators[c.stator].disp());
+                let us = stators[c.stator].target_disp(*dofs);
                 let d = [uc[0] - center0[0] - us[0], uc[1] - center0[1] - us[1]];
                 let st = &ws.states[ci];
                 ws.rel0[ci] = d;

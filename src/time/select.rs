@@ -10,7 +10,7 @@
 use super::stator::StatorDyn;
 use super::workspace::StepWorkspace;
 use crate::contact::search::BroadPhase;
-use crate::contact::{exact_gap, pair_state, target_disp, Candidate, PairState};
+use crate::contact::{exact_gap, pair_state, Candidate, PairState};
 use crate::math::V2;
 use crate::model::{Case, Target};
 
@@ -154,13 +154,13 @@ impl Pairs {
         [u[rd[0]], u[rd[1]]]
     }
 
-    /// Frozen geometry of candidate `ci` with the rotor at `u` and the stator at `stator_u`
-    /// (None: undeformed, the start of a massless stator's step).
+    /// Frozen geometry of candidate `ci` with the rotor at `u` and the stator as `stator` is
+    /// now (None: undeformed, the start of a massless stator's step).
     #[inline]
-    fn pair_at(&self, case: &Case, ci: usize, u: &[f64], stator_u: Option<&[f64]>) -> PairState {
+    fn pair_at(&self, case: &Case, ci: usize, u: &[f64], stator: Option<&StatorDyn>) -> PairState {
         let c = &self.cands[ci];
         let tg = &case.stators[c.stator].targets[c.target];
-        let us = stator_u.map_or([0.0; 2], |s| target_disp(tg.dofs(), s));
+        let us = stator.map_or([0.0; 2], |s| s.target_disp(tg.dofs()));
         let mut st = pair_state(tg, c.radius, self.centre(ci, u), us, self.omega);
         st.g += self.offset[c.stator];
         st
@@ -201,7 +201,7 @@ impl Pairs {
         stators: &[StatorDyn],
         phase: &Phase,
     ) -> bool {
-        let disp = |k: usize| phase.deformed.then(|| stators[k].disp());
+        let disp = |k: usize| phase.deformed.then(|| &stators[k]);
         ws.sel.clear();
         if let Some(list) = &phase.direct {
             return self.select_direct(case, ws, u, stators, phase.deformed, list);
@@ -239,7 +239,7 @@ impl Pairs {
         deformed: bool,
         list: &[usize],
     ) -> bool {
-        let disp = |k: usize| deformed.then(|| stators[k].disp());
+        let disp = |k: usize| deformed.then(|| &stators[k]);
         // Bit i: the pair `list[i]` has its geometry in `ws.states` (lists hold at most
         // DIRECT indexed targets, plus the dynamic ones, which are never screened).
         let mut fresh = 0u128;
@@ -261,8 +261,8 @@ impl Pairs {
         for (i, &ci) in list.iter().enumerate() {
             let screen = i < 128;
             if !screen || fresh & (1 << i) == 0 {
-                let stator_u = disp(self.cands[ci].stator);
-                match self.pair_near(case, ci, u, stator_u, deepest, screen) {
+                let stator = disp(self.cands[ci].stator);
+                match self.pair_near(case, ci, u, stator, deepest, screen) {
                     Some(st) => ws.states[ci] = st,
                     None => continue,
                 }
@@ -283,13 +283,13 @@ impl Pairs {
         case: &Case,
         ci: usize,
         u: &[f64],
-        stator_u: Option<&[f64]>,
+        stator: Option<&StatorDyn>,
         margin: f64,
         screen: bool,
     ) -> Option<PairState> {
         let c = &self.cands[ci];
         let tg = &case.stators[c.stator].targets[c.target];
-        let us = stator_u.map_or([0.0; 2], |s| target_disp(tg.dofs(), s));
+        let us = stator.map_or([0.0; 2], |s| s.target_disp(tg.dofs()));
         let uc = self.centre(ci, u);
         if let (true, Target::Node { x0, .. }) = (screen, tg) {
             let d = [x0[0] + us[0] - uc[0], x0[1] + us[1] - uc[1]];
@@ -303,20 +303,19 @@ impl Pairs {
     }
 
     /// Smallest exact gap (no frozen normal) of the selected pairs after their correction,
-    /// the rotor at `u` and the stators at their current displacement (m).
+    /// the rotor at `u` and each pair's stator target displaced by `us` (m).
     pub(crate) fn min_gap(
         &self,
         case: &Case,
         sel: &[usize],
         u: &[f64],
-        stators: &[StatorDyn],
+        us: &[V2],
         mut min: f64,
     ) -> f64 {
-        for &ci in sel {
+        for (&ci, us) in sel.iter().zip(us) {
             let c = &self.cands[ci];
             let tg = &case.stators[c.stator].targets[c.target];
-            let us = target_disp(tg.dofs(), stators[c.stator].disp());
-            min = min.min(exact_gap(tg, c.radius, self.centre(ci, u), us) + self.offset[c.stator]);
+            min = min.min(exact_gap(tg, c.radius, self.centre(ci, u), *us) + self.offset[c.stator]);
         }
         min
     }

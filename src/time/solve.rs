@@ -9,56 +9,61 @@
 //! loop. Ring targets re-align their frozen normal with the solved configuration and solve
 //! again (`super::ring`): their gap is exact, the ring's friction-driven displacement included.
 
+use super::blocks::Block;
 use super::frame::PairForce;
 use super::stator::StatorDyn;
 use super::stepper::Stepper;
 use super::workspace::{ForceSet, Held};
-use crate::contact::{lcp, target_disp};
+use crate::contact::lcp;
 use crate::error::SolveError;
 use crate::model::Target;
 
 impl Stepper<'_> {
-    /// Assembles `W` (row-major) and the gaps of the selected pairs into the workspace.
-    #[allow(clippy::needless_range_loop)]
+    /// Assembles `W` (row-major) and the gaps of the selected pairs into the workspace:
+    /// `W_ij = n_i · F_r(s_i, s_j) b_j` (the rotor's flexibility between the pairs' stations,
+    /// unless held) `+ n_i · F_s,ij s_j` (the stator's between their targets, when on one
+    /// stator; [`PairBlocks`] keeps those while the selection holds).
     fn assemble(&mut self, held: Held) {
         let (case, pairs, rotor, stators) = (self.case, &self.pairs, &self.rotor, &self.stators);
         let ws = &mut self.ws;
         let q = ws.sel.len();
-        let sel = &ws.sel;
-        for (i, &ci) in sel.iter().enumerate() {
+        ws.blocks
+            .update(&ws.sel, |ci, cj| stator_block(case, pairs, stators, ci, cj));
+        let ns = pairs.station_dofs.len();
+        if held == Held::No {
+            for (s, rs) in pairs.station_dofs.iter().enumerate() {
+                for (t, rt) in pairs.station_dofs.iter().enumerate() {
+                    let blk = &mut ws.rblocks[s * ns + t];
+                    for a in 0..2 {
+                        for b in 0..2 {
+                            blk[a][b] = rotor.flex(rs[a], rt[b]);
+                        }
+                    }
+                }
+            }
+        }
+        ws.dirs.clear();
+        for &ci in &ws.sel {
             let c = &pairs.cands[ci];
-            let si = &ws.states[ci];
-            let rdi = pairs.station_dofs[c.station];
-            let tdi = case.stators[c.stator].targets[c.target].dofs();
-            ws.gvec[i] = si.g;
-            for (j, &cj) in sel.iter().enumerate() {
-                let d = &pairs.cands[cj];
-                let bj = ws.states[cj].b(d.mu);
-                let mut w = 0.0;
-                if held == Held::No {
-                    let rdj = pairs.station_dofs[d.station];
-                    for a in 0..2 {
-                        for b in 0..2 {
-                            w += si.n[a] * rotor.flex(rdi[a], rdj[b]) * bj[b];
-                        }
-                    }
-                }
-                let mut ws_ij = 0.0;
-                if c.stator == d.stator {
-                    let tgj = &case.stators[d.stator].targets[d.target];
-                    let tdj = tgj.dofs();
-                    let sj = tgj.stator_direction(ws.states[cj].n, bj);
-                    let body = &stators[c.stator];
-                    for a in 0..2 {
-                        for b in 0..2 {
-                            if let (Some(x), Some(y)) = (tdi[a], tdj[b]) {
-                                ws_ij += si.n[a] * body.flex(x, y) * sj[b];
-                            }
-                        }
-                    }
-                }
-                ws.wstat[i * q + j] = ws_ij;
-                ws.wmat[i * q + j] = w + ws_ij;
+            let st = &ws.states[ci];
+            let b = st.b(c.mu);
+            let tg = &case.stators[c.stator].targets[c.target];
+            ws.dirs
+                .push((st.n, b, tg.stator_direction(st.n, b), c.station));
+        }
+        for i in 0..q {
+            let (ni, _, _, si) = ws.dirs[i];
+            ws.gvec[i] = ws.states[ws.sel[i]].g;
+            for j in 0..q {
+                let (_, bj, sj, sjn) = ws.dirs[j];
+                let w = if held == Held::No {
+                    quad(ni, &ws.rblocks[si * ns + sjn], bj)
+                } else {
+                    0.0
+                };
+                let w_s = quad(ni, ws.blocks.get(i, j), sj);
+                ws.wstat[i * q + j] = w_s;
+                ws.wmat[i * q + j] = w + w_s;
             }
         }
     }
@@ -119,6 +124,7 @@ impl Stepper<'_> {
         if dashpots {
             self.apply_dashpots(held, into);
         }
+        self.target_displacements();
         Ok(pivots)
     }
 
@@ -176,18 +182,44 @@ impl Stepper<'_> {
         }
     }
 
-    /// Elastic energy stored in the massless stators by the solved forces (J):
-    /// `½ Σ p_i b_i · u_s,i`.
-    pub(crate) fn stator_energy(&self) -> f64 {
-        let (case, pairs, ws, stators) = (self.case, &self.pairs, &self.ws, &self.stators);
-        let mut e = 0.0;
+    /// The displacement of each selected pair's stator target after the solve into `ws.us`
+    /// (m): a massless stator's `Σ_j F_s,ij s_j p_j` from the kept blocks (its forces since it
+    /// was undeformed are this solve's), any other stator's current displacement.
+    fn target_displacements(&mut self) {
+        let (case, pairs, stators) = (self.case, &self.pairs, &self.stators);
+        let ws = &mut self.ws;
+        let q = ws.sel.len();
+        ws.us.clear();
         for (i, &ci) in ws.sel.iter().enumerate() {
             let c = &pairs.cands[ci];
-            if let StatorDyn::Massless(cm) = &stators[c.stator] {
-                let tg = &case.stators[c.stator].targets[c.target];
-                let b = tg.stator_direction(ws.states[ci].n, ws.states[ci].b(c.mu));
-                let us = target_disp(tg.dofs(), &cm.u);
-                e += 0.5 * ws.pvec[i] * (b[0] * us[0] + b[1] * us[1]);
+            let us = match &stators[c.stator] {
+                StatorDyn::Massless(_) => {
+                    let mut u = [0.0; 2];
+                    for j in 0..q {
+                        let (p, (_, _, sj, _)) = (ws.pvec[j], ws.dirs[j]);
+                        if p != 0.0 {
+                            let f = ws.blocks.get(i, j);
+                            u[0] += (f[0][0] * sj[0] + f[0][1] * sj[1]) * p;
+                            u[1] += (f[1][0] * sj[0] + f[1][1] * sj[1]) * p;
+                        }
+                    }
+                    u
+                }
+                st => st.target_disp(case.stators[c.stator].targets[c.target].dofs()),
+            };
+            ws.us.push(us);
+        }
+    }
+
+    /// Elastic energy stored in the massless stators by the solved forces (J):
+    /// `½ Σ p_i s_i · u_s,i`.
+    pub(crate) fn stator_energy(&self) -> f64 {
+        let (pairs, ws, stators) = (&self.pairs, &self.ws, &self.stators);
+        let mut e = 0.0;
+        for (i, &ci) in ws.sel.iter().enumerate() {
+            if let StatorDyn::Massless(_) = &stators[pairs.cands[ci].stator] {
+                let (s, us) = (ws.dirs[i].2, ws.us[i]);
+                e += 0.5 * ws.pvec[i] * (s[0] * us[0] + s[1] * us[1]);
             }
         }
         e
@@ -223,4 +255,29 @@ impl Stepper<'_> {
             }
         }
     }
+}
+
+/// `nᵀ F v`.
+#[inline]
+fn quad(n: [f64; 2], f: &Block, v: [f64; 2]) -> f64 {
+    n[0] * (f[0][0] * v[0] + f[0][1] * v[1]) + n[1] * (f[1][0] * v[0] + f[1][1] * v[1])
+}
+
+/// The stator flexibility block between the targets of candidates `ci` and `cj` (m/N): their
+/// stator's `F` at the targets' DOFs, zero across stators and for a DOF a target does not
+/// have.
+fn stator_block(
+    case: &crate::model::Case,
+    pairs: &super::select::Pairs,
+    stators: &[StatorDyn],
+    ci: usize,
+    cj: usize,
+) -> Block {
+    let (c, d) = (&pairs.cands[ci], &pairs.cands[cj]);
+    if c.stator != d.stator {
+        return [[0.0; 2]; 2];
+    }
+    let ti = case.stators[c.stator].targets[c.target].dofs();
+    let tj = case.stators[d.stator].targets[d.target].dofs();
+    stators[c.stator].block(ti, tj)
 }

@@ -6,6 +6,8 @@
 use super::body::DynBody;
 use super::compliance::Compliance;
 use super::reduced::ReducedDyn;
+use crate::contact::target_disp;
+use crate::math::V2;
 
 /// A stator in the loop.
 #[derive(Debug)]
@@ -19,13 +21,18 @@ pub(crate) enum StatorDyn {
 }
 
 impl StatorDyn {
-    /// Current (predicted) displacement vector.
+    /// Current (predicted) displacement of a target's DOFs `[x, y]` (m; 0 for a DOF it does
+    /// not have). A massless stator's must be prepared ([`StatorDyn::prepare`]) unless it is
+    /// undeformed.
     #[inline]
-    pub(crate) fn disp(&self) -> &[f64] {
+    pub(crate) fn target_disp(&self, dofs: [Option<usize>; 2]) -> V2 {
         match self {
-            StatorDyn::Massless(c) => &c.u,
-            StatorDyn::Massive(b) => &b.u_next,
-            StatorDyn::Reduced(r) => r.disp(),
+            StatorDyn::Massless(c) => [
+                dofs[0].map_or(0.0, |d| c.disp_at(d)),
+                dofs[1].map_or(0.0, |d| c.disp_at(d)),
+            ],
+            StatorDyn::Massive(b) => target_disp(dofs, &b.u_next),
+            StatorDyn::Reduced(r) => target_disp(dofs, r.disp()),
         }
     }
     #[inline]
@@ -35,6 +42,23 @@ impl StatorDyn {
             StatorDyn::Massive(d) => d.flex(a, b),
             StatorDyn::Reduced(r) => r.flex(a, b),
         }
+    }
+    /// The 2 × 2 flexibility block between two targets' DOFs (m/N; 0 for a DOF a target does
+    /// not have), both prepared.
+    #[inline]
+    pub(crate) fn block(&self, ti: [Option<usize>; 2], tj: [Option<usize>; 2]) -> [[f64; 2]; 2] {
+        if let StatorDyn::Massless(c) = self {
+            return c.block(ti, tj);
+        }
+        let mut f = [[0.0; 2]; 2];
+        for a in 0..2 {
+            for b in 0..2 {
+                if let (Some(x), Some(y)) = (ti[a], tj[b]) {
+                    f[a][b] = self.flex(x, y);
+                }
+            }
+        }
+        f
     }
     #[inline]
     pub(crate) fn apply(&mut self, d: usize, f: f64) {
@@ -53,12 +77,12 @@ impl StatorDyn {
             }
         }
     }
-    /// First DOF whose current value is not finite (massless: the contact DOFs, the only ones
-    /// the loop updates).
+    /// First DOF whose current value is not finite (massless: of a contact force, the only
+    /// values the loop keeps).
     #[inline]
     pub(crate) fn first_non_finite(&self) -> Option<usize> {
         match self {
-            StatorDyn::Massless(c) => c.cd.iter().copied().find(|&d| !c.u[d].is_finite()),
+            StatorDyn::Massless(c) => c.first_non_finite(),
             StatorDyn::Massive(b) => b.u_next.iter().position(|v| !v.is_finite()),
             StatorDyn::Reduced(r) => r.body.u_next.iter().position(|v| !v.is_finite()),
         }

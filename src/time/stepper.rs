@@ -396,6 +396,14 @@ impl<'a> Stepper<'a> {
         stats.whole = whole.merge(self.segment);
         stats.steady = steady;
         stats.wall_s += start.elapsed().as_secs_f64();
+        stats.stator_reads = self
+            .stators
+            .iter()
+            .map(|s| match s {
+                StatorDyn::Massless(c) => c.reads(),
+                _ => 0,
+            })
+            .sum();
         if stats.min_gap == f64::INFINITY {
             stats.min_gap = f64::NAN;
         }
@@ -479,7 +487,7 @@ impl<'a> Stepper<'a> {
             self.case,
             &self.ws.sel,
             &self.rotor.u,
-            &self.stators,
+            &self.ws.us,
             self.instant_gap,
         );
         Ok(())
@@ -576,7 +584,7 @@ impl<'a> Stepper<'a> {
             self.case,
             &self.ws.sel,
             &self.rotor.u_next,
-            &self.stators,
+            &self.ws.us,
             self.instant_gap,
         );
         Ok(())

@@ -1,5 +1,6 @@
 //! Every buffer a step uses, allocated before the loop.
 
+use super::blocks::{Block, PairBlocks};
 use super::frame::PairForce;
 use crate::contact::lcp::LcpWorkspace;
 use crate::contact::PairState;
@@ -121,6 +122,15 @@ pub(crate) struct StepWorkspace {
     pub(crate) friction_torque: f64,
     /// A reduced rotor's full displacement `u = T q` for the frames (empty otherwise).
     pub(crate) full_u: Vec<f64>,
+    /// The stators' flexibility blocks among the selected pairs, kept while they hold.
+    pub(crate) blocks: PairBlocks,
+    /// The rotor's flexibility blocks between stations (row-major, stations × stations).
+    pub(crate) rblocks: Vec<Block>,
+    /// Per selected pair: normal `n`, force direction `b = n + μa` on the section and `s` on
+    /// the stator target, and its station.
+    pub(crate) dirs: Vec<(V2, V2, V2, usize)>,
+    /// Per selected pair: its stator target's displacement after the solve (m).
+    pub(crate) us: Vec<V2>,
 }
 
 impl StepWorkspace {
@@ -154,6 +164,10 @@ impl StepWorkspace {
             frame_pairs: Vec::with_capacity(nc),
             friction_torque: 0.0,
             full_u: vec![0.0; nfull],
+            blocks: PairBlocks::default(),
+            rblocks: vec![[[0.0; 2]; 2]; nstations * nstations],
+            dirs: Vec::with_capacity(cap0),
+            us: Vec::with_capacity(cap0),
         }
     }
 

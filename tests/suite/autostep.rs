@@ -508,10 +508,7 @@ fn meshed_stator_runs_share_their_compliance_columns() {
         .mesh
         .clone()
         .expect("a meshed stator");
-    let known = || {
-        let g = md.compliance_columns.lock().unwrap();
-        g.0.iter().filter(|&&c| c != usize::MAX).count()
-    };
+    let known = || md.compliance_columns.lock().unwrap().touched.len();
     assert_eq!(known(), 0, "columns before any run");
     let a = analysis::run_speed(&model, &s.request(1.3), Keep::default()).unwrap();
     let n = known();

@@ -29,6 +29,7 @@ mod hardening;
 mod implicit;
 mod import_ross;
 mod io;
+mod large_stator;
 mod mesh;
 mod mutation;
 mod orbit_snapshots;

@@ -150,16 +150,29 @@ pub struct MeshStatorData {
     pub contact_stiffness: OnceLock<f64>,
     /// Sparse Cholesky factor of K, computed on first use and shared by every run.
     pub factor: OnceLock<Result<Arc<Cholesky>, LinalgError>>,
-    /// Columns of `K⁻¹` at the contact DOFs computed by the runs so far (the time loop's
-    /// massless-stator compliance): per contact slot the start of its column in the values
-    /// (`usize::MAX` when not computed), and the values (one entry per contact DOF each). K
-    /// and the contact DOFs do not change with the speed or the step, so every run of a sweep
-    /// and every pilot run of the step choice starts with the columns the earlier ones
-    /// computed.
-    pub compliance_columns: std::sync::Mutex<(Vec<usize>, Vec<f64>)>,
+    /// Columns of `K⁻¹` among the contact DOFs computed by the runs so far (the time loop's
+    /// massless-stator compliance, [`ContactColumns`]). K and the contact DOFs do not change
+    /// with the speed or the step, so every run of a sweep and every pilot run of the step
+    /// choice starts with the columns the earlier ones computed.
+    pub compliance_columns: std::sync::Mutex<ContactColumns>,
     /// Craig–Bampton reductions made so far, by cut-off (rad/s): every speed of a sweep with
     /// the same cut-off shares one (the stiffness and mass do not change with the placement).
     pub reductions: std::sync::Mutex<Vec<(f64, Arc<reduce::ReducedStator>)>>,
+}
+
+/// Entries of a massless stator's compliance `F = K⁻¹` (m/N) among the contact DOFs that have
+/// touched, in the order their columns were computed — nothing at interior DOFs nor at contact
+/// DOFs that never entered a contact problem. Packed lower-triangular: the DOF computed `j`-th
+/// keeps `F[touched[i], touched[j]]` for `i ≤ j` (F is symmetric), so `m` touched DOFs hold
+/// `8·m(m+1)/2` bytes, and a column once written never changes: runs share the blocks by
+/// reference and append their own.
+#[derive(Debug, Default, Clone)]
+pub struct ContactColumns {
+    /// Contact DOFs with a column, in the order computed.
+    pub touched: Vec<usize>,
+    /// One block per blocked solve: the columns of `touched[s..e]` one after the other, column
+    /// `j` holding its `j + 1` rows `0..=j`.
+    pub blocks: Vec<Arc<[f64]>>,
 }
 
 impl MeshStatorData {

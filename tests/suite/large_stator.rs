@@ -1,0 +1,60 @@
+//! Large meshed stators (issue 26): the contact solve of a massless meshed stator costs what
+//! its contact problem holds, not what the mesh holds.
+
+use crate::common;
+use rubsim::analysis::{self, Keep};
+
+/// The plain annulus with its contact circle fixed at 128 elements (`ni`) and the interior
+/// refined from h = 4 mm to h = 1 mm — 16× the DOFs — rubbed at fixed Δt: the entries of the
+/// compliance the loop reads per contact step (`RunStats::stator_reads`: the flexibility blocks
+/// of the pairs that enter a contact problem, the displacements at its pairs) and the pivots
+/// per contact step stay within 30 % of each other. The loop keeps no vector over the interior
+/// nor over the boundary; the column solves, once per touched DOF and shared by the stator's
+/// later runs, and the frames' field rebuilds are the only work that grows with the mesh.
+#[test]
+fn contact_work_per_step_is_flat_in_the_interior_dofs() {
+    if !common::meshes::gmsh_wanted() {
+        return;
+    }
+    let path = common::repo("scenes/stators/annulus.toml");
+    let run = |h: &str| {
+        let sets = [
+            format!("stator.0.parameters.h={h}"),
+            "stator.0.parameters.n=0".into(),
+            "stator.0.parameters.ni=128".into(),
+            "run.auto_step=false".into(),
+            "run.dt=2e-5".into(),
+            "run.revolutions=24".into(),
+            "run.transient_revolutions=12".into(),
+            "run.error_estimate=false".into(),
+        ];
+        let (ls, m) = common::file_model(&path, &sets);
+        let ndof = m.case(m.rotor.natural_frequency()).expect("case").stators[0].ndof;
+        let r = analysis::run_speed(&m, &common::settings(&ls).request(1.2), Keep::default())
+            .expect("run");
+        let s = r.stats;
+        assert!(
+            s.contact_steps > 1000,
+            "h = {h}: {} contact steps",
+            s.contact_steps
+        );
+        let reads = s.stator_reads as f64 / s.contact_steps as f64;
+        let pivots = s.pivots as f64 / s.contact_steps as f64;
+        eprintln!(
+            "h = {h}: {ndof} DOF, {} contact steps, {reads:.1} compliance entries read and {pivots:.2} pivots per contact step, at most {} pairs active",
+            s.contact_steps, s.max_active
+        );
+        (ndof, reads, pivots)
+    };
+    let (n0, r0, p0) = run("0.004");
+    let (n1, r1, p1) = run("0.001");
+    assert!(n1 >= 10 * n0, "the refinement gives {n0} → {n1} DOF");
+    assert!(
+        (r1 / r0 - 1.0).abs() <= 0.3,
+        "reads per step {r0:.1} → {r1:.1}"
+    );
+    assert!(
+        (p1 / p0 - 1.0).abs() <= 0.3,
+        "pivots per step {p0:.2} → {p1:.2}"
+    );
+}
