@@ -12,6 +12,11 @@
 /// target per unit force along component `b` of the other.
 pub(crate) type Block = [[f64; 2]; 2];
 
+/// What a pair's blocks are read by: its stator and the stator's own index of the target's two
+/// DOFs (`usize::MAX` for a DOF the target does not have) — for a massless stator the DOFs'
+/// positions in its packed compliance, looked up once per selection change.
+pub(crate) type Key = (usize, [usize; 2]);
+
 /// The blocks `F_s,ij` of the selected pairs (row-major q × q).
 #[derive(Debug, Default)]
 pub(crate) struct PairBlocks {
@@ -25,14 +30,22 @@ pub(crate) struct PairBlocks {
     pos: Vec<usize>,
     /// New index → old index (`usize::MAX`: entered now).
     map: Vec<usize>,
+    /// Per selected pair: the key its blocks are read by.
+    keys: Vec<Key>,
     /// Blocks read from the stators so far (the work of a selection change).
     pub(crate) read: u64,
 }
 
 impl PairBlocks {
     /// Makes the blocks those of `sel` (candidate indices), reading a block with
-    /// `block(ci, cj)` only for a pair of candidates not both in the previous selection.
-    pub(crate) fn update(&mut self, sel: &[usize], mut block: impl FnMut(usize, usize) -> Block) {
+    /// `block(key_i, key_j)` only for a pair of candidates not both in the previous selection
+    /// (`key(ci)`: the candidate's [`Key`]).
+    pub(crate) fn update(
+        &mut self,
+        sel: &[usize],
+        key: impl Fn(usize) -> Key,
+        mut block: impl FnMut(&Key, &Key) -> Block,
+    ) {
         if sel == self.sel.as_slice() {
             return;
         }
@@ -53,6 +66,8 @@ impl PairBlocks {
             self.pos[c] = usize::MAX;
         }
         let (q, qo) = (sel.len(), self.old_sel.len());
+        self.keys.clear();
+        self.keys.extend(sel.iter().map(|&c| key(c)));
         self.blocks.clear();
         self.blocks.resize(q * q, [[0.0; 2]; 2]);
         for i in 0..q {
@@ -63,7 +78,7 @@ impl PairBlocks {
                     self.old_blocks[oi * qo + oj]
                 } else {
                     self.read += 1;
-                    block(sel[i], sel[j])
+                    block(&self.keys[i], &self.keys[j])
                 };
             }
         }
@@ -80,6 +95,14 @@ impl PairBlocks {
 mod tests {
     use super::*;
 
+    fn key(ci: usize) -> Key {
+        (0, [ci, ci])
+    }
+
+    fn block(ki: &Key, kj: &Key) -> Block {
+        exact(ki.1[0], kj.1[0])
+    }
+
     fn exact(ci: usize, cj: usize) -> Block {
         let (a, b) = (ci as f64, cj as f64);
         [[a + b, a - b], [a * b, 1.0 + a]]
@@ -92,7 +115,7 @@ mod tests {
         let mut reads = vec![];
         for sel in sels {
             let before = pb.read;
-            pb.update(sel, exact);
+            pb.update(sel, key, block);
             reads.push(pb.read - before);
             for (i, &ci) in sel.iter().enumerate() {
                 for (j, &cj) in sel.iter().enumerate() {

@@ -37,6 +37,12 @@ pub(crate) struct Compliance {
     slot: Vec<usize>,
     /// Contact slot → index of its DOF in `cols.touched` (`usize::MAX` until computed).
     loc: Vec<usize>,
+    /// Contact slots in the order of their targets' angle around the rotor axis (then DOF),
+    /// and each slot's position in it: a batch of columns is the missing slots that follow the
+    /// one asked for, the targets next to it, so the selected pairs of a contact zone sit
+    /// close together in the packed compliance.
+    around: Vec<usize>,
+    around_pos: Vec<usize>,
     /// The columns computed so far (this run's and the earlier runs').
     cols: ContactColumns,
     /// Per touched index `j`: block of its column and the column's start in it.
@@ -88,7 +94,23 @@ impl Compliance {
             })
         };
         let ncd = cd.len();
+        let mut angle = vec![0.0_f64; ncd];
+        for tg in &s.targets {
+            if let crate::contact::Target::Node { x0, dofs, .. } = tg {
+                for d in dofs.iter().flatten() {
+                    angle[slot[*d]] = x0[1].atan2(x0[0]);
+                }
+            }
+        }
+        let mut around: Vec<usize> = (0..ncd).collect();
+        around.sort_by(|&a, &b| angle[a].total_cmp(&angle[b]).then(a.cmp(&b)));
+        let mut around_pos = vec![0; ncd];
+        for (k, &j) in around.iter().enumerate() {
+            around_pos[j] = k;
+        }
         let mut c = Self {
+            around,
+            around_pos,
             scratch: chol.as_ref().map(|ch| Box::new(ch.solve_scratch(1))),
             chol,
             loc: vec![usize::MAX; ncd],
@@ -146,9 +168,9 @@ impl Compliance {
         self.cols = store.clone();
     }
 
-    /// Columns computed together when one is missing: the next missing contact DOFs in DOF
-    /// order, which for a meshed boundary are its neighbours (one blocked solve is several
-    /// times cheaper per column than single ones).
+    /// Columns computed together when one is missing: the next missing contact DOFs around
+    /// the axis, its neighbours on the boundary (one blocked solve is several times cheaper
+    /// per column than single ones).
     const BATCH: usize = 16;
 
     /// Computes the column of contact DOF `d` (and a batch after it) if it is not known yet.
@@ -163,8 +185,9 @@ impl Compliance {
     #[cold]
     fn ensure_slow(&mut self, j: usize) {
         let ncd = self.cd.len();
+        let at = self.around_pos[j];
         let batch: Vec<usize> = (0..ncd)
-            .map(|k| (j + k) % ncd)
+            .map(|k| self.around[(at + k) % ncd])
             .filter(|&s| self.loc[s] == usize::MAX)
             .take(Self::BATCH)
             .collect();
@@ -221,23 +244,18 @@ impl Compliance {
         self.entry(la, lb)
     }
 
-    /// The 2 × 2 block of `F` between two prepared targets' DOFs (m/N; 0 for a DOF a target
-    /// does not have).
+    /// The positions of a prepared target's DOFs in the packed compliance (`usize::MAX` for a
+    /// DOF it does not have).
     #[inline]
-    pub(crate) fn block(&self, ti: [Option<usize>; 2], tj: [Option<usize>; 2]) -> [[f64; 2]; 2] {
-        let at = |d: Option<usize>| d.map(|d| self.loc[self.slot[d]]);
-        let (li, lj) = ([at(ti[0]), at(ti[1])], [at(tj[0]), at(tj[1])]);
-        let mut f = [[0.0; 2]; 2];
-        for (a, la) in li.iter().enumerate() {
-            for (b, lb) in lj.iter().enumerate() {
-                if let (Some(x), Some(y)) = (la, lb) {
-                    debug_assert!(*x != usize::MAX && *y != usize::MAX, "block not prepared");
-                    f[a][b] = self.entry(*x, *y);
-                }
-            }
-        }
-        self.reads.set(self.reads.get() + 4);
-        f
+    pub(crate) fn locs(&self, dofs: [Option<usize>; 2]) -> [usize; 2] {
+        dofs.map(|d| d.map_or(usize::MAX, |d| self.loc[self.slot[d]]))
+    }
+
+    /// `F[i, j]` by positions in the packed compliance ([`Compliance::locs`]), counted as read.
+    #[inline]
+    pub(crate) fn entry_read(&self, i: usize, j: usize) -> f64 {
+        self.reads.set(self.reads.get() + 1);
+        self.entry(i, j)
     }
 
     /// Displacement of contact DOF `d` (m): `Σ_k F[d, d_k] f_k` over the forces applied since

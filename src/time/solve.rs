@@ -9,7 +9,7 @@
 //! loop. Ring targets re-align their frozen normal with the solved configuration and solve
 //! again (`super::ring`): their gap is exact, the ring's friction-driven displacement included.
 
-use super::blocks::Block;
+use super::blocks::{Block, Key};
 use super::frame::PairForce;
 use super::stator::StatorDyn;
 use super::stepper::Stepper;
@@ -27,8 +27,17 @@ impl Stepper<'_> {
         let (case, pairs, rotor, stators) = (self.case, &self.pairs, &self.rotor, &self.stators);
         let ws = &mut self.ws;
         let q = ws.sel.len();
-        ws.blocks
-            .update(&ws.sel, |ci, cj| stator_block(case, pairs, stators, ci, cj));
+        ws.blocks.update(
+            &ws.sel,
+            |ci| key(case, pairs, stators, ci),
+            |ki, kj| {
+                if ki.0 == kj.0 {
+                    stators[ki.0].block_at(ki.1, kj.1)
+                } else {
+                    [[0.0; 2]; 2]
+                }
+            },
+        );
         let ns = pairs.station_dofs.len();
         if held == Held::No {
             for (s, rs) in pairs.station_dofs.iter().enumerate() {
@@ -263,21 +272,15 @@ fn quad(n: [f64; 2], f: &Block, v: [f64; 2]) -> f64 {
     n[0] * (f[0][0] * v[0] + f[0][1] * v[1]) + n[1] * (f[1][0] * v[0] + f[1][1] * v[1])
 }
 
-/// The stator flexibility block between the targets of candidates `ci` and `cj` (m/N): their
-/// stator's `F` at the targets' DOFs, zero across stators and for a DOF a target does not
-/// have.
-fn stator_block(
+/// The [`Key`] of candidate `ci`'s blocks: its stator and the stator's index of its target's
+/// DOFs.
+fn key(
     case: &crate::model::Case,
     pairs: &super::select::Pairs,
     stators: &[StatorDyn],
     ci: usize,
-    cj: usize,
-) -> Block {
-    let (c, d) = (&pairs.cands[ci], &pairs.cands[cj]);
-    if c.stator != d.stator {
-        return [[0.0; 2]; 2];
-    }
-    let ti = case.stators[c.stator].targets[c.target].dofs();
-    let tj = case.stators[d.stator].targets[d.target].dofs();
-    stators[c.stator].block(ti, tj)
+) -> Key {
+    let c = &pairs.cands[ci];
+    let dofs = case.stators[c.stator].targets[c.target].dofs();
+    (c.stator, stators[c.stator].key(dofs))
 }

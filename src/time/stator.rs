@@ -43,18 +43,28 @@ impl StatorDyn {
             StatorDyn::Reduced(r) => r.flex(a, b),
         }
     }
-    /// The 2 × 2 flexibility block between two targets' DOFs (m/N; 0 for a DOF a target does
-    /// not have), both prepared.
+    /// This stator's index of a target's DOFs for [`StatorDyn::block_at`]: a massless
+    /// stator's positions in its packed compliance (the DOFs prepared), else the DOFs
+    /// (`usize::MAX` for a DOF the target does not have).
     #[inline]
-    pub(crate) fn block(&self, ti: [Option<usize>; 2], tj: [Option<usize>; 2]) -> [[f64; 2]; 2] {
-        if let StatorDyn::Massless(c) = self {
-            return c.block(ti, tj);
+    pub(crate) fn key(&self, dofs: [Option<usize>; 2]) -> [usize; 2] {
+        match self {
+            StatorDyn::Massless(c) => c.locs(dofs),
+            _ => dofs.map(|d| d.unwrap_or(usize::MAX)),
         }
+    }
+    /// The 2 × 2 flexibility block between two targets by their [`StatorDyn::key`]s (m/N; 0
+    /// for a DOF a target does not have).
+    #[inline]
+    pub(crate) fn block_at(&self, ki: [usize; 2], kj: [usize; 2]) -> [[f64; 2]; 2] {
         let mut f = [[0.0; 2]; 2];
         for a in 0..2 {
             for b in 0..2 {
-                if let (Some(x), Some(y)) = (ti[a], tj[b]) {
-                    f[a][b] = self.flex(x, y);
+                if ki[a] != usize::MAX && kj[b] != usize::MAX {
+                    f[a][b] = match self {
+                        StatorDyn::Massless(c) => c.entry_read(ki[a], kj[b]),
+                        _ => self.flex(ki[a], kj[b]),
+                    };
                 }
             }
         }
