@@ -6,7 +6,7 @@
 //!
 //! Solved by block principal pivoting (Júdice & Pires, Comput. Oper. Res. 21, 1994): every
 //! infeasible index of the current active set toggled at once while their number falls, with
-//! Murty's least-index single pivot as the backup after [`BLOCK_TRIES`] block pivots without
+//! Murty's least-index single pivot as the backup after three block pivots without
 //! progress, which terminates finitely whenever `W` is a P-matrix (true for the symmetric
 //! positive definite frictionless `W` and for friction small enough to keep the unsymmetric
 //! `W` a P-matrix). A warm-started step whose contact set moves by a few pairs takes one or
@@ -225,6 +225,7 @@ fn principal(
 /// `w_i < −tol`): all of them while their number falls below the `fewest` seen, or for
 /// [`BLOCK_TRIES`] more block pivots after it last fell; then Murty's least-index single pivot,
 /// finite for a P-matrix. False when none is infeasible (solved).
+#[allow(clippy::needless_range_loop)] // dense index kernel
 fn pivot(
     q: usize,
     p: &[f64],

@@ -13,7 +13,7 @@ use crate::math::V2;
 #[derive(Debug)]
 pub(crate) enum StatorDyn {
     /// Massless (Eq. 49): the compliance of its contact DOFs.
-    Massless(Compliance),
+    Massless(Box<Compliance>),
     /// With mass: integrated explicitly like the rotor.
     Massive(Box<DynBody>),
     /// With mass, in its Craig–Bampton basis (`[run.reduction] stators = true`).

@@ -666,7 +666,7 @@ fn stator_bodies(case: &Case, scheme: Scheme, dt: f64) -> Result<Vec<StatorDyn>,
     for s in &case.stators {
         let err = factor_err(format!("stator `{}`", s.name), dt);
         stators.push(if s.massless() {
-            StatorDyn::Massless(Compliance::new(s).map_err(err)?)
+            StatorDyn::Massless(Box::new(Compliance::new(s).map_err(err)?))
         } else if let Some(red) = &s.reduced {
             StatorDyn::Reduced(Box::new(
                 ReducedDyn::new(red, dt, scheme.implicit()).map_err(err)?,
