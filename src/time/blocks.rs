@@ -85,9 +85,16 @@ impl PairBlocks {
     }
 
     /// The block of selected pairs `i`, `j` (indices in the selection of the last update).
-    #[inline]
+    #[cfg(test)]
     pub(crate) fn get(&self, i: usize, j: usize) -> &Block {
         &self.blocks[i * self.sel.len() + j]
+    }
+
+    /// The blocks of selected pair `i` with every selected pair, in the selection's order.
+    #[inline]
+    pub(crate) fn row(&self, i: usize) -> &[Block] {
+        let q = self.sel.len();
+        &self.blocks[i * q..(i + 1) * q]
     }
 }
 

@@ -13,7 +13,7 @@ use super::blocks::{Block, Key};
 use super::frame::PairForce;
 use super::stator::StatorDyn;
 use super::stepper::Stepper;
-use super::workspace::{ForceSet, Held};
+use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::contact::lcp;
 use crate::error::SolveError;
 use crate::model::Target;
@@ -60,19 +60,42 @@ impl Stepper<'_> {
             ws.dirs
                 .push((st.n, b, tg.stator_direction(st.n, b), c.station));
         }
-        for i in 0..q {
-            let (ni, _, _, si) = ws.dirs[i];
-            ws.gvec[i] = ws.states[ws.sel[i]].g;
-            for j in 0..q {
-                let (_, bj, sj, sjn) = ws.dirs[j];
-                let w = if held == Held::No {
-                    quad(ni, &ws.rblocks[si * ns + sjn], bj)
+        // The rotor's displacement at each station per unit p_j: F_r(s, s_j) b_j.
+        ws.rv.clear();
+        for s in 0..ns {
+            for &(_, bj, _, sj) in &ws.dirs {
+                ws.rv.push(if held == Held::No {
+                    apply2(&ws.rblocks[s * ns + sj], bj)
                 } else {
-                    0.0
-                };
-                let w_s = quad(ni, ws.blocks.get(i, j), sj);
-                ws.wstat[i * q + j] = w_s;
-                ws.wmat[i * q + j] = w + w_s;
+                    [0.0; 2]
+                });
+            }
+        }
+        let StepWorkspace {
+            blocks,
+            dirs,
+            rv,
+            wstat,
+            wmat,
+            gvec,
+            states,
+            sel,
+            ..
+        } = ws;
+        for (i, &(ni, _, _, si)) in dirs.iter().enumerate() {
+            gvec[i] = states[sel[i]].g;
+            let rows = wstat[i * q..(i + 1) * q]
+                .iter_mut()
+                .zip(&mut wmat[i * q..(i + 1) * q]);
+            let cols = blocks
+                .row(i)
+                .iter()
+                .zip(dirs.iter())
+                .zip(&rv[si * q..(si + 1) * q]);
+            for ((ws_ij, w_ij), ((f, &(_, _, sj, _)), r)) in rows.zip(cols) {
+                let w_s = dot(ni, apply2(f, sj));
+                *ws_ij = w_s;
+                *w_ij = dot(ni, *r) + w_s;
             }
         }
     }
@@ -199,18 +222,23 @@ impl Stepper<'_> {
         let ws = &mut self.ws;
         let q = ws.sel.len();
         ws.us.clear();
+        // The force on each stator target, s_j p_j.
+        ws.rv.clear();
+        ws.rv.extend(
+            ws.dirs
+                .iter()
+                .zip(&ws.pvec[..q])
+                .map(|(d, &p)| [d.2[0] * p, d.2[1] * p]),
+        );
         for (i, &ci) in ws.sel.iter().enumerate() {
             let c = &pairs.cands[ci];
             let us = match &stators[c.stator] {
                 StatorDyn::Massless(_) => {
                     let mut u = [0.0; 2];
-                    for j in 0..q {
-                        let (p, (_, _, sj, _)) = (ws.pvec[j], ws.dirs[j]);
-                        if p != 0.0 {
-                            let f = ws.blocks.get(i, j);
-                            u[0] += (f[0][0] * sj[0] + f[0][1] * sj[1]) * p;
-                            u[1] += (f[1][0] * sj[0] + f[1][1] * sj[1]) * p;
-                        }
+                    for (f, sp) in ws.blocks.row(i).iter().zip(&ws.rv) {
+                        let d = apply2(f, *sp);
+                        u[0] += d[0];
+                        u[1] += d[1];
                     }
                     u
                 }
@@ -266,10 +294,19 @@ impl Stepper<'_> {
     }
 }
 
-/// `nᵀ F v`.
+/// `F v` of a 2 × 2 block.
 #[inline]
-fn quad(n: [f64; 2], f: &Block, v: [f64; 2]) -> f64 {
-    n[0] * (f[0][0] * v[0] + f[0][1] * v[1]) + n[1] * (f[1][0] * v[0] + f[1][1] * v[1])
+fn apply2(f: &Block, v: [f64; 2]) -> [f64; 2] {
+    [
+        f[0][0] * v[0] + f[0][1] * v[1],
+        f[1][0] * v[0] + f[1][1] * v[1],
+    ]
+}
+
+/// `a · b`.
+#[inline]
+fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
 }
 
 /// The [`Key`] of candidate `ci`'s blocks: its stator and the stator's index of its target's

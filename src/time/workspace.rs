@@ -131,6 +131,9 @@ pub(crate) struct StepWorkspace {
     pub(crate) dirs: Vec<(V2, V2, V2, usize)>,
     /// Per selected pair: its stator target's displacement after the solve (m).
     pub(crate) us: Vec<V2>,
+    /// Scratch per station and selected pair: the rotor's displacement there per unit `p_j`
+    /// (assembly), or the force `s_j p_j` on each target (displacements after the solve).
+    pub(crate) rv: Vec<V2>,
 }
 
 impl StepWorkspace {
@@ -168,6 +171,7 @@ impl StepWorkspace {
             rblocks: vec![[[0.0; 2]; 2]; nstations * nstations],
             dirs: Vec::with_capacity(cap0),
             us: Vec::with_capacity(cap0),
+            rv: Vec::with_capacity(cap0 * nst),
         }
     }
 
