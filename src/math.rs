@@ -69,12 +69,15 @@ pub fn lu_in_place(a: &mut [f64], n: usize, piv: &mut [usize], tiny: f64) -> boo
             }
         }
         let d = a[k * n + k];
-        for i in k + 1..n {
-            let f = a[i * n + k] / d;
-            a[i * n + k] = f;
+        // Row slices: the update of each row below the pivot vectorises.
+        let (top, below) = a[..n * n].split_at_mut((k + 1) * n);
+        let pivot_row = &top[k * n + k + 1..(k + 1) * n];
+        for row in below.chunks_exact_mut(n) {
+            let f = row[k] / d;
+            row[k] = f;
             if f != 0.0 {
-                for j in k + 1..n {
-                    a[i * n + j] -= f * a[k * n + j];
+                for (x, y) in row[k + 1..].iter_mut().zip(pivot_row) {
+                    *x -= f * y;
                 }
             }
         }
