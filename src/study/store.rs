@@ -4,7 +4,8 @@
 //! each named by a stable id made of its parameters (`speed_ratio=1.7`,
 //! `stator.0.clearance_nd=0.4,speed_ratio=1.7`; [`super::CaseId`]). As soon
 //! as a case is computed, its results are written to `cases/<id>.toml` (a temporary file, then
-//! a rename), and the command's tables and pictures are assembled from those files, so:
+//! a rename), and the command's tables and pictures are assembled from the results the run
+//! holds and from those files for the cases it did not compute, so:
 //!
 //! - a run killed anywhere (even by SIGKILL) loses no finished case, and the next run of the
 //!   same command into the same directory computes only the cases still missing;
@@ -16,7 +17,8 @@
 //! program version), the scene's text and overrides (so `merge` rebuilds the same scene) and
 //! the summary's model record. A run whose scene hash differs is refused (or, with `--fresh`,
 //! the old cases are discarded first): cases of two scenes are never mixed. Each case file is
-//! TOML ([`CaseRecord`]: exact `f64` round trip, NaN included) ending with the line
+//! TOML ([`CaseRecord`]: exact `f64` round trip, NaN included; the numeric arrays packed, one
+//! base64 string each, [`super::packed`]) ending with the line
 //! `# end <FNV-1a of everything above>`; a file without a matching end line is reported as
 //! half-written or damaged, naming it — never silently recomputed or read.
 //!
