@@ -30,7 +30,7 @@ pub fn encode(values: impl Iterator<Item = f64>) -> String {
 /// The `f64`s of a string made by [`encode`], or why it is not one.
 pub fn decode(s: &str) -> Result<Vec<f64>, String> {
     let b = s.as_bytes();
-    if b.len() % 4 != 0 {
+    if !b.len().is_multiple_of(4) {
         return Err(format!(
             "packed array of {} characters, not a multiple of 4",
             b.len()
@@ -51,7 +51,7 @@ pub fn decode(s: &str) -> Result<Vec<f64>, String> {
         n <<= 6 * pad as u32;
         bytes.extend_from_slice(&[(n >> 16) as u8, (n >> 8) as u8, n as u8][..3 - pad]);
     }
-    if bytes.len() % 8 != 0 {
+    if !bytes.len().is_multiple_of(8) {
         return Err(format!(
             "packed array of {} bytes, not whole f64s",
             bytes.len()
@@ -79,7 +79,7 @@ fn sextet(c: u8) -> Option<u32> {
 fn pairs<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<[f64; 2]>, D::Error> {
     let s = String::deserialize(d)?;
     let v = decode(&s).map_err(D::Error::custom)?;
-    if v.len() % 2 != 0 {
+    if !v.len().is_multiple_of(2) {
         return Err(D::Error::custom("packed pairs of an odd count of numbers"));
     }
     Ok(v.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
