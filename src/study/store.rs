@@ -138,7 +138,9 @@ pub struct CaseRecord {
 
 impl CaseRecord {
     /// A record of `results` (its kept orbit, force history, spectrum and Poincaré points
-    /// moved in; its full spectrum, which a study never keeps, dropped).
+    /// moved in; what the file does not hold dropped — the full spectrum, which a study never
+    /// keeps, and the pilots' end states of its step choice — so that the record is what its
+    /// file reads back as).
     pub fn new(
         id: &CaseId,
         scene_hash: &str,
@@ -146,6 +148,9 @@ impl CaseRecord {
         boundary: Boundary,
     ) -> Self {
         results.full_spectrum = Vec::new();
+        if let Some(c) = &mut results.step_choice {
+            c.starts = Default::default();
+        }
         Self {
             id: id.clone(),
             scene_hash: scene_hash.to_string(),
