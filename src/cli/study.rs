@@ -12,7 +12,7 @@ use rubsim::output::summary::{Base, ModelRecord, Summary};
 use rubsim::output::OutDir;
 use rubsim::scene::LoadedScene;
 use rubsim::study::summary::{CasesRecord, MapBody, ShardBody, ShardRecord, SweepBody};
-use rubsim::study::{self, CaseStore, Kind, Merged, Shard, Study, StudyRequest};
+use rubsim::study::{self, CaseStore, Computed, Kind, Merged, Shard, Study, StudyRequest};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -114,22 +114,25 @@ pub fn run(c: &Common, kind: Kind, a: &StudyArgs) -> Result<()> {
             );
             finish(outd, &Summary { base, body })
         }
-        None => assemble(outd, &ls, &study, &[&ran.store], model_rec, t0),
+        None => {
+            let stores = [&ran.store];
+            assemble(outd, &ls, &study, (&stores, ran.held), model_rec, t0)
+        }
     }
 }
 
-/// Writes the study's tables, pictures and summary from the case files of `stores`, and
-/// commits the output directory.
+/// Writes the study's tables, pictures and summary from the cases this process computed
+/// (`held`) and the case files of `stores`, and commits the output directory.
 fn assemble(
     mut outd: OutDir,
     ls: &LoadedScene,
     study: &Study,
-    stores: &[&CaseStore],
+    (stores, held): (&[&CaseStore], Vec<Computed>),
     model_rec: ModelRecord,
     t0: std::time::Instant,
 ) -> Result<()> {
     let counts = study::shard_counts(outd.dir());
-    let results = study::results(stores, study, &counts)?;
+    let results = study::results(stores, study, &counts, held)?;
     let cases = CasesRecord::new(results.len(), stores);
     let base = Base::with_model(ls, model_rec, study.kind.name());
     match study.kind {
@@ -170,7 +173,7 @@ pub fn merge(dirs: &[PathBuf]) -> Result<()> {
         outd,
         &merged.scene,
         &merged.study,
-        &refs,
+        (&refs, Vec::new()),
         merged.model.clone(),
         t0,
     )

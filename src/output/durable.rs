@@ -55,6 +55,19 @@ pub fn sync_dir(dir: &Path) -> Result<()> {
 /// [`Error::Output`] naming the temporary file (create, write, sync) or `path` (rename,
 /// folder sync).
 pub fn write_atomic(tmp: &Path, path: &Path, bytes: &[u8], before_rename: fn()) -> Result<()> {
+    write_synced(tmp, bytes)?;
+    before_rename();
+    fs::rename(tmp, path).map_err(|e| Error::output(path, e))?;
+    sync_dir(path.parent().unwrap_or(Path::new(".")))
+}
+
+/// The first half of [`write_atomic`]: `bytes` written to the temporary file `tmp` (never
+/// through a symbolic link at that name) and synced, for a caller that renames several such
+/// files and then syncs their folder once.
+///
+/// # Errors
+/// [`Error::Output`] naming `tmp`.
+pub fn write_synced(tmp: &Path, bytes: &[u8]) -> Result<()> {
     let mut o = fs::OpenOptions::new();
     o.write(true).create(true).truncate(true);
     #[cfg(unix)]
@@ -62,11 +75,7 @@ pub fn write_atomic(tmp: &Path, path: &Path, bytes: &[u8], before_rename: fn()) 
     let mut f = o.open(tmp).map_err(|e| Error::output(tmp, e))?;
     f.write_all(bytes)
         .and_then(|()| f.sync_all())
-        .map_err(|e| Error::output(tmp, e))?;
-    drop(f);
-    before_rename();
-    fs::rename(tmp, path).map_err(|e| Error::output(path, e))?;
-    sync_dir(path.parent().unwrap_or(Path::new(".")))
+        .map_err(|e| Error::output(tmp, e))
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! the stores of a sharded study gathered for `rubsim merge` ([`merge_folders`], [`Merged`]).
 
 use super::case::CaseSpec;
+use super::run::Computed;
 use super::series::SeriesPlan;
 use super::shard::shard_folders;
 use super::store::{scene_hash, CaseStore, CASES_DIR};
@@ -14,9 +15,10 @@ use crate::plot::Boundary;
 use crate::scene::LoadedScene;
 use std::path::{Path, PathBuf};
 
-/// The results of every case of `study`, read from the first of `stores` that holds each, in
-/// case order; `shard_counts` are the shard counts n seen (`shard-<i>-of-<n>` folders), for
-/// the message about missing cases.
+/// The results of every case of `study`, in case order: those of `held` (the cases this
+/// process computed, [`super::StudyRun::held`]) as they are, every other read from the first
+/// of `stores` that holds it; `shard_counts` are the shard counts n seen
+/// (`shard-<i>-of-<n>` folders), for the message about missing cases.
 ///
 /// # Errors
 /// [`Error::Study`] listing the missing cases (and, for each shard count, the shards to run
@@ -25,11 +27,20 @@ pub fn results(
     stores: &[&CaseStore],
     study: &Study,
     shard_counts: &[usize],
+    held: Vec<Computed>,
 ) -> Result<Vec<(SpeedResults, Boundary)>> {
     let cases = study.cases();
+    let mut slots: Vec<Option<(SpeedResults, Boundary)>> = cases.iter().map(|_| None).collect();
+    for (k, r, b) in held {
+        if let Some(slot) = slots.get_mut(k) {
+            *slot = Some((r, b));
+        }
+    }
     let missing: Vec<&CaseSpec> = cases
         .iter()
-        .filter(|c| !stores.iter().any(|s| s.path(&c.id).is_file()))
+        .zip(&slots)
+        .filter(|(c, h)| h.is_none() && !stores.iter().any(|s| s.path(&c.id).is_file()))
+        .map(|(c, _)| c)
         .collect();
     if !missing.is_empty() {
         return Err(Error::study(
@@ -39,7 +50,11 @@ pub fn results(
     }
     cases
         .iter()
-        .map(|c| {
+        .zip(slots)
+        .map(|(c, held)| {
+            if let Some(r) = held {
+                return Ok(r);
+            }
             for s in stores {
                 if let Some(rec) = s.read(&c.id)? {
                     return Ok(rec.into_parts());

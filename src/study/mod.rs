@@ -8,8 +8,8 @@
 //! ([`cases`]). [`run()`] (a [`StudyRequest`]) runs the cases still missing — all, or one
 //! [`Shard`] of them — through the one parallel map ([`crate::analysis::sweep::run_all`]),
 //! each written to the output directory's case store ([`CaseStore`]) as soon as it is done,
-//! so that a killed study resumes where it stopped. [`results`] reads every case back for the
-//! tables and pictures; [`Merged`] gathers the stores of a sharded study (`rubsim merge`) so
+//! so that a killed study resumes where it stopped. [`results`] gives every case for the
+//! tables and pictures — those the run computed from memory, the others read back; [`Merged`] gathers the stores of a sharded study (`rubsim merge`) so
 //! that they are assembled exactly as a one-machine run's. [`summary`] holds the typed
 //! `summary.json` records of the study commands.
 //!
@@ -19,6 +19,7 @@
 
 pub mod case;
 pub mod merge;
+pub mod packed;
 pub mod run;
 pub mod series;
 pub mod shard;
@@ -29,7 +30,7 @@ pub mod variant;
 pub use case::{cases, CaseId, CaseSpec};
 pub use merge::{merge_folders, results, Merged};
 pub use run::{
-    run, run_cases, run_settings, CasesRequest, Progress, Quiet, StudyRequest, StudyRun,
+    run, run_cases, run_settings, CasesRequest, Computed, Progress, Quiet, StudyRequest, StudyRun,
 };
 pub use series::SeriesPlan;
 pub use shard::{shard_counts, shard_folders, Shard};

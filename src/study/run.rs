@@ -1,20 +1,22 @@
 //! Running a study: the cases still missing from the store (all, or one shard's), in
 //! parallel, each written to the store as soon as it is done — what makes resume work.
 
-use super::case::CaseSpec;
+use super::case::{CaseId, CaseSpec};
 use super::series::SeriesPlan;
 use super::shard::Shard;
 use super::store::{scene_hash, CaseRecord, CaseStore, StorePlan, FORMAT};
 use super::Study;
 use crate::analysis::sweep::run_all;
-use crate::analysis::{self, RunSettings, StepChoice};
+use crate::analysis::{self, RunSettings, SpeedResults, StepChoice};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::output::summary::ModelRecord;
 use crate::output::{figures, OutDir};
+use crate::plot::Boundary;
 use crate::results::{speed_folder, Series};
 use crate::scene::LoadedScene;
 use std::path::Path;
+use std::sync::mpsc;
 
 /// What a study reports to its caller while it runs (the command line prints it; the default
 /// methods ignore it). Called from the worker threads too, hence `Sync`.
@@ -66,6 +68,9 @@ pub struct StudyRun {
     pub mine: usize,
     /// Cases computed by this run (the others were finished already).
     pub computed: usize,
+    /// The results of the cases computed by this run, as their files hold them: the tables
+    /// are assembled from these and read only the other cases back ([`super::results`]).
+    pub held: Vec<Computed>,
 }
 
 /// Runs the cases of `req` not yet finished in the case store of `outd` (the output
@@ -115,7 +120,7 @@ pub fn run(req: &StudyRequest, outd: &mut OutDir, progress: &dyn Progress) -> Re
     if todo.len() < mine.len() {
         progress.resumed(mine.len() - todo.len(), mine.len(), store.dir());
     }
-    let computed = run_cases(
+    let held = run_cases(
         &CasesRequest {
             scene: ls,
             model: req.model,
@@ -133,7 +138,8 @@ pub fn run(req: &StudyRequest, outd: &mut OutDir, progress: &dyn Progress) -> Re
         store,
         cases: cases.len(),
         mine: mine.len(),
-        computed,
+        computed: held.len(),
+        held,
     })
 }
 
@@ -178,18 +184,24 @@ struct VariantRun {
     settings: RunSettings,
 }
 
+/// A case computed by a run: its index in the study, its results and boundary exactly as its
+/// case file holds them (what [`super::results`] would read back).
+pub type Computed = (usize, SpeedResults, Boundary);
+
 /// Runs `req.todo` in parallel, each case's record written to the store when done, after the
-/// case's time series (when asked for) are kept in the store. Returns the number of cases
-/// run.
+/// case's time series (when asked for) are kept in the store. The workers seal each record
+/// and hand it to one writer thread, which writes the files that are waiting as one batch
+/// ([`CaseStore::write_sealed`]), so that the disk's syncs overlap the computing. Returns
+/// the results of the cases run.
 ///
 /// # Errors
 /// A variant's scene or model, the choice of its step, or a case's error (named by its id:
 /// [`Error::AtCase`]); every case runs even when one fails, and the first failure in case
-/// order is returned.
-pub fn run_cases(req: &CasesRequest, progress: &dyn Progress) -> Result<usize> {
+/// order is returned; then a case file that could not be written.
+pub fn run_cases(req: &CasesRequest, progress: &dyn Progress) -> Result<Vec<Computed>> {
     let todo = req.todo;
     if todo.is_empty() {
-        return Ok(0);
+        return Ok(Vec::new());
     }
     let runs = variant_runs(req, progress)?;
     let speeds: Vec<f64> = todo.iter().map(|t| t.speed_ratio).collect();
@@ -202,20 +214,47 @@ pub fn run_cases(req: &CasesRequest, progress: &dyn Progress) -> Result<usize> {
     );
     let scene_json =
         serde_json::to_string(&req.scene.scene).map_err(|e| Error::output(req.store.dir(), e))?;
-    let run_named = |case: &&CaseSpec| {
-        runs[case.variant]
-            .as_ref()
-            .ok_or_else(|| Error::study("", "a case of a variant without run settings"))
-            .and_then(|var| run_case(req, var, case, &scene_json))
-            .map_err(|e| Error::AtCase {
-                id: case.id.to_string(),
-                source: Box::new(e),
-            })
-    };
-    let res = run_all(todo, &run_named, &|| progress.case_done());
+    let (tx, rx) = mpsc::sync_channel::<(CaseId, Vec<u8>)>(2 * rayon::current_num_threads());
+    let (res, wrote) = std::thread::scope(|sc| {
+        let writer = sc.spawn(move || write_queue(req.store, &rx));
+        let res = {
+            let tx = tx;
+            let run_named = |case: &&CaseSpec| {
+                runs[case.variant]
+                    .as_ref()
+                    .ok_or_else(|| Error::study("", "a case of a variant without run settings"))
+                    .and_then(|var| run_case(req, var, case, &scene_json, &tx))
+                    .map_err(|e| Error::AtCase {
+                        id: case.id.to_string(),
+                        source: Box::new(e),
+                    })
+            };
+            run_all(todo, &run_named, &|| progress.case_done())
+        };
+        let wrote = writer
+            .join()
+            .unwrap_or_else(|_| Err(Error::study("", "the writer of the case files failed")));
+        (res, wrote)
+    });
     progress.end();
-    res?;
-    Ok(todo.len())
+    let res = res?;
+    wrote?;
+    Ok(res)
+}
+
+/// The writer thread of [`run_cases`]: every sealed case file received, those waiting written
+/// as one batch. After a failed write it writes nothing more (the cases keep running and are
+/// reported; the next run computes the ones without a file) and returns the failure.
+fn write_queue(store: &CaseStore, rx: &mpsc::Receiver<(CaseId, Vec<u8>)>) -> Result<()> {
+    let mut failed = None;
+    while let Ok(first) = rx.recv() {
+        let mut batch = vec![first];
+        batch.extend(rx.try_iter());
+        if failed.is_none() {
+            failed = store.write_sealed(&batch).err();
+        }
+    }
+    failed.map_or(Ok(()), Err)
 }
 
 /// The scene, model and settings of every variant that has cases in `req.todo` (`None` for
@@ -254,8 +293,15 @@ fn variant_runs(req: &CasesRequest, progress: &dyn Progress) -> Result<Vec<Optio
     Ok(runs)
 }
 
-/// Runs one case of a variant and writes its record (its series first, when kept).
-fn run_case(req: &CasesRequest, var: &VariantRun, case: &CaseSpec, scene_json: &str) -> Result<()> {
+/// Runs one case of a variant and hands its sealed record to the writer (its series kept
+/// first, when asked for); returns its results as the record holds them.
+fn run_case(
+    req: &CasesRequest,
+    var: &VariantRun,
+    case: &CaseSpec,
+    scene_json: &str,
+    writer: &mpsc::SyncSender<(CaseId, Vec<u8>)>,
+) -> Result<Computed> {
     let (l, m) = var
         .scene
         .as_ref()
@@ -277,12 +323,18 @@ fn run_case(req: &CasesRequest, var: &VariantRun, case: &CaseSpec, scene_json: &
     } else {
         prep.run(keep, &mut [])?
     };
-    req.store.write(&CaseRecord::new(
+    let rec = CaseRecord::new(
         &case.id,
         &req.store.plan().scene_hash,
         r,
         figures::boundary(&prep.case),
-    ))
+    );
+    let bytes = rec.sealed(&req.store.path(&case.id))?;
+    writer
+        .send((case.id.clone(), bytes))
+        .map_err(|_| Error::study("", "the writer of the case files stopped"))?;
+    let (r, b) = rec.into_parts();
+    Ok((case.index, r, b))
 }
 
 /// The run settings of a scene whose runs are at `speeds` (ω/ω_n): the scene's

@@ -4,7 +4,8 @@
 //! each named by a stable id made of its parameters (`speed_ratio=1.7`,
 //! `stator.0.clearance_nd=0.4,speed_ratio=1.7`; [`super::CaseId`]). As soon
 //! as a case is computed, its results are written to `cases/<id>.toml` (a temporary file, then
-//! a rename), and the command's tables and pictures are assembled from those files, so:
+//! a rename), and the command's tables and pictures are assembled from the results the run
+//! holds and from those files for the cases it did not compute, so:
 //!
 //! - a run killed anywhere (even by SIGKILL) loses no finished case, and the next run of the
 //!   same command into the same directory computes only the cases still missing;
@@ -16,7 +17,8 @@
 //! program version), the scene's text and overrides (so `merge` rebuilds the same scene) and
 //! the summary's model record. A run whose scene hash differs is refused (or, with `--fresh`,
 //! the old cases are discarded first): cases of two scenes are never mixed. Each case file is
-//! TOML ([`CaseRecord`]: exact `f64` round trip, NaN included) ending with the line
+//! TOML ([`CaseRecord`]: exact `f64` round trip, NaN included; the numeric arrays packed, one
+//! base64 string each, [`super::packed`]) ending with the line
 //! `# end <FNV-1a of everything above>`; a file without a matching end line is reported as
 //! half-written or damaged, naming it — never silently recomputed or read.
 //!
@@ -55,8 +57,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 pub const CASES_DIR: &str = "cases";
 /// The store's plan inside [`CASES_DIR`].
 pub const PLAN: &str = "plan.json";
-/// Version of the case-file format (2: the results carry the whirl of the full spectrum).
-pub const FORMAT: u32 = 2;
+/// Version of the case-file format (2: the results carry the whirl of the full spectrum; 3:
+/// the numeric arrays packed, [`super::packed`]).
+pub const FORMAT: u32 = 3;
 /// Test hook: append every case id written to this file.
 #[cfg(feature = "fault-injection")]
 pub const CASE_LOG_ENV: &str = "RUBSIM_CASE_LOG";
@@ -106,7 +109,9 @@ pub fn scene_hash(command: &str, scene: &Scene) -> String {
     h.hex()
 }
 
-/// One finished case: its results with the heavy data the pictures draw.
+/// One finished case: its results with the heavy data the pictures draw. The numeric arrays
+/// (orbit, force history, spectrum, Poincaré points) are written packed
+/// ([`super::packed`]: base64 of their `f64`s, exact); the rest is plain TOML.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CaseRecord {
     /// The case id.
@@ -114,11 +119,17 @@ pub struct CaseRecord {
     /// [`scene_hash`] of the study.
     pub scene_hash: String,
     /// Steady orbit / |Z0| (when kept).
+    #[serde(with = "super::packed::points")]
     pub orbit_nd: Vec<V2>,
     /// Contact-force history (revolutions, force / |U|ω²) (when kept).
+    #[serde(with = "super::packed::tuples")]
     pub force_history: Vec<(f64, f64)>,
     /// Spectrum (f/ω_n, amplitude / |Z0|) (when kept).
+    #[serde(with = "super::packed::tuples")]
     pub spectrum: Vec<(f64, f64)>,
+    /// Poincaré points / |Z0|.
+    #[serde(with = "super::packed::points")]
+    pub poincare_nd: Vec<V2>,
     /// The stator boundary drawn in orbit panels.
     pub boundary: Boundary,
     /// The results.
@@ -126,31 +137,53 @@ pub struct CaseRecord {
 }
 
 impl CaseRecord {
-    /// A record of `results` (its kept orbit, force history and spectrum moved in).
+    /// A record of `results` (its kept orbit, force history, spectrum and Poincaré points
+    /// moved in; what the file does not hold dropped — the full spectrum, which a study never
+    /// keeps, and the pilots' end states of its step choice — so that the record is what its
+    /// file reads back as).
     pub fn new(
         id: &CaseId,
         scene_hash: &str,
         mut results: SpeedResults,
         boundary: Boundary,
     ) -> Self {
+        results.full_spectrum = Vec::new();
+        if let Some(c) = &mut results.step_choice {
+            c.starts = Default::default();
+        }
         Self {
             id: id.clone(),
             scene_hash: scene_hash.to_string(),
             orbit_nd: std::mem::take(&mut results.orbit_nd),
             force_history: std::mem::take(&mut results.force_history),
             spectrum: std::mem::take(&mut results.spectrum),
+            poincare_nd: std::mem::take(&mut results.poincare_nd),
             boundary,
             results,
         }
     }
 
-    /// The results with their orbit, force history and spectrum, and the boundary.
+    /// The results with their orbit, force history, spectrum and Poincaré points, and the
+    /// boundary.
     pub fn into_parts(self) -> (SpeedResults, Boundary) {
         let mut r = self.results;
         r.orbit_nd = self.orbit_nd;
         r.force_history = self.force_history;
         r.spectrum = self.spectrum;
+        r.poincare_nd = self.poincare_nd;
         (r, self.boundary)
+    }
+
+    /// The case file's bytes: the record as TOML and its end line.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming `path` when the record cannot be written as TOML.
+    pub fn sealed(&self, path: &Path) -> Result<Vec<u8>> {
+        let mut text = toml::to_string(self).map_err(|e| Error::output(path, e))?;
+        let mut h = Fnv128::new();
+        h.write(text.as_bytes());
+        text.push_str(&format!("{END}{}\n", h.hex()));
+        Ok(text.into_bytes())
     }
 }
 
@@ -251,19 +284,34 @@ impl CaseStore {
     /// # Errors
     /// [`Error::Output`] naming the file.
     pub fn write(&self, rec: &CaseRecord) -> Result<()> {
-        let p = self.path(&rec.id);
-        let mut text = toml::to_string(rec).map_err(|e| Error::output(&p, e))?;
-        let mut h = Fnv128::new();
-        h.write(text.as_bytes());
-        text.push_str(&format!("{END}{}\n", h.hex()));
-        let tmp = self.dir.join(format!(
-            "{TMP_PREFIX}{}-{}",
-            std::process::id(),
-            self.written.fetch_add(1, Ordering::SeqCst)
-        ));
-        write_atomic(&tmp, &p, text.as_bytes())?;
-        test_hooks(rec.id.as_str());
-        Ok(())
+        let bytes = rec.sealed(&self.path(&rec.id))?;
+        self.write_sealed(&[(rec.id.clone(), bytes)])
+    }
+
+    /// Writes case files already sealed ([`CaseRecord::sealed`]), as one batch: each to a
+    /// temporary file, synced, then every one renamed into place and the folder synced once —
+    /// a case file that exists after a crash or a power loss is whole, and a batch costs one
+    /// folder sync instead of one per case.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file; the files of the batch renamed before it stay.
+    pub fn write_sealed(&self, batch: &[(CaseId, Vec<u8>)]) -> Result<()> {
+        let mut tmps = Vec::with_capacity(batch.len());
+        for (_, bytes) in batch {
+            let tmp = self.dir.join(format!(
+                "{TMP_PREFIX}{}-{}",
+                std::process::id(),
+                self.written.fetch_add(1, Ordering::SeqCst)
+            ));
+            durable::write_synced(&tmp, bytes)?;
+            tmps.push(tmp);
+        }
+        for ((id, _), tmp) in batch.iter().zip(&tmps) {
+            let p = self.path(id);
+            fs::rename(tmp, &p).map_err(|e| Error::output(&p, e))?;
+            test_hooks(id.as_str());
+        }
+        durable::sync_dir(&self.dir)
     }
 
     /// Reads case `id`; `None` when it has no file.
@@ -452,9 +500,17 @@ fn read_plan(dir: &Path) -> std::result::Result<StorePlan, String> {
         serde_json::from_str(&text).map_err(|e| format!("{}: damaged plan: {e}", p.display()))?;
     if plan.format != FORMAT {
         return Err(format!(
-            "{}: case format {} (this program reads format {FORMAT})",
+            "{}: case format {} (this rubsim reads and writes format {FORMAT} only): the \
+             cases were written by {} rubsim {}; use a fresh output directory, or --fresh \
+             to discard them",
             p.display(),
-            plan.format
+            plan.format,
+            if plan.format < FORMAT {
+                "an older"
+            } else {
+                "another"
+            },
+            plan.rubsim_version
         ));
     }
     Ok(plan)
@@ -593,5 +649,19 @@ mod tests {
         assert!(e.to_string().contains("--fresh"), "{e}");
         let (_, note) = CaseStore::open(tmp.path(), plan("b"), true).unwrap();
         assert!(note.unwrap().contains("discarded"));
+        // A store of an older case format is refused, naming its plan and what to do.
+        let old = StorePlan {
+            format: FORMAT - 1,
+            ..plan("b")
+        };
+        let text = serde_json::to_string(&old).unwrap();
+        fs::write(tmp.path().join(CASES_DIR).join(PLAN), text).unwrap();
+        let e = CaseStore::open(tmp.path(), plan("b"), false)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("plan.json") && e.contains("older rubsim") && e.contains("fresh output"),
+            "{e}"
+        );
     }
 }
