@@ -6,9 +6,11 @@
 //!
 //! The time is an *estimate* from a per-step cost model calibrated on the development machine
 //! (2 cores; docs/PERFORMANCE.md):
-//! `t_step ≈ NS_STEP + NS_ROTOR_DOF·n_rotor + NS_STATOR_DOF·n_mass + NS_CONTACT_DOF·n_contact`, with `n_rotor` the rotor's DOFs, `n_mass` the DOFs of stators
-//! with mass and `n_contact` the contact DOFs of massless stators (their compliance columns
-//! enter every contact problem). A stator reduced by Craig–Bampton (`[run.reduction] stators =
+//! `t_step ≈ NS_STEP + NS_ROTOR_DOF·n_rotor + NS_STATOR_DOF·n_mass + NS_CONTACT_MESH·n_meshed`,
+//! with `n_rotor` the rotor's DOFs, `n_mass` the DOFs of stators with mass and `n_meshed` the
+//! massless meshed stators (their contact solve costs what its pairs hold, not what the mesh
+//! holds), plus once per run the massless stators' compliance columns,
+//! `NS_FACTOR_ENTRY·nnz(L)·n_contact` (every contact DOF counted). A stator reduced by Craig–Bampton (`[run.reduction] stators =
 //! true`) counts by its r reduced DOFs, not by its mesh: `NS_STATOR_DOF·r + NS_DENSE_ENTRY·r²`
 //! (its operators are dense r × r). It ignores how often the rotor is in contact, so the true
 //! time may differ by a factor of a few either way.
@@ -225,7 +227,8 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
     let mut columns_s = 0.0;
     let mut n_dense = 0.0;
     // Sparse matrices: about 12 bytes per stored entry (value and row index), six of them per
-    // body (M, K, C and the step operators); compliance columns: 8 bytes × DOFs per contact DOF.
+    // body (M, K, C and the step operators); a massless stator's factor and packed compliance
+    // below.
     let mut matrix_bytes = 6.0 * 12.0 * 20.0 * n_rotor;
     for s in &case.stators {
         let nnz = (s.k.nnz() + s.m.nnz() + s.c.nnz()) as f64;
