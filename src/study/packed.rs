@@ -4,53 +4,22 @@
 //! Used through `#[serde(with = …)]` on [`super::CaseRecord`]'s fields.
 
 use crate::math::V2;
+use base64::engine::general_purpose::STANDARD;
+use base64::Engine as _;
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serializer};
-
-const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
 /// The base64 (standard alphabet, padded) of the little-endian bytes of `values`.
 pub fn encode(values: impl Iterator<Item = f64>) -> String {
     let bytes: Vec<u8> = values.flat_map(f64::to_le_bytes).collect();
-    let mut s = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for c in bytes.chunks(3) {
-        let b = [c[0], *c.get(1).unwrap_or(&0), *c.get(2).unwrap_or(&0)];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for (k, shift) in [18, 12, 6, 0].into_iter().enumerate() {
-            if k <= c.len() {
-                s.push(char::from(ALPHABET[((n >> shift) & 63) as usize]));
-            } else {
-                s.push('=');
-            }
-        }
-    }
-    s
+    STANDARD.encode(bytes)
 }
 
 /// The `f64`s of a string made by [`encode`], or why it is not one.
 pub fn decode(s: &str) -> Result<Vec<f64>, String> {
-    let b = s.as_bytes();
-    if !b.len().is_multiple_of(4) {
-        return Err(format!(
-            "packed array of {} characters, not a multiple of 4",
-            b.len()
-        ));
-    }
-    let mut bytes = Vec::with_capacity(b.len() / 4 * 3);
-    for (i, q) in b.chunks(4).enumerate() {
-        let last = i + 1 == b.len() / 4;
-        let pad = q.iter().rev().take_while(|&&c| c == b'=').count();
-        if pad > 2 || (pad > 0 && !last) {
-            return Err("misplaced padding in a packed array".into());
-        }
-        let mut n = 0u32;
-        for &c in &q[..4 - pad] {
-            n = (n << 6)
-                | sextet(c).ok_or_else(|| format!("{:?} in a packed array", char::from(c)))?;
-        }
-        n <<= 6 * pad as u32;
-        bytes.extend_from_slice(&[(n >> 16) as u8, (n >> 8) as u8, n as u8][..3 - pad]);
-    }
+    let bytes = STANDARD
+        .decode(s)
+        .map_err(|e| format!("not a packed array: {e}"))?;
     if !bytes.len().is_multiple_of(8) {
         return Err(format!(
             "packed array of {} bytes, not whole f64s",
@@ -61,18 +30,6 @@ pub fn decode(s: &str) -> Result<Vec<f64>, String> {
         .chunks_exact(8)
         .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
         .collect())
-}
-
-/// The value of one base64 character.
-fn sextet(c: u8) -> Option<u32> {
-    Some(match c {
-        b'A'..=b'Z' => c - b'A',
-        b'a'..=b'z' => c - b'a' + 26,
-        b'0'..=b'9' => c - b'0' + 52,
-        b'+' => 62,
-        b'/' => 63,
-        _ => return None,
-    } as u32)
 }
 
 /// Pairs of the `f64`s of `s` (an even count).
