@@ -179,30 +179,21 @@ fn print_stators(s: &Scene, case: &Case) {
     }
 }
 
-/// The run: speeds, integrator, revolutions, Δt at the checked speed.
 /// The line of a massless stator: its contact DOFs, factor and compliance bound.
 fn print_massless(m: &rubsim::model::StatorModel) {
-    let nc = m.contact_dofs().len() as f64;
     let factor = m
-        .mesh
-        .as_ref()
-        .and_then(|md| md.factor.get())
-        .and_then(|f| f.as_ref().ok())
-        .map(|f| {
-            format!(
-                ", factor {}",
-                rubsim::time::budget::bytes(8.0 * f.nnz() as f64)
-            )
-        })
+        .factor_nnz()
+        .map(|n| format!(", factor {}", rubsim::time::budget::bytes(8.0 * n as f64)))
         .unwrap_or_default();
     println!(
         "  massless: enters the time loop as the compliance among its {} contact DOFs (one sparse Cholesky{factor}; {}; ≤ {} when every contact DOF touches), not as a mesh",
         m.contact_dofs().len(),
         if m.contact_dofs().len() <= rubsim::time::EAGER_DOFS { "every column up front" } else { "a column computed when its node first touches, shared by the stator's runs" },
-        rubsim::time::budget::bytes(4.0 * nc * (nc + 1.0)),
+        rubsim::time::budget::bytes(m.packed_compliance_bytes()),
     );
 }
 
+/// The run: speeds, integrator, revolutions, Δt at the checked speed.
 fn print_run(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &StepPlan) {
     let speeds = match &s.run.sweep {
         Some(w) => {

@@ -126,7 +126,6 @@ pub fn solve_warm(
     solve_from(q, wmat, g, p, ws, true)
 }
 
-#[allow(clippy::needless_range_loop)] // dense index kernel
 fn solve_from(
     q: usize,
     wmat: &[f64],

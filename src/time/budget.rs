@@ -10,9 +10,9 @@
 //! with `n_rotor` the rotor's DOFs, `n_mass` the DOFs of stators with mass and `n_meshed` the
 //! massless meshed stators (their contact solve costs what its pairs hold, not what the mesh
 //! holds), plus once per run the massless stators' compliance columns,
-//! `NS_FACTOR_ENTRY·nnz(L)·n_contact` (every contact DOF counted). A stator reduced by Craig–Bampton (`[run.reduction] stators =
-//! true`) counts by its r reduced DOFs, not by its mesh: `NS_STATOR_DOF·r + NS_DENSE_ENTRY·r²`
-//! (its operators are dense r × r). It ignores how often the rotor is in contact, so the true
+//! `NS_FACTOR_ENTRY·nnz(L)·n_contact` (every contact DOF counted). A stator reduced by
+//! Craig–Bampton (`[run.reduction] stators = true`) counts by its r reduced DOFs, not by its
+//! mesh: `NS_STATOR_DOF·r + NS_DENSE_ENTRY·r²` (its operators are dense r × r). It ignores how often the rotor is in contact, so the true
 //! time may differ by a factor of a few either way.
 
 use super::plan::{sample_bytes, StepPlan, WINDOW_MULTIPLE};
@@ -241,13 +241,8 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
             // The factor of K (a meshed stator's, factored when the model was built; an
             // estimate of 30 entries per DOF otherwise) and the packed compliance among the
             // contact DOFs, all of them touched: 8·nc(nc+1)/2 bytes.
-            let nnz_l = s
-                .mesh
-                .as_ref()
-                .and_then(|md| md.factor.get())
-                .and_then(|f| f.as_ref().ok())
-                .map_or(30.0 * s.ndof as f64, |f| f.nnz() as f64);
-            matrix_bytes += 8.0 * nnz_l + 4.0 * nc * (nc + 1.0);
+            let nnz_l = s.factor_nnz().map_or(30.0 * s.ndof as f64, |n| n as f64);
+            matrix_bytes += 8.0 * nnz_l + s.packed_compliance_bytes();
             columns_s += NS_FACTOR_ENTRY * 1e-9 * nnz_l * nc;
         } else if let Some(r) = &s.reduced {
             // The loop holds the reduced body (dense M_r, C_r, K_r, the step operator and its

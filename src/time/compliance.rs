@@ -240,8 +240,7 @@ impl Compliance {
             la != usize::MAX && lb != usize::MAX,
             "compliance of DOFs {a}, {b} not prepared"
         );
-        self.reads.set(self.reads.get() + 1);
-        self.entry(la, lb)
+        self.entry_read(la, lb)
     }
 
     /// The positions of a prepared target's DOFs in the packed compliance (`usize::MAX` for a

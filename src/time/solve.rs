@@ -16,6 +16,7 @@ use super::stepper::Stepper;
 use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::contact::lcp;
 use crate::error::SolveError;
+use crate::math::dot;
 use crate::model::Target;
 
 impl Stepper<'_> {
@@ -256,7 +257,7 @@ impl Stepper<'_> {
         for (i, &ci) in ws.sel.iter().enumerate() {
             if let StatorDyn::Massless(_) = &stators[pairs.cands[ci].stator] {
                 let (s, us) = (ws.dirs[i].2, ws.us[i]);
-                e += 0.5 * ws.pvec[i] * (s[0] * us[0] + s[1] * us[1]);
+                e += 0.5 * ws.pvec[i] * dot(s, us);
             }
         }
         e
@@ -301,12 +302,6 @@ fn apply2(f: &Block, v: [f64; 2]) -> [f64; 2] {
         f[0][0] * v[0] + f[0][1] * v[1],
         f[1][0] * v[0] + f[1][1] * v[1],
     ]
-}
-
-/// `a · b`.
-#[inline]
-fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
 }
 
 /// The [`Key`] of candidate `ci`'s blocks: its stator and the stator's index of its target's

@@ -315,6 +315,25 @@ impl StatorModel {
         v
     }
 
+    /// Stored entries of the Cholesky factor of K, when it is known: a meshed stator's,
+    /// factored when the model was built (`None` before, after a failed factorisation, and for
+    /// a stator without a mesh).
+    pub fn factor_nnz(&self) -> Option<usize> {
+        self.mesh
+            .as_ref()
+            .and_then(|md| md.factor.get())
+            .and_then(|f| f.as_ref().ok())
+            .map(|f| f.nnz())
+    }
+
+    /// Bytes of a massless stator's compliance among all its contact DOFs `n_c`, packed
+    /// symmetric ([`ContactColumns`]): `8·n_c(n_c+1)/2`, its bound when every contact DOF
+    /// touches.
+    pub fn packed_compliance_bytes(&self) -> f64 {
+        let nc = self.contact_dofs().len() as f64;
+        4.0 * nc * (nc + 1.0)
+    }
+
     /// Gershgorin upper bound of the largest eigenvalue of `M⁻¹K` (rad²/s²) for a stator with
     /// lumped mass (meshed stators: the smaller of it and the element eigenvalue bound);
     /// `0` for a massless stator.
