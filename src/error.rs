@@ -298,9 +298,9 @@ pub enum SolveError {
         /// Integrator name.
         integrator: String,
     },
-    /// A reduced rotor (`[run.reduction]`) asked to run at a varying speed: its basis and
-    /// operators are those of one constant speed.
-    #[error("a reduced rotor (`[run.reduction]`) runs at constant speed only: leave out the reduction for a speed profile or a driven rotor")]
+    /// A reduced rotor (`[run.reduction]`) asked to run driven: its spin DOF reads the full
+    /// rotor's unbalance reactions.
+    #[error("a reduced rotor (`[run.reduction]`) runs at constant speed or along a prescribed `run.speed_profile` only: leave out the reduction for a driven rotor")]
     ReducedTransient,
     /// The step plan needs more steps than one run may take (`run.max_steps`).
     #[error("the run needs {steps:.3e} steps ({steps_per_rev:.3e} per revolution × {revolutions} revolutions; Δt = {dt:.3e} s, set by {why}), above the limit of {max} steps (`run.max_steps`): {advice}")]

@@ -8,7 +8,7 @@
 
 use super::fanout::Fanout;
 use super::RunSettings;
-use crate::error::{ModelError, Result, SolveError};
+use crate::error::{ModelError, Result};
 use crate::model::{Case, Drive, Events, Model, SpeedProfile, SpinState};
 use crate::scene::{EventSpec, ProfileKind, SpeedProfileSpec};
 use crate::time::{plan_duration, FrameSink, Record, RunStats, StepPlan, Stepper};
@@ -49,7 +49,7 @@ pub struct TransientPrepared {
 /// # Errors
 /// [`ModelError::Inconsistent`] for a rotor whose bearings are tabulated over speed
 /// ([`crate::model::Rotor::speed_tabulated`]), a profile that never spins, or an implicit
-/// scheme on a gyroscopic rotor (`run.integrator`); model and plan
+/// scheme on a driven rotor (`run.integrator`); model and plan
 /// errors as [`super::prepare`].
 pub fn prepare_transient(
     model: &Model,
@@ -83,20 +83,14 @@ pub fn prepare_transient(
     let omega_ref = spec
         .reference
         .map_or(omega_n, |r| r * spec.unit.to_rad_per_s(omega_n));
-    let case = model.case(omega_ref)?;
+    // A reduced rotor keeps the modes the profile's top speed needs.
+    let case = model
+        .case_with(omega_ref, None)?
+        .reduced_to(model.reduction.as_ref(), top)?;
     if drive.is_some() && settings.step.integrator.implicit().is_some() {
         return Err(ModelError::Inconsistent {
             what: "run.integrator".into(),
             message: "a driven rotor's spin is integrated by the explicit central difference only — use forward_increment or collocated with kind = \"driven\"".into(),
-        }
-        .into());
-    }
-    if case.rotor.gyro.is_some() && settings.step.integrator.implicit().is_some() {
-        // `time::spin` corrects the central-difference prediction on M̃'s factor; the implicit
-        // operator S would need Ω(t)G inside it (refactored as Ω moves), not built yet. The
-        // stepper refuses it too (`Stepper::with_profile`); here before anything is planned.
-        return Err(SolveError::GyroscopicTransient {
-            integrator: settings.step.integrator.name().into(),
         }
         .into());
     }

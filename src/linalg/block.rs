@@ -21,6 +21,7 @@ pub struct BlockTridiag {
     upper: Vec<Blk>,
 }
 
+#[inline]
 fn blk_mul(a: &Blk, b: &Blk) -> Blk {
     let mut c = [[0.0; NODE_BLOCK]; NODE_BLOCK];
     for i in 0..NODE_BLOCK {
@@ -31,6 +32,11 @@ fn blk_mul(a: &Blk, b: &Blk) -> Blk {
         }
     }
     c
+}
+
+/// The entries of a run of blocks, row by row.
+fn flat(b: &[Blk]) -> &[f64] {
+    b.as_flattened().as_flattened()
 }
 
 /// Inverse of a 4 × 4 block by Gauss–Jordan with partial pivoting; `None` when a pivot is
@@ -69,17 +75,27 @@ fn blk_inv(a: &Blk, tiny: f64) -> Option<Blk> {
     Some(inv)
 }
 
-impl BlockTridiag {
-    /// Factors `a` when it is block tridiagonal in 4 × 4 node blocks (`n` a multiple of 4, no
-    /// entry between nodes more than one apart); `Ok(None)` when it is not.
-    ///
-    /// # Errors
-    /// [`LinalgError::SingularBlock`] on a pivot block whose largest pivot is below `1e-13`
-    /// times the largest entry of `a`.
-    pub fn new(a: &Csc) -> Result<Option<Self>, LinalgError> {
+/// A block-tridiagonal matrix in 4 × 4 node blocks, unfactored: block row i holds
+/// `A_{i,i−1}` (`lower[i]`), `A_{ii}` (`diag[i]`) and `A_{i,i+1}` (`upper[i]`). Linear
+/// combinations of such matrices stay on the same blocks, so a matrix that varies with a
+/// parameter, `A(d) = A₀ + d A₁`, is refactored from its parts without touching a sparse
+/// pattern ([`BlockTridiag::refactor`]).
+#[derive(Debug, Clone)]
+pub struct BlockParts {
+    diag: Vec<Blk>,
+    lower: Vec<Blk>,
+    upper: Vec<Blk>,
+    /// Largest |entry| (for the singularity threshold).
+    scale: f64,
+}
+
+impl BlockParts {
+    /// The blocks of `a` when it is block tridiagonal in 4 × 4 node blocks (`n` a multiple of
+    /// 4, no nonzero entry between nodes more than one apart); `None` when it is not.
+    pub fn new(a: &Csc) -> Option<Self> {
         let n = a.nrows;
         if n == 0 || !n.is_multiple_of(NODE_BLOCK) || a.ncols != n {
-            return Ok(None);
+            return None;
         }
         let nb = n / NODE_BLOCK;
         let zero = [[0.0; NODE_BLOCK]; NODE_BLOCK];
@@ -95,31 +111,117 @@ impl BlockTridiag {
             } else if bj == bi + 1 {
                 upper[bi][i][j] += v;
             } else if v != 0.0 {
-                return Ok(None);
+                return None;
             }
         }
-        let tiny = 1e-13 * scale;
-        let mut dinv = vec![zero; nb];
-        for b in 0..nb {
-            let mut d = diag[b];
+        Some(Self {
+            diag,
+            lower,
+            upper,
+            scale,
+        })
+    }
+
+    /// The diagonal (`k` = 0), lower (1) or upper (2) blocks.
+    fn part(&self, k: usize) -> &[Blk] {
+        match k {
+            0 => &self.diag,
+            1 => &self.lower,
+            _ => &self.upper,
+        }
+    }
+
+    /// Number of node blocks.
+    pub fn blocks(&self) -> usize {
+        self.diag.len()
+    }
+
+    /// `self = a + c₁ b₁ + c₂ b₂` entry by entry (every part of one size), allocation free;
+    /// the singularity scale is the bound `scale(a) + |c₁| scale(b₁) + |c₂| scale(b₂)` of the
+    /// largest |entry|.
+    ///
+    /// # Panics
+    /// If the parts differ in size.
+    pub fn set_lin_comb(
+        &mut self,
+        a: &BlockParts,
+        (c1, b1): (f64, &BlockParts),
+        (c2, b2): (f64, &BlockParts),
+    ) {
+        let nb = self.blocks();
+        assert!(a.blocks() == nb && b1.blocks() == nb && b2.blocks() == nb);
+        for k in 0..3 {
+            let out = match k {
+                0 => &mut self.diag,
+                1 => &mut self.lower,
+                _ => &mut self.upper,
+            };
+            let (x, y, z) = (flat(a.part(k)), flat(b1.part(k)), flat(b2.part(k)));
+            for (((o, x), y), z) in out
+                .as_flattened_mut()
+                .as_flattened_mut()
+                .iter_mut()
+                .zip(x)
+                .zip(y)
+                .zip(z)
+            {
+                *o = x + c1 * y + c2 * z;
+            }
+        }
+        self.scale = a.scale + c1.abs() * b1.scale + c2.abs() * b2.scale;
+    }
+}
+
+impl BlockTridiag {
+    /// Factors `a` when it is block tridiagonal in 4 × 4 node blocks (`n` a multiple of 4, no
+    /// entry between nodes more than one apart); `Ok(None)` when it is not.
+    ///
+    /// # Errors
+    /// [`LinalgError::SingularBlock`] on a pivot block whose largest pivot is below `1e-13`
+    /// times the largest entry of `a`.
+    pub fn new(a: &Csc) -> Result<Option<Self>, LinalgError> {
+        let Some(parts) = BlockParts::new(a) else {
+            return Ok(None);
+        };
+        let zero = [[0.0; NODE_BLOCK]; NODE_BLOCK];
+        let nb = parts.blocks();
+        let mut f = Self {
+            nb,
+            dinv: vec![zero; nb],
+            lower: vec![zero; nb],
+            upper: vec![zero; nb],
+        };
+        f.refactor(&parts)?;
+        Ok(Some(f))
+    }
+
+    /// Factors `parts` in place of the current factor (same number of blocks), allocation free.
+    ///
+    /// # Errors
+    /// As [`BlockTridiag::new`].
+    ///
+    /// # Panics
+    /// If `parts` has another number of blocks.
+    pub fn refactor(&mut self, parts: &BlockParts) -> Result<(), LinalgError> {
+        assert_eq!(parts.blocks(), self.nb);
+        let n = self.nb * NODE_BLOCK;
+        let tiny = 1e-13 * parts.scale;
+        self.upper.copy_from_slice(&parts.upper);
+        for b in 0..self.nb {
+            let mut d = parts.diag[b];
             if b > 0 {
                 // Lᵦ = Aᵦ,ᵦ₋₁ Dᵦ₋₁⁻¹, Dᵦ = Aᵦᵦ − Lᵦ Aᵦ₋₁,ᵦ.
-                lower[b] = blk_mul(&lower[b], &dinv[b - 1]);
-                let lu = blk_mul(&lower[b], &upper[b - 1]);
+                self.lower[b] = blk_mul(&parts.lower[b], &self.dinv[b - 1]);
+                let lu = blk_mul(&self.lower[b], &self.upper[b - 1]);
                 for i in 0..NODE_BLOCK {
                     for j in 0..NODE_BLOCK {
                         d[i][j] -= lu[i][j];
                     }
                 }
             }
-            dinv[b] = blk_inv(&d, tiny).ok_or(LinalgError::SingularBlock { n, node: b })?;
+            self.dinv[b] = blk_inv(&d, tiny).ok_or(LinalgError::SingularBlock { n, node: b })?;
         }
-        Ok(Some(Self {
-            nb,
-            dinv,
-            lower,
-            upper,
-        }))
+        Ok(())
     }
 
     /// Solves `A x = b` in place, allocation free.

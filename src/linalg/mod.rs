@@ -27,7 +27,7 @@ pub mod lu;
 pub mod pair;
 
 pub use crate::error::LinalgError;
-pub use block::{BlockTridiag, NODE_BLOCK};
+pub use block::{BlockParts, BlockTridiag, NODE_BLOCK};
 pub use blockmul::BlockTri;
 pub use cholesky::{Cholesky, CholeskyScratch};
 pub use csc::Csc;

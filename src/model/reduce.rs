@@ -31,7 +31,7 @@
 //! displacement is `u = T q` ([`ReducedRotor::expand`]).
 
 use super::fe_rotor::{dense, undamped_modes};
-use super::rotor::RotorBody;
+use super::rotor::{Gyroscopic, RotorBody};
 use super::Case;
 use crate::error::ModelError;
 use crate::linalg::Csc;
@@ -44,7 +44,8 @@ pub struct ReducedRotor {
     /// The reduced body in `q = [u_B; η]`: dense `M_r`, `C_r` (damping, Ω G and modal damping
     /// at the case's speed), `K_r`; `node_dofs` of an interface node are its q indices, of any
     /// other node `[usize::MAX; 2]` (the loop never reads them); no tilt or axial DOFs; the
-    /// unbalances on their q indices; no [`crate::model::rotor::Gyroscopic`] (constant speed).
+    /// unbalances on their q indices; the [`crate::model::rotor::Gyroscopic`] terms of a
+    /// varying speed projected on the basis (`Tᵀ G T`, `Tᵀ K_st T`).
     pub body: RotorBody,
     /// T (n × r): `u = T q`.
     pub basis: DMatrix<f64>,
@@ -95,7 +96,7 @@ fn internal_shapes(
 /// The reduced rotor's body: the reduced matrices `m`, `c`, `k` in `q` (interface DOFs
 /// first, in `interface` order, then the modal coordinates) and each node's, station's and
 /// unbalance's DOFs mapped to `q` (`usize::MAX` where a lateral pair is not at the
-/// interface); no tilt, axial or gyroscopic terms.
+/// interface); no tilt or axial terms, the gyroscopic ones set by the caller.
 fn reduced_body(full: &RotorBody, interface: &[usize], m: Csc, c: Csc, k: Csc) -> RotorBody {
     let q_of = |d: usize| interface.iter().position(|x| *x == d);
     RotorBody {
@@ -188,7 +189,13 @@ impl ReducedRotor {
             cr += &tu * d * tu.transpose();
         }
         let csc = |a: &DMatrix<f64>| Csc::dense(r, r, |i, j| a[(i, j)]);
-        let body = reduced_body(full, interface, csc(&mr), csc(&cr), csc(&kr));
+        let mut body = reduced_body(full, interface, csc(&mr), csc(&cr), csc(&kr));
+        // A varying speed's terms in the basis: `G_r = Tᵀ G T`, `K_st,r = Tᵀ K_st T` (the basis
+        // is the undamped, non-spinning one: it does not depend on Ω).
+        body.gyro = full.gyro.as_ref().map(|g| Gyroscopic {
+            g: csc(&(&tt * dense(&g.g) * &t)),
+            k_st: csc(&(&tt * dense(&g.k_st) * &t)),
+        });
         if body.unbalance.iter().any(|u| u.dofs.contains(&usize::MAX)) {
             return Err(singular("an unbalance DOF is not an interface DOF"));
         }
@@ -301,10 +308,24 @@ impl Case {
 
     /// The case reduced as `spec` asks (unchanged for `None`): ω_cut = `spec.cutoff`, else
     /// `cutoff_factor × max(harmonics × ω, ω_c)`.
-    pub(crate) fn reduced_by(mut self, spec: Option<&ReductionInput>) -> Result<Self, ModelError> {
+    pub(crate) fn reduced_by(self, spec: Option<&ReductionInput>) -> Result<Self, ModelError> {
+        let top = self.omega;
+        self.reduced_to(spec, top)
+    }
+
+    /// [`Case::reduced_by`] for speeds up to `top` (rad/s; a speed transient's highest): the
+    /// default cut-off `cutoff_factor × max(harmonics × top, ω_c)`.
+    ///
+    /// # Errors
+    /// As [`ReducedRotor::new`].
+    pub fn reduced_to(
+        mut self,
+        spec: Option<&ReductionInput>,
+        top: f64,
+    ) -> Result<Self, ModelError> {
         if let Some(s) = spec {
             let cut = s.cutoff.unwrap_or_else(|| {
-                s.cutoff_factor * (s.harmonics * self.omega).max(self.contact_frequency())
+                s.cutoff_factor * (s.harmonics * top).max(self.contact_frequency())
             });
             if s.rotor {
                 self.reduce(cut)?;

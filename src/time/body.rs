@@ -25,6 +25,21 @@ pub(crate) enum MInv {
     },
 }
 
+impl MInv {
+    /// Recomputes the columns `M̃⁻¹ e_d` at the contact DOFs from the factor (allocation free).
+    pub(crate) fn fill_columns(&mut self) {
+        if let MInv::Lu { lu, cols, col_of } = self {
+            let n = col_of.len();
+            for (d, &j) in col_of.iter().enumerate().filter(|(_, j)| **j != usize::MAX) {
+                let c = &mut cols[j * n..(j + 1) * n];
+                c.fill(0.0);
+                c[d] = 1.0;
+                lu.solve_in_place(c);
+            }
+        }
+    }
+}
+
 /// The factored M̃: sparse LU, or sparse LU plus the Woodbury correction of a low-rank
 /// damping term (modal damping).
 #[derive(Debug)]
@@ -39,7 +54,33 @@ pub(crate) enum StepSolver {
 }
 
 impl StepSolver {
-    fn solve_in_place(&mut self, b: &mut [f64]) {
+    /// Factors `mt`: with a low-rank damping term `low` (scaled by `low_factor`, 1/(2Δt) for
+    /// central differences, γ/(βΔt) implicit) the Woodbury form; a shaft chain in node blocks
+    /// the block Thomas solver; anything else (or a singular pivot block) the pivoting sparse
+    /// LU.
+    pub(crate) fn new(
+        mt: &Csc,
+        low: Option<&LowRank>,
+        low_factor: f64,
+    ) -> Result<Self, LinalgError> {
+        Ok(match low {
+            // M̃ = S + U diag(d/(2Δt)) Uᵀ (implicit: d γ/(βΔt)).
+            Some(lr) => {
+                let scaled = LowRank {
+                    n: lr.n,
+                    u: lr.u.clone(),
+                    d: lr.d.iter().map(|d| d * low_factor).collect(),
+                };
+                StepSolver::LowRank(WoodburyLu::new(mt, scaled)?)
+            }
+            None => match BlockTridiag::new(mt) {
+                Ok(Some(b)) => StepSolver::Block(b),
+                _ => StepSolver::Sparse(StepLu::new(mt)?),
+            },
+        })
+    }
+
+    pub(crate) fn solve_in_place(&mut self, b: &mut [f64]) {
         match self {
             StepSolver::Block(lu) => lu.solve_in_place(b),
             StepSolver::Sparse(lu) => lu.solve_in_place(b),
@@ -105,37 +146,18 @@ impl DynBody {
             }
             MInv::Diag(d.iter().map(|v| 1.0 / v).collect())
         } else {
-            let mut lu = match low {
-                // M̃ = S + U diag(d/(2Δt)) Uᵀ (implicit: d γ/(βΔt)).
-                Some(lr) => {
-                    let scaled = LowRank {
-                        n: lr.n,
-                        u: lr.u.clone(),
-                        d: lr.d.iter().map(|d| d * low_factor).collect(),
-                    };
-                    StepSolver::LowRank(WoodburyLu::new(&mt, scaled)?)
-                }
-                // A shaft chain in node blocks gets the block Thomas solver; anything else (or
-                // a singular pivot block) the pivoting sparse LU.
-                None => match BlockTridiag::new(&mt) {
-                    Ok(Some(b)) => StepSolver::Block(b),
-                    _ => StepSolver::Sparse(StepLu::new(&mt)?),
-                },
-            };
+            let lu = StepSolver::new(&mt, low, low_factor)?;
             let mut col_of = vec![usize::MAX; n];
-            let mut cols = vec![0.0; n * contact_dofs.len()];
             for (j, &d) in contact_dofs.iter().enumerate() {
                 col_of[d] = j;
-                cols[j * n + d] = 1.0;
             }
-            for c in cols.chunks_mut(n) {
-                lu.solve_in_place(c);
-            }
-            MInv::Lu {
+            let mut minv = MInv::Lu {
                 lu: Box::new(lu),
-                cols,
+                cols: vec![0.0; n * contact_dofs.len()],
                 col_of,
-            }
+            };
+            minv.fill_columns();
+            minv
         };
         Ok(Self {
             n,
@@ -150,8 +172,18 @@ impl DynBody {
 
     /// `u_next = M̃⁻¹ (rhs + A u + B u_prev)`; `rhs` holds the external force on entry (at
     /// tₙ; implicit: at tₙ₊₁, and `u_next = S⁻¹(rhs + known part)`, [`Implicit::load_rhs`]).
-    #[allow(clippy::needless_range_loop)] // the diagonal kernel indexes six slices of one length
     pub(crate) fn predict(&mut self) {
+        if self.load() {
+            self.solve();
+        }
+    }
+
+    /// The first half of [`DynBody::predict`]: the step's whole right-hand side in `rhs`
+    /// (central differences `fⁿ + A uⁿ + B uⁿ⁻¹`; implicit `fₙ₊₁` plus the known part); true
+    /// when [`DynBody::solve`] is still to be called (false: a diagonal body predicted in the
+    /// same pass).
+    #[allow(clippy::needless_range_loop)] // the diagonal kernel indexes six slices of one length
+    pub(crate) fn load(&mut self) -> bool {
         if let (Ops::Central(ab), MInv::Diag(inv)) = (&self.ops, &self.minv) {
             if let Some((a, b)) = ab.diagonal() {
                 // Diagonal M̃, A and B (a Jeffcott rotor, a lumped stator): one pass, the same
@@ -164,7 +196,7 @@ impl DynBody {
                     rhs[i] += 0.0 + (a[i] * u[i] + b[i] * up[i]);
                     next[i] = inv[i] * rhs[i];
                 }
-                return;
+                return false;
             }
         }
         match &mut self.ops {
@@ -183,6 +215,11 @@ impl DynBody {
                 imp.load_rhs(&self.u, &mut self.rhs);
             }
         }
+        true
+    }
+
+    /// The second half of [`DynBody::predict`]: `u_next = M̃⁻¹ rhs`.
+    pub(crate) fn solve(&mut self) {
         match &mut self.minv {
             MInv::Diag(inv) => {
                 for ((u, r), d) in self.u_next.iter_mut().zip(&self.rhs).zip(inv.iter()) {

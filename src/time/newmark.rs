@@ -164,6 +164,11 @@ impl Implicit {
         Ok(())
     }
 
+    /// ũ and ṽ of the step [`Implicit::load_rhs`] last loaded.
+    pub(crate) fn known(&self) -> (&[f64], &[f64]) {
+        (&self.ut, &self.vt)
+    }
+
     /// The state besides the displacement: vₙ, aₙ and the load Lₙ (empty when α_f = 0).
     pub(crate) fn state(&self) -> (&[f64], &[f64], &[f64]) {
         (&self.v, &self.a, &self.load)

@@ -21,10 +21,23 @@
 //! 1.85 ω_n with M̃ factored at ω_n. Cost per step: `docs/PERFORMANCE.md`.
 //!
 //! At the first step δⁿ⁻¹ = 0 (a one-step local error O(dΔt³)).
+//!
+//! **Implicit schemes** ([`super::newmark`]) hold the speed inside their step operator: the
+//! balance at tₙ₊₁ (α-weighted with tₙ for generalised-α) has `(C + Ωₙ₊₁G) vₙ₊₁` and
+//! `(K + Ω̇ₙ₊₁K_st) uₙ₊₁` with `vₙ₊₁ = ṽ + c (uₙ₊₁ − ũ)`, `c = γ/(βΔt)`, so
+//! `S(Ω, Ω̇) = S_f + (Ω − Ω_f) c G + Ω̇ K_st` is refactored whenever the step's end (Ωₙ₊₁, Ω̇ₙ₊₁)
+//! differs from the pair it was factored at ([`SpinOperator`]: a shaft chain's blocks are
+//! combined and refactored in place, allocation free; any other rotor is assembled and
+//! factored anew), with its columns at the contact DOFs, and the right-hand side gets
+//! `(Ωₙ₊₁ − Ω_f) G (c ũ − ṽ) − w [(Ωₙ − Ω_f) G vₙ + Ω̇ₙ K_st uₙ]`, `w = α_f/(1 − α_f)`. Nothing
+//! is lagged: the step is the scheme's own at the varying speed (second order, unconditionally
+//! stable), and the contact sees the flexibility of the step's actual operator.
 
-use super::body::DynBody;
-use crate::linalg::{BlockTri, Csc, PairCsr, NODE_BLOCK};
+use super::body::{DynBody, MInv, Ops, StepSolver};
+use super::newmark::Alpha;
+use crate::linalg::{BlockParts, BlockTri, Csc, LinalgError, LowRank, PairCsr, NODE_BLOCK};
 use crate::model::rotor::Gyroscopic;
+use crate::model::RotorBody;
 use crate::model::SpinState;
 
 /// `y += G x + K_st z`. K_st is G's rows of the y–z plane (u_y, θ_x: rows 1 and 2 of each
@@ -92,13 +105,144 @@ pub(crate) struct GyroLoad {
     delta: Vec<f64>,
     /// δⁿ⁻¹ (m, rad).
     delta_prev: Vec<f64>,
+    /// Implicit schemes: the step operator's dependence on the speed.
+    op: Option<SpinOperator>,
+}
+
+/// The implicit step operator `S(Ω, Ω̇) = S_f + (Ω − Ω_f) c G + Ω̇ K_st` of a gyroscopic rotor
+/// (see the module) and the pair it is factored at.
+#[derive(Debug)]
+pub(crate) struct SpinOperator {
+    co: Alpha,
+    /// The speed the case's `C` holds (rad/s).
+    omega_f: f64,
+    /// `c = γ/(βΔt)` (1/s).
+    cc: f64,
+    /// (Ω − Ω_f, Ω̇) the body's factor holds (rad/s, rad/s²); NaN before the first step.
+    at: (f64, f64),
+    form: OperatorForm,
+}
+
+/// The relative mismatch of the speed terms `|Δd| c + |ΔΩ̇|` against `|Ω| c + |Ω̇|` below
+/// which [`SpinOperator`] keeps its factor and carries the mismatch `ΔE ū` on the right-hand
+/// side (ū the step's predictor): an error `ΔE (uₙ₊₁ − ū) = O(ΔE Δt³)` a step, this fraction of
+/// the gyroscopic share of the scheme's own local error.
+const REFACTOR: f64 = 1e-3;
+
+/// How [`SpinOperator`] rebuilds the factor.
+#[derive(Debug)]
+enum OperatorForm {
+    /// A shaft chain in node blocks: `work = base + d c G + Ω̇ K_st` block by block, then the
+    /// block Thomas factor in place.
+    Blocks {
+        base: BlockParts,
+        g: BlockParts,
+        k_st: BlockParts,
+        work: BlockParts,
+    },
+    /// Any other rotor (or one with low-rank damping): the sparse operator assembled and
+    /// factored anew.
+    Sparse {
+        base: Csc,
+        g: Csc,
+        k_st: Csc,
+        low: Option<LowRank>,
+    },
+}
+
+impl SpinOperator {
+    /// The operator of `body` (the loop rotor, `C` at Ω_f) for the scheme `co` at step `dt`.
+    fn new(body: &RotorBody, terms: &Gyroscopic, co: Alpha, omega_f: f64, dt: f64) -> Self {
+        let (base, cc) = co.operator(&body.m, &body.c, &body.k, dt);
+        let blocks = (
+            BlockParts::new(&base),
+            BlockParts::new(&terms.g),
+            BlockParts::new(&terms.k_st),
+        );
+        let form = match blocks {
+            (Some(base), Some(g), Some(k_st)) if body.c_low.is_none() => OperatorForm::Blocks {
+                work: base.clone(),
+                base,
+                g,
+                k_st,
+            },
+            _ => OperatorForm::Sparse {
+                base,
+                g: terms.g.clone(),
+                k_st: terms.k_st.clone(),
+                low: body.c_low.clone(),
+            },
+        };
+        Self {
+            co,
+            omega_f,
+            cc,
+            at: (f64::NAN, f64::NAN),
+            form,
+        }
+    }
+
+    /// Makes `body`'s factor hold `S(Ω_f + d, a)` within the tolerance [`REFACTOR`]: when
+    /// the factored pair is farther, refactors (with the contact columns) at `(d, a)`. Returns
+    /// the mismatch `(d − d_k, a − a_k)` that is left, whose term the right-hand side carries.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the operator cannot be factored.
+    fn hold(&mut self, d: f64, a: f64, body: &mut DynBody) -> Result<(f64, f64), LinalgError> {
+        let (dd, da) = (d - self.at.0, a - self.at.1);
+        let size = (self.omega_f + d).abs() * self.cc + a.abs();
+        if (dd.abs() * self.cc + da.abs()) <= REFACTOR * size {
+            return Ok((dd, da));
+        }
+        self.refactor(d, a, body)?;
+        Ok((0.0, 0.0))
+    }
+
+    /// Factors `S(Ω_f + d, a)` into `body` with its contact columns.
+    fn refactor(&mut self, d: f64, a: f64, body: &mut DynBody) -> Result<(), LinalgError> {
+        let MInv::Lu { lu, .. } = &mut body.minv else {
+            // A diagonal operator has no gyroscopic coupling to follow.
+            return Ok(());
+        };
+        let dc = d * self.cc;
+        match (&mut self.form, lu.as_mut()) {
+            (
+                OperatorForm::Blocks {
+                    base,
+                    g,
+                    k_st,
+                    work,
+                },
+                StepSolver::Block(f),
+            ) => {
+                work.set_lin_comb(base, (dc, g), (a, k_st));
+                f.refactor(work)?;
+            }
+            (OperatorForm::Blocks { .. }, _) => unreachable!("block operator, block factor"),
+            (OperatorForm::Sparse { base, g, k_st, low }, solver) => {
+                let s = Csc::lin_comb(1.0, &Csc::lin_comb(1.0, base, dc, g), a, k_st);
+                *solver = StepSolver::new(&s, low.as_ref(), self.cc)?;
+            }
+        }
+        body.minv.fill_columns();
+        self.at = (d, a);
+        Ok(())
+    }
 }
 
 impl GyroLoad {
-    /// The correction of `terms` for a step `dt` (s) whose M̃ holds Ω_f G, `omega_f` in rad/s.
-    pub(crate) fn new(terms: &Gyroscopic, omega_f: f64, dt: f64) -> Self {
+    /// The correction of `terms` for a step `dt` (s) whose M̃ holds Ω_f G, `omega_f` in rad/s;
+    /// `implicit`: the loop rotor and the coefficients of an implicit scheme, whose operator
+    /// then follows the speed ([`GyroLoad::implicit_step`]).
+    pub(crate) fn new(
+        terms: &Gyroscopic,
+        omega_f: f64,
+        dt: f64,
+        implicit: Option<(&RotorBody, Alpha)>,
+    ) -> Self {
         let n = terms.g.nrows();
         Self {
+            op: implicit.map(|(body, co)| SpinOperator::new(body, terms, co, omega_f, dt)),
             gk: GkProduct::new(terms),
             omega_f,
             dt,
@@ -118,6 +262,43 @@ impl GyroLoad {
             *z = -spin.omega_dot * ui;
         }
         self.gk.mul_add(&self.x, &mut self.z, f);
+    }
+
+    /// An implicit step's speed terms, between [`DynBody::load`] and [`DynBody::solve`]:
+    /// `S` refactored at the step's end `next` (Ωₙ₊₁, Ω̇ₙ₊₁) and
+    /// `(Ωₙ₊₁ − Ω_f) G (c ũ − ṽ) − w [(Ωₙ − Ω_f) G vₙ + Ω̇ₙ K_st uₙ]` added to `body.rhs`, `now`
+    /// the state at tₙ (see the module). Does nothing for an explicit body.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the operator cannot be factored at `next`.
+    pub(crate) fn implicit_step(
+        &mut self,
+        now: SpinState,
+        next: SpinState,
+        body: &mut DynBody,
+    ) -> Result<(), LinalgError> {
+        let Some(op) = &mut self.op else {
+            return Ok(());
+        };
+        let (d0, d1) = (now.omega - self.omega_f, next.omega - self.omega_f);
+        let (md, ma) = op.hold(d1, next.omega_dot, body)?;
+        let Ops::Implicit(imp) = &body.ops else {
+            return Ok(());
+        };
+        let (ut, vt) = imp.known();
+        let w = op.co.alpha_f / (1.0 - op.co.alpha_f);
+        let (cc, a0) = (op.cc, now.omega_dot);
+        let b2 = op.co.beta * self.dt * self.dt;
+        let it = self.x.iter_mut().zip(self.z.iter_mut());
+        let known = ut.iter().zip(vt).zip(&imp.v).zip(&imp.a).zip(&body.u);
+        for ((x, z), ((((ut, vt), v), acc), u)) in it.zip(known) {
+            // ū = ũ + βΔt² aₙ: uₙ₊₁ predicted with aₙ₊₁ = aₙ, where the factor's mismatch acts.
+            let ubar = ut + b2 * acc;
+            *x = d1 * (cc * ut - vt) - w * d0 * v - md * cc * ubar;
+            *z = -w * a0 * u - ma * ubar;
+        }
+        self.gk.mul_add(&self.x, &mut self.z, &mut body.rhs);
+        Ok(())
     }
 
     /// Corrects the constant-speed prediction `body.u_next` = u⁽⁰⁾ at `spin`:

@@ -160,10 +160,10 @@ impl<'a> Stepper<'a> {
         spin: Spin<'a>,
     ) -> Result<Self, SolveError> {
         let lr = case.loop_rotor();
-        if !matches!(spin, Spin::Constant) && case.reduced.is_some() {
+        if matches!(spin, Spin::Driven(_)) && case.reduced.is_some() {
             return Err(SolveError::ReducedTransient);
         }
-        if !matches!(spin, Spin::Constant) && lr.gyro.is_some() && scheme.implicit().is_some() {
+        if matches!(spin, Spin::Driven(_)) && lr.gyro.is_some() && scheme.implicit().is_some() {
             return Err(SolveError::GyroscopicTransient {
                 integrator: scheme.name().into(),
             });
@@ -191,7 +191,12 @@ impl<'a> Stepper<'a> {
             plan.steps / plan.record_every + 2,
         );
         let gyro = match (&spin, &lr.gyro) {
-            (Spin::Profile(_) | Spin::Driven(_), Some(g)) => Some(GyroLoad::new(g, case.omega, dt)),
+            (Spin::Profile(_) | Spin::Driven(_), Some(g)) => Some(GyroLoad::new(
+                g,
+                case.omega,
+                dt,
+                scheme.implicit().map(|co| (lr, co)),
+            )),
             _ => None,
         };
         let mut st = Self {
@@ -427,7 +432,7 @@ impl<'a> Stepper<'a> {
         } else if n == self.plan.steps {
             return Ok(false);
         }
-        self.predict(t);
+        self.predict(t)?;
         set_clearance(&self.events, &mut self.pairs, t + dt);
         self.increment_contact(n, t)?;
         if self.active > 0 {
@@ -509,11 +514,9 @@ impl<'a> Stepper<'a> {
     /// Predicts every body with mass with λ = 0 (Eqs. 35–36; implicit schemes: the load at
     /// tₙ₊₁); forward increment and implicit schemes: massless stators start undeformed
     /// (Eq. 49).
-    fn predict(&mut self, t: f64) {
-        let at = match self.rotor.ops {
-            Ops::Central(_) => t,
-            Ops::Implicit(_) => t + self.plan.dt,
-        };
+    fn predict(&mut self, t: f64) -> Result<(), SolveError> {
+        let implicit = matches!(self.rotor.ops, Ops::Implicit(_));
+        let at = if implicit { t + self.plan.dt } else { t };
         add_unbalance(self.case, self.spin.state(at), at, &mut self.rotor.rhs);
         add_event_unbalance(
             &self.events,
@@ -522,9 +525,23 @@ impl<'a> Stepper<'a> {
             at,
             &mut self.rotor.rhs,
         );
-        self.rotor.predict();
-        if let (Some(g), Some(s)) = (&mut self.gyro, self.spin.state(t)) {
-            g.correct(s, &mut self.rotor);
+        match (&mut self.gyro, self.spin.state(t), self.spin.state(at)) {
+            (Some(g), Some(now), Some(next)) if implicit => {
+                if self.rotor.load() {
+                    g.implicit_step(now, next, &mut self.rotor)
+                        .map_err(|source| SolveError::Factorization {
+                            what: format!("rotor step operator at Ω = {:.6e} rad/s", next.omega),
+                            dt: self.plan.dt,
+                            source,
+                        })?;
+                    self.rotor.solve();
+                }
+            }
+            (Some(g), Some(now), _) => {
+                self.rotor.predict();
+                g.correct(now, &mut self.rotor);
+            }
+            _ => self.rotor.predict(),
         }
         let collocated = self.scheme.collocated();
         for st in self.stators.iter_mut() {
@@ -545,6 +562,7 @@ impl<'a> Stepper<'a> {
                 }
             }
         }
+        Ok(())
     }
 
     /// Forward-increment contact on the predicted configuration: select, solve, correct

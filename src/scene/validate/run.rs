@@ -292,11 +292,14 @@ fn validate_reduction(ls: &LoadedScene, red: &ReductionSpec) -> Result<(), Scene
             },
         ));
     }
-    if rotor && (ls.scene.run.speed_profile.is_some() || !ls.scene.run.event.is_empty()) {
+    let driven = (ls.scene.run.speed_profile.as_ref())
+        .is_some_and(|p| p.kind == crate::scene::ProfileKind::Driven);
+    if rotor && (driven || !ls.scene.run.event.is_empty()) {
         return Err(ls.invalid(
             "run.reduction",
-            "a reduced rotor runs at constant speed only: leave out `[run.speed_profile]` and \
-             `[[run.event]]`, or the reduction",
+            "a reduced rotor runs at constant speed or along a prescribed `[run.speed_profile]` \
+             only: leave out a driven profile (`kind = \"driven\"`) and `[[run.event]]`, or the \
+             reduction",
         ));
     }
     if let Some(c) = red.cutoff {
