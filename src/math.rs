@@ -160,6 +160,25 @@ impl Fnv128 {
     }
 }
 
+/// `y(x)` linearly interpolated in the samples `(xs, ys)` (`xs` ascending), held at the end
+/// values outside them; 0 for no samples.
+pub fn interp_linear(xs: &[f64], ys: &[f64], x: f64) -> f64 {
+    let n = xs.len().min(ys.len());
+    if n == 0 {
+        return 0.0;
+    }
+    let k = xs[..n].partition_point(|v| *v < x);
+    if k == 0 {
+        return ys[0];
+    }
+    if k == n {
+        return ys[n - 1];
+    }
+    let (x0, x1) = (xs[k - 1], xs[k]);
+    let f = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
+    ys[k - 1] + f * (ys[k] - ys[k - 1])
+}
+
 /// Greatest common divisor; `gcd(0, b) = b`, so a fold from 0 over intervals gives their
 /// common interval (0 when every interval is 0).
 pub fn gcd(a: usize, b: usize) -> usize {

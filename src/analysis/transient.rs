@@ -38,6 +38,8 @@ pub struct TransientPrepared {
     pub window_revolutions: usize,
     /// ω_n (rad/s), the unit of the speed ratios reported.
     pub omega_n: f64,
+    /// The highest speed the plan is made for (rad/s).
+    top: f64,
     /// The rotor, for the steady unbalance response `q` at each tracked window's Ω
     /// (`x = Re(q e^{iΩt})`, the run-up Bode's reference).
     rotor: crate::model::Rotor,
@@ -112,6 +114,7 @@ pub fn prepare_transient(
         orders,
         window_revolutions: spec.window_revolutions,
         omega_n,
+        top,
         rotor: model.rotor.clone(),
     })
 }
@@ -256,6 +259,26 @@ pub struct TransientResults {
     /// Order-tracking windows, one per revolution.
     #[serde(skip)]
     pub windows: Vec<OrderWindow>,
+    /// The run's estimated error (`run.error_estimate`; `None` when off or when no companion
+    /// step can be planned).
+    pub error_estimate: Option<TransientError>,
+}
+
+/// The estimated error of a transient run: its tracked 1× amplitude against a companion run
+/// of the same profile at another step rΔt, by Richardson extrapolation: with A(Δt) the run's,
+/// `e ≈ max_t |A(Δt) − A(rΔt)| / |r^p − 1|`, the companion's amplitude interpolated linearly in
+/// time at the run's windows. r = 2, or for an explicit run near its stability limit the
+/// largest step below it (r ≥ 1.2), else r = ½ (a companion twice the run's cost).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct TransientError {
+    /// `e` relative to the run's peak 1× amplitude.
+    pub relative_1x: f64,
+    /// The order p assumed: 2, or 1 for the forward increment with contact.
+    pub order: f64,
+    /// The companion's step (s) and its steps.
+    pub companion_dt: f64,
+    /// The companion's steps.
+    pub companion_steps: usize,
 }
 
 impl TransientPrepared {
@@ -274,7 +297,66 @@ impl TransientPrepared {
     /// [`crate::error::SolveError`] of the loop, a sink's error included.
     pub fn run(&self, sinks: &mut [&mut dyn FrameSink]) -> Result<TransientResults> {
         let (rec, stats) = self.integrate(sinks)?;
-        analyse_transient(self, &rec, stats)
+        let mut r = analyse_transient(self, &rec, stats)?;
+        if self.settings.error_estimate {
+            r.error_estimate = self.estimate_error(&r)?;
+        }
+        Ok(r)
+    }
+
+    /// The error of `r` (this run's results) by a companion run at a coarser step, or Δt/2
+    /// where none can be planned ([`TransientError`]); `None` when neither can.
+    ///
+    /// # Errors
+    /// As [`TransientPrepared::run`] for the companion.
+    pub fn estimate_error(&self, r: &TransientResults) -> Result<Option<TransientError>> {
+        let contact = r.stats.contact_steps > 0;
+        let order =
+            if contact && self.settings.step.integrator == crate::time::Scheme::ForwardIncrement {
+                1.0
+            } else {
+                2.0
+            };
+        let duration = self.profile.duration();
+        let at = |dt: f64| {
+            let mut step = self.settings.step;
+            step.dt = Some(dt);
+            crate::time::plan_duration(&self.case, &step, self.top, duration).ok()
+        };
+        // The coarsest companion step up to 2Δt the scheme takes (an explicit run near its
+        // stability limit: just below it, at least 1.2Δt), else Δt/2.
+        let dt = self.plan.dt;
+        let coarse = (2.0 * dt).min(0.99 * self.plan.limit.max(dt));
+        let found = match (coarse >= 1.2 * dt).then(|| at(coarse)).flatten() {
+            Some(p) => Some(p),
+            None => at(2.0 * dt),
+        };
+        let Some(plan) = found.or_else(|| at(0.5 * dt)) else {
+            return Ok(None);
+        };
+        // Step ratio r = Δt_companion/Δt, either side of 1.
+        let ratio = plan.dt / dt;
+        let (rec, stats) = self.integrate_plan(&plan, &mut [])?;
+        let c = analyse_transient(self, &rec, stats)?;
+        let (tc, ac): (Vec<f64>, Vec<f64>) = c.windows.iter().map(|w| (w.t, w.lines[0].0)).unzip();
+        let diff = (r.windows.iter())
+            .filter(|w| {
+                tc.first().is_some_and(|t0| w.t >= *t0) && tc.last().is_some_and(|t1| w.t <= *t1)
+            })
+            .map(|w| (w.lines[0].0 - crate::math::interp_linear(&tc, &ac, w.t)).abs())
+            .fold(0.0, f64::max);
+        // A(Δt) − A(rΔt) ≈ e(Δt)(1 − r^p): e = |ΔA| / |r^p − 1|.
+        let e = diff / (ratio.powf(order) - 1.0).abs();
+        Ok(Some(TransientError {
+            relative_1x: if r.peak_1x.0 > 0.0 {
+                e / r.peak_1x.0
+            } else {
+                0.0
+            },
+            order,
+            companion_dt: plan.dt,
+            companion_steps: plan.steps,
+        }))
     }
 
     /// Integrates the whole profile with `sinks`; returns the record and counters.
@@ -282,15 +364,22 @@ impl TransientPrepared {
     /// # Errors
     /// As [`TransientPrepared::run`].
     pub fn integrate(&self, sinks: &mut [&mut dyn FrameSink]) -> Result<(Record, RunStats)> {
+        self.integrate_plan(&self.plan, sinks)
+    }
+
+    /// [`TransientPrepared::integrate`] on `plan` instead of the run's.
+    fn integrate_plan(
+        &self,
+        plan: &StepPlan,
+        sinks: &mut [&mut dyn FrameSink],
+    ) -> Result<(Record, RunStats)> {
         let s = &self.settings;
         let stepper = match &self.drive {
-            Some(d) => {
-                Stepper::with_drive(&self.case, s.step.integrator, &self.plan, s.initial, d)?
-            }
+            Some(d) => Stepper::with_drive(&self.case, s.step.integrator, plan, s.initial, d)?,
             None => Stepper::with_profile(
                 &self.case,
                 s.step.integrator,
-                &self.plan,
+                plan,
                 s.initial,
                 Some(&self.profile),
             )?,
@@ -375,6 +464,7 @@ pub fn analyse_transient(
         contact,
         torque,
         windows,
+        error_estimate: None,
     })
 }
 

@@ -293,6 +293,13 @@ fn print_end(r: &analysis::TransientResults, stress: Option<&TransientStress>) {
         r.contact_force_max,
         r.friction_energy
     );
+    match &r.error_estimate {
+        Some(e) => println!(
+            "estimated error: the tracked 1× within {:.2e} of its peak (order {} against a companion at Δt = {:.3e} s, {} steps)",
+            e.relative_1x, e.order, e.companion_dt, e.companion_steps
+        ),
+        None => println!("estimated error: none (`run.error_estimate = false`, or no companion step could be planned)"),
+    }
     for p in stress.iter().flat_map(|s| &s.peaks) {
         println!(
             "stator `{}`: largest stress {:.4e} Pa at t = {:.4} s, Ω/ωn = {:.3} ({} nodes in contact)",
