@@ -317,25 +317,11 @@ impl TransientPrepared {
             } else {
                 2.0
             };
-        let duration = self.profile.duration();
-        let at = |dt: f64| {
-            let mut step = self.settings.step;
-            step.dt = Some(dt);
-            crate::time::plan_duration(&self.case, &step, self.top, duration).ok()
-        };
-        // The coarsest companion step up to 2Δt the scheme takes (an explicit run near its
-        // stability limit: just below it, at least 1.2Δt), else Δt/2.
-        let dt = self.plan.dt;
-        let coarse = (2.0 * dt).min(0.99 * self.plan.limit.max(dt));
-        let found = match (coarse >= 1.2 * dt).then(|| at(coarse)).flatten() {
-            Some(p) => Some(p),
-            None => at(2.0 * dt),
-        };
-        let Some(plan) = found.or_else(|| at(0.5 * dt)) else {
+        let Some(plan) = self.companion_plan() else {
             return Ok(None);
         };
         // Step ratio r = Δt_companion/Δt, either side of 1.
-        let ratio = plan.dt / dt;
+        let ratio = plan.dt / self.plan.dt;
         let (rec, stats) = self.integrate_plan(&plan, &mut [])?;
         let c = analyse_transient(self, &rec, stats)?;
         let (tc, ac): (Vec<f64>, Vec<f64>) = c.windows.iter().map(|w| (w.t, w.lines[0].0)).unzip();
@@ -357,6 +343,25 @@ impl TransientPrepared {
             companion_dt: plan.dt,
             companion_steps: plan.steps,
         }))
+    }
+
+    /// The plan of the error estimate's companion ([`TransientError`]): the coarsest step up to
+    /// 2Δt the scheme takes (an explicit run near its stability limit: just below it, at
+    /// least 1.2Δt), else Δt/2; `None` when none can be planned.
+    pub fn companion_plan(&self) -> Option<StepPlan> {
+        let duration = self.profile.duration();
+        let at = |dt: f64| {
+            let mut step = self.settings.step;
+            step.dt = Some(dt);
+            crate::time::plan_duration(&self.case, &step, self.top, duration).ok()
+        };
+        let dt = self.plan.dt;
+        let coarse = (2.0 * dt).min(0.99 * self.plan.limit.max(dt));
+        (coarse >= 1.2 * dt)
+            .then(|| at(coarse))
+            .flatten()
+            .or_else(|| at(2.0 * dt))
+            .or_else(|| at(0.5 * dt))
     }
 
     /// Integrates the whole profile with `sinks`; returns the record and counters.

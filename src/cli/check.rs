@@ -307,6 +307,14 @@ fn print_transient(s: &Scene, p: &analysis::TransientPrepared) {
         p.orders,
         p.window_revolutions
     );
+    match (p.settings.error_estimate, p.companion_plan()) {
+        (true, Some(c)) => println!(
+            "  error estimate: a companion run at Δt {:.4e} s ({} steps), the tracked 1× compared (`run.error_estimate`)",
+            c.dt, c.steps
+        ),
+        (true, None) => println!("  error estimate: none (no companion step can be planned)"),
+        (false, _) => println!("  error estimate: off (`run.error_estimate = false`)"),
+    }
 }
 
 /// The up-front estimate: steps, memory, time of a run at the checked speed and, for a sweep,
