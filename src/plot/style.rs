@@ -1,10 +1,9 @@
 //! The look of every figure and how it reaches the disk: the embedded font, the palette, the
 //! figure and text sizes, tick-label formatters, and rendering a bitmap to exactly the path the
-//! caller gave (through a hidden `.png` sibling when that path has another extension).
+//! caller gave (PNG by the `png` crate, whatever the path's extension).
 
 use std::error::Error as StdError;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 use std::sync::OnceLock;
 
 use plotters::coord::Shift;
@@ -68,57 +67,47 @@ pub(super) fn font(size: f64) -> TextStyle<'static> {
     (FONT, size).into_font().color(&BLACK)
 }
 
-/// Renders a figure of `size` pixels with `draw` and writes it as PNG to `path`.
+/// Renders a figure of `size` pixels with `draw` and writes it as PNG to `path`, whatever its
+/// extension (a caller's temporary name included).
 ///
-/// The bitmap encoder picks the format from the file extension, so a path without a `.png`
-/// extension (e.g. a caller's temporary name) is rendered to a uniquely named `.png` sibling
-/// first and then renamed to `path`. On failure no file is left behind.
+/// The figure is drawn into an RGB buffer and encoded by the `png` crate with the settings
+/// plotters' `image` encoder used (fast compression, adaptive filtering), so the files are the
+/// same; the `image` crate and its decoders stay out of the build. On failure no file is left
+/// behind.
 pub(super) fn render<F>(path: &Path, size: (u32, u32), draw: F) -> Result<()>
 where
     F: FnOnce(&Root<'_>) -> DrawResult,
 {
     ensure_font().map_err(|m| Error::output(path, m))?;
     let size = (size.0.clamp(200, 20_000), size.1.clamp(200, 20_000));
-    let direct = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    let target = if direct {
-        path.to_path_buf()
-    } else {
-        staging_path(path)
-    };
-    let outcome = (|| -> Result<()> {
-        let root = BitMapBackend::new(&target, size).into_drawing_area();
+    let mut pixels = vec![0u8; 3 * size.0 as usize * size.1 as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
         root.fill(&WHITE)
             .map_err(|e| Error::output(path, format!("cannot draw plot: {e}")))?;
         draw(&root).map_err(|e| Error::output(path, format!("cannot draw plot: {e}")))?;
         root.present()
-            .map_err(|e| Error::output(path, format!("cannot write PNG: {e}")))?;
-        Ok(())
-    })();
-    match outcome {
-        Ok(()) if direct => Ok(()),
-        Ok(()) => std::fs::rename(&target, path).map_err(|e| {
-            let _ = std::fs::remove_file(&target);
-            Error::output(path, format!("cannot move rendered PNG into place: {e}"))
-        }),
-        Err(e) => {
-            // The bitmap backend saves on drop even after a drawing error; remove the debris.
-            let _ = std::fs::remove_file(&target);
-            Err(e)
-        }
+            .map_err(|e| Error::output(path, format!("cannot draw plot: {e}")))?;
     }
+    write_png(path, size, &pixels).map_err(|e| {
+        let _ = std::fs::remove_file(path);
+        Error::output(path, format!("cannot write PNG: {e}"))
+    })
 }
 
-/// A unique `.png` sibling of `path` used when `path` itself has no `.png` extension.
-fn staging_path(path: &Path) -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "plot".to_string());
-    let k = COUNTER.fetch_add(1, Ordering::Relaxed);
-    path.with_file_name(format!(".{name}.{}-{k}.staging.png", std::process::id()))
+/// Encodes the 8-bit RGB `pixels` of a `size` image as PNG into `path`.
+fn write_png(path: &Path, size: (u32, u32), pixels: &[u8]) -> std::io::Result<()> {
+    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let mut encoder = png::Encoder::new(file, size.0, size.1);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Fast);
+    encoder.set_filter(png::FilterType::Sub);
+    encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(pixels)?;
+    writer.finish()?;
+    Ok(())
 }
 
 /// The embedded font at `size`, shrunk (down to 10 px) so that `text` fits the width of `area`
