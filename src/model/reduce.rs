@@ -313,8 +313,8 @@ impl Case {
         self.reduced_to(spec, top)
     }
 
-    /// [`Case::reduced_by`] for speeds up to `top` (rad/s; a speed transient's highest): the
-    /// default cut-off `cutoff_factor × max(harmonics × top, ω_c)`.
+    /// The case reduced as `spec` asks for speeds up to `top` (rad/s; a speed transient's
+    /// highest): the default cut-off `cutoff_factor × max(harmonics × top, ω_c)`.
     ///
     /// # Errors
     /// As [`ReducedRotor::new`].
