@@ -1193,6 +1193,12 @@ fn run_with_a_speed_profile_writes_the_transient_outputs() {
         so.contains("speed profile") && so.contains("peak 1×"),
         "{so}"
     );
+    // The error estimate: printed, and in summary.json with its companion (the explicit run
+    // below half its stability limit: a companion at 2Δt).
+    assert!(
+        so.contains("estimated error: the tracked 1× within"),
+        "{so}"
+    );
     for f in [
         "speed_history.csv",
         "response.csv",
@@ -1213,6 +1219,15 @@ fn run_with_a_speed_profile_writes_the_transient_outputs() {
     let tr = &s["transient"];
     assert!(tr["stats"]["contact_steps"].as_u64().unwrap() > 0, "{tr}");
     assert!(tr["friction_energy"].as_f64().unwrap() > 0.0, "{tr}");
+    let e = &tr["error_estimate"];
+    let rel = e["relative_1x"].as_f64().unwrap();
+    assert!(rel > 0.0 && rel < 1e-2, "{e}");
+    assert_eq!(e["order"].as_f64(), Some(2.0), "{e}");
+    let (dt, cdt) = (
+        tr["plan"]["dt"].as_f64().unwrap(),
+        e["companion_dt"].as_f64().unwrap(),
+    );
+    assert!((cdt / dt - 2.0).abs() < 1e-3, "{dt} {cdt}");
     let orders = read(&out.join("orders.csv"));
     assert!(orders.starts_with("t_s,omega_rad_s,speed_ratio,amp_1x_m,phase_1x_rad,amp_0.5x_m"));
     let hist = read(&out.join("speed_history.csv"));
