@@ -393,12 +393,22 @@ fn print_step_bounds(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &
 
 /// What is built, what is left out, which files a run writes.
 fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
+    // A gyroscopic rotor on a speed profile with an implicit scheme: S follows Ω(t), Ω̇(t).
+    let follows = s.run.speed_profile.is_some()
+        && matches!(
+            s.run.integrator(),
+            rubsim::scene::IntegratorKind::Newmark
+                | rubsim::scene::IntegratorKind::GeneralizedAlpha
+        )
+        && case.loop_rotor().gyro.is_some();
     println!(
         "built: {} rotor body with {} DOF, {} stator(s), {} contact candidate pair(s)",
-        match model.rotor {
-            rubsim::model::Rotor::Jeffcott(_) => "Jeffcott",
-            rubsim::model::Rotor::Fe(_) =>
+        match (&model.rotor, follows) {
+            (rubsim::model::Rotor::Jeffcott(_), _) => "Jeffcott",
+            (rubsim::model::Rotor::Fe(_), false) =>
                 "finite-element (sparse M, C + ΩG, K; M̃ factored once per speed by sparse LU)",
+            (rubsim::model::Rotor::Fe(_), true) =>
+                "finite-element (sparse M, C + Ω(t)G, K + Ω̇(t)K_st; the implicit step operator refactored as the speed moves)",
         },
         case.rotor.ndof,
         case.stators.len(),
