@@ -25,13 +25,15 @@
 //! **Implicit schemes** ([`super::newmark`]) hold the speed inside their step operator: the
 //! balance at tₙ₊₁ (α-weighted with tₙ for generalised-α) has `(C + Ωₙ₊₁G) vₙ₊₁` and
 //! `(K + Ω̇ₙ₊₁K_st) uₙ₊₁` with `vₙ₊₁ = ṽ + c (uₙ₊₁ − ũ)`, `c = γ/(βΔt)`, so
-//! `S(Ω, Ω̇) = S_f + (Ω − Ω_f) c G + Ω̇ K_st` is refactored whenever the step's end (Ωₙ₊₁, Ω̇ₙ₊₁)
-//! differs from the pair it was factored at ([`SpinOperator`]: a shaft chain's blocks are
-//! combined and refactored in place, allocation free; any other rotor is assembled and
-//! factored anew), with its columns at the contact DOFs, and the right-hand side gets
-//! `(Ωₙ₊₁ − Ω_f) G (c ũ − ṽ) − w [(Ωₙ − Ω_f) G vₙ + Ω̇ₙ K_st uₙ]`, `w = α_f/(1 − α_f)`. Nothing
-//! is lagged: the step is the scheme's own at the varying speed (second order, unconditionally
-//! stable), and the contact sees the flexibility of the step's actual operator.
+//! `S(Ω, Ω̇) = S_f + (Ω − Ω_f) c G + Ω̇ K_st`. Its factor (with its columns at the contact DOFs)
+//! is rebuilt when the step's end (Ωₙ₊₁, Ω̇ₙ₊₁) has moved from the pair (Ω_k, Ω̇_k) it was
+//! factored at by more than [`REFACTOR`] of the terms' size ([`SpinOperator`]: a shaft chain's
+//! blocks are combined and refactored in place, allocation free; any other rotor is assembled
+//! and factored anew). The right-hand side gets
+//! `(Ωₙ₊₁ − Ω_f) G (c ũ − ṽ) − w [(Ωₙ − Ω_f) G vₙ + Ω̇ₙ K_st uₙ] − ΔE ū`, `w = α_f/(1 − α_f)`,
+//! with `ΔE = (Ωₙ₊₁ − Ω_k) c G + (Ω̇ₙ₊₁ − Ω̇_k) K_st` the factor's mismatch acting on the
+//! predictor `ū = ũ + βΔt² aₙ`: an error `ΔE (uₙ₊₁ − ū) = O(ΔE Δt³)` a step. Nothing is lagged:
+//! the step keeps the scheme's order and unconditional stability (docs/IMPLICIT.md §8).
 
 use super::body::{DynBody, MInv, Ops, StepSolver};
 use super::newmark::Alpha;
@@ -265,9 +267,9 @@ impl GyroLoad {
     }
 
     /// An implicit step's speed terms, between [`DynBody::load`] and [`DynBody::solve`]:
-    /// `S` refactored at the step's end `next` (Ωₙ₊₁, Ω̇ₙ₊₁) and
-    /// `(Ωₙ₊₁ − Ω_f) G (c ũ − ṽ) − w [(Ωₙ − Ω_f) G vₙ + Ω̇ₙ K_st uₙ]` added to `body.rhs`, `now`
-    /// the state at tₙ (see the module). Does nothing for an explicit body.
+    /// `S` held within [`REFACTOR`] of the step's end `next` (Ωₙ₊₁, Ω̇ₙ₊₁) and
+    /// `(Ωₙ₊₁ − Ω_f) G (c ũ − ṽ) − w [(Ωₙ − Ω_f) G vₙ + Ω̇ₙ K_st uₙ] − ΔE ū` added to `body.rhs`,
+    /// `now` the state at tₙ (see the module). Does nothing for an explicit body.
     ///
     /// # Errors
     /// [`LinalgError`] when the operator cannot be factored at `next`.

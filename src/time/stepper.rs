@@ -517,15 +517,12 @@ impl<'a> Stepper<'a> {
     fn predict(&mut self, t: f64) -> Result<(), SolveError> {
         let implicit = matches!(self.rotor.ops, Ops::Implicit(_));
         let at = if implicit { t + self.plan.dt } else { t };
-        add_unbalance(self.case, self.spin.state(at), at, &mut self.rotor.rhs);
-        add_event_unbalance(
-            &self.events,
-            self.case,
-            self.spin.state(at),
-            at,
-            &mut self.rotor.rhs,
-        );
-        match (&mut self.gyro, self.spin.state(t), self.spin.state(at)) {
+        // The spin state at the load's instant, and at tₙ (the same instant unless implicit).
+        let next = self.spin.state(at);
+        let now = if implicit { self.spin.state(t) } else { next };
+        add_unbalance(self.case, next, at, &mut self.rotor.rhs);
+        add_event_unbalance(&self.events, self.case, next, at, &mut self.rotor.rhs);
+        match (&mut self.gyro, now, next) {
             (Some(g), Some(now), Some(next)) if implicit => {
                 if self.rotor.load() {
                     g.implicit_step(now, next, &mut self.rotor)
