@@ -2,6 +2,8 @@
 
 mod cli;
 
+use std::io::Write as _;
+
 fn main() {
     // SIGPIPE stays ignored (Rust's default): a closed stdout (`rubsim sweep … | head -1`)
     // must not kill a run before it commits its results; the command line's `println!`
@@ -16,7 +18,8 @@ fn main() {
                 msg = format!("{msg}: {c}");
             }
         }
-        eprintln!("error: {msg}");
+        // Written, not `eprintln!`: a closed stderr must not turn the error into a panic.
+        let _ = writeln!(std::io::stderr(), "error: {msg}");
         std::process::exit(2);
     }
 }

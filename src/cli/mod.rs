@@ -13,6 +13,23 @@ macro_rules! println {
     }};
 }
 
+/// `print!` likewise (`rubsim schema | head -1`).
+macro_rules! print {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// `eprintln!` likewise: the warnings and the estimate on a closed standard error
+/// (`rubsim sweep … 2>&1 | head -3`) are dropped, the run goes on to commit its results.
+macro_rules! eprintln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod bench;
 mod check;
 mod convergence;

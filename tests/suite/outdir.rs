@@ -410,6 +410,24 @@ fn sweep_into_a_closed_pipe_still_commits() {
     assert!(dir.join("sweep.csv").is_file());
     assert!(dir.join("summary.json").is_file());
     assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
+    // Standard error closed as well (`rubsim sweep … 2>&1 | head -3`): the estimate and the
+    // warnings written there panicked the sweep before it committed (exit 101, only `cases/`).
+    let dir = tmp.path().join("sw2");
+    let mut child = command(tmp.path())
+        .arg("sweep")
+        .arg(data("sweep.toml"))
+        .arg("--out")
+        .arg(&dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    drop(child.stderr.take());
+    let status = child.wait().unwrap();
+    assert!(status.success(), "{status:?}");
+    assert!(dir.join("summary.json").is_file());
+    assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
 }
 
 /// Issue 13, item 10: reruns left empty `speed_*/vtk/` folders. The folders that the
