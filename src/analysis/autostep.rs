@@ -66,7 +66,10 @@
 //! step (the budget's cost model, [`crate::time::estimate`]: the schemes' steps cost the same
 //! within the pilots' timing noise, 124–158 ns on the paper's Jeffcott rotor and rod); of the
 //! schemes predicted to meet the tolerance (all of them when none is) the cheapest wins, the
-//! first candidate on a tie. A scheme whose coarsest step already costs more than the best found is not piloted.
+//! first candidate on a tie. The schemes are piloted cheapest coarsest step first, and one
+//! whose coarsest step already costs more than the best found (or as much, after it) is not
+//! piloted: on the FE paper rotor the reduced collocated scheme is piloted first
+//! and the full schemes are not.
 //! The pilots' steps and wall time are counted and reported ([`StepChoice`]).
 //!
 //! # Reduced schemes
@@ -194,6 +197,8 @@ impl StepChoice {
 /// A scheme's outcome over the pilot speeds.
 struct Outcome {
     kind: IntegratorKind,
+    /// Its candidate's place among the variants (the earlier wins a tie in cost).
+    rank: usize,
     /// The reduction its runs integrate (`RunSettings::reduction`).
     reduction: Option<(ReductionInput, CutoffChoice)>,
     fits: Vec<fit::Fit>,
@@ -243,6 +248,27 @@ fn reducible(model: &Model, s: &RunSettings, v: f64) -> Option<ReductionInput> {
     })
 }
 
+/// The candidate variants (scheme, reduced) of the candidate `kinds`: each as the scene
+/// reduces it (reduced with κ from the tolerance where `scene_red` is automatic), then, where
+/// the scene gives no reduction and the model is `reducible`, each again reduced (forward
+/// increment only when it is the one candidate).
+fn variants(
+    kinds: &[IntegratorKind],
+    scene_red: Option<ReductionInput>,
+    reducible: bool,
+) -> Vec<(IntegratorKind, bool)> {
+    let scene_auto = scene_red.is_some_and(|r| r.auto);
+    let mut variants: Vec<(IntegratorKind, bool)> =
+        kinds.iter().map(|k| (*k, scene_auto)).collect();
+    if scene_red.is_none() && reducible {
+        let reduced = kinds
+            .iter()
+            .filter(|k| kinds.len() == 1 || **k != IntegratorKind::ForwardIncrement);
+        variants.extend(reduced.map(|k| (*k, true)));
+    }
+    variants
+}
+
 /// Cost (s) of one revolution at each pilot speed of `kind` at `scale`, summed.
 fn cost(model: &Model, s: &RunSettings, kind: Scheme, speeds: &[f64], scale: f64) -> Result<f64> {
     let mut total = 0.0;
@@ -274,19 +300,16 @@ pub fn choose(
     let pilots = pilot_speeds(speeds);
     let target = SAFETY * s.tolerance;
     let rho = match rho_inf {
-        Some(r) => Some(r),
-        None => {
-            let w = pilots[0] * model.rotor.natural_frequency();
-            Some(super::default_rho_inf(&model.case(w)?))
-        }
+        Some(r) => r,
+        None => super::default_rho_inf(&model.case(pilots[0] * model.rotor.natural_frequency())?),
     };
-    // The candidates in their order (the first wins a tie), each with the cost of its coarsest
-    // step: a scheme that cannot beat the best found is not piloted.
+    let rho = Some(rho);
+    // The candidates, each with the cost of its coarsest step, cheapest first (the first
+    // candidate wins a tie): a scheme that cannot beat the best found is not piloted.
     // A scheme that cannot even be planned keeps its reason: when none can, that reason (a
     // speed, clearance or stator the run itself would refuse, naming its key) is the error.
     let mut last_err: Option<Error> = None;
     let (mut pilot_steps, mut pilot_wall, mut piloted) = (0u64, 0.0, 0usize);
-    let kinds = candidates(model, run_integrator);
     // The reduction with κ from the tolerance: the scene's when it gives no cut-off (every
     // candidate runs it), else the one the reduced candidates would run; chosen when first
     // needed (a reduced candidate that cannot beat the best found costs no pilots).
@@ -297,15 +320,11 @@ pub fn choose(
         Some(_) => None,
         None => reducible(model, s, pilots[0]),
     };
-    let scene_auto = scene_red.is_some_and(|r| r.auto);
-    let mut variants: Vec<(IntegratorKind, bool)> =
-        kinds.iter().map(|k| (*k, scene_auto)).collect();
-    if scene_red.is_none() && reduced_base.is_some() {
-        let reduced = kinds
-            .iter()
-            .filter(|k| kinds.len() == 1 || **k != IntegratorKind::ForwardIncrement);
-        variants.extend(reduced.map(|k| (*k, true)));
-    }
+    let variants = variants(
+        &candidates(model, run_integrator),
+        scene_red,
+        reduced_base.is_some(),
+    );
     let floors = Floors {
         model,
         s,
@@ -315,8 +334,12 @@ pub fn choose(
     };
     let order = floors.order(&variants, &mut last_err);
     let mut best: Option<Outcome> = None;
-    for (kind, reduced, floor) in order {
-        if best.as_ref().is_some_and(|b| b.meets && b.cost <= floor) {
+    for (rank, kind, reduced, floor) in order {
+        // A scheme that cannot beat the best found (nor tie it from an earlier candidate).
+        if best
+            .as_ref()
+            .is_some_and(|b| b.meets && (b.cost < floor || (b.cost == floor && b.rank < rank)))
+        {
             continue;
         }
         let sch = scheme(kind, rho);
@@ -338,9 +361,12 @@ pub fn choose(
         match outcome {
             // A scheme predicted to meet the tolerance beats one that is not (a step bounded
             // by `MAX_EXTRAPOLATION` on pilots that did not converge), then the cheaper one.
-            Ok(o) => {
+            Ok(mut o) => {
+                o.rank = rank;
                 if best.as_ref().is_none_or(|b| {
-                    (o.meets && !b.meets) || (o.meets == b.meets && o.cost < b.cost)
+                    (o.meets && !b.meets)
+                        || (o.meets == b.meets
+                            && (o.cost < b.cost || (o.cost == b.cost && o.rank < b.rank)))
                 }) {
                     best = Some(o);
                 }
@@ -391,15 +417,16 @@ struct Floors<'a> {
 
 impl Floors<'_> {
     /// Each variant that can be planned with the cost of its coarsest step (a reduced one at
-    /// the default κ: a larger κ costs more), in the variants' order; the first planning error
-    /// is kept in `last_err`.
+    /// the default κ: a larger κ costs more), cheapest floor first (the variants' order on a
+    /// tie): the scheme most likely to win is piloted first, and one whose floor is above
+    /// what it costs is not piloted at all. The first planning error is kept in `last_err`.
     fn order(
         &self,
         variants: &[(IntegratorKind, bool)],
         last_err: &mut Option<Error>,
-    ) -> Vec<(IntegratorKind, bool, f64)> {
+    ) -> Vec<(usize, IntegratorKind, bool, f64)> {
         let mut order = Vec::new();
-        for &(kind, reduced) in variants {
+        for (rank, &(kind, reduced)) in variants.iter().enumerate() {
             let sch = scheme(kind, self.rho);
             // The floor of a reduced candidate: its cost at the default κ (a larger κ costs more).
             let sr = if reduced {
@@ -417,12 +444,13 @@ impl Floors<'_> {
                 *self.s
             };
             match cost(self.model, &sr, sch, self.pilots, COARSEST) {
-                Ok(c) => order.push((kind, reduced, c)),
+                Ok(c) => order.push((rank, kind, reduced, c)),
                 Err(e) => {
                     last_err.get_or_insert(e);
                 }
             }
         }
+        order.sort_by(|a, b| a.3.total_cmp(&b.3));
         order
     }
 }
@@ -511,6 +539,7 @@ fn pilot_scheme(
         .all(|f| f.predicted(scale) + trunc <= s.tolerance);
     Ok(Outcome {
         kind,
+        rank: 0,
         reduction: red,
         fits,
         scale,

@@ -150,6 +150,19 @@ impl RunSettings {
         self.request(speed_ratio).from_pilot(pilot)
     }
 
+    /// [`RunSettings::request_at`], or — for a run that writes a time series (`series`:
+    /// `output.vtk`, `output.hdf5`) — [`RunSettings::request`] from the scene's own start
+    /// state: its frames are the scene's run from t = 0 (`from_revolution` counts revolutions
+    /// of that run, its transient included), not a pilot's continuation with the transient
+    /// cut.
+    pub fn request_for(&self, index: usize, speed_ratio: f64, series: bool) -> RunRequest {
+        if series {
+            self.request(speed_ratio)
+        } else {
+            self.request_at(index, speed_ratio)
+        }
+    }
+
     /// The reduction the runs integrate: [`RunSettings::reduction`] when set, else the
     /// scene's (`model.reduction`).
     pub fn reduction_of<'a>(&'a self, model: &'a Model) -> Option<&'a ReductionInput> {

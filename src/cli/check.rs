@@ -138,7 +138,7 @@ fn print_stators(s: &Scene, case: &Case) {
             print_massless(m);
         } else if let Some(r) = &m.reduced {
             println!(
-                "  with mass, reduced (`run.reduction.stators`, Craig–Bampton): cut-off ω_cut = {:.4e} rad/s; {} fixed-interface modes kept{}; {} boundary (contact) DOFs; {} DOF in the loop instead of {}; reduced ω_max = {:.4e} rad/s (explicit limit {:.4e} s); contact flexibility exact (constraint modes)",
+                "  with mass, reduced (`run.reduction.stators`, Craig–Bampton): cut-off ω_cut = {:.4e} rad/s; {} fixed-interface modes kept{}; {} boundary (contact) DOFs; {} DOF in the loop instead of {}; ω_max,reduced = {:.4e} rad/s (explicit limit {:.4e} s); contact flexibility exact (constraint modes)",
                 r.cutoff,
                 r.modes.len(),
                 match (r.modes.first(), r.modes.last()) {
@@ -480,7 +480,7 @@ fn print_reduction(case: &Case, red: &rubsim::model::ReducedRotor) {
         case.rotor.ndof,
     );
     println!(
-        "  reduced ω_max = {:.4e} rad/s (full model {:.4e}); largest relative error of the reduced frequencies below the cut-off {:.2e}; contact flexibility exact (static columns)",
+        "  ω_max,reduced = {:.4e} rad/s (full model {:.4e}); largest relative error of the reduced frequencies below the cut-off {:.2e}; contact flexibility exact (static columns)",
         red.omega_max(),
         red.full_frequencies.last().copied().unwrap_or(0.0),
         red.frequency_error,

@@ -38,7 +38,9 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &[v])?;
     let keep = Keep::single_run(&ls.scene.output, v);
-    let prep = analysis::prepare(&model, &s.request_at(0, v))?;
+    let out_spec = &ls.scene.output;
+    let writes_series = out_spec.vtk.is_some() || out_spec.hdf5.is_some();
+    let prep = analysis::prepare(&model, &s.request_for(0, v, writes_series))?;
     // VTK/HDF5 time series (output.vtk, output.hdf5) stream into the staging folder.
     let scene_json = serde_json::to_string(&ls.scene)?;
     let series = Series {
@@ -79,6 +81,15 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
         s.step.integrator.name(), r.stats.steps, r.plan.dt, r.stats.wall_s,
         r.error.map(|e| format!("{:.1e}", e.extents_rel)).unwrap_or_else(|| "not estimated".into())
     );
+    warn_run(&r, ls.scene.run.tolerance);
+    println!("results in {}", dir.display());
+    Ok(())
+}
+
+/// The warnings of a steady run on stderr: an error estimate above the tolerance the pilots
+/// predicted to meet, coexisting responses, a runaway, the run's own warnings or an unproven
+/// steady state (`tolerance`: `run.tolerance`).
+fn warn_run(r: &analysis::SpeedResults, tolerance: f64) {
     if let (Some(e), Some(c)) = (r.error, r.step_choice) {
         if e.extents_rel.max(e.lines_rel) > c.tolerance {
             eprintln!(
@@ -91,7 +102,7 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
         }
     }
     if let Some(c) = r.coexistence.filter(|c| c.coexisting) {
-        eprintln!("warning: {}", coexist_warning(&r, &c));
+        eprintln!("warning: {}", coexist_warning(r, &c));
     }
     if let Some(t) = r.dynamics.runaway_at_s {
         eprintln!(
@@ -108,11 +119,9 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
             r.speed_ratio,
             r.transient_revolutions,
             r.stationarity.residual,
-            ls.scene.run.tolerance
+            tolerance
         );
     }
-    println!("results in {}", dir.display());
-    Ok(())
 }
 
 /// A scene with `[run.speed_profile]`: integrates the whole profile and writes

@@ -102,12 +102,16 @@ pub struct RunSpec {
     /// line).
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
-    /// Choose Δt and the integrator from `tolerance` by pilot runs (`analysis::autostep`)
-    /// when `dt` is not given. Default `false`: Δt from the paper's rule (`harmonics`), capped
-    /// by the stability limit — the paper's scenes keep the rule and its cost (their pilots
-    /// would cost about what their sweep does); the stator scenes write `auto_step = true`
-    /// (docs/VALIDATION.md §16).
-    #[serde(default)]
+    /// Choose Δt and the integrator (and, for an FE rotor or a meshed stator with mass, its
+    /// modal reduction) from `tolerance` by pilot runs (`analysis::autostep`) when `dt` is not
+    /// given: the commands `run`, `sweep`, `map`, `bench`, `check` and `convergence` do, for
+    /// steady runs (a `speed_profile` keeps the rule). Default `true`. `false` is the paper's
+    /// rule, an explicit choice: Δt from `harmonics` (Δt ≤ min(T_min/(32 n), 2π/(32 n ω))),
+    /// capped by the stability limit, `integrator` or collocated — the paper's scenes
+    /// (`scenes/paper/`) and the timing benchmarks (`bench_*`) write it, reproducing the
+    /// paper's step at the paper's cost (their rule meets 1e-3 as it is; docs/VALIDATION.md
+    /// §16).
+    #[serde(default = "crate::scene::yes")]
     pub auto_step: bool,
     /// Most revolutions the transient may grow to while the run waits for the steady state
     /// (default 5 × `transient_revolutions`); a run not steady by then is reported

@@ -307,9 +307,10 @@ fn run_case(
         .as_ref()
         .map_or((req.scene, req.model), |(l, m)| (l, m));
     let v = case.speed_ratio;
-    let prep = analysis::prepare(m, &var.settings.request_at(case.speed, v))?;
+    let series = req.series.wants(case);
+    let prep = analysis::prepare(m, &var.settings.request_for(case.speed, v, series))?;
     let keep = req.study.keep(l, v);
-    let r = if req.series.wants(case) {
+    let r = if series {
         let staging = req.store.stage_series(&case.id)?;
         let sr = Series {
             output: &l.scene.output,
