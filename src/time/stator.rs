@@ -70,6 +70,12 @@ impl StatorDyn {
         }
         f
     }
+    /// Whether [`StatorDyn::block_at`] of two keys is exactly the transpose of the block with
+    /// the keys swapped: a massless stator's, read from one packed symmetric compliance.
+    #[inline]
+    pub(crate) fn symmetric(&self) -> bool {
+        matches!(self, StatorDyn::Massless(_))
+    }
     #[inline]
     pub(crate) fn apply(&mut self, d: usize, f: f64) {
         match self {
