@@ -146,6 +146,12 @@ impl PairBlocks {
         &self.table[self.slot[i] * self.cap + self.slot[j]]
     }
 
+    /// Each selected pair's slot, in the selection's order.
+    #[inline]
+    pub(crate) fn slots(&self) -> &[usize] {
+        &self.slot
+    }
+
     /// The blocks of selected pair `i` by slot, and each selected pair's slot in the
     /// selection's order: pair `j`'s block is `row[slots[j]]`.
     #[inline]

@@ -142,7 +142,12 @@ impl Compliance {
             let p = *self.slot.get(*d)?;
             (p != usize::MAX && self.nodes[p / 2] == *pair).then_some(p / 2)
         };
-        let Some(found) = store.touched.iter().map(node_of).collect::<Option<Vec<_>>>() else {
+        let Some(found) = store
+            .touched
+            .iter()
+            .map(node_of)
+            .collect::<Option<Vec<_>>>()
+        else {
             return;
         };
         let mut j = 0;
@@ -336,7 +341,11 @@ impl Compliance {
             return 0.0;
         }
         let contact = self.slot.get(d).is_some_and(|&p| p != usize::MAX);
-        let l = if contact { self.locs_of([d])[0] } else { usize::MAX };
+        let l = if contact {
+            self.locs_of([d])[0]
+        } else {
+            usize::MAX
+        };
         if l == usize::MAX {
             debug_assert!(false, "displacement of DOF {d} not prepared");
             return 0.0;

@@ -221,24 +221,26 @@ impl Stepper<'_> {
         let ws = &mut self.ws;
         let q = ws.sel.len();
         ws.us.clear();
-        // The force on each stator target, s_j p_j.
-        ws.rv.clear();
-        ws.rv.extend(
+        // The force on each stator target with one, s_j p_j, by the target's slot (the pairs
+        // without force add nothing).
+        ws.forced.clear();
+        let slots = ws.blocks.slots();
+        ws.forced.extend(
             ws.dirs
                 .iter()
                 .zip(&ws.pvec[..q])
-                .map(|(d, &p)| [d.2[0] * p, d.2[1] * p]),
+                .zip(slots)
+                .filter(|((_, &p), _)| p != 0.0)
+                .map(|((d, &p), &sl)| (sl, [d.2[0] * p, d.2[1] * p])),
         );
         for (i, &ci) in ws.sel.iter().enumerate() {
             let c = &pairs.cands[ci];
             let us = match &stators[c.stator] {
                 StatorDyn::Massless(_) => {
                     let mut u = [0.0; 2];
-                    let (brow, slots) = ws.blocks.row(i);
-                    // Pairs without force add nothing (their terms are zeros).
-                    let forced = slots.iter().zip(&ws.rv).zip(&ws.pvec[..q]);
-                    for ((&sl, sp), _) in forced.filter(|(_, &p)| p != 0.0) {
-                        let d = apply2(&brow[sl], *sp);
+                    let (brow, _) = ws.blocks.row(i);
+                    for &(sl, sp) in &ws.forced {
+                        let d = apply2(&brow[sl], sp);
                         u[0] += d[0];
                         u[1] += d[1];
                     }
