@@ -207,19 +207,19 @@ impl Compliance {
         // Column of each batch node's components in the solve (`usize::MAX`: none).
         let mut col = vec![[usize::MAX; 2]; batch.len()];
         let mut ncols = 0;
-        for (b, &s) in batch.iter().enumerate() {
-            for a in 0..2 {
-                if self.nodes[s][a] != usize::MAX {
-                    col[b][a] = ncols;
+        for (cb, &s) in col.iter_mut().zip(batch) {
+            for (c, &d) in cb.iter_mut().zip(&self.nodes[s]) {
+                if d != usize::MAX {
+                    *c = ncols;
                     ncols += 1;
                 }
             }
         }
         let mut block = vec![0.0; n * ncols];
-        for (b, &s) in batch.iter().enumerate() {
-            for a in 0..2 {
-                if col[b][a] != usize::MAX {
-                    block[col[b][a] * n + self.nodes[s][a]] = 1.0;
+        for (cb, &s) in col.iter().zip(batch) {
+            for (&c, &d) in cb.iter().zip(&self.nodes[s]) {
+                if c != usize::MAX {
+                    block[c * n + d] = 1.0;
                 }
             }
         }
@@ -312,7 +312,7 @@ impl Compliance {
     /// targets are whole nodes.
     #[inline]
     pub(crate) fn block_read(&self, ki: [usize; 2], kj: [usize; 2]) -> [[f64; 2]; 2] {
-        let whole = |k: [usize; 2]| k[0] % 2 == 0 && k[1] == k[0] + 1;
+        let whole = |k: [usize; 2]| k[0].is_multiple_of(2) && k[1] == k[0] + 1;
         if whole(ki) && whole(kj) {
             self.reads.set(self.reads.get() + 4);
             let (i, j) = (ki[0] / 2, kj[0] / 2);
