@@ -1,7 +1,7 @@
 //! A massless stator in the loop (Eq. 49): the compliance `K⁻¹` of its contact DOFs.
 
 use crate::linalg::{Cholesky, CholeskyScratch, LinalgError};
-use crate::model::stator::{ContactColumns, MeshStatorData};
+use crate::model::stator::{ContactColumns, MeshStatorData, NodeBlock};
 use crate::model::StatorModel;
 use std::cell::Cell;
 use std::sync::Arc;
@@ -16,10 +16,11 @@ pub const EAGER_DOFS: usize = 32;
 /// one sparse Cholesky factor of K (shared by every run of a meshed stator).
 ///
 /// What a step costs is what its contact problem holds, not the mesh nor the boundary:
-/// - `F` is kept only among the contact DOFs that have entered a contact problem
-///   ([`ContactColumns`], packed symmetric): a DOF's column is computed by a blocked solve the
-///   first time it is prepared ([`Compliance::ensure`]; small boundaries, ≤ [`EAGER_DOFS`]
-///   contact DOFs, all up front) and kept for the stator's later runs;
+/// - `F` is kept only among the contact nodes (a target's two DOFs) that have entered a
+///   contact problem ([`ContactColumns`], packed symmetric by 2 × 2 node blocks, so the block
+///   of two targets is one read from one cache line): a node's columns are computed by a
+///   blocked solve the first time it is prepared ([`Compliance::ensure`]; small boundaries,
+///   ≤ [`EAGER_DOFS`] contact DOFs, all up front) and kept for the stator's later runs;
 /// - the forces are a short list (one entry per DOF pushed); applying one is O(1), undeforming
 ///   the stator is O(forces), and the displacement of a DOF ([`Compliance::disp_at`]) is
 ///   `Σ_k F[d, d_k] f_k` over that list;
@@ -31,25 +32,28 @@ pub(crate) struct Compliance {
     /// Solve workspace of `chol` for one right-hand side (frames' field rebuilds), so a frame
     /// allocates nothing.
     scratch: Option<Box<CholeskyScratch>>,
-    /// Contact DOFs, sorted.
-    cd: Vec<usize>,
-    /// Free DOF → index in `cd` (`usize::MAX` for interior DOFs).
+    /// Contact nodes: the DOFs of each (`usize::MAX` for a component it does not have), in
+    /// the order of the targets that have them.
+    nodes: Vec<[usize; 2]>,
+    /// Free DOF → its position `2·node + component` among the contact nodes (`usize::MAX` for
+    /// interior DOFs).
     slot: Vec<usize>,
-    /// Contact slot → index of its DOF in `cols.touched` (`usize::MAX` until computed).
+    /// Contact node → its index in `cols.touched` (`usize::MAX` until computed).
     loc: Vec<usize>,
-    /// Contact slots in the order of their targets' angle around the rotor axis (then DOF),
-    /// and each slot's position in it: a batch of columns is the missing slots that follow the
+    /// Contact nodes in the order of their targets' angle around the rotor axis (then index),
+    /// and each node's position in it: a batch of columns is the missing nodes that follow the
     /// one asked for, the targets next to it, so the selected pairs of a contact zone sit
     /// close together in the packed compliance.
     around: Vec<usize>,
     around_pos: Vec<usize>,
     /// The columns computed so far (this run's and the earlier runs').
     cols: ContactColumns,
-    /// Per touched index `j`: block of its column and the column's start in it.
+    /// Per touched node `j`: block of its node column and the column's start in it.
     start: Vec<(usize, usize)>,
-    /// Forces applied since the last reset: (touched index, DOF, force in N), one entry per DOF.
+    /// Forces applied since the last reset: (touched position `2·j + component`, DOF, force in
+    /// N), one entry per DOF.
     forces: Vec<(usize, usize, f64)>,
-    /// Touched index → position in `forces` (`usize::MAX`: no force there).
+    /// Touched position → index in `forces` (`usize::MAX`: no force there).
     fpos: Vec<usize>,
     /// Entries of `F` read by the loop (flexibilities and displacements), the work counter of
     /// [`super::RunStats::stator_reads`]; column solves and frames not counted.
@@ -80,11 +84,7 @@ impl Drop for Compliance {
 impl Compliance {
     pub(crate) fn new(s: &StatorModel) -> Result<Self, LinalgError> {
         let n = s.ndof;
-        let cd = s.contact_dofs();
-        let mut slot = vec![usize::MAX; n];
-        for (j, &d) in cd.iter().enumerate() {
-            slot[d] = j;
-        }
+        let (nodes, slot, angle) = contact_nodes(s);
         let chol = if n == 0 {
             None
         } else {
@@ -93,27 +93,20 @@ impl Compliance {
                 None => Arc::new(Cholesky::new(&s.k)?),
             })
         };
-        let ncd = cd.len();
-        let mut angle = vec![0.0_f64; ncd];
-        for tg in &s.targets {
-            if let crate::contact::Target::Node { x0, dofs, .. } = tg {
-                for d in dofs.iter().flatten() {
-                    angle[slot[*d]] = x0[1].atan2(x0[0]);
-                }
-            }
-        }
-        let mut around: Vec<usize> = (0..ncd).collect();
+        let nn = nodes.len();
+        let mut around: Vec<usize> = (0..nn).collect();
         around.sort_by(|&a, &b| angle[a].total_cmp(&angle[b]).then(a.cmp(&b)));
-        let mut around_pos = vec![0; ncd];
+        let mut around_pos = vec![0; nn];
         for (k, &j) in around.iter().enumerate() {
             around_pos[j] = k;
         }
+        let ncd = slot.iter().filter(|&&p| p != usize::MAX).count();
         let mut c = Self {
             around,
             around_pos,
             scratch: chol.as_ref().map(|ch| Box::new(ch.solve_scratch(1))),
             chol,
-            loc: vec![usize::MAX; ncd],
+            loc: vec![usize::MAX; nn],
             cols: ContactColumns::default(),
             start: Vec::new(),
             forces: Vec::new(),
@@ -121,7 +114,7 @@ impl Compliance {
             reads: Cell::new(0),
             rhs: vec![0.0; n],
             u: vec![0.0; n],
-            cd,
+            nodes,
             slot,
             shared: s.mesh.clone(),
         };
@@ -134,7 +127,7 @@ impl Compliance {
         }
         if ncd <= EAGER_DOFS && c.loc.contains(&usize::MAX) {
             c.compute(
-                &(0..ncd)
+                &(0..nn)
                     .filter(|&j| c.loc[j] == usize::MAX)
                     .collect::<Vec<_>>(),
             );
@@ -144,10 +137,19 @@ impl Compliance {
 
     /// Starts from the columns earlier runs computed (blocks shared, not copied).
     fn adopt(&mut self, store: &ContactColumns) {
-        let contact = |d: usize| self.slot.get(d).is_some_and(|&s| s != usize::MAX);
-        if !store.touched.iter().all(|&d| contact(d)) {
+        let node_of = |pair: &[usize; 2]| {
+            let d = pair.iter().find(|&&d| d != usize::MAX)?;
+            let p = *self.slot.get(*d)?;
+            (p != usize::MAX && self.nodes[p / 2] == *pair).then_some(p / 2)
+        };
+        let Some(found) = store
+            .touched
+            .iter()
+            .map(node_of)
+            .collect::<Option<Vec<_>>>()
+        else {
             return;
-        }
+        };
         let mut j = 0;
         for (b, blk) in store.blocks.iter().enumerate() {
             let mut off = 0;
@@ -161,81 +163,117 @@ impl Compliance {
             self.start.clear();
             return;
         }
-        for (k, &d) in store.touched.iter().enumerate() {
-            self.loc[self.slot[d]] = k;
+        for (k, &node) in found.iter().enumerate() {
+            self.loc[node] = k;
         }
-        self.fpos = vec![usize::MAX; j];
+        self.fpos = vec![usize::MAX; 2 * j];
         self.cols = store.clone();
     }
 
-    /// Columns computed together when one is missing: the next missing contact DOFs around
+    /// Nodes computed together when one is missing: the next missing contact nodes around
     /// the axis, its neighbours on the boundary (one blocked solve is several times cheaper
-    /// per column than single ones).
-    const BATCH: usize = 16;
+    /// per column than single ones; 16 columns of two-DOF nodes).
+    const BATCH: usize = 8;
 
-    /// Computes the column of contact DOF `d` (and a batch after it) if it is not known yet.
+    /// Computes the columns of contact DOF `d`'s node (and a batch after it) if they are not
+    /// known yet.
     #[inline]
     pub(crate) fn ensure(&mut self, d: usize) {
-        let j = self.slot[d];
-        if self.loc[j] == usize::MAX {
-            self.ensure_slow(j);
+        let node = self.slot[d] / 2;
+        if self.loc[node] == usize::MAX {
+            self.ensure_slow(node);
         }
     }
 
     #[cold]
-    fn ensure_slow(&mut self, j: usize) {
-        let ncd = self.cd.len();
-        let at = self.around_pos[j];
-        let batch: Vec<usize> = (0..ncd)
-            .map(|k| self.around[(at + k) % ncd])
+    fn ensure_slow(&mut self, node: usize) {
+        let nn = self.nodes.len();
+        let at = self.around_pos[node];
+        let batch: Vec<usize> = (0..nn)
+            .map(|k| self.around[(at + k) % nn])
             .filter(|&s| self.loc[s] == usize::MAX)
             .take(Self::BATCH)
             .collect();
         self.compute(&batch);
     }
 
-    /// One blocked solve for the contact slots `batch` (none known yet): their columns packed
-    /// after the known ones, rows at every touched DOF up to their own.
+    /// One blocked solve for the contact nodes `batch` (none known yet): their node columns
+    /// packed after the known ones, blocks with every touched node up to their own.
     fn compute(&mut self, batch: &[usize]) {
         if batch.is_empty() {
             return;
         }
         let n = self.rhs.len();
-        let mut block = vec![0.0; n * batch.len()];
-        for (b, &s) in batch.iter().enumerate() {
-            block[b * n + self.cd[s]] = 1.0;
+        // Column of each batch node's components in the solve (`usize::MAX`: none).
+        let mut col = vec![[usize::MAX; 2]; batch.len()];
+        let mut ncols = 0;
+        for (cb, &s) in col.iter_mut().zip(batch) {
+            for (c, &d) in cb.iter_mut().zip(&self.nodes[s]) {
+                if d != usize::MAX {
+                    *c = ncols;
+                    ncols += 1;
+                }
+            }
+        }
+        let mut block = vec![0.0; n * ncols];
+        for (cb, &s) in col.iter().zip(batch) {
+            for (&c, &d) in cb.iter().zip(&self.nodes[s]) {
+                if c != usize::MAX {
+                    block[c * n + d] = 1.0;
+                }
+            }
         }
         if let Some(ch) = &self.chol {
             ch.solve_in_place(&mut block);
         }
         let m = self.cols.touched.len();
         for &s in batch {
-            self.cols.touched.push(self.cd[s]);
+            self.cols.touched.push(self.nodes[s]);
         }
         let bi = self.cols.blocks.len();
         let mut packed = Vec::with_capacity(batch.len() * (m + batch.len()));
         for (b, &s) in batch.iter().enumerate() {
             self.loc[s] = m + b;
             self.start.push((bi, packed.len()));
-            let x = &block[b * n..(b + 1) * n];
-            packed.extend(self.cols.touched[..=m + b].iter().map(|&e| x[e]));
+            packed.extend(self.cols.touched[..=m + b].iter().map(|rows| {
+                let mut f = NodeBlock::default();
+                for (a, &r) in rows.iter().enumerate() {
+                    for (c, &k) in col[b].iter().enumerate() {
+                        if r != usize::MAX && k != usize::MAX {
+                            f.0[a][c] = block[k * n + r];
+                        }
+                    }
+                }
+                f
+            }));
         }
         self.cols.blocks.push(packed.into());
-        self.fpos.resize(m + batch.len(), usize::MAX);
+        self.fpos.resize(2 * (m + batch.len()), usize::MAX);
     }
 
-    /// `F[i, j]` by touched indices.
+    /// The node block of touched nodes `i ≤ j`.
     #[inline]
-    fn entry(&self, i: usize, j: usize) -> f64 {
-        let (i, j) = if i <= j { (i, j) } else { (j, i) };
+    fn node_block(&self, i: usize, j: usize) -> &NodeBlock {
         let (b, off) = self.start[j];
-        self.cols.blocks[b][off + i]
+        &self.cols.blocks[b][off + i]
+    }
+
+    /// `F[p, q]` by touched positions (`2·node + component`).
+    #[inline]
+    fn entry(&self, p: usize, q: usize) -> f64 {
+        let (i, a, j, b) = (p / 2, p % 2, q / 2, q % 2);
+        if i <= j {
+            self.node_block(i, j).0[a][b]
+        } else {
+            self.node_block(j, i).0[b][a]
+        }
     }
 
     /// `F[a, b]` (m/N) of two prepared contact DOFs.
     #[inline]
     pub(crate) fn flex(&self, a: usize, b: usize) -> f64 {
-        let (la, lb) = (self.loc[self.slot[a]], self.loc[self.slot[b]]);
+        let [la] = self.locs_of([a]);
+        let [lb] = self.locs_of([b]);
         debug_assert!(
             la != usize::MAX && lb != usize::MAX,
             "compliance of DOFs {a}, {b} not prepared"
@@ -243,11 +281,23 @@ impl Compliance {
         self.entry_read(la, lb)
     }
 
+    /// Touched positions of prepared contact DOFs (`usize::MAX` for one not prepared).
+    #[inline]
+    fn locs_of<const K: usize>(&self, dofs: [usize; K]) -> [usize; K] {
+        dofs.map(|d| {
+            let p = self.slot[d];
+            match self.loc[p / 2] {
+                usize::MAX => usize::MAX,
+                j => 2 * j + p % 2,
+            }
+        })
+    }
+
     /// The positions of a prepared target's DOFs in the packed compliance (`usize::MAX` for a
     /// DOF it does not have).
     #[inline]
     pub(crate) fn locs(&self, dofs: [Option<usize>; 2]) -> [usize; 2] {
-        dofs.map(|d| d.map_or(usize::MAX, |d| self.loc[self.slot[d]]))
+        dofs.map(|d| d.map_or(usize::MAX, |d| self.locs_of([d])[0]))
     }
 
     /// `F[i, j]` by positions in the packed compliance ([`Compliance::locs`]), counted as read.
@@ -257,6 +307,32 @@ impl Compliance {
         self.entry(i, j)
     }
 
+    /// The 2 × 2 block between two prepared targets by their [`Compliance::locs`] (0 for a
+    /// DOF a target does not have), its entries counted as read: one node block when both
+    /// targets are whole nodes.
+    #[inline]
+    pub(crate) fn block_read(&self, ki: [usize; 2], kj: [usize; 2]) -> [[f64; 2]; 2] {
+        let whole = |k: [usize; 2]| k[0].is_multiple_of(2) && k[1] == k[0] + 1;
+        if whole(ki) && whole(kj) {
+            self.reads.set(self.reads.get() + 4);
+            let (i, j) = (ki[0] / 2, kj[0] / 2);
+            if i <= j {
+                return self.node_block(i, j).0;
+            }
+            let f = self.node_block(j, i).0;
+            return [[f[0][0], f[1][0]], [f[0][1], f[1][1]]];
+        }
+        let mut f = [[0.0; 2]; 2];
+        for a in 0..2 {
+            for b in 0..2 {
+                if ki[a] != usize::MAX && kj[b] != usize::MAX {
+                    f[a][b] = self.entry_read(ki[a], kj[b]);
+                }
+            }
+        }
+        f
+    }
+
     /// Displacement of contact DOF `d` (m): `Σ_k F[d, d_k] f_k` over the forces applied since
     /// the last reset (0 without any; `d` must be prepared otherwise).
     #[inline]
@@ -264,11 +340,16 @@ impl Compliance {
         if self.forces.is_empty() {
             return 0.0;
         }
-        let l = self.slot.get(d).and_then(|&s| self.loc.get(s)).copied();
-        let Some(l) = l.filter(|&l| l != usize::MAX) else {
+        let contact = self.slot.get(d).is_some_and(|&p| p != usize::MAX);
+        let l = if contact {
+            self.locs_of([d])[0]
+        } else {
+            usize::MAX
+        };
+        if l == usize::MAX {
             debug_assert!(false, "displacement of DOF {d} not prepared");
             return 0.0;
-        };
+        }
         self.reads.set(self.reads.get() + self.forces.len() as u64);
         self.forces
             .iter()
@@ -280,7 +361,7 @@ impl Compliance {
     #[inline]
     pub(crate) fn apply(&mut self, d: usize, f: f64) {
         self.ensure(d);
-        let l = self.loc[self.slot[d]];
+        let [l] = self.locs_of([d]);
         match self.fpos[l] {
             usize::MAX => {
                 self.fpos[l] = self.forces.len();
@@ -324,4 +405,30 @@ impl Compliance {
         }
         self.u.copy_from_slice(&self.rhs);
     }
+}
+
+/// A stator's contact nodes (each target's free DOFs not in an earlier target's node, as one
+/// node: `usize::MAX` for a component it does not have), each free DOF's position
+/// `2·node + component` (`usize::MAX` for interior DOFs) and each node's angle around the
+/// rotor axis (rad; 0 for a ring target).
+fn contact_nodes(s: &StatorModel) -> (Vec<[usize; 2]>, Vec<usize>, Vec<f64>) {
+    let mut slot = vec![usize::MAX; s.ndof];
+    let (mut nodes, mut angle) = (Vec::new(), Vec::new());
+    for tg in &s.targets {
+        let mut node = [usize::MAX; 2];
+        for (a, d) in tg.dofs().iter().enumerate() {
+            if let Some(d) = d.filter(|&d| slot[d] == usize::MAX) {
+                node[a] = d;
+                slot[d] = 2 * nodes.len() + a;
+            }
+        }
+        if node != [usize::MAX; 2] {
+            nodes.push(node);
+            angle.push(match tg {
+                crate::contact::Target::Node { x0, .. } => x0[1].atan2(x0[0]),
+                crate::contact::Target::Ring { .. } => 0.0,
+            });
+        }
+    }
+    (nodes, slot, angle)
 }

@@ -76,11 +76,12 @@ pub struct RunStats {
     pub contact_steps: usize,
     /// Total principal pivots of the complementarity solves.
     pub pivots: usize,
-    /// Entries of the massless stators' compliance `K⁻¹` the loop read (the flexibilities of
-    /// its contact problems and the displacements at their pairs): the work of the stator side
-    /// of the contact, which grows with the pairs in contact and not with the mesh. The column
-    /// solves (once per touched DOF, shared by later runs) and frames' field rebuilds are not
-    /// counted.
+    /// Entries of the massless stators' compliance `K⁻¹` the loop read (the flexibility blocks
+    /// of the pairs entering its contact problems — four entries per 2 × 2 block, one block of
+    /// each symmetric pair read, the other its transpose — and the displacements at their
+    /// pairs): the work of the stator side of the contact, which grows with the pairs in
+    /// contact and not with the mesh. The column solves (once per touched node, shared by later
+    /// runs) and frames' field rebuilds are not counted.
     #[serde(default)]
     pub stator_reads: u64,
     /// Energy taken by the contact dashpots over the run (J, `contact_damping`): Σ over steps

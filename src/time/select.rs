@@ -208,17 +208,22 @@ impl Pairs {
         }
         let mut deepest = 0.0_f64;
         self.gather(ws, u, 0.0, phase);
+        ws.stamp += 1;
         for &ci in &ws.near {
             ws.states[ci] = self.pair_at(case, ci, u, disp(self.cands[ci].stator));
+            ws.stamped[ci] = ws.stamp;
             deepest = deepest.max(-ws.states[ci].g);
         }
         if deepest <= 0.0 {
             return false;
         }
-        // Every pair with g < deepest, from the nodes within r + deepest.
+        // Every pair with g < deepest, from the nodes within r + deepest (the geometry of
+        // those the first pass saw is this configuration's already).
         self.gather(ws, u, deepest, phase);
         for &ci in &ws.near {
-            ws.states[ci] = self.pair_at(case, ci, u, disp(self.cands[ci].stator));
+            if ws.stamped[ci] != ws.stamp {
+                ws.states[ci] = self.pair_at(case, ci, u, disp(self.cands[ci].stator));
+            }
             if ws.states[ci].g < deepest {
                 ws.sel.push(ci);
             }

@@ -38,6 +38,7 @@ impl Stepper<'_> {
                     [[0.0; 2]; 2]
                 }
             },
+            |ki, kj| ki.0 != kj.0 || stators[ki.0].symmetric(),
         );
         let ns = pairs.station_dofs.len();
         if held == Held::No {
@@ -88,13 +89,10 @@ impl Stepper<'_> {
             let rows = wstat[i * q..(i + 1) * q]
                 .iter_mut()
                 .zip(&mut wmat[i * q..(i + 1) * q]);
-            let cols = blocks
-                .row(i)
-                .iter()
-                .zip(dirs.iter())
-                .zip(&rv[si * q..(si + 1) * q]);
-            for ((ws_ij, w_ij), ((f, &(_, _, sj, _)), r)) in rows.zip(cols) {
-                let w_s = dot(ni, apply2(f, sj));
+            let (brow, slots) = blocks.row(i);
+            let cols = slots.iter().zip(dirs.iter()).zip(&rv[si * q..(si + 1) * q]);
+            for ((ws_ij, w_ij), ((&sl, &(_, _, sj, _)), r)) in rows.zip(cols) {
+                let w_s = dot(ni, apply2(&brow[sl], sj));
                 *ws_ij = w_s;
                 *w_ij = dot(ni, *r) + w_s;
             }
@@ -223,21 +221,26 @@ impl Stepper<'_> {
         let ws = &mut self.ws;
         let q = ws.sel.len();
         ws.us.clear();
-        // The force on each stator target, s_j p_j.
-        ws.rv.clear();
-        ws.rv.extend(
+        // The force on each stator target with one, s_j p_j, by the target's slot (the pairs
+        // without force add nothing).
+        ws.forced.clear();
+        let slots = ws.blocks.slots();
+        ws.forced.extend(
             ws.dirs
                 .iter()
                 .zip(&ws.pvec[..q])
-                .map(|(d, &p)| [d.2[0] * p, d.2[1] * p]),
+                .zip(slots)
+                .filter(|((_, &p), _)| p != 0.0)
+                .map(|((d, &p), &sl)| (sl, [d.2[0] * p, d.2[1] * p])),
         );
         for (i, &ci) in ws.sel.iter().enumerate() {
             let c = &pairs.cands[ci];
             let us = match &stators[c.stator] {
                 StatorDyn::Massless(_) => {
                     let mut u = [0.0; 2];
-                    for (f, sp) in ws.blocks.row(i).iter().zip(&ws.rv) {
-                        let d = apply2(f, *sp);
+                    let (brow, _) = ws.blocks.row(i);
+                    for &(sl, sp) in &ws.forced {
+                        let d = apply2(&brow[sl], sp);
                         u[0] += d[0];
                         u[1] += d[1];
                     }

@@ -57,18 +57,24 @@ impl StatorDyn {
     /// for a DOF a target does not have).
     #[inline]
     pub(crate) fn block_at(&self, ki: [usize; 2], kj: [usize; 2]) -> [[f64; 2]; 2] {
+        if let StatorDyn::Massless(c) = self {
+            return c.block_read(ki, kj);
+        }
         let mut f = [[0.0; 2]; 2];
         for a in 0..2 {
             for b in 0..2 {
                 if ki[a] != usize::MAX && kj[b] != usize::MAX {
-                    f[a][b] = match self {
-                        StatorDyn::Massless(c) => c.entry_read(ki[a], kj[b]),
-                        _ => self.flex(ki[a], kj[b]),
-                    };
+                    f[a][b] = self.flex(ki[a], kj[b]);
                 }
             }
         }
         f
+    }
+    /// Whether [`StatorDyn::block_at`] of two keys is exactly the transpose of the block with
+    /// the keys swapped: a massless stator's, read from one packed symmetric compliance.
+    #[inline]
+    pub(crate) fn symmetric(&self) -> bool {
+        matches!(self, StatorDyn::Massless(_))
     }
     #[inline]
     pub(crate) fn apply(&mut self, d: usize, f: f64) {

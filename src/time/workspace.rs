@@ -78,6 +78,11 @@ pub(crate) struct StepWorkspace {
     pub(crate) reach: Vec<f64>,
     /// Frozen geometry per candidate.
     pub(crate) states: Vec<PairState>,
+    /// Per candidate: the selection (by [`StepWorkspace::stamp`]) that last computed its
+    /// geometry in `states`, so a selection's second pass reuses what its first computed.
+    pub(crate) stamped: Vec<u64>,
+    /// Selections made so far.
+    pub(crate) stamp: u64,
     /// Per candidate (ring targets): the relative position `x_C − x_S` of the section centre
     /// to the ring centre at the start of the solve (m) (`super::ring`).
     pub(crate) rel0: Vec<V2>,
@@ -132,8 +137,11 @@ pub(crate) struct StepWorkspace {
     /// Per selected pair: its stator target's displacement after the solve (m).
     pub(crate) us: Vec<V2>,
     /// Scratch per station and selected pair: the rotor's displacement there per unit `p_j`
-    /// (assembly), or the force `s_j p_j` on each target (displacements after the solve).
+    /// (assembly).
     pub(crate) rv: Vec<V2>,
+    /// The selected pairs with force after a solve: their slot in `blocks` and the force
+    /// `s_j p_j` on their target (the targets' displacements).
+    pub(crate) forced: Vec<(usize, V2)>,
 }
 
 impl StepWorkspace {
@@ -147,6 +155,8 @@ impl StepWorkspace {
             centre: vec![[0.0; 2]; nstations],
             reach: vec![0.0; nstations],
             states: vec![PairState::default(); nc],
+            stamped: vec![0; nc],
+            stamp: 0,
             rel0: vec![[0.0; 2]; nc],
             clear0: vec![0.0; nc],
             sel: Vec::with_capacity(nc),
@@ -172,6 +182,7 @@ impl StepWorkspace {
             dirs: Vec::with_capacity(cap0),
             us: Vec::with_capacity(cap0),
             rv: Vec::with_capacity(cap0 * nst),
+            forced: Vec::with_capacity(cap0),
         }
     }
 

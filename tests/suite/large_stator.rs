@@ -6,9 +6,10 @@ use rubsim::analysis::{self, Keep};
 
 /// The plain annulus with its contact circle fixed at 128 elements (`ni`) and the interior
 /// refined from h = 4 mm to h = 1 mm — 16× the DOFs — rubbed at fixed Δt: the entries of the
-/// compliance the loop reads per contact step (`RunStats::stator_reads`: the flexibility blocks
-/// of the pairs that enter a contact problem, the displacements at its pairs) and the pivots
-/// per contact step stay within 30 % of each other. The loop keeps no vector over the interior
+/// compliance the loop reads per contact step (`RunStats::stator_reads`: the 2 × 2 flexibility
+/// blocks of the pairs that enter a contact problem, one of each symmetric pair, four entries a
+/// block; the displacements at its pairs) and the pivots per contact step stay within 30 % of
+/// each other. The loop keeps no vector over the interior
 /// nor over the boundary; the column solves, once per touched DOF and shared by the stator's
 /// later runs, and the frames' field rebuilds are the only work that grows with the mesh.
 #[test]

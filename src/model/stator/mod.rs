@@ -160,20 +160,29 @@ pub struct MeshStatorData {
     pub reductions: std::sync::Mutex<Vec<(f64, Arc<reduce::ReducedStator>)>>,
 }
 
-/// Entries of a massless stator's compliance `F = K⁻¹` (m/N) among the contact DOFs that have
+/// Entries of a massless stator's compliance `F = K⁻¹` (m/N) among the contact nodes that have
 /// touched, in the order their columns were computed — nothing at interior DOFs nor at contact
-/// DOFs that never entered a contact problem. Packed lower-triangular: the DOF computed `j`-th
-/// keeps `F[touched[i], touched[j]]` for `i ≤ j` (F is symmetric), so `m` touched DOFs hold
-/// `8·m(m+1)/2` bytes, and a column once written never changes: runs share the blocks by
-/// reference and append their own.
+/// nodes that never entered a contact problem. By 2 × 2 node blocks ([`NodeBlock`]: a
+/// contact node's two DOFs, as its target has them), packed upper-triangular: the node computed
+/// `j`-th keeps its blocks with the nodes `i ≤ j` (F is symmetric), so `m` touched nodes hold
+/// `32·m(m+1)/2` bytes, a pair of targets' block lies in one cache line, and a column once
+/// written never changes: runs share the blocks by reference and append their own.
 #[derive(Debug, Default, Clone)]
 pub struct ContactColumns {
-    /// Contact DOFs with a column, in the order computed.
-    pub touched: Vec<usize>,
-    /// One block per blocked solve: the columns of `touched[s..e]` one after the other, column
-    /// `j` holding its `j + 1` rows `0..=j`.
-    pub blocks: Vec<Arc<[f64]>>,
+    /// Contact nodes with a column, in the order computed: each node's two DOFs
+    /// (`usize::MAX` for a component it does not have).
+    pub touched: Vec<[usize; 2]>,
+    /// One block per blocked solve: the node columns of `touched[s..e]` one after the other,
+    /// node column `j` holding its `j + 1` blocks with the nodes `0..=j`.
+    pub blocks: Vec<Arc<[NodeBlock]>>,
 }
+
+/// The compliance between two contact nodes (m/N): `.0[a][b]` the displacement of component
+/// `a` of the first per unit force along component `b` of the second (0 for a component a
+/// node does not have). Aligned to 32 bytes: a block never straddles two cache lines.
+#[derive(Debug, Default, Clone, Copy, PartialEq)]
+#[repr(C, align(32))]
+pub struct NodeBlock(pub [[f64; 2]; 2]);
 
 impl MeshStatorData {
     /// The Cholesky factor of `k` (the model's stiffness), factored once.
@@ -326,12 +335,20 @@ impl StatorModel {
             .map(|f| f.nnz())
     }
 
-    /// Bytes of a massless stator's compliance among all its contact DOFs `n_c`, packed
-    /// symmetric ([`ContactColumns`]): `8·n_c(n_c+1)/2`, its bound when every contact DOF
-    /// touches.
+    /// Bytes of a massless stator's compliance among all its contact nodes `n` (the targets'
+    /// distinct DOF pairs), packed symmetric by 2 × 2 node blocks ([`ContactColumns`]):
+    /// `32·n(n+1)/2`, its bound when every contact node touches.
     pub fn packed_compliance_bytes(&self) -> f64 {
-        let nc = self.contact_dofs().len() as f64;
-        4.0 * nc * (nc + 1.0)
+        let mut nodes: Vec<[Option<usize>; 2]> = self
+            .targets
+            .iter()
+            .map(|t| t.dofs())
+            .filter(|d| d.iter().any(Option::is_some))
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let n = nodes.len() as f64;
+        16.0 * n * (n + 1.0)
     }
 
     /// Gershgorin upper bound of the largest eigenvalue of `M⁻¹K` (rad²/s²) for a stator with
