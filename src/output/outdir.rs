@@ -255,28 +255,22 @@ impl Drop for OutDir {
     }
 }
 
-/// Opens `dir/.rubsim-lock` (creating `dir` and the file) and locks it exclusively without
-/// waiting; retries when the file was replaced between open and lock.
+/// How long a held lock is retried before it is reported busy: a process that spawns a child
+/// (gmsh, or another thread's command) lends the child a copy of every open descriptor between
+/// fork and exec — `O_CLOEXEC` closes it only at the exec — so a lock this process has just
+/// released can stay held for that instant; a run holding it lasts far longer.
+const LOCK_PATIENCE: std::time::Duration = std::time::Duration::from_millis(250);
+
+/// Opens `dir/.rubsim-lock` (creating `dir` and the file) and locks it exclusively, waiting
+/// at most [`LOCK_PATIENCE`]; retries when the file was replaced between open and lock.
 fn acquire_lock(dir: &Path) -> Result<File> {
-    let path = dir.join(LOCK);
-    for _ in 0..16 {
-        fs::create_dir_all(dir)
-            .map_err(|e| Error::output(dir, format!("cannot create output directory: {e}")))?;
-        let f = fs::OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(&path)
-            .map_err(|e| {
-                Error::output(
-                    dir,
-                    format!("output directory is not writable (its lock file {LOCK}): {e}"),
-                )
-            })?;
-        match f.try_lock() {
-            Ok(()) => {}
-            Err(TryLockError::WouldBlock) => {
+    let t0 = std::time::Instant::now();
+    loop {
+        match try_acquire_lock(dir) {
+            Err(Busy::Held) if t0.elapsed() < LOCK_PATIENCE => {
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+            Err(Busy::Held) => {
                 return Err(Error::output(
                     dir,
                     format!(
@@ -285,21 +279,60 @@ fn acquire_lock(dir: &Path) -> Result<File> {
                     ),
                 ))
             }
+            Err(Busy::Failed(e)) => return Err(e),
+            Ok(f) => return Ok(f),
+        }
+    }
+}
+
+/// Why the lock was not taken.
+enum Busy {
+    /// Another open file description holds it.
+    Held,
+    /// Any other error, as reported.
+    Failed(Error),
+}
+
+/// One attempt of [`acquire_lock`].
+fn try_acquire_lock(dir: &Path) -> std::result::Result<File, Busy> {
+    let path = dir.join(LOCK);
+    for _ in 0..16 {
+        fs::create_dir_all(dir).map_err(|e| {
+            Busy::Failed(Error::output(
+                dir,
+                format!("cannot create output directory: {e}"),
+            ))
+        })?;
+        let f = fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(&path)
+            .map_err(|e| {
+                Busy::Failed(Error::output(
+                    dir,
+                    format!("output directory is not writable (its lock file {LOCK}): {e}"),
+                ))
+            })?;
+        match f.try_lock() {
+            Ok(()) => {}
+            Err(TryLockError::WouldBlock) => return Err(Busy::Held),
             Err(TryLockError::Error(e)) => {
-                return Err(Error::output(
+                return Err(Busy::Failed(Error::output(
                     &path,
                     format!("cannot lock the output directory: {e}"),
-                ))
+                )))
             }
         }
         if is_same_file(&f, &path) {
             return Ok(f);
         }
     }
-    Err(Error::output(
+    Err(Busy::Failed(Error::output(
         &path,
         "cannot lock the output directory: its lock file keeps being replaced",
-    ))
+    )))
 }
 
 /// True when the open file `f` is the file at `path` (same device and inode).
