@@ -197,8 +197,6 @@ impl StepChoice {
 /// A scheme's outcome over the pilot speeds.
 struct Outcome {
     kind: IntegratorKind,
-    /// Its candidate's place among the variants (the earlier wins a tie in cost).
-    rank: usize,
     /// The reduction its runs integrate (`RunSettings::reduction`).
     reduction: Option<(ReductionInput, CutoffChoice)>,
     fits: Vec<fit::Fit>,
@@ -299,11 +297,10 @@ pub fn choose(
     }
     let pilots = pilot_speeds(speeds);
     let target = SAFETY * s.tolerance;
-    let rho = match rho_inf {
+    let rho = Some(match rho_inf {
         Some(r) => r,
         None => super::default_rho_inf(&model.case(pilots[0] * model.rotor.natural_frequency())?),
-    };
-    let rho = Some(rho);
+    });
     // The candidates, each with the cost of its coarsest step, cheapest first (the first
     // candidate wins a tie): a scheme that cannot beat the best found is not piloted.
     // A scheme that cannot even be planned keeps its reason: when none can, that reason (a
@@ -333,12 +330,13 @@ pub fn choose(
         pilots: &pilots,
     };
     let order = floors.order(&variants, &mut last_err);
-    let mut best: Option<Outcome> = None;
+    // The best found with its candidate's rank: of equal cost, the earlier candidate wins.
+    let mut best: Option<(usize, Outcome)> = None;
     for (rank, kind, reduced, floor) in order {
         // A scheme that cannot beat the best found (nor tie it from an earlier candidate).
         if best
             .as_ref()
-            .is_some_and(|b| b.meets && (b.cost < floor || (b.cost == floor && b.rank < rank)))
+            .is_some_and(|(br, b)| b.meets && (b.cost, *br) < (floor, rank))
         {
             continue;
         }
@@ -361,20 +359,17 @@ pub fn choose(
         match outcome {
             // A scheme predicted to meet the tolerance beats one that is not (a step bounded
             // by `MAX_EXTRAPOLATION` on pilots that did not converge), then the cheaper one.
-            Ok(mut o) => {
-                o.rank = rank;
-                if best.as_ref().is_none_or(|b| {
-                    (o.meets && !b.meets)
-                        || (o.meets == b.meets
-                            && (o.cost < b.cost || (o.cost == b.cost && o.rank < b.rank)))
+            Ok(o) => {
+                if best.as_ref().is_none_or(|(br, b)| {
+                    (o.meets && !b.meets) || (o.meets == b.meets && (o.cost, rank) < (b.cost, *br))
                 }) {
-                    best = Some(o);
+                    best = Some((rank, o));
                 }
             }
             Err(e) => last_err = Some(e),
         }
     }
-    let Some(b) = best else {
+    let Some((_, b)) = best else {
         return Err(last_err.unwrap_or_else(|| {
             SolveError::ToleranceUnreachable {
                 tolerance: s.tolerance,
@@ -539,7 +534,6 @@ fn pilot_scheme(
         .all(|f| f.predicted(scale) + trunc <= s.tolerance);
     Ok(Outcome {
         kind,
-        rank: 0,
         reduction: red,
         fits,
         scale,

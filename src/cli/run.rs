@@ -38,8 +38,7 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &[v])?;
     let keep = Keep::single_run(&ls.scene.output, v);
-    let out_spec = &ls.scene.output;
-    let writes_series = out_spec.vtk.is_some() || out_spec.hdf5.is_some();
+    let writes_series = rubsim::results::wanted(&ls.scene.output);
     let prep = analysis::prepare(&model, &s.request_for(0, v, writes_series))?;
     // VTK/HDF5 time series (output.vtk, output.hdf5) stream into the staging folder.
     let scene_json = serde_json::to_string(&ls.scene)?;

@@ -388,21 +388,26 @@ fn signal_during_a_run_keeps_previous_results() {
     }
 }
 
+/// `rubsim sweep tests/data/sweep.toml --out dir` with both output streams piped.
+fn piped_sweep(cwd: &Path, dir: &Path) -> std::process::Child {
+    command(cwd)
+        .arg("sweep")
+        .arg(data("sweep.toml"))
+        .arg("--out")
+        .arg(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
 /// Issue 13, item 10: `rubsim sweep … | head -1` (SIGPIPE) left the results in the staging
 /// folder with no `sweep.csv`. A closed stdout no longer stops the run before its commit.
 #[test]
 fn sweep_into_a_closed_pipe_still_commits() {
     let tmp = TempDir::new().unwrap();
     let dir = tmp.path().join("sw");
-    let mut child = command(tmp.path())
-        .arg("sweep")
-        .arg(data("sweep.toml"))
-        .arg("--out")
-        .arg(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = piped_sweep(tmp.path(), &dir);
     // Close the reading end before the sweep prints anything, as `head -1` does once done.
     drop(child.stdout.take());
     let o = child.wait_with_output().unwrap();
@@ -413,15 +418,7 @@ fn sweep_into_a_closed_pipe_still_commits() {
     // Standard error closed as well (`rubsim sweep … 2>&1 | head -3`): the estimate and the
     // warnings written there panicked the sweep before it committed (exit 101, only `cases/`).
     let dir = tmp.path().join("sw2");
-    let mut child = command(tmp.path())
-        .arg("sweep")
-        .arg(data("sweep.toml"))
-        .arg("--out")
-        .arg(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = piped_sweep(tmp.path(), &dir);
     drop(child.stdout.take());
     drop(child.stderr.take());
     let status = child.wait().unwrap();
