@@ -3,7 +3,8 @@
 //! * [`Csc`] ([`csc`]): compressed-sparse-column matrix owned by rubsim (pattern built once
 //!   from triplets, duplicates summed) with an allocation-free `y += α A x` for the time loop;
 //!   [`PairCsr`] ([`pair`]): two matrices on one row pattern for the explicit step's
-//!   `y += A x + B z`.
+//!   `y += A x + B z`; [`PatternAssembly`] ([`pattern`]): a finite-element matrix summed in
+//!   place on its pattern from the elements' DOF lists (large meshes, no triplet list).
 //! * [`Cholesky`] ([`cholesky`]): sparse `A = L Lᵀ` of a symmetric positive definite stiffness
 //!   (massless-stator condensation), with caller-owned solve scratch ([`CholeskyScratch`]) for
 //!   solves inside the time loop.
@@ -25,6 +26,7 @@ pub mod csc;
 pub mod lowrank;
 pub mod lu;
 pub mod pair;
+pub mod pattern;
 
 pub use crate::error::LinalgError;
 pub use block::{BlockParts, BlockTridiag, NODE_BLOCK};
@@ -34,6 +36,7 @@ pub use csc::Csc;
 pub use lowrank::{LowRank, WoodburyLu};
 pub use lu::{Lu, StepLu};
 pub use pair::PairCsr;
+pub use pattern::PatternAssembly;
 
 use faer::MatMut;
 

@@ -26,13 +26,12 @@
 //! error ([`MeshError::Inverted`]).
 
 use super::{MeshStatorData, StatorElement, StatorModel};
-use crate::assembly::scatter;
 use crate::contact::Target;
 use crate::element::frame::{self, FrameSection};
 use crate::element::solid2d::{self, Elastic2, Plane};
 use crate::element::solid3d::{self, Elastic3};
 use crate::error::{Error, MeshError, ModelError};
-use crate::linalg::Csc;
+use crate::linalg::{Csc, PatternAssembly};
 use crate::math::V2;
 use crate::mesh::{CellKind, Mesh};
 use crate::resolve::mesh::{
@@ -106,18 +105,17 @@ pub fn from_mesh(
     supports_hold(mesh, p, cells, &lines)?;
     let dofs = Dofs::number(mesh, p, solid, cells, &lines)?;
     let ndof = dofs.ndof;
-    let mut asm = Assembly::new(ndof, if solid { 3 } else { 2 }, cells, &lines);
+    let mut asm = Assembly::new(ndof, cells, &lines, &spring_nodes, &dofs);
     asm.cells(mesh, p.plane, solid, cells, &dofs);
     asm.lines(mesh, &lines, &dofs)?;
     asm.springs(&spring_nodes, &dofs);
     let Assembly {
-        kt,
+        k,
         mass,
         elements,
         element_bound,
     } = asm;
-    let k = Csc::from_triplets(ndof, ndof, &kt);
-    drop(kt);
+    let k = k.finish();
     let (m, c, total_mass) = mass_and_damping(p, &mass, &k)?;
     let contact = contact_targets(mesh, p, solid, stations_z, &dofs)?;
     // The element bound holds when every element carrying stiffness carries its own mass.
@@ -435,23 +433,67 @@ impl Dofs {
     }
 }
 
-/// The stiffness triplets, lumped masses and elements as they are assembled, with the element
-/// eigenvalue bound.
+/// A line element's DOFs in its matrix's order: a bar's `[u_x, u_y]` at both ends, a frame's
+/// `[u_x, u_y, θ_z]` at both ends.
+fn line_dofs((l, fr): &Line, dofs: &Dofs) -> Vec<Option<usize>> {
+    let nd = &dofs.node_dofs;
+    match fr.inertia {
+        None => [nd[l[0]], nd[l[1]]].concat(),
+        Some(_) => vec![
+            nd[l[0]][0],
+            nd[l[0]][1],
+            dofs.rot[&l[0]],
+            nd[l[1]][0],
+            nd[l[1]][1],
+            dofs.rot[&l[1]],
+        ],
+    }
+}
+
+/// The stiffness summed on its pattern, lumped masses and elements as they are assembled, with
+/// the element eigenvalue bound.
 struct Assembly {
-    kt: Vec<(usize, usize, f64)>,
+    k: PatternAssembly,
     mass: Vec<f64>,
     elements: Vec<StatorElement>,
     element_bound: f64,
 }
 
 impl Assembly {
-    fn new(ndof: usize, ncomp: usize, cells: &[Cell], lines: &[Line]) -> Self {
-        let per_cell: usize = cells
-            .iter()
-            .map(|c| (ncomp * c.kind.nodes()).pow(2))
-            .sum::<usize>();
+    /// The stiffness's pattern from every element's free DOFs (cells, lines, springs).
+    fn new(
+        ndof: usize,
+        cells: &[Cell],
+        lines: &[Line],
+        springs: &[(Vec<usize>, [f64; 2])],
+        dofs: &Dofs,
+    ) -> Self {
+        let mut offsets = vec![0];
+        let mut flat: Vec<u32> = Vec::new();
+        let mut ed = Vec::new();
+        let mut push = |ed: &[Option<usize>]| {
+            flat.extend(ed.iter().flatten().map(|&d| d as u32));
+            offsets.push(flat.len());
+        };
+        for c in cells {
+            ed.clear();
+            for &n in &c.nodes {
+                dofs.of(n, &mut ed);
+            }
+            push(&ed);
+        }
+        for l in lines {
+            push(&line_dofs(l, dofs));
+        }
+        for (nodes, _) in springs {
+            for &n in nodes {
+                for d in dofs.node_dofs[n] {
+                    push(&[d]);
+                }
+            }
+        }
         Assembly {
-            kt: Vec::with_capacity(per_cell + 36 * lines.len()),
+            k: PatternAssembly::new(ndof, &offsets, &flat),
             mass: vec![0.0; ndof],
             elements: Vec::with_capacity(cells.len() + lines.len()),
             element_bound: 0.0,
@@ -516,7 +558,7 @@ impl Assembly {
             for &n in nodes {
                 dofs.of(n, &mut ed);
             }
-            scatter(&mut self.kt, &ed, ke);
+            self.k.add(&ed, ke);
             if reg.density > 0.0 {
                 let free: Vec<usize> = (0..ed.len()).filter(|&i| ed[i].is_some()).collect();
                 if !free.is_empty() {
@@ -556,8 +598,7 @@ impl Assembly {
                 None => {
                     let mut kb = [0.0; 16];
                     frame::bar_stiffness(a, b, fr.youngs_modulus * fr.area, &mut kb);
-                    let d = [node_dofs[l[0]], node_dofs[l[1]]].concat();
-                    scatter(&mut self.kt, &d, &kb);
+                    self.k.add(&line_dofs(&(*l, *fr), dofs), &kb);
                     let half = fr.density * fr.area * length / 2.0;
                     for &n in l {
                         for d in node_dofs[n].iter().flatten() {
@@ -583,15 +624,7 @@ impl Assembly {
                     let mut kf = [0.0; 36];
                     frame::frame_stiffness(a, b, &section, &mut kf);
                     let rot_dofs = [dofs.rot[&l[0]], dofs.rot[&l[1]]];
-                    let d = [
-                        node_dofs[l[0]][0],
-                        node_dofs[l[0]][1],
-                        rot_dofs[0],
-                        node_dofs[l[1]][0],
-                        node_dofs[l[1]][1],
-                        rot_dofs[1],
-                    ];
-                    scatter(&mut self.kt, &d, &kf);
+                    self.k.add(&line_dofs(&(*l, *fr), dofs), &kf);
                     let [mt, mr] = frame::frame_mass_lumped(a, b, &section);
                     for (k, &n) in l.iter().enumerate() {
                         for d in node_dofs[n].iter().flatten() {
@@ -620,9 +653,8 @@ impl Assembly {
             for &n in nodes {
                 for (c, kc) in k.iter().enumerate() {
                     if *kc > 0.0 {
-                        if let Some(d) = dofs.node_dofs[n][c] {
-                            self.kt.push((d, d, kc * share));
-                        }
+                        let d = dofs.node_dofs[n][c];
+                        self.k.add(&[d], &[kc * share]);
                         let dir = if c == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
                         self.elements.push(StatorElement::Spring {
                             node: n,
