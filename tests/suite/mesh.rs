@@ -323,6 +323,34 @@ fn step_import_meshes_like_the_geometry_it_came_from() {
     );
 }
 
+/// The seal geometry's `hxt = 1` meshes its volume with gmsh's HXT (3.6× faster at 10⁶ cells,
+/// docs/PERFORMANCE.md §12.2): another tetrahedral mesh of the same surfaces, so the same
+/// contact nodes, while the default stays gmsh's Delaunay mesh.
+#[test]
+fn the_seal_meshes_with_hxt_on_request_over_the_same_contact_surface() {
+    if !need_gmsh() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut hxt = MeshRequest::new(repo("geometry/labyrinth_seal.geo"));
+    hxt.parameters.insert("hxt".into(), 1.0);
+    let (a, b) = (
+        gm::mesh(
+            &MeshRequest::new(repo("geometry/labyrinth_seal.geo")),
+            dir.path(),
+        )
+        .unwrap(),
+        gm::mesh(&hxt, dir.path()).unwrap(),
+    );
+    assert_ne!(a.key, b.key);
+    let (a, b) = (Mesh::read(&a.msh).unwrap(), Mesh::read(&b.msh).unwrap());
+    let contact = |m: &Mesh| m.group_nodes("stator_contact").unwrap().len();
+    assert_eq!(contact(&a), contact(&b));
+    assert_ne!(a.nodes.len(), b.nodes.len(), "HXT gave the Delaunay mesh");
+    assert!((a.nodes.len() as f64 / b.nodes.len() as f64 - 1.0).abs() < 0.05);
+    assert_eq!(b.dim(), 3);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Scenes with meshed stators.
 
