@@ -244,6 +244,12 @@ fn print_run(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &StepPlan
     }
     if let Some(c) = &st.choice {
         println!("  {}", describe_choice(c));
+        if st.error_estimate {
+            println!(
+                "  verified by each run: where its own error estimate misses run.tolerance, Δt is halved and the run repeated, at most {} times (each repeat about twice the run's steps; reported as `step_refinement`)",
+                analysis::MAX_STEP_REFINEMENTS
+            );
+        }
     }
     let limit = if st.step.integrator.implicit().is_some() {
         format!(
