@@ -35,7 +35,8 @@
 //! (quasi-periodic or chaotic: the 0–1 test on the Poincaré section), `lengthen` (the window
 //! lengthened for that test, and a run that runs away when continued), `richardson` (the step
 //! pairs' error estimates; a run that never repeats), [`verify`] (the step choice verified by
-//! the run: a run whose own estimate misses the tolerance repeated at half the step), [`verify`] (the step choice verified by
+//! the run: a run whose own estimate misses the tolerance repeated at half the step),
+//! [`refinement`] (what a run so refined reports), [`verify`] (the step choice verified by
 //! the run: a run whose own estimate misses the tolerance repeated at half the step), [`discrepancy`] (how far apart two runs'
 //! results are, relative to a reference run), `pilot` (what every pilot run shares), [`request`] (the typed run request), [`coexist`] (a second response at the same
 //! speed, found from another start), [`sweep`](mod@sweep) (speeds, variants, the
@@ -54,6 +55,7 @@ pub mod fanout;
 mod lengthen;
 mod pilot;
 pub mod refine;
+pub mod refinement;
 pub mod regimes;
 pub mod request;
 mod richardson;
@@ -73,6 +75,7 @@ pub use convergence::{
 };
 pub use discrepancy::{extent_scale, extents_error, orbit_span, ExtentsScale};
 pub use dynamics::{Dynamics, Regime};
+pub use refinement::{RejectedStep, StepRefinement};
 pub use regimes::{
     quasi_resonances, regime_class, regime_label, regime_name, regime_ranges, RegimeRange,
     REGIME_CLASSES,
@@ -85,7 +88,7 @@ pub use transient::{
     orbit_snapshots, prepare_transient, OrbitSnapshot, OrderWindow, TransientPrepared,
     TransientResults, SNAPSHOT_REVOLUTIONS,
 };
-pub use verify::{RejectedStep, StepRefinement, MAX_STEP_REFINEMENTS};
+pub use verify::MAX_STEP_REFINEMENTS;
 
 use crate::model::Model;
 use crate::scene::{Component, IntegratorKind, OutputSpec, RunSpec};

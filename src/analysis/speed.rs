@@ -157,7 +157,7 @@ pub struct SpeedResults {
     /// The step refined after the run, where its own estimate missed the tolerance the step
     /// was chosen for ([`super::verify`]); `None` when it was not.
     #[serde(default)]
-    pub step_refinement: Option<super::verify::StepRefinement>,
+    pub step_refinement: Option<super::refinement::StepRefinement>,
     /// What the run reports without failing: a fixed window (`run.duration`) that is not
     /// steady to `run.tolerance` ([`fixed_window_warning`]). Empty otherwise.
     #[serde(default)]

@@ -38,55 +38,16 @@
 //! with the step (periodic at Δt/2, chaotic at Δt: the paper's rod at ε = 10⁵, ν = 1.5) is
 //! found on the finer step's own estimate.
 
-use super::dynamics::Regime;
+use super::refinement::{RejectedStep, StepRefinement};
 use super::speed::{Prepared, SpeedResults};
 use super::{Keep, RunRequest};
 use crate::error::Result;
 use crate::time::{plan_steps, FrameSink};
-use serde::{Deserialize, Serialize};
 
 /// Most times the step is halved after a run whose estimate misses the tolerance.
 pub const MAX_STEP_REFINEMENTS: usize = 2;
 
-/// One run rejected by its own error estimate.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct RejectedStep {
-    /// Its Δt (s).
-    pub dt: f64,
-    /// Its Δt as a multiple of the paper's rule (`StepParams::dt_scale`).
-    pub dt_scale: f64,
-    /// Its estimate, `max(extents_rel, lines_rel)` of its [`super::ErrorEstimate`].
-    pub estimate: f64,
-    /// Whether its companion found the same Poincaré period.
-    pub same_period: bool,
-    /// Its regime.
-    pub regime: Regime,
-    /// Its steps (the main run's, companions excluded).
-    pub steps: u64,
-    /// Its loop's wall time (s).
-    pub wall_s: f64,
-}
-
-/// The step refined after the run (module doc): reported with the run delivered.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct StepRefinement {
-    /// The steps rejected, coarsest (the pilots' choice) first.
-    pub rejected: Vec<RejectedStep>,
-    /// Whether the run delivered meets the tolerance by its own estimate.
-    pub met: bool,
-    /// Why the refinement stopped before meeting the tolerance: `"bound"` (after
-    /// [`MAX_STEP_REFINEMENTS`]) or `"budget"` (the next step's plan above `run.max_steps`);
-    /// `None` when it met the tolerance.
-    #[serde(default)]
-    pub stopped: Option<String>,
-}
-
 impl StepRefinement {
-    /// Steps of the rejected runs together (their companions excluded).
-    pub fn rejected_steps(&self) -> u64 {
-        self.rejected.iter().map(|r| r.steps).sum()
-    }
-
     /// One line saying what was refined and why, for the command line.
     pub fn describe(&self, res: &SpeedResults, tolerance: f64) -> String {
         let steps: Vec<String> = self

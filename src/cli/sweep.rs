@@ -178,6 +178,21 @@ fn report(
             }
         );
     }
+    let refined = speeds_where(&|r| r.step_refinement.is_some());
+    if !refined.is_empty() {
+        println!(
+            "  {}step refined after the run at {} of {} speeds (ω/ωn {}): their own error estimate missed `run.tolerance` at the chosen step; the runs rejected took {} steps more (`step_refinement` of each speed in summary.json, `refined_speeds`)",
+            prefix,
+            refined.len(),
+            res.speeds.len(),
+            refined.join(", "),
+            res.speeds
+                .iter()
+                .filter_map(|r| r.step_refinement.as_ref())
+                .map(|f| f.rejected_steps())
+                .sum::<u64>()
+        );
+    }
     let coexisting = speeds_where(&|r| r.coexistence.is_some_and(|c| c.coexisting));
     if !coexisting.is_empty() {
         eprintln!(
