@@ -75,6 +75,7 @@ pub use convergence::{
 };
 pub use discrepancy::{extent_scale, extents_error, orbit_span, ExtentsScale};
 pub use dynamics::{Dynamics, Regime};
+pub use lengthen::MAX_CLASSIFY_FACTOR;
 pub use refinement::{RejectedStep, StepRefinement};
 pub use regimes::{
     quasi_resonances, regime_class, regime_label, regime_name, regime_ranges, RegimeRange,
