@@ -22,10 +22,13 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     x.sin_cos()
 }
 
-/// Euclidean norm of a plane vector.
+/// Euclidean norm of a plane vector, `√(x² + y²)`: a plain square root, not `hypot` (whose
+/// guard against overflow of x² took 5.7 % of a paper sweep's CPU); the plane's
+/// vectors are lengths in metres and forces in newtons, far inside the range where x² neither
+/// overflows nor underflows to a wrong result.
 #[inline]
 pub fn norm(a: V2) -> f64 {
-    a[0].hypot(a[1])
+    (a[0] * a[0] + a[1] * a[1]).sqrt()
 }
 
 /// `Ω ẑ × n` for a unit normal `n` in the plane: `sign(Ω)·(−n_y, n_x)`.

@@ -34,7 +34,10 @@
 //! (stationarity of the window, period classification, where lines are resolved), [`dynamics`]
 //! (quasi-periodic or chaotic: the 0–1 test on the Poincaré section), `lengthen` (the window
 //! lengthened for that test, and a run that runs away when continued), `richardson` (the step
-//! pairs' error estimates; a run that never repeats), [`discrepancy`] (how far apart two runs'
+//! pairs' error estimates; a run that never repeats), [`verify`] (the step choice verified by
+//! the run: a run whose own estimate misses the tolerance repeated at half the step),
+//! [`refinement`] (what a run so refined reports), [`verify`] (the step choice verified by
+//! the run: a run whose own estimate misses the tolerance repeated at half the step), [`discrepancy`] (how far apart two runs'
 //! results are, relative to a reference run), `pilot` (what every pilot run shares), [`request`] (the typed run request), [`coexist`] (a second response at the same
 //! speed, found from another start), [`sweep`](mod@sweep) (speeds, variants, the
 //! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),
@@ -52,6 +55,7 @@ pub mod fanout;
 mod lengthen;
 mod pilot;
 pub mod refine;
+pub mod refinement;
 pub mod regimes;
 pub mod request;
 mod richardson;
@@ -60,6 +64,7 @@ pub mod steady;
 pub mod stress;
 pub mod sweep;
 pub mod transient;
+pub mod verify;
 pub mod whirl;
 
 pub use autostep::{choose, StepChoice};
@@ -70,11 +75,13 @@ pub use convergence::{
 };
 pub use discrepancy::{extent_scale, extents_error, orbit_span, ExtentsScale};
 pub use dynamics::{Dynamics, Regime};
+pub use lengthen::MAX_CLASSIFY_FACTOR;
+pub use refinement::{RejectedStep, StepRefinement};
 pub use regimes::{
     quasi_resonances, regime_class, regime_label, regime_name, regime_ranges, RegimeRange,
     REGIME_CLASSES,
 };
-pub use request::{FollowUps, PilotStart, RunRequest, StartState, Window};
+pub use request::{FollowUps, PilotStart, RunRequest, StartState, Unpiloted, Window};
 pub use speed::{analyse, prepare, run_speed, ErrorEstimate, Fanout, Prepared, SpeedResults};
 pub use stress::{StressProbe, StressResults, StressTrace};
 pub use sweep::{sweep, sweep_speeds, Sweep, SweepResults};
@@ -82,6 +89,7 @@ pub use transient::{
     orbit_snapshots, prepare_transient, OrbitSnapshot, OrderWindow, TransientPrepared,
     TransientResults, SNAPSHOT_REVOLUTIONS,
 };
+pub use verify::MAX_STEP_REFINEMENTS;
 
 use crate::model::Model;
 use crate::scene::{Component, IntegratorKind, OutputSpec, RunSpec};

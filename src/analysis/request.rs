@@ -85,6 +85,10 @@ pub struct FollowUps {
     pub error_estimate: bool,
     /// A run from another start looks for a coexisting response ([`super::coexist`]).
     pub coexistence: bool,
+    /// Where the step was chosen from the tolerance and the error estimate misses it, the step
+    /// is refined and the run repeated ([`super::verify`]); not for a run whose frames are
+    /// written to a time series as they are computed.
+    pub refine_step: bool,
 }
 
 /// One run at one speed (module doc).
@@ -110,6 +114,20 @@ pub struct RunRequest {
     pub reduction: Option<ReductionInput>,
     /// The step choice the run reports (`None`: `run.dt` or the paper's rule set Δt).
     pub choice: Option<StepChoice>,
+    /// The start and revolutions the run had before [`RunRequest::from_pilot`] replaced them
+    /// (`None`: not started from a pilot's state); [`RunRequest::without_pilot`] restores them.
+    pub unpiloted: Option<Unpiloted>,
+}
+
+/// What [`RunRequest::from_pilot`] replaced: the scene's start, transient and revolutions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Unpiloted {
+    /// The start before.
+    pub start: StartState,
+    /// Transient revolutions before.
+    pub transient_revolutions: usize,
+    /// Revolutions before.
+    pub revolutions: usize,
 }
 
 impl RunSettings {
@@ -133,11 +151,13 @@ impl RunSettings {
             follow_ups: FollowUps {
                 error_estimate: self.error_estimate,
                 coexistence: self.check_coexistence && !fixed,
+                refine_step: self.choice.is_some() && self.error_estimate,
             },
             tolerance: self.tolerance,
             component: self.component,
             reduction: self.reduction,
             choice: self.choice,
+            unpiloted: None,
         }
     }
 
@@ -154,10 +174,13 @@ impl RunSettings {
     /// `output.vtk`, `output.hdf5`) — [`RunSettings::request`] from the scene's own start
     /// state: its frames are the scene's run from t = 0 (`from_revolution` counts revolutions
     /// of that run, its transient included), not a pilot's continuation with the transient
-    /// cut.
+    /// cut; its step is not refined after the run ([`FollowUps::refine_step`]: the frames
+    /// already written are the chosen step's).
     pub fn request_for(&self, index: usize, speed_ratio: f64, series: bool) -> RunRequest {
         if series {
-            self.request(speed_ratio)
+            let mut r = self.request(speed_ratio);
+            r.follow_ups.refine_step = false;
+            r
         } else {
             self.request_at(index, speed_ratio)
         }
@@ -171,6 +194,17 @@ impl RunSettings {
 }
 
 impl RunRequest {
+    /// This run from the start, transient and revolutions it had before
+    /// [`RunRequest::from_pilot`] (itself when it was not started from a pilot's state).
+    pub fn without_pilot(mut self) -> Self {
+        if let Some(u) = self.unpiloted.take() {
+            self.start = u.start;
+            self.step.transient_revolutions = u.transient_revolutions;
+            self.step.revolutions = u.revolutions;
+        }
+        self
+    }
+
     /// This run started from `pilot`'s end state when given: where the window settles, its
     /// transient cut to at most [`RESTART_TRANSIENT`] revolutions (the window as long as
     /// before, the steady-state test still deciding where the transient ends); a transient
@@ -186,6 +220,11 @@ impl RunRequest {
         } else {
             t
         };
+        self.unpiloted = Some(Unpiloted {
+            start: self.start,
+            transient_revolutions: t,
+            revolutions: self.step.revolutions,
+        });
         self.start = StartState::Pilot(p);
         self.step.transient_revolutions = cut;
         self.step.revolutions = self.step.revolutions.saturating_sub(t - cut);

@@ -154,6 +154,10 @@ pub struct SpeedResults {
     /// run.
     #[serde(default)]
     pub coexistence: Option<super::Coexistence>,
+    /// The step refined after the run, where its own estimate missed the tolerance the step
+    /// was chosen for ([`super::verify`]); `None` when it was not.
+    #[serde(default)]
+    pub step_refinement: Option<super::refinement::StepRefinement>,
     /// What the run reports without failing: a fixed window (`run.duration`) that is not
     /// steady to `run.tolerance` ([`fixed_window_warning`]). Empty otherwise.
     #[serde(default)]
@@ -345,16 +349,18 @@ impl Prepared {
         Ok((rec, stats, plan, end, runaway))
     }
 
-    /// Runs the request: integrates it by its window policy (`Prepared::drive_with`: a
-    /// settling run until the steady state is proven or the transient reaches its cap),
-    /// handing frames to `sinks`, then [`analyse`]s the window and runs its follow-ups: the
-    /// error estimate's companions (no sinks, the same transient, [`ErrorEstimate`]) and the
-    /// coexistence check. Frames cover the revolutions their sinks ask for, counted from the
-    /// start of the run.
+    /// The run of the request without the step's verification and the coexistence check
+    /// ([`Prepared::run`] adds them): integrated by its window policy
+    /// (`Prepared::drive_with`), handing frames to `sinks`, [`analyse`]d, its error estimate's
+    /// companions run (no sinks, the same transient, [`ErrorEstimate`]).
     ///
     /// # Errors
     /// As [`Prepared::integrate`]; the companion run's failure only leaves the estimate out.
-    pub fn run(&self, keep: Keep, sinks: &mut [&mut dyn FrameSink]) -> Result<SpeedResults> {
+    pub(super) fn run_estimated(
+        &self,
+        keep: Keep,
+        sinks: &mut [&mut dyn FrameSink],
+    ) -> Result<SpeedResults> {
         let req = &self.request;
         let (rec, stats, plan, end, runaway) =
             with_sinks(sinks, |sink| self.drive_with(&self.plan, req, sink))?;
@@ -368,9 +374,6 @@ impl Prepared {
         }
         if req.follow_ups.error_estimate {
             res.error = self.error_estimate(&res, end.as_ref());
-        }
-        if req.follow_ups.coexistence {
-            res.coexistence = super::coexist::check(self, &res);
         }
         if let Some(d) = req.step.duration {
             res.warnings
@@ -679,6 +682,7 @@ pub fn analyse(
         step_choice: s.choice,
         started_from_pilot: false,
         coexistence: None,
+        step_refinement: None,
         warnings: Vec::new(),
         poincare_nd: poincare,
         orbit_nd: if keep.orbit { window } else { Vec::new() },

@@ -244,6 +244,12 @@ fn print_run(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &StepPlan
     }
     if let Some(c) = &st.choice {
         println!("  {}", describe_choice(c));
+        if st.error_estimate {
+            println!(
+                "  verified by each run: where its own error estimate misses run.tolerance, Δt is halved and the run repeated, at most {} times from the scene's start (each repeat about twice the steps of the run before it, so at most 6 × the run's own steps more, not counted below; reported as `step_refinement`)",
+                analysis::MAX_STEP_REFINEMENTS
+            );
+        }
     }
     let limit = if st.step.integrator.implicit().is_some() {
         format!(
@@ -356,7 +362,8 @@ fn print_step_bounds(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &
     let l = rubsim::time::budget::Lengthening {
         fixed: st.step.duration.is_some(),
         max_transient_revolutions: st.max_transient_revolutions,
-        classify_revolutions: st.classify_revolutions,
+        // Doubled while the 0–1 test is undetermined, up to this factor (`analysis::lengthen`).
+        classify_revolutions: st.classify_revolutions * analysis::MAX_CLASSIFY_FACTOR,
         error_estimate: st.error_estimate,
         coexistence: st.check_coexistence,
         max_steps: st.step.max_steps,
@@ -374,10 +381,11 @@ fn print_step_bounds(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &
             b.run_most, b.companions_most
         ),
         None => format!(
-            "if every lengthening runs to its cap: the run {:.0} (transient up to {} revolutions, `run.max_transient_revolutions`; a window that is not periodic up to {} revolutions, `run.classify_revolutions`; within `run.max_steps` = {}), companions {:.0}, coexistence check {:.0}",
+            "if every lengthening runs to its cap: the run {:.0} (transient up to {} revolutions, `run.max_transient_revolutions`; a window that is not periodic up to {} revolutions, {} × `run.classify_revolutions` while its 0–1 test is undetermined; within `run.max_steps` = {}), companions {:.0}, coexistence check {:.0}",
             b.run_most,
             l.max_transient_revolutions.max(plan.steady_from / plan.steps_per_rev.max(1)),
             l.classify_revolutions,
+            analysis::MAX_CLASSIFY_FACTOR,
             l.max_steps,
             b.companions_most,
             b.coexistence_most

@@ -80,6 +80,9 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
         s.step.integrator.name(), r.stats.steps, r.plan.dt, r.stats.wall_s,
         r.error.map(|e| format!("{:.1e}", e.extents_rel)).unwrap_or_else(|| "not estimated".into())
     );
+    if let Some(f) = &r.step_refinement {
+        println!("{}", f.describe(&r, ls.scene.run.tolerance));
+    }
     warn_run(&r, ls.scene.run.tolerance);
     println!("results in {}", dir.display());
     Ok(())

@@ -178,6 +178,7 @@ fn report(
             }
         );
     }
+    print_refined(&prefix, res);
     let coexisting = speeds_where(&|r| r.coexistence.is_some_and(|c| c.coexisting));
     if !coexisting.is_empty() {
         eprintln!(
@@ -197,5 +198,30 @@ fn report(
             .map(|(per, v)| format!("{v:.2} ({})", analysis::regime_name(*per)))
             .collect();
         println!("  quasi-resonance peaks: {}", p.join(", "));
+    }
+}
+
+/// The line of a sweep `res` (`prefix`: its variant's) naming the speeds whose step was refined
+/// after the run and the steps the rejected runs took; nothing when none was.
+fn print_refined(prefix: &str, res: &SweepResults) {
+    let refined: Vec<String> = res
+        .speeds
+        .iter()
+        .filter(|r| r.step_refinement.is_some())
+        .map(|r| format!("{:.2}", r.speed_ratio))
+        .collect();
+    if !refined.is_empty() {
+        println!(
+            "  {}step refined after the run at {} of {} speeds (ω/ωn {}): their own error estimate missed `run.tolerance` at the chosen step; the runs rejected took {} steps more (`step_refinement` of each speed in summary.json, `refined_speeds`)",
+            prefix,
+            refined.len(),
+            res.speeds.len(),
+            refined.join(", "),
+            res.speeds
+                .iter()
+                .filter_map(|r| r.step_refinement.as_ref())
+                .map(|f| f.rejected_steps())
+                .sum::<u64>()
+        );
     }
 }

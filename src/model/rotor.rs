@@ -108,6 +108,17 @@ impl RotorBody {
         }
     }
 
+    /// [`RotorBody::add_unbalance`] with the directions `(cos, sin)(Ω t + β_u)` of each
+    /// unbalance given (`dirs`, one per unbalance in order): `f += m_u e Ω² dirs[u]`.
+    #[inline]
+    pub fn add_unbalance_dirs(&self, omega: f64, dirs: &[[f64; 2]], f: &mut [f64]) {
+        let w2 = omega * omega;
+        for (u, d) in self.unbalance.iter().zip(dirs) {
+            f[u.dofs[0]] += u.me * w2 * d[0];
+            f[u.dofs[1]] += u.me * w2 * d[1];
+        }
+    }
+
     /// Unbalance force vector of a varying speed, added into `f` (N): the spin angle φ (rad),
     /// Ω = φ̇ (rad/s) and Ω̇ = φ̈ (rad/s²) of [`crate::model::SpinState`].
     ///

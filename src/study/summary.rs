@@ -55,6 +55,9 @@ pub struct SweepRecord<'a> {
     pub max_estimated_extents_error: f64,
     /// The speeds (ω/ω_n) whose steady state was not proven.
     pub unsteady_speeds: Vec<f64>,
+    /// The speeds (ω/ω_n) whose step was refined after the run, their own error estimate having
+    /// missed `run.tolerance` at the chosen step (each speed's `step_refinement` says why).
+    pub refined_speeds: Vec<f64>,
     /// The speed ranges of one regime.
     pub regimes: &'a [RegimeRange],
     /// Quasi-resonance peaks: (Poincaré period, ω/ω_n).
@@ -81,6 +84,12 @@ impl<'a> SweepRecord<'a> {
                 .speeds
                 .iter()
                 .filter(|r| !r.steady)
+                .map(|r| r.speed_ratio)
+                .collect(),
+            refined_speeds: res
+                .speeds
+                .iter()
+                .filter(|r| r.step_refinement.is_some())
                 .map(|r| r.speed_ratio)
                 .collect(),
             regimes,

@@ -110,7 +110,9 @@ pub struct Lengthening {
     /// Most transient revolutions while waiting for the steady state
     /// (`run.max_transient_revolutions`).
     pub max_transient_revolutions: usize,
-    /// Revolutions a window that is not periodic is lengthened to (`run.classify_revolutions`).
+    /// Most revolutions a window that is not periodic is lengthened to: `run.classify_revolutions`,
+    /// doubled while its 0–1 test is undetermined (`analysis::lengthen`: the caller passes
+    /// `run.classify_revolutions × analysis::MAX_CLASSIFY_FACTOR`).
     pub classify_revolutions: usize,
     /// The error estimate's companions are run (`run.error_estimate`).
     pub error_estimate: bool,

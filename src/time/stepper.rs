@@ -6,7 +6,7 @@ use super::compliance::Compliance;
 use super::drive::{add_event_unbalance, set_clearance, Spin, SpinDof};
 use super::frame::FrameSink;
 use super::guard::{divergence_bounds, dof_name};
-use super::loop_rotor::{add_unbalance, full_len, rotor_contact_dofs};
+use super::loop_rotor::{add_unbalance, full_len, rotor_contact_dofs, UnbalanceTable};
 use super::plan::{Initial, Scheme, StepPlan};
 use super::record::{ContactStats, Record, Recorder, RunStats};
 use super::reduced::ReducedDyn;
@@ -50,6 +50,8 @@ pub struct Stepper<'a> {
     gyro: Option<GyroLoad>,
     /// Scheduled unbalances and clearance changes ([`Stepper::set_events`]).
     events: Events,
+    /// The constant speed's unbalance load over a revolution (`None`: `sincos` each step).
+    unbalance: Option<UnbalanceTable>,
     pub(crate) plan: StepPlan,
     scheme: Scheme,
     pub(crate) pairs: Pairs,
@@ -199,8 +201,12 @@ impl<'a> Stepper<'a> {
             )),
             _ => None,
         };
+        let unbalance = matches!(spin, Spin::Constant)
+            .then(|| UnbalanceTable::new(case, dt, plan.steps_per_rev))
+            .flatten();
         let mut st = Self {
             case,
+            unbalance,
             spin,
             gyro,
             events: Events::default(),
@@ -520,7 +526,14 @@ impl<'a> Stepper<'a> {
         // The spin state at the load's instant, and at tₙ (the same instant unless implicit).
         let next = self.spin.state(at);
         let now = if implicit { self.spin.state(t) } else { next };
-        add_unbalance(self.case, next, at, &mut self.rotor.rhs);
+        match &self.unbalance {
+            Some(table) => table.add(
+                self.case,
+                self.n + usize::from(implicit),
+                &mut self.rotor.rhs,
+            ),
+            None => add_unbalance(self.case, next, at, &mut self.rotor.rhs),
+        }
         add_event_unbalance(&self.events, self.case, next, at, &mut self.rotor.rhs);
         match (&mut self.gyro, now, next) {
             (Some(g), Some(now), Some(next)) if implicit => {

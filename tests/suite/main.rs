@@ -42,6 +42,7 @@ mod ring_kinematics;
 mod ross_options;
 mod schema;
 mod steady;
+mod step_refinement;
 mod transient_scenes;
 mod transients;
 mod verification;
