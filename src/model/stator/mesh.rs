@@ -124,7 +124,7 @@ pub fn from_mesh(
         && spring_nodes.is_empty()
         && cells.iter().all(|c| c.material.density > 0.0))
     .then_some(element_bound);
-    let data = MeshStatorData {
+    let data = Arc::new(MeshStatorData {
         omega_max_sq,
         mesh_file: file.clone(),
         geometry,
@@ -144,7 +144,7 @@ pub fn from_mesh(
         factor: OnceLock::new(),
         compliance_columns: Default::default(),
         reductions: Default::default(),
-    };
+    });
     let s = StatorModel {
         name: p.name.clone(),
         station: p.station,
@@ -159,15 +159,15 @@ pub fn from_mesh(
         clearance: f64::NAN,
         angle_deg: None,
         is_ring: false,
-        mesh: Some(Arc::new(data)),
+        mesh: Some(Arc::clone(&data)),
         dashpot: Default::default(),
         reduced: None,
     };
     // The contact stiffness bound (every run's step plan asks for it) factors the interior
     // block K_ii: done before K's own factor, so the two factors are never held at once.
     s.contact_stiffness_bound();
-    match s.mesh.as_ref().map(|md| md.factor(&s.k)) {
-        Some(Err(e)) => Err(ModelError::Factorisation {
+    match data.factor(&s.k) {
+        Err(e) => Err(ModelError::Factorisation {
             what: format!("stator `{}` stiffness ({})", p.name, file.display()),
             hint: format!(
                 "the stator has a free rigid-body or mechanism mode, check the groups in `fixed` ({}) and the springs",
@@ -176,7 +176,7 @@ pub fn from_mesh(
             source: e,
         }
         .into()),
-        _ => Ok(s),
+        Ok(_) => Ok(s),
     }
 }
 
