@@ -25,6 +25,7 @@
 //! bound is reached — weak or intermittent chaos, a torus breaking up, then reads
 //! `undetermined` on the longest window.
 
+use super::discrepancy::orbit_span;
 use super::dynamics::{dynamics, Regime, K_CHAOTIC, K_REGULAR};
 use super::speed::{window_points, Prepared};
 use super::steady::judge;
@@ -45,8 +46,7 @@ pub const MAX_CLASSIFY_FACTOR: usize = 4;
 fn k_in_band(w: &[V2], spr: usize, nrev: usize, s: &RunRequest) -> bool {
     let (stn, steady, class) = judge(w, spr, nrev, s.tolerance, MAX_PERIOD);
     let section: Vec<V2> = w.iter().step_by(spr.max(1)).take(nrev).copied().collect();
-    let e = extents(w);
-    let span = (e[1] - e[0]).max(e[3] - e[2]);
+    let span = orbit_span(&extents(w));
     let d = dynamics(
         class.period,
         &section,

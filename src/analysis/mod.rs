@@ -36,8 +36,7 @@
 //! lengthened for that test, and a run that runs away when continued), `richardson` (the step
 //! pairs' error estimates; a run that never repeats), [`verify`] (the step choice verified by
 //! the run: a run whose own estimate misses the tolerance repeated at half the step),
-//! [`refinement`] (what a run so refined reports), [`verify`] (the step choice verified by
-//! the run: a run whose own estimate misses the tolerance repeated at half the step), [`discrepancy`] (how far apart two runs'
+//! [`refinement`] (what a run so refined reports), [`discrepancy`] (how far apart two runs'
 //! results are, relative to a reference run), `pilot` (what every pilot run shares), [`request`] (the typed run request), [`coexist`] (a second response at the same
 //! speed, found from another start), [`sweep`](mod@sweep) (speeds, variants, the
 //! parallel map), [`convergence`](mod@convergence), [`regimes`] (Poincaré-period ranges, quasi-resonances),

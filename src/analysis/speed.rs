@@ -67,6 +67,14 @@ pub struct ErrorEstimate {
     pub extents_rel_sampling: Option<f64>,
 }
 
+impl ErrorEstimate {
+    /// The estimate the tolerance is held to: `max(extents_rel, lines_rel)` (`f64::max`: a
+    /// NaN on one side gives the other).
+    pub fn largest(&self) -> f64 {
+        self.extents_rel.max(self.lines_rel)
+    }
+}
+
 pub use crate::time::budget::FINE_SETTLE_REVOLUTIONS;
 
 pub use super::richardson::{attractor_error, combine_fine, combine_levels, richardson};

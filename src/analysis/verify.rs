@@ -63,7 +63,7 @@ impl StepRefinement {
             })
             .collect();
         let end = match (&self.stopped, res.error) {
-            (None, Some(e)) => format!("meets it ({:.1e})", e.extents_rel.max(e.lines_rel)),
+            (None, Some(e)) => format!("meets it ({:.1e})", e.largest()),
             (Some(s), _) => format!("still misses it (stopped: {s})"),
             (None, None) => "not estimated".to_string(),
         };
@@ -80,7 +80,7 @@ impl StepRefinement {
 /// `tolerance` (or not a number); false when it was not estimated.
 pub fn misses(res: &SpeedResults, tolerance: f64) -> bool {
     res.error.is_some_and(|e| {
-        let est = e.extents_rel.max(e.lines_rel);
+        let est = e.largest();
         est > tolerance || est.is_nan()
     })
 }
@@ -154,7 +154,7 @@ fn rejected_step(request: &RunRequest, res: &SpeedResults) -> RejectedStep {
     RejectedStep {
         dt: res.plan.dt,
         dt_scale: request.step.dt_scale,
-        estimate: e.map_or(f64::NAN, |e| e.extents_rel.max(e.lines_rel)),
+        estimate: e.map_or(f64::NAN, |e| e.largest()),
         same_period: e.is_none_or(|e| e.same_period),
         regime: res.dynamics.regime,
         steps: res.stats.steps as u64,

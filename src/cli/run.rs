@@ -93,11 +93,11 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
 /// steady state (`tolerance`: `run.tolerance`).
 fn warn_run(r: &analysis::SpeedResults, tolerance: f64) {
     if let (Some(e), Some(c)) = (r.error, r.step_choice) {
-        if e.extents_rel.max(e.lines_rel) > c.tolerance {
+        if e.largest() > c.tolerance {
             eprintln!(
                 "warning: ω/ωn = {:.3}: the run's 2Δt error estimate {:.1e} is above `run.tolerance` = {:e} although the pilots predicted {:.1e} for the chosen step: their short window did not represent this steady response; give a smaller `run.dt` (docs/VALIDATION.md §16)",
                 r.speed_ratio,
-                e.extents_rel.max(e.lines_rel),
+                e.largest(),
                 c.tolerance,
                 c.error_predicted
             );

@@ -34,6 +34,8 @@ pub(super) struct UnbalanceTable {
     /// Row-major `[k][u]`.
     dirs: Vec<[f64; 2]>,
     per_step: usize,
+    /// Steps of a revolution (the table's rows).
+    per_rev: usize,
 }
 
 impl UnbalanceTable {
@@ -60,6 +62,7 @@ impl UnbalanceTable {
         Some(Self {
             dirs,
             per_step: ub.len(),
+            per_rev: steps_per_rev,
         })
     }
 
@@ -67,8 +70,7 @@ impl UnbalanceTable {
     /// [`crate::model::RotorBody::add_unbalance`] does at that instant.
     #[inline]
     pub(super) fn add(&self, case: &Case, n: usize, rhs: &mut [f64]) {
-        let rows = self.dirs.len() / self.per_step;
-        let k = n % rows;
+        let k = n % self.per_rev;
         let dirs = &self.dirs[k * self.per_step..(k + 1) * self.per_step];
         case.loop_rotor().add_unbalance_dirs(case.omega, dirs, rhs);
     }
