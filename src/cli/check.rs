@@ -191,6 +191,16 @@ fn print_massless(m: &rubsim::model::StatorModel) {
         if m.contact_dofs().len() <= rubsim::time::EAGER_DOFS { "every column up front" } else { "a column computed when its node first touches, shared by the stator's runs" },
         rubsim::time::budget::bytes(m.packed_compliance_bytes()),
     );
+    if let Some(p) = rubsim::time::path_cost(m) {
+        println!(
+            "  its columns from elimination-tree paths (factor ≥ {} entries): forward solves {:.2e} flops, products among them {:.2e} flops, forward solutions held ≤ {} when every contact DOF touches (a full solve per column would take {:.2e} flops)",
+            rubsim::time::PATH_COLUMNS_NNZ,
+            p.forward_flops,
+            p.product_flops,
+            rubsim::time::budget::bytes(8.0 * p.stored_entries),
+            4.0 * m.factor_nnz().unwrap_or(0) as f64 * m.contact_dofs().len() as f64,
+        );
+    }
 }
 
 /// The run: speeds, integrator, revolutions, Δt at the checked speed.

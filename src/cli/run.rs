@@ -80,6 +80,12 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
         s.step.integrator.name(), r.stats.steps, r.plan.dt, r.stats.wall_s,
         r.error.map(|e| format!("{:.1e}", e.extents_rel)).unwrap_or_else(|| "not estimated".into())
     );
+    if r.stats.columns > 0 {
+        println!(
+            "  the stator compliance: {} columns computed in {:.3} s of the run (kept for its later runs)",
+            r.stats.columns, r.stats.columns_s
+        );
+    }
     if let Some(f) = &r.step_refinement {
         println!("{}", f.describe(&r, ls.scene.run.tolerance));
     }

@@ -13,9 +13,11 @@ use faer::Side;
 /// time loop (massless-stator compliance columns) and inside parallel sweeps, where threads
 /// of a parallel triangular solve only wait for each other.
 pub struct Cholesky {
-    n: usize,
-    symbolic: SymbolicCholesky<usize>,
-    values: Vec<f64>,
+    pub(super) n: usize,
+    pub(super) symbolic: SymbolicCholesky<usize>,
+    pub(super) values: Vec<f64>,
+    /// The supernodal elimination tree for [`Cholesky::path_columns`], built on first use.
+    pub(super) paths: std::sync::OnceLock<Option<super::paths::PathTree>>,
 }
 
 impl std::fmt::Debug for Cholesky {
@@ -56,22 +58,39 @@ impl Cholesky {
     /// # Panics
     /// If `a` is not square.
     pub fn new(a: &Csc) -> Result<Self, LinalgError> {
+        Self::with_params(a, Default::default())
+    }
+
+    /// As [`Cholesky::new`], always supernodal (faer picks a simplicial factor for sparse
+    /// enough matrices): small test matrices with an elimination tree of supernodes.
+    #[cfg(test)]
+    pub(crate) fn new_supernodal(a: &Csc) -> Result<Self, LinalgError> {
+        Self::with_params(
+            a,
+            faer::sparse::linalg::cholesky::CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold:
+                    faer::sparse::linalg::SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )
+    }
+
+    fn with_params(
+        a: &Csc,
+        params: faer::sparse::linalg::cholesky::CholeskySymbolicParams<'_>,
+    ) -> Result<Self, LinalgError> {
         use faer::linalg::cholesky::llt::factor::LltError;
         assert_eq!(a.nrows, a.ncols);
         let n = a.nrows;
         let r = a.faer_ref();
-        let symbolic = factorize_symbolic_cholesky(
-            r.symbolic(),
-            Side::Lower,
-            Default::default(),
-            Default::default(),
-        )
-        .map_err(|e| LinalgError::Symbolic {
-            factorisation: Factorisation::Cholesky,
-            n,
-            nnz: a.nnz(),
-            cause: exhausted(e),
-        })?;
+        let symbolic =
+            factorize_symbolic_cholesky(r.symbolic(), Side::Lower, Default::default(), params)
+                .map_err(|e| LinalgError::Symbolic {
+                    factorisation: Factorisation::Cholesky,
+                    n,
+                    nnz: a.nnz(),
+                    cause: exhausted(e),
+                })?;
         let mut values = vec![0.0; symbolic.len_val()];
         let par = faer::get_global_parallelism();
         let mut mem =
@@ -95,6 +114,7 @@ impl Cholesky {
             n,
             symbolic,
             values,
+            paths: Default::default(),
         })
     }
 

@@ -26,6 +26,7 @@ pub mod csc;
 pub mod lowrank;
 pub mod lu;
 pub mod pair;
+pub mod paths;
 pub mod pattern;
 
 pub use crate::error::LinalgError;
@@ -36,6 +37,7 @@ pub use csc::Csc;
 pub use lowrank::{LowRank, WoodburyLu};
 pub use lu::{Lu, StepLu};
 pub use pair::PairCsr;
+pub use paths::{PathCost, PathStore, PATH_BATCH};
 pub use pattern::PatternAssembly;
 
 use faer::MatMut;

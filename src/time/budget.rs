@@ -10,7 +10,10 @@
 //! with `n_rotor` the rotor's DOFs, `n_mass` the DOFs of stators with mass and `n_meshed` the
 //! massless meshed stators (their contact solve costs what its pairs hold, not what the mesh
 //! holds), plus once per run the massless stators' compliance columns,
-//! `NS_FACTOR_ENTRY·nnz(L)·n_contact` (every contact DOF counted). A stator reduced by
+//! `NS_FACTOR_ENTRY·nnz(L)·n_contact` (every contact DOF counted), or for factors computed from
+//! elimination-tree paths (`compliance::PATH_COLUMNS_NNZ`) `NS_PATH_FLOP` times the paths'
+//! forward and product flops (`linalg::PathCost`), their stored forward solutions counted in
+//! the memory. A stator reduced by
 //! Craig–Bampton (`[run.reduction] stators = true`) counts by its r reduced DOFs, not by its
 //! mesh: `NS_STATOR_DOF·r + NS_DENSE_ENTRY·r²` (its operators are dense r × r). It ignores how often the rotor is in contact, so the true
 //! time may differ by a factor of a few either way.
@@ -41,6 +44,11 @@ pub const NS_CONTACT_MESH: f64 = 50_000.0;
 /// is one blocked forward and back solve, computed once per contact DOF that touches and kept
 /// for the stator's later runs; the estimate counts every contact DOF.
 pub const NS_FACTOR_ENTRY: f64 = 0.5;
+
+/// Cost per flop of the compliance columns from elimination-tree paths (ns): the forward
+/// solves of the contact DOFs and the products among them ([`crate::linalg::PathCost`]),
+/// dense triangular solves and matrix products over the paths' supernodes.
+pub const NS_PATH_FLOP: f64 = 0.05;
 
 /// Up-front estimate of one run at one speed.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -245,7 +253,13 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
             // contact DOFs, all of them touched: 8·nc(nc+1)/2 bytes.
             let nnz_l = s.factor_nnz().map_or(30.0 * s.ndof as f64, |n| n as f64);
             matrix_bytes += 8.0 * nnz_l + s.packed_compliance_bytes();
-            columns_s += NS_FACTOR_ENTRY * 1e-9 * nnz_l * nc;
+            match super::compliance::path_cost(s) {
+                Some(p) => {
+                    matrix_bytes += 8.0 * p.stored_entries;
+                    columns_s += NS_PATH_FLOP * 1e-9 * (p.forward_flops + p.product_flops);
+                }
+                None => columns_s += NS_FACTOR_ENTRY * 1e-9 * nnz_l * nc,
+            }
         } else if let Some(r) = &s.reduced {
             // The loop holds the reduced body (dense M_r, C_r, K_r, the step operator and its
             // factor), the fixed-interface modes Φ (n_I × modes) and the factor of K_II for

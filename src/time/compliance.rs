@@ -11,6 +11,23 @@ use std::sync::Arc;
 /// first time a node enters a contact problem.
 pub const EAGER_DOFS: usize = 32;
 
+/// Factors of K with at least this many entries (4 MB) compute the compliance columns from
+/// forward solves on elimination-tree paths ([`crate::linalg::Cholesky::path_columns`]: the
+/// entries among the touched nodes as products of forward solutions; the shipped seal's
+/// columns in 0.73 s instead of 1.94 s, the 10⁶-DOF seal's in about a minute instead of 40);
+/// smaller ones, whose columns cost little either way, by blocked full solves. The two agree
+/// to round-off (docs/PERFORMANCE.md §12.3).
+pub const PATH_COLUMNS_NNZ: usize = 500_000;
+
+/// What a massless stator's compliance columns cost when they come from elimination-tree
+/// paths (its factor built, with at least [`PATH_COLUMNS_NNZ`] entries and supernodal), every
+/// contact DOF counted; `None` when they come from full solves.
+pub fn path_cost(s: &StatorModel) -> Option<crate::linalg::PathCost> {
+    s.built_factor()
+        .filter(|f| f.nnz() >= PATH_COLUMNS_NNZ)
+        .and_then(|f| f.path_cost(&s.contact_dofs()))
+}
+
 /// A massless stator condensed to the contact DOFs that touch (Eq. 49): `u = F f` with
 /// `F = K⁻¹` and `f` the contact forces (N) applied since the stator was last undeformed, from
 /// one sparse Cholesky factor of K (shared by every run of a meshed stator).
@@ -65,6 +82,11 @@ pub(crate) struct Compliance {
     /// A meshed stator's columns shared between its runs
     /// ([`MeshStatorData::compliance_columns`]): read at the start, written back at the end.
     shared: Option<Arc<MeshStatorData>>,
+    /// Columns from forward solves on elimination-tree paths ([`PATH_COLUMNS_NNZ`]) instead of
+    /// full solves.
+    paths: bool,
+    /// Columns this compliance computed and their wall time (s).
+    computed: (u64, f64),
 }
 
 impl Drop for Compliance {
@@ -83,6 +105,12 @@ impl Drop for Compliance {
 
 impl Compliance {
     pub(crate) fn new(s: &StatorModel) -> Result<Self, LinalgError> {
+        Self::with_columns(s, None)
+    }
+
+    /// As [`Compliance::new`]; `paths` forces the columns' method (`None`: path solves for
+    /// factors of at least [`PATH_COLUMNS_NNZ`] entries with a supernodal tree).
+    pub(crate) fn with_columns(s: &StatorModel, paths: Option<bool>) -> Result<Self, LinalgError> {
         let n = s.ndof;
         let (nodes, slot, angle) = contact_nodes(s);
         let chol = if n == 0 {
@@ -101,7 +129,12 @@ impl Compliance {
             around_pos[j] = k;
         }
         let ncd = slot.iter().filter(|&&p| p != usize::MAX).count();
+        let paths = chol.as_ref().is_some_and(|ch| {
+            paths.unwrap_or(ch.nnz() >= PATH_COLUMNS_NNZ) && ch.path_tree().is_some()
+        });
         let mut c = Self {
+            paths,
+            computed: (0, 0.0),
             around,
             around_pos,
             scratch: chol.as_ref().map(|ch| Box::new(ch.solve_scratch(1))),
@@ -175,6 +208,12 @@ impl Compliance {
     /// per column than single ones; 16 columns of two-DOF nodes).
     const BATCH: usize = 8;
 
+    /// Nodes computed together from elimination-tree paths: each batch's products read every
+    /// stored forward solution once, so batches as wide as [`crate::linalg::PATH_BATCH`]
+    /// columns allow (on the 10⁶-DOF seal, 32 nodes a batch: the run's columns in about a
+    /// quarter of the memory traffic of 8).
+    const PATH_NODES: usize = crate::linalg::PATH_BATCH / 2;
+
     /// Computes the columns of contact DOF `d`'s node (and a batch after it) if they are not
     /// known yet.
     #[inline]
@@ -192,7 +231,11 @@ impl Compliance {
         let batch: Vec<usize> = (0..nn)
             .map(|k| self.around[(at + k) % nn])
             .filter(|&s| self.loc[s] == usize::MAX)
-            .take(Self::BATCH)
+            .take(if self.paths {
+                Self::PATH_NODES
+            } else {
+                Self::BATCH
+            })
             .collect();
         self.compute(&batch);
     }
@@ -203,29 +246,58 @@ impl Compliance {
         if batch.is_empty() {
             return;
         }
-        let n = self.rhs.len();
-        // Column of each batch node's components in the solve (`usize::MAX`: none).
-        let mut col = vec![[usize::MAX; 2]; batch.len()];
-        let mut ncols = 0;
-        for (cb, &s) in col.iter_mut().zip(batch) {
-            for (c, &d) in cb.iter_mut().zip(&self.nodes[s]) {
-                if d != usize::MAX {
-                    *c = ncols;
-                    ncols += 1;
-                }
-            }
+        let t0 = std::time::Instant::now();
+        if !(self.paths && self.compute_from_paths(batch)) {
+            self.compute_from_solves(batch);
         }
-        let mut block = vec![0.0; n * ncols];
-        for (cb, &s) in col.iter().zip(batch) {
-            for (&c, &d) in cb.iter().zip(&self.nodes[s]) {
-                if c != usize::MAX {
-                    block[c * n + d] = 1.0;
-                }
-            }
+        self.computed.0 += self.solve_columns(batch).1.len() as u64;
+        self.computed.1 += t0.elapsed().as_secs_f64();
+    }
+
+    /// Columns this compliance computed (not adopted from earlier runs) and their wall time (s).
+    pub(crate) fn columns_computed(&self) -> (u64, f64) {
+        self.computed
+    }
+
+    /// The columns of `batch` by one blocked full solve.
+    fn compute_from_solves(&mut self, batch: &[usize]) {
+        let n = self.rhs.len();
+        let (col, dofs) = self.solve_columns(batch);
+        let mut block = vec![0.0; n * dofs.len()];
+        for (c, &d) in dofs.iter().enumerate() {
+            block[c * n + d] = 1.0;
         }
         if let Some(ch) = &self.chol {
             ch.solve_in_place(&mut block);
         }
+        self.pack(batch, &col, |k, _, r| block[k * n + r]);
+    }
+
+    /// The solve columns of `batch`'s nodes: each node's column per component (`usize::MAX`
+    /// for one it does not have) and the DOF of each column, nodes in order.
+    fn solve_columns(&self, batch: &[usize]) -> (Vec<[usize; 2]>, Vec<usize>) {
+        let mut col = vec![[usize::MAX; 2]; batch.len()];
+        let mut dofs = Vec::new();
+        for (cb, &s) in col.iter_mut().zip(batch) {
+            for (c, &d) in cb.iter_mut().zip(&self.nodes[s]) {
+                if d != usize::MAX {
+                    *c = dofs.len();
+                    dofs.push(d);
+                }
+            }
+        }
+        (col, dofs)
+    }
+
+    /// Appends the node columns of `batch` (solve column `col[b][c]` of its node `b`'s
+    /// component `c`) after the touched nodes: `value(k, p, r)` is the entry of solve column
+    /// `k` at touched position `p = 2·node + component`, DOF `r`.
+    fn pack(
+        &mut self,
+        batch: &[usize],
+        col: &[[usize; 2]],
+        value: impl Fn(usize, usize, usize) -> f64,
+    ) {
         let m = self.cols.touched.len();
         for &s in batch {
             self.cols.touched.push(self.nodes[s]);
@@ -235,20 +307,52 @@ impl Compliance {
         for (b, &s) in batch.iter().enumerate() {
             self.loc[s] = m + b;
             self.start.push((bi, packed.len()));
-            packed.extend(self.cols.touched[..=m + b].iter().map(|rows| {
-                let mut f = NodeBlock::default();
-                for (a, &r) in rows.iter().enumerate() {
-                    for (c, &k) in col[b].iter().enumerate() {
-                        if r != usize::MAX && k != usize::MAX {
-                            f.0[a][c] = block[k * n + r];
+            packed.extend(
+                self.cols.touched[..=m + b]
+                    .iter()
+                    .enumerate()
+                    .map(|(t, rows)| {
+                        let mut f = NodeBlock::default();
+                        for (a, &r) in rows.iter().enumerate() {
+                            for (c, &k) in col[b].iter().enumerate() {
+                                if r != usize::MAX && k != usize::MAX {
+                                    f.0[a][c] = value(k, 2 * t + a, r);
+                                }
+                            }
                         }
-                    }
-                }
-                f
-            }));
+                        f
+                    }),
+            );
         }
         self.cols.blocks.push(packed.into());
         self.fpos.resize(2 * (m + batch.len()), usize::MAX);
+    }
+
+    /// The columns of `batch` from forward solves on their elimination-tree paths
+    /// ([`crate::linalg::Cholesky::path_columns`]): the entries with every touched node as
+    /// products of the stored forward solutions. `false` (nothing done) if the factor cannot.
+    fn compute_from_paths(&mut self, batch: &[usize]) -> bool {
+        let Some(ch) = &self.chol else { return false };
+        let m = self.cols.touched.len();
+        let rows = 2 * (m + batch.len());
+        let (col, dofs) = self.solve_columns(batch);
+        let labels: Vec<u32> = col
+            .iter()
+            .enumerate()
+            .flat_map(|(b, cb)| {
+                (0..2)
+                    .filter(|&a| cb[a] != usize::MAX)
+                    .map(move |a| u32::try_from(2 * (m + b) + a).unwrap_or(u32::MAX))
+            })
+            .collect();
+        if dofs.len() > crate::linalg::PATH_BATCH || rows > u32::MAX as usize {
+            return false;
+        }
+        let Some(f) = ch.path_columns(&mut self.cols.paths, &dofs, &labels, rows) else {
+            return false;
+        };
+        self.pack(batch, &col, |k, p, _| f[p + k * rows]);
+        true
     }
 
     /// The node block of touched nodes `i ≤ j`.
@@ -431,4 +535,44 @@ fn contact_nodes(s: &StatorModel) -> (Vec<[usize; 2]>, Vec<usize>, Vec<f64>) {
         }
     }
     (nodes, slot, angle)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Model;
+
+    /// The columns from elimination-tree paths equal the full solves' on the shipped seal
+    /// (every tooth-tip node, batches as the loop asks for them).
+    #[test]
+    fn path_columns_equal_full_solves_on_the_seal() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes/stators/labyrinth_seal.toml");
+        let ls = crate::scene::load(&path, &[]).unwrap();
+        let model = Model::from_scene(&ls).unwrap();
+        let case = model.case(model.rotor.natural_frequency()).unwrap();
+        let s = &case.stators[0];
+        let mut full = Compliance::with_columns(s, Some(false)).unwrap();
+        let mut fast = Compliance::with_columns(s, Some(true)).unwrap();
+        assert!(fast.paths && !full.paths);
+        let dofs: Vec<usize> = s.contact_dofs();
+        // In a scattered order, so batches and paths differ from one call to the next.
+        for k in 0..dofs.len() {
+            let d = dofs[(k * 7919) % dofs.len()];
+            full.ensure(d);
+            fast.ensure(d);
+        }
+        let mut worst: f64 = 0.0;
+        for (i, &a) in dofs.iter().enumerate().step_by(3) {
+            let faa = full.flex(a, a);
+            for &b in dofs.iter().skip(i).step_by(5) {
+                worst = worst.max((fast.flex(a, b) - full.flex(a, b)).abs() / faa);
+            }
+        }
+        assert!(
+            worst < 1e-12,
+            "largest difference {worst:.3e} of the diagonal"
+        );
+        assert!(fast.cols.paths.bytes() > 0);
+    }
 }

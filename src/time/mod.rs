@@ -75,7 +75,7 @@ mod stepper;
 mod workspace;
 
 pub use budget::{estimate, Budget};
-pub use compliance::EAGER_DOFS;
+pub use compliance::{path_cost, EAGER_DOFS, PATH_COLUMNS_NNZ};
 pub use frame::{Frame, FrameSink, PairForce};
 pub use newmark::Alpha;
 pub use plan::{

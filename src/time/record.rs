@@ -84,6 +84,14 @@ pub struct RunStats {
     /// runs) and frames' field rebuilds are not counted.
     #[serde(default)]
     pub stator_reads: u64,
+    /// Compliance columns of massless stators this run computed (one per contact DOF first
+    /// touched that no earlier run of the stator had computed; a batch's neighbours included)
+    /// and the wall time they took (s, within `wall_s`).
+    #[serde(default)]
+    pub columns: u64,
+    /// Wall time of those columns (s).
+    #[serde(default)]
+    pub columns_s: f64,
     /// Energy taken by the contact dashpots over the run (J, `contact_damping`): Σ over steps
     /// and pairs of `D Δd` (normal) and `c (a·v)² Δt` (tangential, mode `"full"`).
     #[serde(default)]

@@ -415,6 +415,13 @@ impl<'a> Stepper<'a> {
                 _ => 0,
             })
             .sum();
+        for s in &self.stators {
+            if let StatorDyn::Massless(c) = s {
+                let (n, t) = c.columns_computed();
+                stats.columns += n;
+                stats.columns_s += t;
+            }
+        }
         if stats.min_gap == f64::INFINITY {
             stats.min_gap = f64::NAN;
         }

@@ -175,6 +175,10 @@ pub struct ContactColumns {
     /// One block per blocked solve: the node columns of `touched[s..e]` one after the other,
     /// node column `j` holding its `j + 1` blocks with the nodes `0..=j`.
     pub blocks: Vec<Arc<[NodeBlock]>>,
+    /// The forward solutions `L⁻¹ P e` of the touched nodes' DOFs on their elimination-tree
+    /// paths, labelled by touched position `2·node + component`, when the columns are
+    /// computed from paths ([`crate::linalg::Cholesky::path_columns`]; empty otherwise).
+    pub paths: crate::linalg::PathStore,
 }
 
 /// The compliance between two contact nodes (m/N): `.0[a][b]` the displacement of component
@@ -328,11 +332,15 @@ impl StatorModel {
     /// factored when the model was built (`None` before, after a failed factorisation, and for
     /// a stator without a mesh).
     pub fn factor_nnz(&self) -> Option<usize> {
+        self.built_factor().map(|f| f.nnz())
+    }
+
+    /// A meshed stator's Cholesky factor of K if it has been computed.
+    pub fn built_factor(&self) -> Option<&Arc<Cholesky>> {
         self.mesh
             .as_ref()
             .and_then(|md| md.factor.get())
             .and_then(|f| f.as_ref().ok())
-            .map(|f| f.nnz())
     }
 
     /// Bytes of a massless stator's compliance among all its contact nodes `n` (the targets'
