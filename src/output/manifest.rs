@@ -108,9 +108,10 @@ pub fn check_relative(name: &str) -> Result<(), &'static str> {
 }
 
 /// Refuses the file system's root as an output directory ([`super::OutDir::prepare`]),
-/// and (unless `force`) an existing, non-empty directory that holds none of the protocol's
-/// `.rubsim-` files, neither itself nor in a `shard-*` folder (a sharded study's): a folder
-/// rubsim did not make, whose `summary.json` or `orbit.png` would be replaced by the results.
+/// and (unless `force`) an existing directory holding something not rubsim's: it is rubsim's
+/// when it holds a protocol (`.rubsim-`) file, or only folders that do (a sharded study's
+/// `shard-*/`, the `refine/` or `modal/` of a scene's default folder). Anything else is a
+/// folder rubsim did not make, whose `summary.json` or `orbit.png` the results would replace.
 ///
 /// # Errors
 /// [`Error::Output`] naming the directory, and what to do.
@@ -129,12 +130,12 @@ pub fn check_owner(dir: &Path, force: bool) -> Result<()> {
     let mut foreign = None;
     for e in entries.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
-        if name.starts_with(PROTOCOL_PREFIX)
-            || (name.starts_with("shard-") && holds_protocol_file(&e.path()))
-        {
+        if name.starts_with(PROTOCOL_PREFIX) {
             return Ok(());
         }
-        foreign.get_or_insert(name);
+        if !holds_protocol_file(&e.path()) {
+            foreign.get_or_insert(name);
+        }
     }
     match foreign {
         Some(name) if !force => Err(Error::output(
@@ -152,7 +153,7 @@ pub fn check_owner(dir: &Path, force: bool) -> Result<()> {
 
 /// True when `dir` is a directory holding a file of the protocol: an output directory of
 /// rubsim's, as a sharded study's `shard-<i>-of-<n>/` folders are in the folder `rubsim merge`
-/// writes to (only folders so named count: a home folder holding an output folder is not one).
+/// writes to, and `refine/`, `modal/`, … in a scene's default `out/<scene>/`.
 fn holds_protocol_file(dir: &Path) -> bool {
     fs::symlink_metadata(dir).is_ok_and(|m| m.is_dir())
         && fs::read_dir(dir).is_ok_and(|rd| {
@@ -188,22 +189,32 @@ mod tests {
         }
         let d = tempfile::tempdir().unwrap();
         let dir = d.path().join("out");
-        assert!(check_owner(&dir, false).is_ok(), "a missing folder is created");
+        assert!(
+            check_owner(&dir, false).is_ok(),
+            "a missing folder is created"
+        );
         fs::create_dir(&dir).unwrap();
         assert!(check_owner(&dir, false).is_ok(), "an empty folder is taken");
         fs::write(dir.join("orbit.png"), "mine").unwrap();
         let e = check_owner(&dir, false).unwrap_err().to_string();
         assert!(e.contains("orbit.png") && e.contains("--force"), "{e}");
         assert!(check_owner(&dir, true).is_ok());
-        // A sharded study's folder (its shards rubsim's) and rubsim's own folder are taken;
-        // a folder merely holding an output folder of another name is not.
-        fs::create_dir_all(dir.join("results")).unwrap();
-        fs::write(dir.join("results/.rubsim-lock"), "").unwrap();
+        // A folder holding output folders (a sharded study's, a scene's `refine/`) besides a
+        // file of its own is not rubsim's; holding only them, it is; and rubsim's own folder.
+        for sub in ["shard-1-of-2", "refine"] {
+            fs::create_dir_all(dir.join(sub)).unwrap();
+            fs::write(dir.join(sub).join(".rubsim-lock"), "").unwrap();
+        }
         assert!(check_owner(&dir, false).is_err());
-        fs::create_dir_all(dir.join("shard-1-of-2")).unwrap();
-        fs::write(dir.join("shard-1-of-2/.rubsim-lock"), "").unwrap();
+        fs::create_dir(dir.join("notes")).unwrap();
+        fs::rename(dir.join("orbit.png"), dir.join("notes/orbit.png")).unwrap();
+        assert!(
+            check_owner(&dir, false).is_err(),
+            "`notes/` is not rubsim's"
+        );
+        fs::remove_dir_all(dir.join("notes")).unwrap();
         assert!(check_owner(&dir, false).is_ok());
-        fs::remove_dir_all(dir.join("shard-1-of-2")).unwrap();
+        fs::write(dir.join("orbit.png"), "mine").unwrap();
         fs::write(dir.join(MANIFEST), "orbit.png\n").unwrap();
         assert!(check_owner(&dir, false).is_ok());
     }

@@ -533,10 +533,14 @@ fn a_folder_rubsim_did_not_make_is_refused_unless_forced() {
         b"my own notes"
     );
     assert_ok(&run_out(tmp.path(), &mine, &[]));
-    // An empty folder is fine.
+    // An empty folder is fine, and so is one holding only rubsim's output folders (a scene's
+    // `out/<scene>/` after `rubsim refine` wrote `out/<scene>/refine/`).
     let empty = tmp.path().join("empty");
     std::fs::create_dir(&empty).unwrap();
     assert_ok(&run_out(tmp.path(), &empty, &[]));
+    let scene = tmp.path().join("scene");
+    assert_ok(&run_out(tmp.path(), &scene.join("refine"), &[]));
+    assert_ok(&run_out(tmp.path(), &scene, &[]));
 }
 
 /// Issue 31 item 9: `--out /` is refused (as root it wrote the results into `/`), `--force`
