@@ -87,3 +87,53 @@ pub fn refine_point(
         setup_s,
     })
 }
+
+/// Free DOFs of the meshed stators of `model` (0 when it has none): what a mesh refinement
+/// must make grow.
+pub fn meshed_dofs(model: &Model) -> usize {
+    model
+        .stators
+        .iter()
+        .map(|s| match s {
+            crate::model::StatorPlan::Mesh { model, .. } => model.ndof,
+            _ => 0,
+        })
+        .sum()
+}
+
+/// Checks that a refinement study refines: the meshed stators' free DOFs of each value of
+/// `key` (`steps`: value, DOFs, coarse to fine) exceed those of the value before. Errors name
+/// the key, both values and both counts — a finer size that gives no finer mesh (a fixed
+/// boundary count, a structured mesh ignoring the key, the values given fine to coarse) would
+/// make the study compare equal or coarser meshes without a word.
+pub fn check_refines(key: &str, steps: &[(String, usize)]) -> std::result::Result<(), String> {
+    for w in steps.windows(2) {
+        let ((a, na), (b, nb)) = (&w[0], &w[1]);
+        if nb <= na {
+            return Err(format!(
+                "`{key}` = {b} gives the meshed stators {nb} free DOFs, no more than the {na} of `{key}` = {a} before it: the mesh is not refined as asked (the values go coarse to fine, and this key must refine the mesh: a geometry's fixed boundary counts or structured mesh may ignore it)"
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_refines;
+
+    #[test]
+    fn a_refinement_that_does_not_grow_is_refused_naming_key_values_and_counts() {
+        let s = |v: &str, n| (v.to_string(), n);
+        assert!(check_refines("k", &[s("1", 10), s("2", 20), s("3", 40)]).is_ok());
+        let e = check_refines(
+            "stator.0.parameters.h",
+            &[s("0.002", 4668), s("0.001", 768)],
+        )
+        .unwrap_err();
+        for part in ["`stator.0.parameters.h` = 0.001", "768", "4668", "= 0.002"] {
+            assert!(e.contains(part), "{part}: {e}");
+        }
+        assert!(check_refines("k", &[s("1", 10), s("2", 10)]).is_err());
+    }
+}

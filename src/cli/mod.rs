@@ -63,7 +63,16 @@ use std::path::{Path, PathBuf};
 pub struct Cli {
     #[command(subcommand)]
     pub cmd: Cmd,
+    /// Write into an existing `--out` that rubsim would refuse: a non-empty directory it did
+    /// not make (no `.rubsim-` file in it), whose files of the results' names are replaced
+    /// (never the file system's root); for `import-ross`, an existing scene file (never the
+    /// ROSS file, never through a link).
+    #[arg(long, global = true)]
+    pub force: bool,
 }
+
+/// The command line's `--force`, for [`open_out`].
+static FORCE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 #[derive(clap::Args, Clone)]
 pub struct Common {
@@ -304,9 +313,6 @@ pub enum Cmd {
         /// file is written whole or not at all (temporary file, then rename).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Overwrite an existing `--out` file (never the ROSS file, never through a link).
-        #[arg(long)]
-        force: bool,
     },
     /// The JSON Schema of scene files (draft 7, for editors: taplo / Even Better TOML), printed
     /// or written to `--out`; `--markdown FILE` writes the key reference (docs/SCENE.md)
@@ -518,9 +524,14 @@ pub fn run_single(
 }
 
 /// Prepares (and locks) the output directory `dir`; prints its notes (a recovered commit,
-/// ignored manifest entries) as warnings on stderr.
+/// ignored manifest entries) as warnings on stderr. A non-empty directory rubsim did not make
+/// is refused unless the command line's `--force` was given (`OutDir::prepare_forced`).
 pub fn open_out(dir: &Path) -> Result<rubsim::output::OutDir> {
-    let out = rubsim::output::OutDir::prepare(dir)?;
+    let out = if FORCE.load(std::sync::atomic::Ordering::Relaxed) {
+        rubsim::output::OutDir::prepare_forced(dir)?
+    } else {
+        rubsim::output::OutDir::prepare(dir)?
+    };
     for n in out.notes() {
         eprintln!("warning: {n}");
     }
@@ -537,6 +548,7 @@ pub fn finish<S: serde::Serialize>(out: rubsim::output::OutDir, summary: &S) -> 
 /// Parses the command line, sizes the thread pool (`--jobs`) and runs the command.
 pub fn run() -> Result<()> {
     let cli = Cli::parse();
+    FORCE.store(cli.force, std::sync::atomic::Ordering::Relaxed);
     let jobs = match &cli.cmd {
         Cmd::Sweep { a, .. } | Cmd::Map { a, .. } => a.jobs,
         Cmd::Bench { jobs, .. } => *jobs,
@@ -614,9 +626,7 @@ pub fn run() -> Result<()> {
             reference,
             ..
         } => bench::bench(c, *repeat, *reference),
-        Cmd::ImportRoss { file, out, force } => {
-            import_ross::import_ross(file, out.as_deref(), *force)
-        }
+        Cmd::ImportRoss { file, out } => import_ross::import_ross(file, out.as_deref(), cli.force),
         Cmd::Schema { out, markdown } => schema::schema(out.as_deref(), markdown.as_deref()),
     }
 }

@@ -2,7 +2,7 @@
 
 use super::{default_out, finish, load_scene, settings};
 use anyhow::Result;
-use rubsim::analysis::refine::refine_point;
+use rubsim::analysis::refine::{check_refines, meshed_dofs, refine_point};
 use rubsim::output::summary::{RefineRecord, RefineSummary};
 use rubsim::output::{csv, figures};
 use std::path::PathBuf;
@@ -38,12 +38,7 @@ pub struct RefineArgs {
 /// Runs `rubsim refine`: the same scene at several mesh refinements (the node-to-nodes
 /// contact's sensitivity to the boundary discretisation): refine.csv, force and orbit overlays.
 pub fn refine(a: &RefineArgs) -> Result<()> {
-    let dir = a
-        .out
-        .clone()
-        .unwrap_or_else(|| default_out(&a.scene).join("refine"));
-    let mut outd = super::open_out(&dir)?;
-    let mut points = Vec::new();
+    let mut loaded = Vec::new();
     for v in &a.values {
         let mut set = a.set.clone();
         set.push(format!("{}={v}", a.key));
@@ -51,6 +46,26 @@ pub fn refine(a: &RefineArgs) -> Result<()> {
         let (ls, model) = load_scene(&a.scene, &set, || {
             format!("{} with {} = {v}", a.scene.display(), a.key)
         })?;
+        loaded.push((v, ls, model));
+    }
+    // Every refinement is meshed before any runs: one that does not refine is refused before
+    // anything is written.
+    let steps: Vec<(String, usize)> = loaded
+        .iter()
+        .filter(|(_, _, m)| meshed_dofs(m) > 0)
+        .map(|(v, _, m)| (v.to_string(), meshed_dofs(m)))
+        .collect();
+    if steps.len() == loaded.len() {
+        check_refines(&a.key, &steps)
+            .map_err(|why| anyhow::anyhow!("{}: refine: {why}", a.scene.display()))?;
+    }
+    let dir = a
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out(&a.scene).join("refine"));
+    let mut outd = super::open_out(&dir)?;
+    let mut points = Vec::new();
+    for (v, ls, model) in loaded {
         let wn = model.rotor.natural_frequency();
         let speed = a
             .speed

@@ -47,9 +47,10 @@ pub fn sync_dir(dir: &Path) -> Result<()> {
 /// Writes `bytes` to `path` atomically and durably: into the temporary file `tmp` (same
 /// folder), synced, then `before_rename()` (the output protocol's fault-injection point), the
 /// rename onto `path`, and the folder synced. A reader sees the old file or the whole new
-/// one; after a power loss, the new name never holds unwritten data. A symbolic link at `tmp`
-/// is not followed (opening it fails): the bytes go into a file of the folder, never through a
-/// link someone put at the temporary name.
+/// one; after a power loss, the new name never holds unwritten data. Whatever is at `tmp` (a
+/// temporary file a killed run left, a symbolic or hard link someone put there) is unlinked and
+/// the file created anew, exclusively (`O_EXCL`, which never follows a link): the bytes go into
+/// a new file of the folder, never through a link into another file.
 ///
 /// # Errors
 /// [`Error::Output`] naming the temporary file (create, write, sync) or `path` (rename,
@@ -61,18 +62,25 @@ pub fn write_atomic(tmp: &Path, path: &Path, bytes: &[u8], before_rename: fn()) 
     sync_dir(path.parent().unwrap_or(Path::new(".")))
 }
 
-/// The first half of [`write_atomic`]: `bytes` written to the temporary file `tmp` (never
-/// through a symbolic link at that name) and synced, for a caller that renames several such
-/// files and then syncs their folder once.
+/// The first half of [`write_atomic`]: `bytes` written to the temporary file `tmp` and synced,
+/// for a caller that renames several such files and then syncs their folder once. A name left
+/// at `tmp` is unlinked first (a link, not what it points to), and the file is created with
+/// `create_new` (`O_CREAT | O_EXCL`): never through a symbolic link, never into a file that
+/// another name (a hard link) shares; if something reappears at `tmp` meanwhile, the write
+/// fails instead.
 ///
 /// # Errors
 /// [`Error::Output`] naming `tmp`.
 pub fn write_synced(tmp: &Path, bytes: &[u8]) -> Result<()> {
-    let mut o = fs::OpenOptions::new();
-    o.write(true).create(true).truncate(true);
-    #[cfg(unix)]
-    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut o, libc::O_NOFOLLOW);
-    let mut f = o.open(tmp).map_err(|e| Error::output(tmp, e))?;
+    match fs::remove_file(tmp) {
+        Err(e) if e.kind() != ErrorKind::NotFound => return Err(Error::output(tmp, e)),
+        _ => {}
+    }
+    let mut f = fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(tmp)
+        .map_err(|e| Error::output(tmp, e))?;
     f.write_all(bytes)
         .and_then(|()| f.sync_all())
         .map_err(|e| Error::output(tmp, e))
@@ -90,15 +98,22 @@ mod tests {
         write_atomic(&tmp, &p, b"two", || {}).unwrap();
         assert_eq!(fs::read(&p).unwrap(), b"two");
         assert!(!tmp.exists());
-        // A link at the temporary name is not written through.
+        // A link at the temporary name is not written through: the symbolic link's target is
+        // neither created nor written, a hard link's other name keeps its bytes.
         #[cfg(unix)]
         {
             let target = d.path().join("elsewhere");
             std::os::unix::fs::symlink(&target, &tmp).unwrap();
-            assert!(write_atomic(&tmp, &p, b"three", || {}).is_err());
+            write_atomic(&tmp, &p, b"three", || {}).unwrap();
             assert!(!target.exists());
-            assert_eq!(fs::read(&p).unwrap(), b"two");
-            fs::remove_file(&tmp).unwrap();
+            assert_eq!(fs::read(&p).unwrap(), b"three");
+            assert!(!p.is_symlink());
+            let other = d.path().join("other");
+            fs::write(&other, b"mine").unwrap();
+            fs::hard_link(&other, &tmp).unwrap();
+            write_atomic(&tmp, &p, b"four", || {}).unwrap();
+            assert_eq!(fs::read(&other).unwrap(), b"mine");
+            assert_eq!(fs::read(&p).unwrap(), b"four");
         }
         sync_file(&p).unwrap();
         sync_dir(d.path()).unwrap();

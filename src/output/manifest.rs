@@ -4,6 +4,10 @@
 //! [`parse_manifest`] confines it: a path that could name a file outside the directory (or a
 //! file of the output protocol itself) is refused, never followed.
 
+use crate::error::{Error, Result};
+use std::fs;
+use std::path::Path;
+
 /// Name of the manifest listing the files of the last completed run in a directory.
 pub const MANIFEST: &str = ".rubsim-files";
 
@@ -103,6 +107,61 @@ pub fn check_relative(name: &str) -> Result<(), &'static str> {
     Ok(())
 }
 
+/// Refuses the file system's root as an output directory ([`super::OutDir::prepare`]),
+/// and (unless `force`) an existing directory holding something not rubsim's: it is rubsim's
+/// when it holds a protocol (`.rubsim-`) file, or only folders that do (a sharded study's
+/// `shard-*/`, the `refine/` or `modal/` of a scene's default folder). Anything else is a
+/// folder rubsim did not make, whose `summary.json` or `orbit.png` the results would replace.
+///
+/// # Errors
+/// [`Error::Output`] naming the directory, and what to do.
+pub fn check_owner(dir: &Path, force: bool) -> Result<()> {
+    let Ok(entries) = fs::read_dir(dir) else {
+        // Missing (it is created) or unreadable (the lock reports it).
+        return Ok(());
+    };
+    if fs::canonicalize(dir).is_ok_and(|c| c.parent().is_none()) {
+        return Err(Error::output(
+            dir,
+            "is the root of the file system: rubsim does not write its results there \
+             (--force does not change this); choose a folder for them with --out",
+        ));
+    }
+    let mut foreign = None;
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if name.starts_with(PROTOCOL_PREFIX) {
+            return Ok(());
+        }
+        if !holds_protocol_file(&e.path()) {
+            foreign.get_or_insert(name);
+        }
+    }
+    match foreign {
+        Some(name) if !force => Err(Error::output(
+            dir,
+            format!(
+                "is not empty (it holds `{name}`) and is not a rubsim output directory (it has no \
+                 {PROTOCOL_PREFIX} files, such as {MANIFEST}): the results would replace files of the same names \
+                 (summary.json, orbit.png, …); choose a new or empty folder with --out, or \
+                 give --force to write into this one"
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// True when `dir` is a directory holding a file of the protocol: an output directory of
+/// rubsim's, as a sharded study's `shard-<i>-of-<n>/` folders are in the folder `rubsim merge`
+/// writes to, and `refine/`, `modal/`, … in a scene's default `out/<scene>/`.
+fn holds_protocol_file(dir: &Path) -> bool {
+    fs::symlink_metadata(dir).is_ok_and(|m| m.is_dir())
+        && fs::read_dir(dir).is_ok_and(|rd| {
+            rd.flatten()
+                .any(|e| e.file_name().to_string_lossy().starts_with(PROTOCOL_PREFIX))
+        })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -120,6 +179,44 @@ mod tests {
         assert_eq!(m.rejected[7].reason, "contains a backslash");
         assert_eq!(m.rejected[8].reason, "contains a NUL byte");
         assert_eq!(m.rejected[9].reason, "contains a control character");
+    }
+
+    #[test]
+    fn the_root_and_foreign_folders_are_refused_ours_and_empty_ones_taken() {
+        for force in [false, true] {
+            let e = check_owner(Path::new("/"), force).unwrap_err().to_string();
+            assert!(e.contains("root of the file system"), "{e}");
+        }
+        let d = tempfile::tempdir().unwrap();
+        let dir = d.path().join("out");
+        assert!(
+            check_owner(&dir, false).is_ok(),
+            "a missing folder is created"
+        );
+        fs::create_dir(&dir).unwrap();
+        assert!(check_owner(&dir, false).is_ok(), "an empty folder is taken");
+        fs::write(dir.join("orbit.png"), "mine").unwrap();
+        let e = check_owner(&dir, false).unwrap_err().to_string();
+        assert!(e.contains("orbit.png") && e.contains("--force"), "{e}");
+        assert!(check_owner(&dir, true).is_ok());
+        // A folder holding output folders (a sharded study's, a scene's `refine/`) besides a
+        // file of its own is not rubsim's; holding only them, it is; and rubsim's own folder.
+        for sub in ["shard-1-of-2", "refine"] {
+            fs::create_dir_all(dir.join(sub)).unwrap();
+            fs::write(dir.join(sub).join(".rubsim-lock"), "").unwrap();
+        }
+        assert!(check_owner(&dir, false).is_err());
+        fs::create_dir(dir.join("notes")).unwrap();
+        fs::rename(dir.join("orbit.png"), dir.join("notes/orbit.png")).unwrap();
+        assert!(
+            check_owner(&dir, false).is_err(),
+            "`notes/` is not rubsim's"
+        );
+        fs::remove_dir_all(dir.join("notes")).unwrap();
+        assert!(check_owner(&dir, false).is_ok());
+        fs::write(dir.join("orbit.png"), "mine").unwrap();
+        fs::write(dir.join(MANIFEST), "orbit.png\n").unwrap();
+        assert!(check_owner(&dir, false).is_ok());
     }
 
     #[test]

@@ -44,7 +44,7 @@
 //! commit at every point.
 
 use super::durable;
-use super::manifest::{check_relative, parse_manifest, MANIFEST, PROTOCOL_PREFIX};
+use super::manifest::{check_owner, check_relative, parse_manifest, MANIFEST, PROTOCOL_PREFIX};
 use crate::error::{Error, Result};
 use std::collections::BTreeSet;
 use std::fs::{self, File, TryLockError};
@@ -83,13 +83,31 @@ impl OutDir {
     /// # Errors
     /// [`Error::Output`] when `dir` is not a directory, cannot be created or written, or
     /// another run holds its lock.
+    /// A directory that exists, is not empty and holds none of the protocol's files (a folder
+    /// rubsim did not make) is refused, as is the file system's root: see
+    /// [`OutDir::prepare_forced`].
     pub fn prepare(dir: &Path) -> Result<Self> {
+        Self::open(dir, false)
+    }
+
+    /// [`OutDir::prepare`] into a directory that may be someone else's (the command line's
+    /// `--force`): an existing, non-empty directory without the protocol's files is written
+    /// into, its files of the results' names replaced. The file system's root is still refused.
+    ///
+    /// # Errors
+    /// As [`OutDir::prepare`].
+    pub fn prepare_forced(dir: &Path) -> Result<Self> {
+        Self::open(dir, true)
+    }
+
+    fn open(dir: &Path, force: bool) -> Result<Self> {
         if dir.exists() && !dir.is_dir() {
             return Err(Error::output(
                 dir,
                 "output path exists and is not a directory",
             ));
         }
+        check_owner(dir, force)?;
         let created = !dir.exists();
         let lock = acquire_lock(dir)?;
         let mut me = Self {

@@ -1,11 +1,11 @@
 //! Reading a study's cases back: every case from the stores that hold them ([`results`]), and
 //! the stores of a sharded study gathered for `rubsim merge` ([`merge_folders`], [`Merged`]).
 
-use super::case::CaseSpec;
+use super::case::{CaseId, CaseSpec};
 use super::run::Computed;
 use super::series::SeriesPlan;
 use super::shard::shard_folders;
-use super::store::{scene_hash, CaseStore, CASES_DIR};
+use super::store::{scene_hash, CaseRecord, CaseStore, CASES_DIR};
 use super::{Kind, Study};
 use crate::analysis::SpeedResults;
 use crate::error::{Error, Result};
@@ -22,7 +22,8 @@ use std::path::{Path, PathBuf};
 ///
 /// # Errors
 /// [`Error::Study`] listing the missing cases (and, for each shard count, the shards to run
-/// again); a damaged case file ([`CaseStore::read`]).
+/// again), or naming a case two stores hold in differing copies, with both files; a damaged
+/// case file ([`CaseStore::read`]).
 pub fn results(
     stores: &[&CaseStore],
     study: &Study,
@@ -55,17 +56,48 @@ pub fn results(
             if let Some(r) = held {
                 return Ok(r);
             }
+            let mut found: Option<(&CaseStore, CaseRecord)> = None;
             for s in stores {
-                if let Some(rec) = s.read(&c.id)? {
-                    return Ok(rec.into_parts());
+                let Some(rec) = s.read(&c.id)? else { continue };
+                match &found {
+                    None => found = Some((s, rec)),
+                    Some((first, kept)) if !same_results(kept, &rec) => {
+                        return Err(conflict(&c.id, first, s))
+                    }
+                    Some(_) => {}
                 }
             }
-            Err(Error::study(
-                "",
-                format!("case {} disappeared while being read", c.id),
-            ))
+            found.map(|(_, rec)| rec.into_parts()).ok_or_else(|| {
+                Error::study("", format!("case {} disappeared while being read", c.id))
+            })
         })
         .collect()
+}
+
+/// True when two copies of a case hold the same results, bit for bit (NaN equal to NaN): every
+/// number [`CaseRecord::numbers`] checks, the period and steadiness; the run's timings may
+/// differ (a case computed again by a shard of another layout).
+fn same_results(a: &CaseRecord, b: &CaseRecord) -> bool {
+    let bits =
+        |r: &CaseRecord| -> Vec<u64> { r.numbers().iter().map(|(_, x)| x.to_bits()).collect() };
+    a.results.period == b.results.period
+        && a.results.steady == b.results.steady
+        && bits(a) == bits(b)
+}
+
+/// Two stores hold differing copies of case `id`: which one is right is not for the merge to
+/// guess.
+fn conflict(id: &CaseId, a: &CaseStore, b: &CaseStore) -> Error {
+    Error::study(
+        id.as_str(),
+        format!(
+            "two copies of this case differ: {} and {}; the shards did not compute it alike \
+             (another rubsim, another scene or an edited file): delete the wrong copy (or the \
+             shard folder) and merge again",
+            a.path(id).display(),
+            b.path(id).display()
+        ),
+    )
 }
 
 /// "n of N cases are missing:", up to 20 of them, and the shards they belong to.

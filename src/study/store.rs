@@ -163,6 +163,46 @@ impl CaseRecord {
         }
     }
 
+    /// The numbers of the record that must be finite, by field name: the speed, |Z0|, the
+    /// clearances, the unbalance force, the extents, the 1×, ½× and ⅓× lines, the contact
+    /// force, fraction and penetration, and every value of the orbit, force history, spectrum
+    /// and Poincaré points. [`CaseStore::read`] refuses a file where one is not (a NaN written
+    /// into a case file whose end line was then recomputed); a run never stores one.
+    pub fn numbers(&self) -> Vec<(&'static str, f64)> {
+        let r = &self.results;
+        let mut v = vec![
+            ("results.speed_ratio", r.speed_ratio),
+            ("results.omega", r.omega),
+            ("results.z0", r.z0),
+            ("results.unbalance_force", r.unbalance_force),
+            ("results.amp_1x_nd", r.amp_1x_nd),
+            ("results.amp_half_nd", r.amp_half_nd),
+            ("results.amp_third_nd", r.amp_third_nd),
+            ("results.contact_force_max_nd", r.contact_force_max_nd),
+            ("results.contact_fraction", r.contact_fraction),
+            ("results.penetration_max_m", r.penetration_max_m),
+        ];
+        v.extend(r.clearances.iter().map(|&c| ("results.clearances", c)));
+        v.extend(r.extents_nd.iter().map(|&c| ("results.extents_nd", c)));
+        let pairs = |name, xs: &[V2]| {
+            xs.iter()
+                .flatten()
+                .map(move |&x| (name, x))
+                .collect::<Vec<_>>()
+        };
+        let tuples = |name, xs: &[(f64, f64)]| {
+            xs.iter()
+                .flat_map(|p| [p.0, p.1])
+                .map(move |x| (name, x))
+                .collect::<Vec<_>>()
+        };
+        v.extend(pairs("orbit_nd", &self.orbit_nd));
+        v.extend(pairs("poincare_nd", &self.poincare_nd));
+        v.extend(tuples("force_history", &self.force_history));
+        v.extend(tuples("spectrum", &self.spectrum));
+        v
+    }
+
     /// The results with their orbit, force history, spectrum and Poincaré points, and the
     /// boundary.
     pub fn into_parts(self) -> (SpeedResults, Boundary) {
@@ -318,7 +358,7 @@ impl CaseStore {
     ///
     /// # Errors
     /// [`Error::Output`] naming the file: half-written or damaged, of another case or of
-    /// another scene.
+    /// another scene, or a number of its results not finite ([`CaseRecord::numbers`]).
     pub fn read(&self, id: &CaseId) -> Result<Option<CaseRecord>> {
         let p = self.path(id);
         let text = match fs::read_to_string(&p) {
@@ -340,6 +380,15 @@ impl CaseStore {
                 format!(
                     "is a case of another scene (hash {}, this study's is {})",
                     rec.scene_hash, self.plan.scene_hash
+                ),
+            ));
+        }
+        if let Some((field, x)) = rec.numbers().into_iter().find(|(_, x)| !x.is_finite()) {
+            return Err(Error::output(
+                &p,
+                format!(
+                    "damaged case file: `{field}` holds {x}, and a case's results are finite \
+                     numbers; delete the file to have the case computed again"
                 ),
             ));
         }

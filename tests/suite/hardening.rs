@@ -540,3 +540,160 @@ fn absurdly_small_values_are_refused_naming_their_key() {
         assert!(!err.contains("singular"), "{set}: {err}");
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Issue 31 items 3 and 9: a refinement that does not refine, shards' conflicting copies of a
+// case, a case file's non-finite numbers.
+
+/// `rubsim refine` meshes every value first and refuses a study whose meshes do not grow:
+/// the rod's structured (transfinite) mesh ignores `size_factor`, so both values give the same
+/// mesh. Nothing is written.
+#[test]
+fn a_refinement_study_whose_mesh_does_not_refine_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("refine");
+    let scene = repo("scenes/stators/rod2d.toml");
+    let err = fails(
+        &repo(""),
+        &[
+            "refine",
+            scene.to_str().unwrap(),
+            "--key",
+            "stator.0.size_factor",
+            "--values",
+            "1,0.5",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    for part in ["`stator.0.size_factor` = 0.5", "not refined", "= 1 before"] {
+        assert!(err.contains(part), "{part}: {err}");
+    }
+    assert!(!out.exists(), "the refused study wrote {out:?}");
+}
+
+/// The paper's sweep cut to 4 speeds and short runs, into `out` (extra arguments after).
+fn small_sweep(out: &std::path::Path, extra: &[&str]) -> String {
+    let scene = repo(PAPER);
+    let mut args = vec![
+        "sweep",
+        scene.to_str().unwrap(),
+        "--set",
+        "run.sweep.from=1.4",
+        "--set",
+        "run.sweep.to=1.7",
+        "--set",
+        "run.sweep.step=0.1",
+        "--set",
+        "run.revolutions=120",
+        "--set",
+        "run.transient_revolutions=60",
+        "--jobs",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    ok(&repo(""), &args)
+}
+
+/// Rewrites the case file `p` with `edit` and recomputes its end line, as someone who knows the
+/// format would: the file is whole, and only its numbers can tell.
+fn reseal(p: &std::path::Path, edit: impl FnOnce(&str) -> String) {
+    let text = std::fs::read_to_string(p).unwrap();
+    let body = text.trim_end_matches('\n');
+    let body = &body[..body.rfind('\n').unwrap() + 1];
+    let new = edit(body);
+    assert_ne!(new, body, "the edit changed nothing");
+    let mut h = rubsim::math::Fnv128::new();
+    h.write(new.as_bytes());
+    std::fs::write(p, format!("{new}# end {}\n", h.hex())).unwrap();
+}
+
+/// Replaces the value of the first line `key = …` of a case file's text.
+fn set_value(text: &str, key: &str, value: &str) -> String {
+    let prefix = format!("{key} = ");
+    let mut done = false;
+    text.lines()
+        .map(|l| {
+            if !done && l.starts_with(&prefix) {
+                done = true;
+                format!("{prefix}{value}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+/// A case file whose `amp_1x_nd` was set to NaN (its end line recomputed) is refused when it is
+/// read, naming the file and the field, instead of being drawn.
+#[test]
+fn a_case_file_with_a_non_finite_number_is_refused_naming_file_and_field() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("sweep");
+    small_sweep(&out, &[]);
+    let case = out.join("cases/speed_ratio=1.5.toml");
+    reseal(&case, |t| set_value(t, "amp_1x_nd", "nan"));
+    let scene = repo(PAPER);
+    let err = fails(
+        &repo(""),
+        &[
+            "sweep",
+            scene.to_str().unwrap(),
+            "--set",
+            "run.sweep.from=1.4",
+            "--set",
+            "run.sweep.to=1.7",
+            "--set",
+            "run.sweep.step=0.1",
+            "--set",
+            "run.revolutions=120",
+            "--set",
+            "run.transient_revolutions=60",
+            "--jobs",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        err.contains("speed_ratio=1.5.toml")
+            && err.contains("results.amp_1x_nd")
+            && err.contains("NaN"),
+        "{err}"
+    );
+}
+
+/// Two shard layouts of one sweep hold the same case; a copy edited to other numbers (its end
+/// line recomputed) is named with both files, not silently dropped or taken.
+#[test]
+fn merge_names_two_differing_copies_of_a_case_and_refuses() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dist = tmp.path().join("dist");
+    for shard in ["1/2", "2/2", "1/3"] {
+        small_sweep(&dist, &["--shard", shard]);
+    }
+    let d = dist.to_str().unwrap();
+    // Identical copies (shard 1 of 2 and shard 1 of 3 share speed_ratio=1.4): merged.
+    ok(&repo(""), &["merge", d]);
+    let copy = dist.join("shard-1-of-3/cases/speed_ratio=1.4.toml");
+    assert!(
+        copy.is_file()
+            && dist
+                .join("shard-1-of-2/cases/speed_ratio=1.4.toml")
+                .is_file()
+    );
+    reseal(&copy, |t| set_value(t, "amp_1x_nd", "0.123456789"));
+    let err = fails(&repo(""), &["merge", d]);
+    for part in [
+        "speed_ratio=1.4",
+        "differ",
+        "shard-1-of-2/cases/speed_ratio=1.4.toml",
+        "shard-1-of-3/cases/speed_ratio=1.4.toml",
+    ] {
+        assert!(err.contains(part), "{part}: {err}");
+    }
+}

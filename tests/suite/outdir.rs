@@ -495,3 +495,68 @@ fn commit_that_cannot_complete_changes_nothing() {
     );
     assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
 }
+
+/// Issue 31 item 9: a non-empty folder rubsim did not make (no `.rubsim-` file in it) is not an
+/// output directory: its own `summary.json` and `orbit.png` would be replaced. It is refused
+/// naming the folder and `--force`, nothing in it changed; `--force` writes into it, after
+/// which it is rubsim's; an empty folder is taken as it is.
+#[test]
+fn a_folder_rubsim_did_not_make_is_refused_unless_forced() {
+    let tmp = TempDir::new().unwrap();
+    let mine = tmp.path().join("mine");
+    std::fs::create_dir(&mine).unwrap();
+    std::fs::write(mine.join("summary.json"), "my own notes").unwrap();
+    std::fs::write(mine.join("orbit.png"), "my picture").unwrap();
+    let before = results(&mine);
+    let o = run_out(tmp.path(), &mine, &[]);
+    assert!(!o.status.success());
+    let err = text(&o.stderr);
+    assert!(
+        err.contains(&mine.display().to_string())
+            && err.contains("not a rubsim output directory")
+            && err.contains("--force"),
+        "{err}"
+    );
+    assert_eq!(results(&mine), before, "the folder was changed");
+    assert!(
+        std::fs::read_dir(&mine).unwrap().count() == 2,
+        "a file was added"
+    );
+    // Forced: written, and from then on the folder is rubsim's.
+    let o = run_cmd(tmp.path(), &mine, &[])
+        .arg("--force")
+        .output()
+        .unwrap();
+    assert_ok(&o);
+    assert_ne!(
+        std::fs::read(mine.join("summary.json")).unwrap(),
+        b"my own notes"
+    );
+    assert_ok(&run_out(tmp.path(), &mine, &[]));
+    // An empty folder is fine, and so is one holding only rubsim's output folders (a scene's
+    // `out/<scene>/` after `rubsim refine` wrote `out/<scene>/refine/`).
+    let empty = tmp.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    assert_ok(&run_out(tmp.path(), &empty, &[]));
+    let scene = tmp.path().join("scene");
+    assert_ok(&run_out(tmp.path(), &scene.join("refine"), &[]));
+    assert_ok(&run_out(tmp.path(), &scene, &[]));
+}
+
+/// Issue 31 item 9: `--out /` is refused (as root it wrote the results into `/`), `--force`
+/// or not, before anything is computed or written.
+#[test]
+fn the_file_system_root_is_never_an_output_directory() {
+    let tmp = TempDir::new().unwrap();
+    for force in [false, true] {
+        let mut c = run_cmd(tmp.path(), Path::new("/"), &[]);
+        if force {
+            c.arg("--force");
+        }
+        let o = c.output().unwrap();
+        assert!(!o.status.success());
+        let err = text(&o.stderr);
+        assert!(err.contains("root of the file system"), "{err}");
+    }
+    assert!(!Path::new("/summary.json").exists() && !Path::new("/.rubsim-lock").exists());
+}
