@@ -313,44 +313,61 @@ impl Batch {
     /// fall outside the union (not an elimination tree: never for faer's factors).
     fn forward(&mut self, tree: &PathTree, llt: &SupernodalLltRef<'_, usize, f64>) -> Option<()> {
         let nb = self.x.len().checked_div(self.width).unwrap_or(0);
-        let mut tmp = Vec::new();
-        for (&s, &off) in self.union.iter().zip(&self.off) {
-            let node = llt.supernode(s);
-            let w = tree.width(s);
-            let (top, bot) = node.val().split_at_row(w);
-            let xs = MatMut::from_column_major_slice_with_stride_mut(
-                &mut self.x[off..],
-                w,
-                nb,
-                self.width,
-            );
-            faer::linalg::triangular_solve::solve_lower_triangular_in_place(top, xs, Par::Seq);
-            let pattern = node.pattern();
-            if pattern.is_empty() {
-                continue;
-            }
-            tmp.clear();
-            tmp.resize(pattern.len() * nb, 0.0);
-            let xs = MatRef::from_column_major_slice_with_stride(&self.x[off..], w, nb, self.width);
-            faer::linalg::matmul::matmul(
-                MatMut::from_column_major_slice_mut(&mut tmp, pattern.len(), nb),
-                Accum::Replace,
-                bot,
-                xs,
-                1.0,
-                Par::Seq,
-            );
-            for (i, &r) in pattern.iter().enumerate() {
-                let t = tree.sn_of[r] as usize;
-                let k = self.union.binary_search(&t).ok()?;
-                let row = self.off[k] + r - tree.begin[t];
-                for j in 0..nb {
-                    self.x[row + j * self.width] -= tmp[i + j * pattern.len()];
-                }
+        // The columns in two fixed halves, one per thread: each column's arithmetic is the
+        // same whatever the threads (the split does not depend on them).
+        let (a, b) = self.x.split_at_mut(self.width * nb.div_ceil(2));
+        let part = |x: &mut [f64]| forward_part(&self.union, &self.off, self.width, x, tree, llt);
+        let (ra, rb) = rayon::join(|| part(a), || part(b));
+        ra.and(rb)
+    }
+}
+
+/// `x ← L⁻¹ x` for the columns `x` (column-major, `width` rows each) of a batch over the union
+/// `union` of its paths (offsets `off`), children first.
+fn forward_part(
+    union: &[usize],
+    off: &[usize],
+    width: usize,
+    x: &mut [f64],
+    tree: &PathTree,
+    llt: &SupernodalLltRef<'_, usize, f64>,
+) -> Option<()> {
+    let nb = x.len().checked_div(width).unwrap_or(0);
+    if nb == 0 {
+        return Some(());
+    }
+    let mut tmp = Vec::new();
+    for (&s, &o) in union.iter().zip(off) {
+        let node = llt.supernode(s);
+        let w = tree.width(s);
+        let (top, bot) = node.val().split_at_row(w);
+        let xs = MatMut::from_column_major_slice_with_stride_mut(&mut x[o..], w, nb, width);
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(top, xs, Par::Seq);
+        let pattern = node.pattern();
+        if pattern.is_empty() {
+            continue;
+        }
+        tmp.clear();
+        tmp.resize(pattern.len() * nb, 0.0);
+        let xs = MatRef::from_column_major_slice_with_stride(&x[o..], w, nb, width);
+        faer::linalg::matmul::matmul(
+            MatMut::from_column_major_slice_mut(&mut tmp, pattern.len(), nb),
+            Accum::Replace,
+            bot,
+            xs,
+            1.0,
+            Par::Seq,
+        );
+        for (i, &r) in pattern.iter().enumerate() {
+            let t = tree.sn_of[r] as usize;
+            let k = union.binary_search(&t).ok()?;
+            let row = off[k] + r - tree.begin[t];
+            for j in 0..nb {
+                x[row + j * width] -= tmp[i + j * pattern.len()];
             }
         }
-        Some(())
     }
+    Some(())
 }
 
 #[cfg(test)]
