@@ -564,9 +564,15 @@ impl Prepared {
 /// when it is steady.
 pub fn fixed_window_warning(res: &SpeedResults, duration: f64, tolerance: f64) -> Option<String> {
     (!res.steady).then(|| {
+        let residual = res.stationarity.residual;
+        let why = if residual.is_finite() {
+            format!("it still changes by {residual:.1e} of the orbit's size, above `run.tolerance` = {tolerance:e}")
+        } else {
+            "too short to compare one revolution with the next, so it cannot be shown steady".into()
+        };
         format!(
-            "ω/ωn = {:.3}: the fixed window (`run.duration` = {duration} s, analysed over its second half, {} whole revolutions) is not steady: it still changes by {:.1e} of the orbit's size, above `run.tolerance` = {tolerance:e}; not lengthened (a fixed window), its results carry that (`steady = false`)",
-            res.speed_ratio, res.window_revolutions, res.stationarity.residual
+            "ω/ωn = {:.3}: the fixed window (`run.duration` = {duration} s, analysed over its second half, {} whole revolutions) is not steady: {why}; not lengthened (a fixed window), its results carry that (`steady = false`)",
+            res.speed_ratio, res.window_revolutions
         )
     })
 }

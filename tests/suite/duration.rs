@@ -89,6 +89,20 @@ fn half_a_second_from_rest_takes_its_steps_and_is_not_lengthened_when_not_period
 
 /// Keys that lengthen a run or set its length otherwise are refused beside `run.duration`, the
 /// message naming both; a duration that is not a positive finite number is refused by its key.
+/// A window of 1.5 revolutions analyses one whole revolution, too short to compare one
+/// revolution with the next: the warning says so instead of "changes by inf" (the 10⁶-DOF
+/// seal's 2-revolution run printed that).
+#[test]
+fn a_window_too_short_to_judge_says_so() {
+    let tmp = TempDir::new().unwrap();
+    let (s, err) = paper_run(tmp.path(), "short", &["run.duration=0.023"]);
+    let r = &s["result"];
+    assert_eq!(r["steady"], false);
+    let w = r["warnings"][0].as_str().unwrap();
+    assert!(w.contains("too short to compare"), "{w}");
+    assert!(!w.contains("inf") && !err.contains(" inf "), "{w}");
+}
+
 #[test]
 fn conflicting_keys_are_refused_naming_both() {
     let tmp = TempDir::new().unwrap();
