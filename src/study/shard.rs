@@ -298,12 +298,12 @@ mod tests {
                 }
             }
         };
-        for a in 0..VARS.len() {
+        for (a, va) in VARS.iter().enumerate() {
             for x in &hostile {
-                run(&[(VARS[a], x)]);
-                for b in a + 1..VARS.len() {
+                run(&[(va, x)]);
+                for vb in &VARS[a + 1..] {
                     for y in &hostile {
-                        run(&[(VARS[a], x), (VARS[b], y)]);
+                        run(&[(va, x), (vb, y)]);
                     }
                 }
             }
