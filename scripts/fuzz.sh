@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fuzz rubsim's readers with cargo-fuzz (libFuzzer): the scene loader with `--set` overrides
-# (`scene`), the MSH reader (`msh`) and the output manifest reader (`manifest`); the targets are
+# (`scene`), the MSH reader (`msh`), the output manifest reader (`manifest`) and the ROSS rotor
+# file import of `import-ross`, TOML and JSON (`ross`); the targets are
 # in fuzz/ (fuzz/src/lib.rs), their committed seeds in fuzz/seeds/<target>/.
 #
 #   scripts/fuzz.sh                        every target for FUZZ_TIME seconds (default 30)
@@ -25,7 +26,7 @@ if ! command -v cargo-fuzz > /dev/null; then
 fi
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(scene msh manifest)
+  targets=(scene msh manifest ross)
 fi
 sanitizer="${FUZZ_SANITIZER:-address}"
 build=()
@@ -47,7 +48,8 @@ for t in "${targets[@]}"; do
     scene) max_len=8192 ;;
     msh) max_len=16384 ;;
     manifest) max_len=4096 ;;
-    *) echo "scripts/fuzz.sh: unknown target $t (scene, msh, manifest)" >&2; exit 2 ;;
+    ross) max_len=16384 ;;
+    *) echo "scripts/fuzz.sh: unknown target $t (scene, msh, manifest, ross)" >&2; exit 2 ;;
   esac
   mkdir -p "corpus/$t"
   echo "== fuzz $t (${limit[*]}, sanitizer $sanitizer, ${FUZZ_BUILD:-full} build)"

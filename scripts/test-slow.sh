@@ -17,8 +17,8 @@ if [ "$status" -eq 5 ]; then
   exit 1
 fi
 [ "$status" -eq 0 ] || exit "$status"
-# Issue 13: a short run of each fuzzer (scene, msh, manifest; FUZZ_TIME seconds each) from the
-# committed seeds. FUZZ_BUILD=quick builds the instrumented crate cheaply — no AddressSanitizer,
+# Issue 13: a short run of each fuzzer (scene, msh, manifest, ross; FUZZ_TIME seconds each) from
+# the committed seeds. FUZZ_BUILD=quick builds the instrumented crate cheaply — no AddressSanitizer,
 # opt-level 1, 16 codegen units, its own target directory — keeping the coverage
 # instrumentation, debug assertions and overflow checks: a panic, an abort, an input running
 # 10 s or allocating 2 GB fails. Cold cost: docs/VALIDATION.md §13. The runs of 10^6

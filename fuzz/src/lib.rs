@@ -11,6 +11,9 @@
 //!   boundary's normals.
 //! * [`manifest`]: the text of an output directory's manifest →
 //!   [`rubsim::output::parse_manifest`].
+//! * [`ross`]: the text of a ROSS rotor file (`Rotor.save`, TOML or JSON) → what
+//!   `rubsim import-ross` does with it: [`rubsim::scene::ross::import`], then, for a scene it
+//!   returns, [`rubsim::scene::parse`] and [`rubsim::model::Model::from_scene`].
 
 use std::path::Path;
 
@@ -57,4 +60,28 @@ pub fn msh(data: &[u8]) {
 pub fn manifest(data: &[u8]) {
     let text = String::from_utf8_lossy(data);
     let _ = rubsim::output::parse_manifest(&text);
+}
+
+/// The text of a ROSS rotor file through `rubsim import-ross` (without writing the scene): the
+/// import, then the scene's loading and its model. The reader takes a text starting with `{`
+/// as JSON and any other as TOML, whatever the file's name; the input is handed over under the
+/// name its form would have (`fuzz.json`, `fuzz.toml`), so both readers see every mutation of
+/// the seeds of both forms (fuzz/seeds/ross/).
+pub fn ross(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let name = if text.trim_start().starts_with('{') {
+        "fuzz.json"
+    } else {
+        "fuzz.toml"
+    };
+    let path = Path::new(name);
+    let Ok(scene) = rubsim::scene::ross::import(path, text) else {
+        return;
+    };
+    let Ok(ls) = rubsim::scene::parse(path, &scene, &[]) else {
+        return;
+    };
+    let _ = rubsim::model::Model::from_scene(&ls);
 }

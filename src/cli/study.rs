@@ -79,7 +79,11 @@ pub fn run(c: &Common, kind: Kind, a: &StudyArgs) -> Result<()> {
     let study = Study::of(&ls, Some(model.rotor.natural_frequency()), kind)?;
     let shard = match &a.shard {
         Some(s) => Some(Shard::parse(s)?),
-        None => Shard::from_slurm(|k| std::env::var(k).ok())?,
+        // A value that is not UTF-8 reaches the parser (as U+FFFD) and is refused naming its
+        // variable; `env::var(k).ok()` would take it as unset and run every case in each task.
+        None => {
+            Shard::from_slurm(|k| std::env::var_os(k).map(|v| v.to_string_lossy().into_owned()))?
+        }
     };
     let root = a.out.clone().unwrap_or_else(|| default_out(&c.scene));
     let dir = shard.map_or(root.clone(), |s| root.join(s.folder()));

@@ -64,14 +64,22 @@ impl Shard {
         if var("SLURM_ARRAY_TASK_ID").is_none() {
             return Ok(None);
         }
-        let given = [
+        // The four variables, and SLURM_ARRAY_TASK_STEP when it is set (a step ≠ 1 is refused
+        // as not contiguous: the error then shows it).
+        let mut names = vec![
             "SLURM_ARRAY_TASK_ID",
             "SLURM_ARRAY_TASK_MIN",
             "SLURM_ARRAY_TASK_MAX",
             "SLURM_ARRAY_TASK_COUNT",
-        ]
-        .map(|k| format!("{k}={}", var(k).unwrap_or_default()))
-        .join(", ");
+        ];
+        if var("SLURM_ARRAY_TASK_STEP").is_some() {
+            names.push("SLURM_ARRAY_TASK_STEP");
+        }
+        let given = names
+            .iter()
+            .map(|k| format!("{k}={}", var(k).unwrap_or_default()))
+            .collect::<Vec<_>>()
+            .join(", ");
         let bad = |m: String| Error::Shard {
             given: given.clone(),
             message: m,
@@ -237,6 +245,68 @@ mod tests {
             let refs: Vec<(&str, &str)> = named.iter().map(|(k, v)| (k.as_str(), *v)).collect();
             let err = slurm(&refs).expect_err(says).to_string();
             assert!(err.contains(says), "{vars:?}: {err}");
+        }
+    }
+
+    /// The Slurm variables rubsim reads, each set alone and in pairs to hostile values over a
+    /// valid array task (tasks 1 to 3, this one 2): no panic; a refused value is named in the
+    /// error with its variable; an accepted one gives a shard in range. Issue 31.
+    #[test]
+    fn hostile_slurm_values_alone_and_in_pairs_are_refused_naming_the_variable() {
+        const VARS: [&str; 5] = [
+            "SLURM_ARRAY_TASK_ID",
+            "SLURM_ARRAY_TASK_MIN",
+            "SLURM_ARRAY_TASK_MAX",
+            "SLURM_ARRAY_TASK_COUNT",
+            "SLURM_ARRAY_TASK_STEP",
+        ];
+        let base = [("ID", "2"), ("MIN", "1"), ("MAX", "3"), ("COUNT", "3")];
+        let hostile = [
+            "".to_string(),
+            "-1".into(),
+            "18446744073709551616".into(),
+            "1e3".into(),
+            " 3".into(),
+            "３".into(),
+            u64::MAX.to_string(),
+            usize::MAX.to_string(),
+            "0".into(),
+            "\u{fffd}".into(),
+        ];
+        let run = |set: &[(&str, &str)]| {
+            let vars: Vec<(String, String)> = base
+                .iter()
+                .map(|(k, v)| (format!("SLURM_ARRAY_TASK_{k}"), (*v).to_string()))
+                .filter(|(k, _)| set.iter().all(|(s, _)| s != k))
+                .chain(
+                    set.iter()
+                        .map(|(k, v)| ((*k).to_string(), (*v).to_string())),
+                )
+                .collect();
+            let got = std::panic::catch_unwind(|| {
+                Shard::from_slurm(|k| vars.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone()))
+            });
+            match got.unwrap_or_else(|_| panic!("{set:?}: panicked")) {
+                Ok(Some(s)) => assert!(s.index >= 1 && s.index <= s.count, "{set:?}: {s:?}"),
+                Ok(None) => panic!("{set:?}: not taken as an array task"),
+                Err(e) => {
+                    let e = e.to_string();
+                    let named = set.iter().any(|(k, v)| {
+                        e.contains(&format!("{k}={v}")) || e.contains(&format!("{k}=`{v}`"))
+                    });
+                    assert!(named, "{set:?}: the error names no variable set: {e}");
+                }
+            }
+        };
+        for (a, va) in VARS.iter().enumerate() {
+            for x in &hostile {
+                run(&[(va, x)]);
+                for vb in &VARS[a + 1..] {
+                    for y in &hostile {
+                        run(&[(va, x), (vb, y)]);
+                    }
+                }
+            }
         }
     }
 }

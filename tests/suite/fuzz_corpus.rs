@@ -49,6 +49,31 @@ fn manifest_seeds_and_regressions_read_without_panic() {
 }
 
 #[test]
+fn ross_seeds_and_regressions_import_without_panic() {
+    assert!(replay("ross", targets::ross) >= 3);
+}
+
+#[test]
+fn the_ross_target_imports_its_seeds_in_both_forms() {
+    // The seeds are ROSS files import-ross accepts, TOML and JSON: the target gets past the
+    // import for each, so the fuzzer mutates from inputs that reach the model.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds/ross");
+    let mut forms = Vec::new();
+    for name in [
+        "rotor_example.toml",
+        "rotor_example.json",
+        "fluid_film.toml",
+    ] {
+        let text = std::fs::read_to_string(dir.join(name)).unwrap();
+        let scene = rubsim::scene::ross::import(Path::new(name), &text).unwrap();
+        let ls = rubsim::scene::parse(Path::new(name), &scene, &[]).unwrap();
+        rubsim::model::Model::from_scene(&ls).unwrap();
+        forms.push(text.trim_start().starts_with('{'));
+    }
+    assert_eq!(forms, [false, true, false]);
+}
+
+#[test]
 fn the_scene_target_reaches_resolution() {
     // The seeds are valid scenes: the target gets past loading for them (a target that
     // rejected everything would fuzz nothing).
