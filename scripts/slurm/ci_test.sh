@@ -92,7 +92,7 @@ done
 if [ -n "$(squeue -h -o %i)" ]; then
     echo "slurm test: jobs still queued after 3 minutes"; squeue; exit 1
 fi
-cat "$work"/dist/slurm-merge-*.out
+cat "$work"/rubsim-merge-*.out
 strip() { cut -d, -f1-17 "$1"; } # map.csv without its last column (wall_s)
 if ! diff <(strip "$work/one/map.csv") <(strip "$work/dist/map.csv"); then
     echo "slurm test: the merged map.csv differs from the one-machine run"; exit 1

@@ -15,10 +15,12 @@ fi
 cmd=$1 scene=$2 out=$3 n=$4 throttle=$5
 shift 5
 here=$(cd "$(dirname "$0")" && pwd)
-mkdir -p "$out"
-array=$(sbatch --parsable --chdir="$PWD" --output="$out/slurm-%A_%a.out" \
+# The jobs' logs go to the submitting folder (rubsim-shard-<array>_<task>.out,
+# rubsim-merge-<job>.out, as the .sbatch files name them), not into OUT: rubsim writes only into
+# folders that hold nothing but its own output, and a log there would make OUT a user's folder.
+array=$(sbatch --parsable --chdir="$PWD" \
     --array="1-$n%$throttle" "$here/shard.sbatch" "$cmd" "$scene" "$out" "$n" "$@")
 array=${array%%;*}
-merge=$(sbatch --parsable --chdir="$PWD" --output="$out/slurm-merge-%j.out" \
+merge=$(sbatch --parsable --chdir="$PWD" \
     --dependency="afterany:$array" "$here/merge.sbatch" "$out")
 echo "array $array merge ${merge%%;*}"
