@@ -178,7 +178,11 @@ fn report(
             }
         );
     }
-    print_refined(&prefix, res);
+    print_refined(
+        &prefix,
+        res,
+        &speeds_where(&|r| r.step_refinement.is_some()),
+    );
     let coexisting = speeds_where(&|r| r.coexistence.is_some_and(|c| c.coexisting));
     if !coexisting.is_empty() {
         eprintln!(
@@ -202,14 +206,9 @@ fn report(
 }
 
 /// The line of a sweep `res` (`prefix`: its variant's) naming the speeds whose step was refined
-/// after the run and the steps the rejected runs took; nothing when none was.
-fn print_refined(prefix: &str, res: &SweepResults) {
-    let refined: Vec<String> = res
-        .speeds
-        .iter()
-        .filter(|r| r.step_refinement.is_some())
-        .map(|r| format!("{:.2}", r.speed_ratio))
-        .collect();
+/// after the run (`refined`, as `report` formats speeds) and the steps the rejected runs took;
+/// nothing when none was.
+fn print_refined(prefix: &str, res: &SweepResults, refined: &[String]) {
     if !refined.is_empty() {
         println!(
             "  {}step refined after the run at {} of {} speeds (ω/ωn {}): their own error estimate missed `run.tolerance` at the chosen step; the runs rejected took {} steps more (`step_refinement` of each speed in summary.json, `refined_speeds`)",

@@ -41,8 +41,7 @@ impl PathTree {
             return None;
         };
         let ns = sn.n_supernodes();
-        let begin: Vec<usize> = sn.supernode_begin().to_vec();
-        let mut begin = begin;
+        let mut begin: Vec<usize> = sn.supernode_begin().to_vec();
         begin.push(*sn.supernode_end().last()?);
         let mut sn_of = vec![0u32; ch.n];
         for s in 0..ns {
@@ -176,8 +175,8 @@ impl Cholesky {
         let mut b = Batch::paths(tree, dofs);
         b.forward(tree, &llt)?;
         let nb = dofs.len();
-        if store.by_node.len() < b.mask.len() {
-            store.by_node.resize(b.mask.len(), None);
+        if store.by_node.len() < tree.parent.len() {
+            store.by_node.resize(tree.parent.len(), None);
         }
         let mut out = vec![0.0; rows * nb];
         let mut g = Vec::new();

@@ -247,10 +247,11 @@ impl Compliance {
             return;
         }
         let t0 = std::time::Instant::now();
-        if !(self.paths && self.compute_from_paths(batch)) {
-            self.compute_from_solves(batch);
+        let (col, dofs) = self.solve_columns(batch);
+        if !(self.paths && self.compute_from_paths(batch, &col, &dofs)) {
+            self.compute_from_solves(batch, &col, &dofs);
         }
-        self.computed.0 += self.solve_columns(batch).1.len() as u64;
+        self.computed.0 += dofs.len() as u64;
         self.computed.1 += t0.elapsed().as_secs_f64();
     }
 
@@ -259,10 +260,10 @@ impl Compliance {
         self.computed
     }
 
-    /// The columns of `batch` by one blocked full solve.
-    fn compute_from_solves(&mut self, batch: &[usize]) {
+    /// The columns of `batch` (its [`Compliance::solve_columns`] `col` and `dofs`) by one
+    /// blocked full solve.
+    fn compute_from_solves(&mut self, batch: &[usize], col: &[[usize; 2]], dofs: &[usize]) {
         let n = self.rhs.len();
-        let (col, dofs) = self.solve_columns(batch);
         let mut block = vec![0.0; n * dofs.len()];
         for (c, &d) in dofs.iter().enumerate() {
             block[c * n + d] = 1.0;
@@ -270,7 +271,7 @@ impl Compliance {
         if let Some(ch) = &self.chol {
             ch.solve_in_place(&mut block);
         }
-        self.pack(batch, &col, |k, _, r| block[k * n + r]);
+        self.pack(batch, col, |k, _, r| block[k * n + r]);
     }
 
     /// The solve columns of `batch`'s nodes: each node's column per component (`usize::MAX`
@@ -328,14 +329,14 @@ impl Compliance {
         self.fpos.resize(2 * (m + batch.len()), usize::MAX);
     }
 
-    /// The columns of `batch` from forward solves on their elimination-tree paths
+    /// The columns of `batch` (its [`Compliance::solve_columns`] `col` and `dofs`) from forward
+    /// solves on their elimination-tree paths
     /// ([`crate::linalg::Cholesky::path_columns`]): the entries with every touched node as
     /// products of the stored forward solutions. `false` (nothing done) if the factor cannot.
-    fn compute_from_paths(&mut self, batch: &[usize]) -> bool {
+    fn compute_from_paths(&mut self, batch: &[usize], col: &[[usize; 2]], dofs: &[usize]) -> bool {
         let Some(ch) = &self.chol else { return false };
         let m = self.cols.touched.len();
         let rows = 2 * (m + batch.len());
-        let (col, dofs) = self.solve_columns(batch);
         let labels: Vec<u32> = col
             .iter()
             .enumerate()
@@ -348,10 +349,10 @@ impl Compliance {
         if dofs.len() > crate::linalg::PATH_BATCH || rows > u32::MAX as usize {
             return false;
         }
-        let Some(f) = ch.path_columns(&mut self.cols.paths, &dofs, &labels, rows) else {
+        let Some(f) = ch.path_columns(&mut self.cols.paths, dofs, &labels, rows) else {
             return false;
         };
-        self.pack(batch, &col, |k, p, _| f[p + k * rows]);
+        self.pack(batch, col, |k, p, _| f[p + k * rows]);
         true
     }
 

@@ -574,6 +574,15 @@ fn a_refinement_study_whose_mesh_does_not_refine_is_refused() {
 
 /// The paper's sweep cut to 4 speeds and short runs, into `out` (extra arguments after).
 fn small_sweep(out: &std::path::Path, extra: &[&str]) -> String {
+    let args = small_sweep_args(out, extra);
+    ok(
+        &repo(""),
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+    )
+}
+
+/// The arguments of [`small_sweep`].
+fn small_sweep_args(out: &std::path::Path, extra: &[&str]) -> Vec<String> {
     let scene = repo(PAPER);
     let mut args = vec![
         "sweep",
@@ -594,7 +603,7 @@ fn small_sweep(out: &std::path::Path, extra: &[&str]) -> String {
         out.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
-    ok(&repo(""), &args)
+    args.into_iter().map(String::from).collect()
 }
 
 /// Rewrites the case file `p` with `edit` and recomputes its end line, as someone who knows the
@@ -637,27 +646,10 @@ fn a_case_file_with_a_non_finite_number_is_refused_naming_file_and_field() {
     small_sweep(&out, &[]);
     let case = out.join("cases/speed_ratio=1.5.toml");
     reseal(&case, |t| set_value(t, "amp_1x_nd", "nan"));
-    let scene = repo(PAPER);
+    let args = small_sweep_args(&out, &[]);
     let err = fails(
         &repo(""),
-        &[
-            "sweep",
-            scene.to_str().unwrap(),
-            "--set",
-            "run.sweep.from=1.4",
-            "--set",
-            "run.sweep.to=1.7",
-            "--set",
-            "run.sweep.step=0.1",
-            "--set",
-            "run.revolutions=120",
-            "--set",
-            "run.transient_revolutions=60",
-            "--jobs",
-            "1",
-            "--out",
-            out.to_str().unwrap(),
-        ],
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
     );
     assert!(
         err.contains("speed_ratio=1.5.toml")
