@@ -108,11 +108,17 @@ pub struct PathCost {
 
 /// The stored forward solutions `y = L⁻¹ P e` of a set of columns, by supernode: through
 /// supernode `s`, each column's segment of `|s|` entries side by side (column-major
-/// `|s| × count`) and the caller's label of each. Cloning shares the segments (copied on the
-/// first later write), as the packed compliance shares its blocks between runs.
+/// `|s| × count`) and the caller's label of each. A supernode's segments are a list of
+/// chunks, each allocated once for a quarter of the columns already held (at least
+/// [`CHUNK_COLUMNS`] and the batch's), filled in place and never reallocated: no copy of the
+/// segments while they grow (a doubling vector would hold its old and new buffer at once)
+/// and at most about a quarter of them allocated and unused. Cloning shares the chunks, as
+/// the packed compliance shares its blocks between runs: a chunk a clone shares is not
+/// written, a new one is started, so a run that adopted another's columns adds its own
+/// without copying them.
 #[derive(Debug, Default, Clone)]
 pub struct PathStore {
-    by_node: Vec<Option<Arc<Segments>>>,
+    by_node: Vec<Vec<Arc<Segments>>>,
     /// Entries held (8 bytes each).
     entries: usize,
 }
@@ -128,7 +134,20 @@ impl PathStore {
     pub fn bytes(&self) -> usize {
         8 * self.entries
     }
+
+    /// Bytes allocated for the stored segments (their chunks' capacity, labels included).
+    pub fn allocated(&self) -> usize {
+        self.by_node
+            .iter()
+            .flatten()
+            .map(|c| 8 * c.vals.capacity() + 4 * c.labels.capacity())
+            .sum()
+    }
 }
+
+/// Fewest columns a new chunk of a supernode's stored segments is allocated for
+/// ([`PathStore`]).
+pub const CHUNK_COLUMNS: usize = 16;
 
 /// Largest batch of [`Cholesky::path_columns`] (one bit per column in a supernode's mask).
 pub const PATH_BATCH: usize = 64;
@@ -176,13 +195,30 @@ impl Cholesky {
         b.forward(tree, &llt)?;
         let nb = dofs.len();
         if store.by_node.len() < tree.parent.len() {
-            store.by_node.resize(tree.parent.len(), None);
+            store.by_node.resize(tree.parent.len(), Vec::new());
         }
         let mut out = vec![0.0; rows * nb];
         let mut g = Vec::new();
         for (&s, &off) in b.union.iter().zip(&b.off) {
             let w = tree.width(s);
-            let segs = Arc::make_mut(store.by_node[s].get_or_insert_with(Default::default));
+            let chunks = &mut store.by_node[s];
+            let k = b.mask[s].count_ones() as usize;
+            let room = chunks
+                .last_mut()
+                .and_then(Arc::get_mut)
+                .is_some_and(|c| c.vals.capacity() - c.vals.len() >= k * w);
+            if !room {
+                let held: usize = chunks.iter().map(|c| c.labels.len()).sum();
+                let cols = k.max(held / 4).max(CHUNK_COLUMNS);
+                chunks.push(Arc::new(Segments {
+                    vals: Vec::with_capacity(cols * w),
+                    labels: Vec::with_capacity(cols),
+                }));
+            }
+            let segs = chunks
+                .last_mut()
+                .and_then(Arc::get_mut)
+                .expect("a chunk no clone shares");
             for (j, &l) in labels.iter().enumerate() {
                 if b.mask[s] & (1 << j) != 0 {
                     let at = j * b.width + off;
@@ -191,14 +227,16 @@ impl Cholesky {
                     store.entries += w;
                 }
             }
-            let cnt = segs.labels.len();
+            // gᵀ = xsᵀ · stored (nb × cnt, the chunks one after the other): the stored
+            // segments are read in place, column by column, and only the batch's few columns
+            // are packed.
+            let xs = MatRef::from_column_major_slice_with_stride(&b.x[off..], w, nb, b.width);
+            let cnt: usize = chunks.iter().map(|c| c.labels.len()).sum();
             g.clear();
             g.resize(nb * cnt, 0.0);
-            // gᵀ = xsᵀ · stored (nb × cnt): the stored segments are read in place, column by
-            // column, and only the batch's few columns are packed.
-            let xs = MatRef::from_column_major_slice_with_stride(&b.x[off..], w, nb, b.width);
-            products(&mut g, xs, &segs.vals, w);
-            for (r, &l) in segs.labels.iter().enumerate() {
+            products(&mut g, xs, chunks, w);
+            let labels = chunks.iter().flat_map(|c| c.labels.iter());
+            for (r, &l) in labels.enumerate() {
                 let l = l as usize;
                 if l < rows {
                     for j in 0..nb {
@@ -242,13 +280,14 @@ impl Cholesky {
 /// Stored segments per parallel task of [`products`] (below this, one task).
 const PRODUCT_CHUNK: usize = 512;
 
-/// `g = xsᵀ · stored` (`nb × cnt`, column-major) for the stored segments `vals` (`w × cnt`):
-/// the stored columns split among the threads, each entry one sequential product over the
+/// `g = xsᵀ · stored` (`nb × cnt`, column-major) for the stored segments of `chunks` (`w ×
+/// cnt` in all, the chunks one after the other): the stored columns split among the threads
+/// in pieces of at most [`PRODUCT_CHUNK`] columns, each entry one sequential product over the
 /// `w` rows in the same order whatever the split.
-fn products(g: &mut [f64], xs: MatRef<'_, f64>, vals: &[f64], w: usize) {
+fn products(g: &mut [f64], xs: MatRef<'_, f64>, chunks: &[Arc<Segments>], w: usize) {
     use rayon::prelude::*;
     let nb = xs.ncols();
-    let one = |g: &mut [f64], vals: &[f64]| {
+    let one = |(g, vals): (&mut [f64], &[f64])| {
         let cnt = vals.len() / w.max(1);
         faer::linalg::matmul::matmul(
             MatMut::from_column_major_slice_mut(g, nb, cnt),
@@ -262,9 +301,16 @@ fn products(g: &mut [f64], xs: MatRef<'_, f64>, vals: &[f64], w: usize) {
     if w == 0 || nb == 0 {
         return;
     }
-    g.par_chunks_mut(nb * PRODUCT_CHUNK)
-        .zip(vals.par_chunks(w * PRODUCT_CHUNK))
-        .for_each(|(g, v)| one(g, v));
+    let mut pieces = Vec::new();
+    let mut rest = g;
+    for c in chunks {
+        for v in c.vals.chunks(w * PRODUCT_CHUNK) {
+            let (head, tail) = rest.split_at_mut(nb * (v.len() / w));
+            pieces.push((head, v));
+            rest = tail;
+        }
+    }
+    pieces.into_par_iter().for_each(one);
 }
 
 impl Batch {
@@ -408,7 +454,12 @@ mod tests {
         let mut store = PathStore::default();
         let rows = dofs.len();
         let mut got = vec![vec![0.0; rows]; rows];
+        // Clones kept alive as a run's adopted columns are (the shared store keeps them).
+        let mut earlier = Vec::new();
         for (c, chunk) in dofs.chunks(7).enumerate() {
+            if c % 3 == 2 {
+                earlier.push(store.clone());
+            }
             let labels: Vec<u32> = (0..chunk.len()).map(|j| (c * 7 + j) as u32).collect();
             let f = ch.path_columns(&mut store, chunk, &labels, rows).unwrap();
             for (j, &l) in labels.iter().enumerate() {
@@ -434,6 +485,36 @@ mod tests {
             .map(|&d| ch.path_tree().unwrap().path_len(d))
             .sum();
         assert_eq!(store.bytes(), 8 * len, "the store holds each path once");
+        // What a clone held is shared by the store that went on, not copied.
+        let ptrs = |st: &PathStore| -> Vec<*const Segments> {
+            st.by_node.iter().flatten().map(Arc::as_ptr).collect()
+        };
+        let now = ptrs(&store);
+        for e in &earlier {
+            assert!(
+                ptrs(e).iter().all(|p| now.contains(p)),
+                "a clone's chunk was copied"
+            );
+        }
+        // Allocated: the entries, a quarter more, a smallest chunk's room per supernode and
+        // the batches' room left in the chunks a batch did not fit (here 7 columns a batch).
+        let tree = ch.path_tree().unwrap();
+        let room: usize = (0..store.by_node.len())
+            .filter(|&s| !store.by_node[s].is_empty())
+            .map(|s| 12 * (CHUNK_COLUMNS + 7 * store.by_node[s].len()) * tree.width(s))
+            .sum();
+        let labels = 4 * store
+            .by_node
+            .iter()
+            .flatten()
+            .map(|c| c.labels.len())
+            .sum::<usize>();
+        assert!(
+            store.allocated() <= (store.bytes() + labels) * 5 / 4 + room,
+            "allocated {} for {} bytes of segments",
+            store.allocated(),
+            store.bytes()
+        );
         let cost = ch.path_cost(&dofs).unwrap();
         assert_eq!(cost.stored_entries, len as f64);
         assert!(cost.forward_flops > 0.0 && cost.product_flops > 0.0);
