@@ -225,7 +225,7 @@ pub fn lame(r0: f64, r1: f64, p: f64, plane: Plane) -> impl Fn(f64) -> f64 {
 pub fn l2_error(model: &StatorModel, u: &[f64], exact: &dyn Fn(f64) -> f64) -> f64 {
     let mut q = Vec::new();
     let (mut err, mut norm) = (0.0, 0.0);
-    for el in &model.elements {
+    for el in model.elements.iter() {
         let StatorElement::Solid2 { kind, nodes, .. } = el else {
             continue;
         };

@@ -402,7 +402,7 @@ fn tetrahedra_converge_to_plane_strain_lame_in_a_tube() {
             }
             let u = solve(&m.k, &f);
             let (mut err, mut norm) = (0.0, 0.0);
-            for el in &m.elements {
+            for el in m.elements.iter() {
                 let StatorElement::Solid3 { kind, nodes, .. } = el else {
                     continue;
                 };

@@ -92,16 +92,17 @@ pub struct StatorModel {
     pub node_dofs: Vec<[Option<usize>; 2]>,
     /// Number of free DOFs.
     pub ndof: usize,
-    /// Stiffness over free DOFs (N/m).
-    pub k: Csc,
+    /// Stiffness over free DOFs (N/m). Shared (like `m`, `c` and `elements`) by the copies
+    /// of a meshed stator placed per speed, which differ only in their targets and clearance.
+    pub k: Arc<Csc>,
     /// Lumped mass over free DOFs (kg); all zero for a massless stator.
-    pub m: Csc,
+    pub m: Arc<Csc>,
     /// Damping over free DOFs (N·s/m).
-    pub c: Csc,
+    pub c: Arc<Csc>,
     /// Contact targets.
     pub targets: Vec<Target>,
     /// Elements (for output).
-    pub elements: Vec<StatorElement>,
+    pub elements: Arc<Vec<StatorElement>>,
     /// Clearance δ at this speed (m), as resolved (for reports and plots).
     pub clearance: f64,
     /// Direction of the stator seen from the station (degrees), for plots (rod: its axis).
@@ -481,11 +482,11 @@ impl Lumped<'_> {
             nodes,
             node_dofs,
             ndof,
-            k,
-            m,
-            c,
+            k: Arc::new(k),
+            m: Arc::new(m),
+            c: Arc::new(c),
             targets,
-            elements,
+            elements: Arc::new(elements),
             clearance: f64::NAN,
             angle_deg: None,
             is_ring: false,

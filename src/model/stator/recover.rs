@@ -89,7 +89,7 @@ pub fn nodal_stress(model: &StatorModel, u: &[f64]) -> Vec<[f64; 4]> {
     let mut cnt = vec![0u32; model.nodes.len()];
     let mut x = [[0.0; 2]; solid2d::MAX_NODES];
     let mut ue = [0.0; 2 * solid2d::MAX_NODES];
-    for el in &model.elements {
+    for el in model.elements.iter() {
         if let StatorElement::Solid2 {
             kind,
             nodes,

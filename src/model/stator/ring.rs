@@ -6,6 +6,7 @@
 use super::StatorModel;
 use crate::contact::Target;
 use crate::linalg::Csc;
+use std::sync::Arc;
 
 impl StatorModel {
     /// Rigid ring on isotropic springs `stiffness` around a station of radius `radius`, with
@@ -26,24 +27,24 @@ impl StatorModel {
             nodes: vec![[0.0, 0.0]],
             node_dofs: vec![[Some(0), Some(1)]],
             ndof: 2,
-            k: d(stiffness),
-            m: if mass > 0.0 {
+            k: Arc::new(d(stiffness)),
+            m: Arc::new(if mass > 0.0 {
                 d(mass)
             } else {
                 Csc::zeros(2, 2)
-            },
-            c: if mass > 0.0 {
+            }),
+            c: Arc::new(if mass > 0.0 {
                 d(damping)
             } else {
                 Csc::zeros(2, 2)
-            },
+            }),
             targets: vec![Target::Ring {
                 center0: [0.0, 0.0],
                 inner_radius: radius + clearance,
                 dofs: [Some(0), Some(1)],
                 radial: false,
             }],
-            elements: vec![],
+            elements: Default::default(),
             clearance,
             angle_deg: None,
             is_ring: true,
