@@ -523,7 +523,12 @@ fn pilot_scheme(
         ..*s
     };
     let trunc = red.map_or(0.0, |r| r.1.truncation_error);
-    let fits = run_all(pilots, &|&v| fit::fit(model, s, sch, v, target), &|| {})?;
+    let fits = run_all(
+        crate::time::one_at_a_time(model),
+        pilots,
+        &|&v| fit::fit(model, s, sch, v, target),
+        &|| {},
+    )?;
     counts.2 += 1;
     counts.0 += fits.iter().map(|f| f.steps).sum::<u64>();
     counts.1 += fits.iter().map(|f| f.wall_s).sum::<f64>();

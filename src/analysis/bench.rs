@@ -8,6 +8,11 @@ use crate::error::Result;
 use crate::model::Model;
 use crate::scene::RunSpec;
 
+/// Whether `model`'s runs go one at a time ([`crate::time::one_at_a_time`]).
+fn one_at_a_time(model: &Model) -> bool {
+    crate::time::one_at_a_time(model)
+}
+
 /// The speeds a bench times: the scene's sweep, or its single speed (ν = 1 without one).
 pub fn speeds(run: &RunSpec, model: &Model) -> Vec<f64> {
     match &run.sweep {
@@ -27,7 +32,7 @@ pub fn best_of(
     let mut best: Option<SweepResults> = None;
     for _ in 0..repeat.max(1) {
         let run = |k, v| run_speed(model, &s.request_at(k, v), Keep::default());
-        let r = sweep(speeds, &run, &|| {})?;
+        let r = sweep(one_at_a_time(model), speeds, &run, &|| {})?;
         if best.as_ref().is_none_or(|b| r.wall_s < b.wall_s) {
             best = Some(r);
         }
@@ -45,7 +50,7 @@ pub fn ns_per_step(r: &SweepResults) -> f64 {
 /// (collocated at Δt 16× finer, from the scene's start, without error estimate).
 pub fn reference(model: &Model, s: &RunSettings, speeds: &[f64]) -> Result<SweepResults> {
     let run = |_, v| run_speed(model, &RunRequest::reference(s, v), Keep::default());
-    sweep(speeds, &run, &|| {})
+    sweep(one_at_a_time(model), speeds, &run, &|| {})
 }
 
 /// The orbit-extents error of a timed sweep against a reference sweep over the same speeds:

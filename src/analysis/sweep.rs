@@ -5,6 +5,8 @@
 use super::{Keep, SpeedResults};
 use crate::error::{Error, Result};
 use crate::scene::OutputSpec;
+/// Whether a model's runs go one at a time (`run_all`'s `one_at_a_time`).
+pub use crate::time::one_at_a_time;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -57,8 +59,9 @@ impl<A, B> Sweep<(A, B)> {
 /// Runs `run(k, ω/ω_n)` for every speed (k its index in `speeds`) in parallel (rayon), e.g.
 /// [`super::prepare`] of [`super::RunSettings::request_at`] then [`super::Prepared::run`] with
 /// the sinks that speed wants; `progress` is called after each speed. A failing speed fails
-/// the sweep with [`Error::AtSpeed`] naming it.
+/// the sweep with [`Error::AtSpeed`] naming it. `one_at_a_time` as in [`run_all`].
 pub fn sweep<T: Send>(
+    one_at_a_time: bool,
     speeds: &[f64],
     run: &(dyn Fn(usize, f64) -> Result<T> + Sync),
     progress: &(dyn Fn() + Sync),
@@ -66,6 +69,7 @@ pub fn sweep<T: Send>(
     let t0 = std::time::Instant::now();
     let indexed: Vec<(usize, f64)> = speeds.iter().copied().enumerate().collect();
     let speeds = run_all(
+        one_at_a_time,
         &indexed,
         &|&(k, v)| {
             run(k, v).map_err(|e| Error::AtSpeed {
@@ -83,20 +87,26 @@ pub fn sweep<T: Send>(
 
 /// The one parallel map (rayon) of sweeps and maps: `run` on every item, `progress` after
 /// each; every item runs even when one fails, and the first failure (in item order) is
-/// returned.
+/// returned. `one_at_a_time` (a model whose runs each hold large compliance columns of their
+/// own, [`crate::time::one_at_a_time`]): the items run in order, one after the other, each
+/// with every thread for its columns' solves, and each run starts with the columns the ones
+/// before it computed.
 pub fn run_all<C: Sync, T: Send>(
+    one_at_a_time: bool,
     items: &[C],
     run: &(dyn Fn(&C) -> Result<T> + Sync),
     progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<T>> {
-    let res: Vec<Result<T>> = items
-        .par_iter()
-        .map(|c| {
-            let r = run(c);
-            progress();
-            r
-        })
-        .collect();
+    let one = |c: &C| {
+        let r = run(c);
+        progress();
+        r
+    };
+    let res: Vec<Result<T>> = if one_at_a_time {
+        items.iter().map(one).collect()
+    } else {
+        items.par_iter().map(one).collect()
+    };
     res.into_iter().collect()
 }
 
@@ -152,6 +162,50 @@ impl SweepKeep {
             force_history: self.force_histories.iter().any(|w| (w - v).abs() < 1e-6),
             spectrum_up_to: Some(self.spectrum_up_to),
             full_spectrum: false,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+
+    /// Items one at a time run in their order and never side by side; every item runs even
+    /// when one fails, and the first failure in item order is returned.
+    #[test]
+    fn one_at_a_time_runs_the_items_in_order_alone() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let items: Vec<usize> = (0..12).collect();
+        for alone in [true, false] {
+            let (now, most) = (AtomicUsize::new(0), AtomicUsize::new(0));
+            let order = Mutex::new(Vec::new());
+            let run = |&k: &usize| -> Result<usize> {
+                let n = now.fetch_add(1, Ordering::SeqCst) + 1;
+                most.fetch_max(n, Ordering::SeqCst);
+                std::thread::sleep(std::time::Duration::from_millis(5));
+                order.lock().unwrap().push(k);
+                now.fetch_sub(1, Ordering::SeqCst);
+                if k % 5 == 3 {
+                    return Err(Error::study("", format!("item {k}")));
+                }
+                Ok(2 * k)
+            };
+            let res = pool.install(|| run_all(alone, &items, &run, &|| {}));
+            let err = res.unwrap_err().to_string();
+            assert!(err.contains("item 3"), "{err}");
+            let order = order.into_inner().unwrap();
+            assert_eq!(order.len(), items.len(), "every item ran");
+            if alone {
+                assert_eq!(order, items);
+                assert_eq!(most.load(Ordering::SeqCst), 1);
+            } else {
+                assert_eq!(most.load(Ordering::SeqCst), 2, "two side by side");
+            }
         }
     }
 }

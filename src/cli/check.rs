@@ -348,6 +348,13 @@ fn print_budget(
         case.speed_ratio,
         b.describe()
     );
+    if rubsim::time::one_at_a_time(model) {
+        println!(
+            "  runs one at a time: each may hold {} of compliance columns of its own (above {}), so a sweep's runs and the step choice's pilots run one after the other, each starting with the columns of the ones before",
+            rubsim::time::budget::bytes(rubsim::time::budget::meshed_column_bytes(model)),
+            rubsim::time::budget::bytes(rubsim::time::budget::SHARED_COLUMNS_BYTES),
+        );
+    }
     print_step_bounds(s, st, case, plan);
     if let Some(w) = &s.run.sweep {
         let speeds = analysis::sweep_speeds(w.from, w.to, w.step);

@@ -212,6 +212,14 @@ pub fn run_cases(req: &CasesRequest, progress: &dyn Progress) -> Result<Vec<Comp
         &speeds,
         todo.len(),
     );
+    // Every variant's model: one holding large columns of its own makes all go one at a time.
+    let one_at_a_time = std::iter::once(req.model)
+        .chain(
+            runs.iter()
+                .flatten()
+                .filter_map(|r| r.scene.as_ref().map(|(_, m)| m)),
+        )
+        .any(crate::analysis::sweep::one_at_a_time);
     let scene_json =
         serde_json::to_string(&req.scene.scene).map_err(|e| Error::output(req.store.dir(), e))?;
     let (tx, rx) = mpsc::sync_channel::<(CaseId, Vec<u8>)>(2 * rayon::current_num_threads());
@@ -229,7 +237,7 @@ pub fn run_cases(req: &CasesRequest, progress: &dyn Progress) -> Result<Vec<Comp
                         source: Box::new(e),
                     })
             };
-            run_all(todo, &run_named, &|| progress.case_done())
+            run_all(one_at_a_time, todo, &run_named, &|| progress.case_done())
         };
         let wrote = writer
             .join()

@@ -19,7 +19,7 @@
 //! time may differ by a factor of a few either way.
 
 use super::plan::{sample_bytes, StepPlan, WINDOW_MULTIPLE};
-use crate::model::Case;
+use crate::model::{Case, Model, StatorModel, StatorPlan};
 /// How byte counts and durations are written (shared with the scene's size limits).
 pub use crate::scene::validate::checks::{bytes, duration};
 use serde::Serialize;
@@ -50,6 +50,68 @@ pub const NS_FACTOR_ENTRY: f64 = 0.5;
 /// dense triangular solves and matrix products over the paths' supernodes.
 pub const NS_PATH_FLOP: f64 = 0.05;
 
+/// A run's own compliance columns ([`column_bytes`]) above this many bytes make the runs of
+/// a sweep, a study and the step choice's pilots go one at a time ([`one_at_a_time`]): a run
+/// adopts the columns the stator's earlier runs handed back when it starts and hands its own
+/// back when it ends, so runs side by side would each compute and hold every column (the
+/// 10⁶-DOF seal's pilots peaked at 9.89 GB, 1.8 × a run's, side by side; one at a time, the
+/// later runs start with the first one's columns). The time loops then run on one thread and
+/// the columns' solves on all of them.
+pub const SHARED_COLUMNS_BYTES: f64 = 5.0e8;
+
+/// Bytes of compliance columns one run of `stators` may compute and hold by itself, every
+/// contact DOF touched: per massless stator its packed compliance (16 bytes per pair of
+/// contact nodes, [`StatorModel::packed_compliance_bytes`]) and, for columns from
+/// elimination-tree paths, the forward solutions kept ([`crate::linalg::PathCost`]) with the
+/// room their chunks are allocated with (a quarter more).
+pub fn column_bytes(stators: &[StatorModel]) -> f64 {
+    stators
+        .iter()
+        .filter(|s| s.massless())
+        .map(|s| stator_columns(s).0)
+        .sum()
+}
+
+/// A massless stator's [`column_bytes`] and, when its columns come from elimination-tree
+/// paths, their cost.
+fn stator_columns(s: &StatorModel) -> (f64, Option<crate::linalg::PathCost>) {
+    let path = super::compliance::path_cost(s);
+    // Their chunks are allocated for up to a quarter more columns than they hold
+    // (`linalg::PathStore`).
+    let stored = path.as_ref().map_or(0.0, |p| 1.25 * 8.0 * p.stored_entries);
+    (s.packed_compliance_bytes() + stored, path)
+}
+
+/// Whether the runs of `model` go one at a time: the columns of its meshed stators (the ones
+/// shared between runs, assembled once) could exceed [`SHARED_COLUMNS_BYTES`].
+pub fn one_at_a_time(model: &Model) -> bool {
+    at_once(meshed_column_bytes(model)) == 1
+}
+
+/// The [`column_bytes`] of `model`'s meshed stators (assembled once, their columns shared
+/// between runs).
+pub fn meshed_column_bytes(model: &Model) -> f64 {
+    model
+        .stators
+        .iter()
+        .filter_map(|p| match p {
+            StatorPlan::Mesh { model, .. } => Some(column_bytes(std::slice::from_ref(&**model))),
+            _ => None,
+        })
+        .sum()
+}
+
+/// How many runs hold their own columns at once, `meshed` the [`column_bytes`] of the meshed
+/// stators: one when the runs go one at a time (above [`SHARED_COLUMNS_BYTES`]), else the
+/// worker threads (rayon's).
+fn at_once(meshed: f64) -> usize {
+    if meshed > SHARED_COLUMNS_BYTES {
+        1
+    } else {
+        rayon::current_num_threads().max(1)
+    }
+}
+
 /// Up-front estimate of one run at one speed.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Budget {
@@ -60,7 +122,9 @@ pub struct Budget {
     /// Bytes of the record (main run).
     pub record_bytes: f64,
     /// Bytes of the matrices, factors and compliance columns the loop holds (an upper bound:
-    /// a massless stator's compliance among every contact DOF, `8·n_c(n_c+1)/2`).
+    /// a massless stator's compliance among every contact DOF, `8·n_c(n_c+1)/2`, and its
+    /// path columns' forward solutions, once per run that holds its own at once: one when
+    /// runs go one at a time, [`one_at_a_time`], else one per worker thread).
     pub matrix_bytes: f64,
     /// Estimated cost of one step (s).
     pub step_s: f64,
@@ -240,6 +304,7 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
     // body (M, K, C and the step operators); a massless stator's factor and packed compliance
     // below.
     let mut matrix_bytes = 6.0 * 12.0 * 20.0 * n_rotor;
+    let (mut columns_bytes, mut meshed_bytes) = (0.0, 0.0);
     for s in &case.stators {
         let nnz = (s.k.nnz() + s.m.nnz() + s.c.nnz()) as f64;
         matrix_bytes += 2.0 * 12.0 * nnz;
@@ -249,13 +314,16 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
                 n_meshed += 1.0;
             }
             // The factor of K (a meshed stator's, factored when the model was built; an
-            // estimate of 30 entries per DOF otherwise) and the packed compliance among the
-            // contact DOFs, all of them touched: 8·nc(nc+1)/2 bytes.
+            // estimate of 30 entries per DOF otherwise) and the columns, below.
             let nnz_l = s.factor_nnz().map_or(30.0 * s.ndof as f64, |n| n as f64);
-            matrix_bytes += 8.0 * nnz_l + s.packed_compliance_bytes();
-            match super::compliance::path_cost(s) {
+            matrix_bytes += 8.0 * nnz_l;
+            let (bytes, path) = stator_columns(s);
+            columns_bytes += bytes;
+            if s.mesh.is_some() {
+                meshed_bytes += bytes;
+            }
+            match path {
                 Some(p) => {
-                    matrix_bytes += 8.0 * p.stored_entries;
                     columns_s += NS_PATH_FLOP * 1e-9 * (p.forward_flops + p.product_flops);
                 }
                 None => columns_s += NS_FACTOR_ENTRY * 1e-9 * nnz_l * nc,
@@ -272,6 +340,9 @@ pub fn estimate(case: &Case, plan: &StepPlan, companion: bool) -> Budget {
             n_mass += s.ndof as f64;
         }
     }
+    // The compliance among every contact DOF touched (packed, 8·n_c(n_c+1)/2 bytes) and the
+    // forward solutions of path columns, held by each run side by side until it ends.
+    matrix_bytes += columns_bytes * at_once(meshed_bytes) as f64;
     let step_s = (NS_STEP
         + NS_ROTOR_DOF * n_rotor
         + NS_STATOR_DOF * n_mass

@@ -74,7 +74,7 @@ mod stator;
 mod stepper;
 mod workspace;
 
-pub use budget::{estimate, Budget};
+pub use budget::{estimate, one_at_a_time, Budget};
 pub use compliance::{path_cost, EAGER_DOFS, PATH_COLUMNS_NNZ};
 pub use frame::{Frame, FrameSink, PairForce};
 pub use newmark::Alpha;
