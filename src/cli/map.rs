@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use rubsim::analysis::SpeedResults;
 use rubsim::output::csv::{self, MapCell};
 use rubsim::output::whirl::{self as whirl_out, CascadeCase};
-use rubsim::output::{figures, OutDir};
+use rubsim::output::{figures, Drawings, OutDir};
 use rubsim::plot::{Boundary, MapGrid};
 use rubsim::scene::{toml_number, LoadedScene};
 use rubsim::study::summary::{regime_cells, MapRecord};
@@ -42,20 +42,25 @@ pub fn assemble(
         .collect::<Option<Vec<_>>>()
         .context("a map cell without its case")?;
     csv::write_map(outd, [&axes.keys[0], &axes.keys[1]], &cells)?;
-    full_cascades(outd, ls, study, axes, &cells, &grid)?;
+    // Every picture of the map drawn together, in parallel.
+    let descs = [desc(&axes.keys[0]), desc(&axes.keys[1])];
+    let mut draw = Drawings::new();
+    full_cascades(outd, ls, study, (axes, &cells, &grid), &mut draw)?;
     if ls.scene.output.png {
-        figures::write_map(
+        figures::map_drawings(
             outd,
             &ls.scene.title,
             MapGrid {
                 xs: &axes.values[0],
                 ys: &axes.values[1],
-                x_desc: &desc(&axes.keys[0]),
-                y_desc: &desc(&axes.keys[1]),
+                x_desc: &descs[0],
+                y_desc: &descs[1],
             },
             &grid,
+            &mut draw,
         )?;
     }
+    draw.draw()?;
     println!("map {nx} × {ny}: {} cases", runs.len());
     for (name, n) in regime_cells(&runs) {
         println!("  {name:>27}  {n} cells");
@@ -65,14 +70,13 @@ pub fn assemble(
 
 /// The map's `full_cascade.csv` (the leading columns of `map.csv`) and, with `output.png`, one
 /// `full_cascade/<key>_<value>.png` per value of the axis that is not the speed (the vertical
-/// one when neither is), its rows along the other axis.
+/// one when neither is), its rows along the other axis, added to `draw`.
 fn full_cascades(
     outd: &mut OutDir,
     ls: &LoadedScene,
     study: &Study,
-    axes: &MapAxes,
-    cells: &[MapCell<'_>],
-    grid: &[Vec<&SpeedResults>],
+    (axes, cells, grid): (&MapAxes, &[MapCell<'_>], &[Vec<&SpeedResults>]),
+    draw: &mut Drawings<'_>,
 ) -> Result<()> {
     let speed_col = axes.speed.is_none();
     let lead = |x: f64, y: f64, r: &SpeedResults| {
@@ -117,7 +121,7 @@ fn full_cascades(
                 }
             })
             .collect();
-        whirl_out::draw_cascade(
+        whirl_out::cascade_drawing(
             outd,
             &format!("full_cascade/{name}_{}.png", toml_number(*v)),
             &format!(
@@ -127,8 +131,8 @@ fn full_cascades(
                 toml_number(*v)
             ),
             &row,
-            &desc(&axes.keys[along]),
-            fmax,
+            (&desc(&axes.keys[along]), fmax),
+            draw,
         )?;
     }
     Ok(())

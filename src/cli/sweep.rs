@@ -74,7 +74,9 @@ fn write_variant(
     let prefix = variant.prefix.as_str();
     let o = &ls.scene.output;
     csv::write_sweep(outd, prefix, res)?;
-    figures::write_sweep(
+    // Every picture of the variant drawn together, in parallel.
+    let mut draw = rubsim::output::Drawings::new();
+    figures::sweep_drawings(
         outd,
         prefix,
         res,
@@ -87,6 +89,7 @@ fn write_variant(
             png: o.png,
             component: &o.component,
         },
+        &mut draw,
     )?;
     let cases: Vec<CascadeCase<'_>> = res
         .speeds
@@ -99,16 +102,16 @@ fn write_variant(
         .collect();
     whirl_out::write_cascade_csv(outd, prefix, "speed_ratio", &cases)?;
     if o.png {
-        whirl_out::draw_cascade(
+        whirl_out::cascade_drawing(
             outd,
             &format!("{prefix}full_cascade.png"),
             &variant.title(&ls.scene.title),
             &cases,
-            "ω/ωn",
-            sw::cascade_max(o, speeds),
+            ("ω/ωn", sw::cascade_max(o, speeds)),
+            &mut draw,
         )?;
     }
-    Ok(())
+    Ok(draw.draw()?)
 }
 
 /// Prints a sweep's speeds, time, steps, largest estimated error, regimes and peaks.

@@ -3,7 +3,7 @@
 //! Orbits and spectra are in units of |Z0|, forces of the unbalance force |U|ω², speeds and
 //! frequencies of ω_n (the `_nd` conventions of [`crate::analysis`]).
 
-use super::OutDir;
+use super::{Drawings, OutDir};
 use crate::analysis::refine::RefinePoint;
 use crate::analysis::{
     regime_label, ConvergencePoint, ConvergenceResults, SpeedResults, StressResults, StressTrace,
@@ -64,21 +64,25 @@ pub struct SweepFigures<'a> {
     pub component: &'a str,
 }
 
-/// Draws a sweep into `out` under `prefix` (e.g. `""` or `"eps_5/"`): `cascade.png`,
-/// `bifurcation.png`, `orbits_N.png` per orbit grid, `contact_force.png` (when force histories
-/// are asked for) and `regime_map.png`; nothing when `fig.png` is false.
-pub fn write_sweep(
+/// A sweep's pictures in `out` under `prefix` (e.g. `""` or `"eps_5/"`), added to `draw`:
+/// `cascade.png`, `bifurcation.png`, `orbits_N.png` per orbit grid, `contact_force.png` (when
+/// force histories are asked for) and `regime_map.png`; nothing when `fig.png` is false.
+///
+/// # Errors
+/// A name that cannot be staged ([`Drawings::add`]).
+pub fn sweep_drawings<'a>(
     out: &mut OutDir,
     prefix: &str,
-    res: &SweepResults,
+    res: &'a SweepResults,
     fig: &SweepFigures<'_>,
+    draw: &mut Drawings<'a>,
 ) -> Result<()> {
     if !fig.png {
         return Ok(());
     }
-    sweep_spectra(out, prefix, res, fig)?;
-    sweep_orbits(out, prefix, res, fig)?;
-    sweep_regime_map(out, prefix, res, fig.title)
+    sweep_spectra(out, prefix, res, fig, draw)?;
+    sweep_orbits(out, prefix, res, fig, draw)?;
+    sweep_regime_map(out, prefix, res, fig.title, draw)
 }
 
 /// Index of the sweep speed nearest ω/ω_n = `v`.
@@ -95,11 +99,12 @@ fn nearest(res: &SweepResults, v: f64) -> Option<usize> {
 }
 
 /// `cascade.png` and `bifurcation.png`.
-fn sweep_spectra(
+fn sweep_spectra<'a>(
     out: &mut OutDir,
     prefix: &str,
-    res: &SweepResults,
+    res: &'a SweepResults,
     fig: &SweepFigures<'_>,
+    draw: &mut Drawings<'a>,
 ) -> Result<()> {
     let (title, component) = (fig.title, fig.component);
     let lines: Vec<CascadeLine> = res
@@ -111,14 +116,14 @@ fn sweep_spectra(
             amp: r.spectrum.iter().map(|p| p.1).collect(),
         })
         .collect();
-    let p = out.stage(&format!("{prefix}cascade.png"))?;
-    plot::cascade(
-        &p,
-        &format!("{title} — spectrum cascade of {component}/|Z0|"),
-        &lines,
+    let cascade_title = format!("{title} — spectrum cascade of {component}/|Z0|");
+    let (top, width) = (
         fig.cascade_max,
         0.8 * res.speeds.first().map_or(0.1, |_| step_of(&res.speeds)) * 10.0,
-    )?;
+    );
+    draw.add(out, &format!("{prefix}cascade.png"), move |p| {
+        plot::cascade(p, &cascade_title, &lines, top, width)
+    })?;
     let pts: Vec<(f64, f64)> = res
         .speeds
         .iter()
@@ -127,22 +132,22 @@ fn sweep_spectra(
             r.poincare_nd.iter().map(move |p| (r.speed_ratio, p[c]))
         })
         .collect();
-    let p = out.stage(&format!("{prefix}bifurcation.png"))?;
-    plot::bifurcation(
-        &p,
-        &format!("{title} — Poincaré section once per revolution"),
-        &pts,
-        &format!("{component}/|Z0| at ωt = 2πk"),
-    )?;
-    Ok(())
+    let (bif_title, axis) = (
+        format!("{title} — Poincaré section once per revolution"),
+        format!("{component}/|Z0| at ωt = 2πk"),
+    );
+    draw.add(out, &format!("{prefix}bifurcation.png"), move |p| {
+        plot::bifurcation(p, &bif_title, &pts, &axis)
+    })
 }
 
 /// `orbits_N.png` per orbit grid and `contact_force.png`.
-fn sweep_orbits(
+fn sweep_orbits<'a>(
     out: &mut OutDir,
     prefix: &str,
-    res: &SweepResults,
+    res: &'a SweepResults,
     fig: &SweepFigures<'_>,
+    draw: &mut Drawings<'a>,
 ) -> Result<()> {
     let title = fig.title;
     let find = |v: f64| nearest(res, v);
@@ -161,13 +166,10 @@ fn sweep_orbits(
                 }
             })
             .collect();
-        let p = out.stage(&format!("{prefix}orbits_{}.png", g + 1))?;
-        plot::orbit_grid(
-            &p,
-            &format!("{title} — orbits of the rotor centre"),
-            &panels,
-            3,
-        )?;
+        let grid_title = format!("{title} — orbits of the rotor centre");
+        draw.add(out, &format!("{prefix}orbits_{}.png", g + 1), move |p| {
+            plot::orbit_grid(p, &grid_title, &panels, 3)
+        })?;
     }
     if !fig.force_histories.is_empty() {
         let series: Vec<Series> = fig
@@ -183,20 +185,22 @@ fn sweep_orbits(
                 }
             })
             .collect();
-        let p = out.stage(&format!("{prefix}contact_force.png"))?;
-        plot::stacked_series(
-            &p,
-            &format!("{title} — vertical contact force on the stator"),
-            &series,
-            "revolutions",
-            "F_y / (m_u e ω²)",
-        )?;
+        let force_title = format!("{title} — vertical contact force on the stator");
+        draw.add(out, &format!("{prefix}contact_force.png"), move |p| {
+            plot::stacked_series(p, &force_title, &series, "revolutions", "F_y / (m_u e ω²)")
+        })?;
     }
     Ok(())
 }
 
 /// `regime_map.png`: vertical orbit size and Poincaré period against speed.
-fn sweep_regime_map(out: &mut OutDir, prefix: &str, res: &SweepResults, title: &str) -> Result<()> {
+fn sweep_regime_map(
+    out: &mut OutDir,
+    prefix: &str,
+    res: &SweepResults,
+    title: &str,
+    draw: &mut Drawings<'_>,
+) -> Result<()> {
     let size: Vec<(f64, f64)> = res
         .speeds
         .iter()
@@ -207,24 +211,20 @@ fn sweep_regime_map(out: &mut OutDir, prefix: &str, res: &SweepResults, title: &
         .iter()
         .map(|r| (r.speed_ratio, r.period as f64))
         .collect();
-    let p = out.stage(&format!("{prefix}regime_map.png"))?;
-    plot::lines(
-        &p,
-        &format!("{title} — regime map"),
-        &[
-            Curve {
-                label: "vertical orbit size / |Z0|".into(),
-                points: size,
-            },
-            Curve {
-                label: "Poincaré period (0 = not periodic)".into(),
-                points: per,
-            },
-        ],
-        "ω/ωn",
-        "",
-    )?;
-    Ok(())
+    let map_title = format!("{title} — regime map");
+    let curves = [
+        Curve {
+            label: "vertical orbit size / |Z0|".into(),
+            points: size,
+        },
+        Curve {
+            label: "Poincaré period (0 = not periodic)".into(),
+            points: per,
+        },
+    ];
+    draw.add(out, &format!("{prefix}regime_map.png"), move |p| {
+        plot::lines(p, &map_title, &curves, "ω/ωn", "")
+    })
 }
 
 fn step_of(s: &[SpeedResults]) -> f64 {
@@ -603,6 +603,22 @@ pub fn write_map(
     grid: plot::MapGrid<'_>,
     runs: &[Vec<&SpeedResults>],
 ) -> Result<()> {
+    let mut draw = Drawings::new();
+    map_drawings(out, title, grid, runs, &mut draw)?;
+    draw.draw()
+}
+
+/// [`write_map`]'s pictures added to `draw`.
+///
+/// # Errors
+/// A name that cannot be staged ([`Drawings::add`]).
+pub fn map_drawings<'a>(
+    out: &mut OutDir,
+    title: &str,
+    grid: plot::MapGrid<'a>,
+    runs: &[Vec<&SpeedResults>],
+    draw: &mut Drawings<'a>,
+) -> Result<()> {
     let classes: Vec<Vec<usize>> = runs
         .iter()
         .map(|row| {
@@ -611,36 +627,27 @@ pub fn write_map(
                 .collect()
         })
         .collect();
-    let p = out.stage("regime_map.png")?;
-    plot::category_map(
-        &p,
-        &format!("{title} — regime map (Poincaré period)"),
-        grid,
-        &classes,
-        &crate::analysis::REGIME_CLASSES,
-    )?;
+    let t = format!("{title} — regime map (Poincaré period)");
+    draw.add(out, "regime_map.png", move |p| {
+        plot::category_map(p, &t, grid, &classes, &crate::analysis::REGIME_CLASSES)
+    })?;
     let field = |f: &dyn Fn(&SpeedResults) -> f64| -> Vec<Vec<f64>> {
         runs.iter()
             .map(|row| row.iter().map(|r| f(r)).collect())
             .collect()
     };
-    let p = out.stage("orbit_size_map.png")?;
-    plot::field_map(
-        &p,
-        &format!("{title} — orbit size"),
-        grid,
-        &field(&super::csv::orbit_size_nd),
-        "orbit size / |Z0|",
-        8,
-    )?;
-    let p = out.stage("contact_force_map.png")?;
-    plot::field_map(
-        &p,
-        &format!("{title} — peak contact force"),
-        grid,
-        &field(&|r| r.contact_force_max_nd),
-        "F_max / (m_u e ω²)",
-        8,
-    )?;
-    Ok(())
+    let (t, size) = (
+        format!("{title} — orbit size"),
+        field(&super::csv::orbit_size_nd),
+    );
+    draw.add(out, "orbit_size_map.png", move |p| {
+        plot::field_map(p, &t, grid, &size, "orbit size / |Z0|", 8)
+    })?;
+    let (t, force) = (
+        format!("{title} — peak contact force"),
+        field(&|r| r.contact_force_max_nd),
+    );
+    draw.add(out, "contact_force_map.png", move |p| {
+        plot::field_map(p, &t, grid, &force, "F_max / (m_u e ω²)", 8)
+    })
 }

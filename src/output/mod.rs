@@ -16,6 +16,7 @@
 //! ([`OutDir::prepare`]).
 
 pub mod csv;
+pub mod drawings;
 pub mod durable;
 pub mod figures;
 pub mod manifest;
@@ -26,5 +27,6 @@ pub mod transient;
 pub mod transient_stress;
 pub mod whirl;
 
+pub use drawings::Drawings;
 pub use manifest::{parse_manifest, Manifest, MANIFEST};
 pub use outdir::OutDir;

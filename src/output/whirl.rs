@@ -15,7 +15,7 @@
 //! ([`crate::analysis::whirl::WhirlLines::lines`]), so they are assembled from the case files
 //! alone.
 
-use super::OutDir;
+use super::{Drawings, OutDir};
 use crate::analysis::whirl::WaterfallWindow;
 use crate::analysis::SpeedResults;
 use crate::error::Result;
@@ -97,6 +97,24 @@ pub fn draw_cascade(
     y_desc: &str,
     freq_max: f64,
 ) -> Result<()> {
+    let mut draw = Drawings::new();
+    cascade_drawing(out, file, title, cases, (y_desc, freq_max), &mut draw)?;
+    draw.draw()
+}
+
+/// [`draw_cascade`]'s picture added to `draw` (`axis`: the vertical axis's description and
+/// the top frequency, f/ω_n).
+///
+/// # Errors
+/// A name that cannot be staged ([`Drawings::add`]).
+pub fn cascade_drawing(
+    out: &mut OutDir,
+    file: &str,
+    title: &str,
+    cases: &[CascadeCase<'_>],
+    axis: (&str, f64),
+    draw: &mut Drawings<'_>,
+) -> Result<()> {
     let rows: Vec<WhirlRow> = cases
         .iter()
         .map(|c| WhirlRow {
@@ -111,15 +129,11 @@ pub fn draw_cascade(
                 .collect(),
         })
         .collect();
-    let p = out.stage(file)?;
-    plot::full_cascade(
-        &p,
-        &format!("{title} — full-spectrum cascade of (x + iy)/|Z0|"),
-        &rows,
-        y_desc,
-        freq_max,
-        "amplitude / |Z0|",
-    )
+    let t = format!("{title} — full-spectrum cascade of (x + iy)/|Z0|");
+    let (y_desc, freq_max) = (axis.0.to_string(), axis.1);
+    draw.add(out, file, move |p| {
+        plot::full_cascade(p, &t, &rows, &y_desc, freq_max, "amplitude / |Z0|")
+    })
 }
 
 /// Writes a transient's `full_waterfall.csv` and, with `png`, `full_waterfall.png` (the
