@@ -58,10 +58,14 @@ pub fn line_exact(x: &[f64], spr: usize, order: f64) -> f64 {
     let k = (order * 6.0).round().max(0.0) as usize;
     let period = 6 * spr;
     let step = 2.0 * std::f64::consts::PI / period as f64;
+    // The phases repeat every `period` samples: one sine and cosine per phase (the same
+    // arguments as sample by sample, so the same sum).
+    let phases: Vec<(f64, f64)> = (0..period.min(n))
+        .map(|i| (step * ((k * i) % period) as f64).sin_cos())
+        .collect();
     let (mut re, mut im) = (0.0, 0.0);
     for (i, v) in x.iter().enumerate() {
-        let m = (k * (i % period)) % period;
-        let (s, c) = (step * m as f64).sin_cos();
+        let (s, c) = phases[i % period];
         re += (v - mean) * c;
         im -= (v - mean) * s;
     }

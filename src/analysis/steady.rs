@@ -261,19 +261,24 @@ fn detrended_sd(v: &[f64]) -> f64 {
     (ss / (nf - 2.0)).sqrt()
 }
 
-/// Hausdorff distance between two point sets (0 when either is empty).
+/// Hausdorff distance between two point sets (0 when either is empty), from squared
+/// distances and one square root (the points are orbit positions, far inside the range where
+/// x² neither overflows nor underflows to a wrong result; `crate::math::norm`).
 fn hausdorff(a: &[V2], b: &[V2]) -> f64 {
     let one = |a: &[V2], b: &[V2]| {
         a.iter()
-            .map(|p| {
-                b.iter()
-                    .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
-                    .fold(f64::INFINITY, f64::min)
-            })
+            .map(|p| b.iter().map(|q| dist2(p, q)).fold(f64::INFINITY, f64::min))
             .filter(|d| d.is_finite())
             .fold(0.0, f64::max)
     };
-    one(a, b).max(one(b, a))
+    one(a, b).max(one(b, a)).sqrt()
+}
+
+/// Squared distance of two plane points.
+#[inline]
+fn dist2(a: &V2, b: &V2) -> f64 {
+    let (x, y) = (a[0] - b[0], a[1] - b[1]);
+    x * x + y * y
 }
 
 /// The Poincaré period of a window and how surely it was told.
@@ -331,11 +336,9 @@ pub fn classify(
         }
         let lag = p * spr;
         let r = (0..n - lag)
-            .map(|i| {
-                let (a, b) = (w[i], w[i + lag]);
-                (a[0] - b[0]).hypot(a[1] - b[1])
-            })
+            .map(|i| dist2(&w[i], &w[i + lag]))
             .fold(0.0, f64::max)
+            .sqrt()
             / span;
         if r <= tol {
             let c = (tol / r.max(1e-300)).min(rejected / tol);
