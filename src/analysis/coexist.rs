@@ -24,7 +24,10 @@
 //! `min(`[`SETTLE_REVOLUTIONS`]`, the run's transient)` revolutions up to the run's own
 //! transient, and is analysed over lcm(6, period) revolutions of a steady periodic run (the
 //! scene's window otherwise); a window then not periodic is lengthened to
-//! `run.classify_revolutions` as the run's is ([`crate::analysis::RunRequest::coexistence`]). The responses differ ([`Coexistence::coexisting`]) when their
+//! `run.classify_revolutions` as the run's is ([`crate::analysis::RunRequest::coexistence`]).
+//! When the run is steady and periodic and kept its end state (a settling run with an error
+//! estimate), the companion stops as soon as its state joins the run's at a whole revolution of
+//! its settling ([`JOIN_FRACTION`]): from there it integrates the run's own response. The responses differ ([`Coexistence::coexisting`]) when their
 //! contact fractions differ by more than [`CONTACT_FRACTION_DIFF`] (a response not steady or not
 //! periodic: [`CONTACT_FRACTION_DIFF_APERIODIC`]), or, both steady and periodic, their periods
 //! differ or their extents differ by more than [`EXTENTS_FACTOR`] × `run.tolerance` of the
@@ -34,10 +37,11 @@
 //! clearance.
 
 use super::discrepancy::{max_diff, orbit_span, Discrepancy, ExtentsScale, Scales};
+use super::RunRequest;
 use super::{Keep, Prepared, SpeedResults};
 use crate::math::{lcm, V2};
 use crate::model::{Case, Model};
-use crate::time::{Initial, StepPlan, WINDOW_MULTIPLE};
+use crate::time::{EndState, Initial, StepPlan, Stepper, WINDOW_MULTIPLE};
 use serde::{Deserialize, Serialize};
 
 /// Contact fraction from which a run counts as in full contact (full annular rub).
@@ -108,6 +112,61 @@ pub struct Coexistence {
     pub transient_revolutions: usize,
     /// The companion's steps.
     pub steps: usize,
+    /// Whether the companion stopped on joining the run's own state ([`JOIN_FRACTION`]): its
+    /// contact fraction, period, steadiness and extents are then the run's, and `extents_rel`
+    /// and `lines_rel` hold the relative state gap it joined at.
+    #[serde(default)]
+    pub joined: bool,
+}
+
+/// The companion stops when, at a whole revolution of its settling, its state is within this
+/// fraction of `run.tolerance` of the run's end state (displacements and velocities of every
+/// body, relative: `Stepper::state_gap`) — the run being steady and periodic, so that its end
+/// state lies on its response. From there it integrates the run's own response (the same case,
+/// scheme and Δt from the same state, to 1e-5 of it at the default tolerance) and cannot settle
+/// on another, so the rest of its settling and its window are not run.
+pub const JOIN_FRACTION: f64 = 0.01;
+
+/// The companion's run: stopped when it joins the run's state, or integrated whole.
+enum Companion {
+    Joined { revolutions: usize, gap: f64 },
+    Ran(Box<SpeedResults>),
+}
+
+/// Integrates the companion `cs` over `plan` as [`Prepared::execute`] does, probing its state
+/// against `end` (the run's end state, when given) at each whole revolution of its settling.
+fn run_companion(
+    prep: &Prepared,
+    cs: &RunRequest,
+    plan: &StepPlan,
+    end: Option<&EndState>,
+    tolerance: f64,
+) -> crate::error::Result<Companion> {
+    let mut st = Stepper::new(&prep.case, cs.step.integrator, plan, cs.initial())?;
+    if let Some(end) = end {
+        let spr = plan.steps_per_rev.max(1);
+        for k in 1..=plan.steady_from / spr {
+            st.run_to(k * spr, &mut None)?;
+            if let Some(gap) = st
+                .state_gap(end)
+                .filter(|g| *g <= JOIN_FRACTION * tolerance)
+            {
+                return Ok(Companion::Joined {
+                    revolutions: k,
+                    gap,
+                });
+            }
+        }
+    }
+    let (rec, stats, plan, ..) = prep.drive_from(st, plan, cs, None)?;
+    Ok(Companion::Ran(Box::new(super::analyse(
+        &prep.case,
+        cs,
+        &plan,
+        &rec,
+        stats,
+        Keep::default(),
+    ))))
 }
 
 /// The no-contact linear response at station 0's node at t = 0, `[u, v]`: u = Re X,
@@ -167,9 +226,10 @@ pub fn start_for(res: &SpeedResults, case: &Case, linear: [V2; 2]) -> Option<(St
     ))
 }
 
-/// Runs the check for `res`, the run of `prep` ([`Coexistence`]; module doc). `None` when no
-/// start applies or the companion fails (it never stops the run).
-pub fn check(prep: &Prepared, res: &SpeedResults) -> Option<Coexistence> {
+/// Runs the check for `res`, the run of `prep` ([`Coexistence`]; module doc), `end` the run's
+/// end state when it kept one (the companion stops when it joins it: [`JOIN_FRACTION`]).
+/// `None` when no start applies or the companion fails (it never stops the run).
+pub fn check(prep: &Prepared, res: &SpeedResults, end: Option<&EndState>) -> Option<Coexistence> {
     let (start, init) = start_for(res, &prep.case, prep.linear_start?)?;
     let s = &prep.request;
     let settle = SETTLE_REVOLUTIONS.min(res.transient_revolutions).max(1);
@@ -189,8 +249,23 @@ pub fn check(prep: &Prepared, res: &SpeedResults) -> Option<Coexistence> {
         steady_from: settle * spr,
         ..res.plan
     };
-    let c = prep.execute(&cs, &plan, Keep::default()).ok()?;
-    Some(compare(start, res, &c, s.tolerance))
+    let end = end.filter(|_| res.steady && res.period > 0);
+    match run_companion(prep, &cs, &plan, end, s.tolerance).ok()? {
+        Companion::Ran(c) => Some(compare(start, res, &c, s.tolerance)),
+        Companion::Joined { revolutions, gap } => Some(Coexistence {
+            start,
+            coexisting: false,
+            contact_fraction: res.contact_fraction,
+            period: res.period,
+            steady: true,
+            extents_nd: res.extents_nd,
+            extents_rel: gap,
+            lines_rel: gap,
+            transient_revolutions: revolutions,
+            steps: revolutions * spr,
+            joined: true,
+        }),
+    }
 }
 
 /// How the companion `c`, started at `start`, compares with the run `res` at `tolerance`
@@ -218,5 +293,6 @@ pub fn compare(start: Start, res: &SpeedResults, c: &SpeedResults, tolerance: f6
         lines_rel: d.lines,
         transient_revolutions: c.transient_revolutions,
         steps: c.stats.steps,
+        joined: false,
     }
 }

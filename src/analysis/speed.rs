@@ -295,10 +295,22 @@ impl Prepared {
         &self,
         plan: &StepPlan,
         request: &RunRequest,
+        sink: Sink<'_>,
+    ) -> Result<Driven> {
+        let st = Stepper::new(&self.case, request.step.integrator, plan, request.initial())?;
+        self.drive_from(st, plan, request, sink)
+    }
+
+    /// [`Prepared::drive_with`] from the stepper `st` of `plan`, which may have taken steps of
+    /// it already (a probe: `super::coexist`).
+    pub(super) fn drive_from<'a>(
+        &'a self,
+        mut st: Stepper<'a>,
+        plan: &StepPlan,
+        request: &RunRequest,
         mut sink: Sink<'_>,
     ) -> Result<Driven> {
         let s = request;
-        let mut st = Stepper::new(&self.case, s.step.integrator, plan, s.initial())?;
         let spr_steps = plan.steps_per_rev.max(1);
         let window = (plan.steps - plan.steady_from) / spr_steps;
         let settle = match s.window {
@@ -360,7 +372,9 @@ impl Prepared {
     /// The run of the request without the step's verification and the coexistence check
     /// ([`Prepared::run`] adds them): integrated by its window policy
     /// (`Prepared::drive_with`), handing frames to `sinks`, [`analyse`]d, its error estimate's
-    /// companions run (no sinks, the same transient, [`ErrorEstimate`]).
+    /// companions run (no sinks, the same transient, [`ErrorEstimate`]). Also returns the
+    /// bodies' end state when the run kept one (a settling run with an error estimate), which
+    /// the coexistence check's companion compares itself with.
     ///
     /// # Errors
     /// As [`Prepared::integrate`]; the companion run's failure only leaves the estimate out.
@@ -368,7 +382,7 @@ impl Prepared {
         &self,
         keep: Keep,
         sinks: &mut [&mut dyn FrameSink],
-    ) -> Result<SpeedResults> {
+    ) -> Result<(SpeedResults, Option<EndState>)> {
         let req = &self.request;
         let (rec, stats, plan, end, runaway) =
             with_sinks(sinks, |sink| self.drive_with(&self.plan, req, sink))?;
@@ -387,7 +401,7 @@ impl Prepared {
             res.warnings
                 .extend(fixed_window_warning(&res, d, req.tolerance));
         }
-        Ok(res)
+        Ok((res, end))
     }
 
     /// Companion run at 2Δt (at Δt/2 when 2Δt is above the stability limit); the error of the

@@ -99,7 +99,7 @@ impl Prepared {
     /// # Errors
     /// As [`Prepared::integrate`]; the companion run's failure only leaves the estimate out.
     pub fn run(&self, keep: Keep, sinks: &mut [&mut dyn FrameSink]) -> Result<SpeedResults> {
-        let mut res = self.run_estimated(keep, sinks)?;
+        let (mut res, mut end) = self.run_estimated(keep, sinks)?;
         let refining = self.request.follow_ups.refine_step && self.request.choice.is_some();
         let mut finer: Option<Prepared> = None;
         let mut rejected = Vec::new();
@@ -115,7 +115,7 @@ impl Prepared {
                 break;
             };
             rejected.push(rejected_step(&current.request, &res));
-            res = next.run_estimated(keep, sinks)?;
+            (res, end) = next.run_estimated(keep, sinks)?;
             finer = Some(next);
         }
         if !rejected.is_empty() {
@@ -127,7 +127,7 @@ impl Prepared {
         }
         let last = finer.as_ref().unwrap_or(self);
         if last.request.follow_ups.coexistence {
-            res.coexistence = super::coexist::check(last, &res);
+            res.coexistence = super::coexist::check(last, &res, end.as_ref());
         }
         Ok(res)
     }

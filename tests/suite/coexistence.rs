@@ -106,6 +106,34 @@ fn paper(nu: f64) -> SpeedResults {
     )
 }
 
+/// With the error estimate on, the run keeps its end state and the companion stops once its
+/// state joins it (`coexist::JOIN_FRACTION`): at ν 1.7 the same verdict as the companion
+/// integrated whole, in a fraction of its steps; at ν 5.8, where the companion settles on
+/// another response, it never joins and the speed is still flagged.
+#[test]
+fn a_companion_that_joins_the_run_stops_there_with_the_same_verdict() {
+    let scene = read(&repo("scenes/paper/partial_rub.toml"));
+    let whole = coexistence(&paper(1.7));
+    let r = run_speed(&scene, NO_SETS, 1.7);
+    let c = coexistence(&r);
+    println!("ν 1.7 joined: {c:?}\nwhole: {whole:?}");
+    assert!(c.joined && !whole.joined, "{c:?}");
+    assert!(!c.coexisting && !whole.coexisting);
+    assert!(c.extents_rel <= 0.01 * 1e-3, "joined within 1e-5: {c:?}");
+    assert!(
+        whole.extents_rel < 1e-6,
+        "the whole companion lands on the run's response"
+    );
+    assert!(
+        2 * c.steps < whole.steps,
+        "joined after {} steps, the whole companion took {}",
+        c.steps,
+        whole.steps
+    );
+    let flagged = coexistence(&run_speed(&scene, NO_SETS, 5.8));
+    assert!(flagged.coexisting && !flagged.joined, "{flagged:?}");
+}
+
 #[test]
 fn a_unique_partial_rub_is_not_flagged() {
     // The paper case at ν = 1.7: a periodic partial rub that the full-contact start reaches too.

@@ -97,6 +97,62 @@ impl Stepper<'_> {
         })
     }
 
+    /// How far this stepper's state is from `end`, taken by a run of the same case at the same
+    /// step: over every body with a state, the largest of `max_i |u_i − U_i| / max_i |U_i|` and
+    /// the same for the velocity (central differences: the last increment `u − u_prev` against
+    /// `Uᴺ − Uᴺ⁻¹`; an implicit body: v against V). Meaningful at the same phase of the load:
+    /// both at whole revolutions of a constant speed. `None` when the steps differ, the speed is
+    /// not constant or the bodies do not match.
+    pub fn state_gap(&self, end: &EndState) -> Option<f64> {
+        let same_dt = (self.plan.dt - end.dt).abs() <= 1e-12 * end.dt.abs();
+        if !same_dt || !matches!(self.spin, Spin::Constant) {
+            return None;
+        }
+        let now = bodies(&self.rotor, &self.stators);
+        if now.len() != end.bodies.len() {
+            return None;
+        }
+        // max |a − b| / max |b| over two equal-length lists (0 when b is all zero and a = b).
+        let rel = |a: &mut dyn Iterator<Item = (f64, f64)>| {
+            let (mut d, mut m) = (0.0_f64, 0.0_f64);
+            for (x, y) in a {
+                d = d.max((x - y).abs());
+                m = m.max(y.abs());
+            }
+            if d == 0.0 {
+                0.0
+            } else {
+                d / m
+            }
+        };
+        let mut gap = 0.0_f64;
+        for (b, s) in now.iter().zip(&end.bodies) {
+            let g = match (b, s) {
+                (None, BodyState::None) => 0.0,
+                (Some(b), BodyState::Central(u))
+                    if matches!(b.ops, Ops::Central(_))
+                        && u[0].len() == b.n
+                        && u[1].len() == b.n =>
+                {
+                    let du = rel(&mut b.u.iter().copied().zip(u[0].iter().copied()));
+                    let inc = |i: usize| (b.u[i] - b.u_prev[i], u[0][i] - u[1][i]);
+                    du.max(rel(&mut (0..b.n).map(inc)))
+                }
+                (Some(b), BodyState::Implicit(u, v, ..)) if u.len() == b.n => {
+                    let Ops::Implicit(imp) = &b.ops else {
+                        return None;
+                    };
+                    let du = rel(&mut b.u.iter().copied().zip(u.iter().copied()));
+                    let vb = imp.state().0;
+                    du.max(rel(&mut vb.iter().copied().zip(v.iter().copied())))
+                }
+                _ => return None,
+            };
+            gap = gap.max(g);
+        }
+        Some(gap)
+    }
+
     /// Sets the state of a stepper that has not started from `end`, the end of a run of the same
     /// case and scheme at another step Δt_e, taken at a whole revolution (the load's phase is
     /// then the one at t = 0): an implicit body takes u, v, a and the load as they are (and
