@@ -193,11 +193,12 @@ fn print_massless(m: &rubsim::model::StatorModel) {
     );
     if let Some(p) = rubsim::time::path_cost(m) {
         println!(
-            "  its columns from elimination-tree paths (factor ≥ {} entries): forward solves {:.2e} flops, products among them {:.2e} flops, forward solutions held ≤ {} when every contact DOF touches (a full solve per column would take {:.2e} flops)",
+            "  its columns from elimination-tree paths (factor ≥ {} entries): forward solves {:.2e} flops, products among them {:.2e} flops, forward solutions held ≤ {} when every contact DOF touches, allocated ≤ {} (a full solve per column would take {:.2e} flops)",
             rubsim::time::PATH_COLUMNS_NNZ,
             p.forward_flops,
             p.product_flops,
             rubsim::time::budget::bytes(8.0 * p.stored_entries),
+            rubsim::time::budget::bytes(rubsim::time::budget::PATH_CHUNK_ROOM * 8.0 * p.stored_entries),
             4.0 * m.factor_nnz().unwrap_or(0) as f64 * m.contact_dofs().len() as f64,
         );
     }

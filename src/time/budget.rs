@@ -72,13 +72,17 @@ pub fn column_bytes(stators: &[StatorModel]) -> f64 {
         .sum()
 }
 
+/// The memory of path forward solutions allocated per byte held: their chunks are allocated
+/// for up to a quarter more columns than they hold (`linalg::PathStore`).
+pub const PATH_CHUNK_ROOM: f64 = 1.25;
+
 /// A massless stator's [`column_bytes`] and, when its columns come from elimination-tree
 /// paths, their cost.
 fn stator_columns(s: &StatorModel) -> (f64, Option<crate::linalg::PathCost>) {
     let path = super::compliance::path_cost(s);
-    // Their chunks are allocated for up to a quarter more columns than they hold
-    // (`linalg::PathStore`).
-    let stored = path.as_ref().map_or(0.0, |p| 1.25 * 8.0 * p.stored_entries);
+    let stored = path
+        .as_ref()
+        .map_or(0.0, |p| PATH_CHUNK_ROOM * 8.0 * p.stored_entries);
     (s.packed_compliance_bytes() + stored, path)
 }
 
