@@ -7,11 +7,7 @@ use super::{
 use crate::error::Result;
 use crate::model::Model;
 use crate::scene::RunSpec;
-
-/// Whether `model`'s runs go one at a time ([`crate::time::one_at_a_time`]).
-fn one_at_a_time(model: &Model) -> bool {
-    crate::time::one_at_a_time(model)
-}
+use crate::time::one_at_a_time;
 
 /// The speeds a bench times: the scene's sweep, or its single speed (ν = 1 without one).
 pub fn speeds(run: &RunSpec, model: &Model) -> Vec<f64> {

@@ -594,21 +594,10 @@ pub fn write_unbalance(
     Ok(())
 }
 
-/// Draws a map (`rubsim map`): `regime_map.png` (cells coloured by regime class,
-/// [`crate::analysis::REGIME_CLASSES`]), `orbit_size_map.png` and `contact_force_map.png`
-/// (values with contour lines); `runs[iy][ix]` is the run at `(xs[ix], ys[iy])`.
-pub fn write_map(
-    out: &mut OutDir,
-    title: &str,
-    grid: plot::MapGrid<'_>,
-    runs: &[Vec<&SpeedResults>],
-) -> Result<()> {
-    let mut draw = Drawings::new();
-    map_drawings(out, title, grid, runs, &mut draw)?;
-    draw.draw()
-}
-
-/// [`write_map`]'s pictures added to `draw`.
+/// A map's pictures (`rubsim map`), added to `draw`: `regime_map.png` (cells coloured by
+/// regime class, [`crate::analysis::REGIME_CLASSES`]), `orbit_size_map.png` and
+/// `contact_force_map.png` (values with contour lines); `runs[iy][ix]` is the run at
+/// `(xs[ix], ys[iy])`.
 ///
 /// # Errors
 /// A name that cannot be staged ([`Drawings::add`]).

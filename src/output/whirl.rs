@@ -87,23 +87,9 @@ pub fn write_cascade_csv(
     out.write(&format!("{prefix}full_cascade.csv"), s.as_bytes())
 }
 
-/// Draws the full-spectrum cascade of `cases` into `file`: each case's lines at signed
-/// `f/ω_n`, its row at `case.y` (axis `y_desc`), within `±freq_max`.
-pub fn draw_cascade(
-    out: &mut OutDir,
-    file: &str,
-    title: &str,
-    cases: &[CascadeCase<'_>],
-    y_desc: &str,
-    freq_max: f64,
-) -> Result<()> {
-    let mut draw = Drawings::new();
-    cascade_drawing(out, file, title, cases, (y_desc, freq_max), &mut draw)?;
-    draw.draw()
-}
-
-/// [`draw_cascade`]'s picture added to `draw` (`axis`: the vertical axis's description and
-/// the top frequency, f/ω_n).
+/// The full-spectrum cascade of `cases` into `file`, added to `draw`: each case's lines at
+/// signed `f/ω_n`, its row at `case.y`; `axis`: the vertical axis's description and the top
+/// frequency `freq_max` (f/ω_n), the lines drawn within `±freq_max`.
 ///
 /// # Errors
 /// A name that cannot be staged ([`Drawings::add`]).

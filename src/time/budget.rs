@@ -59,17 +59,17 @@ pub const NS_PATH_FLOP: f64 = 0.05;
 /// the columns' solves on all of them.
 pub const SHARED_COLUMNS_BYTES: f64 = 5.0e8;
 
-/// Bytes of compliance columns one run of `stators` may compute and hold by itself, every
-/// contact DOF touched: per massless stator its packed compliance (16 bytes per pair of
-/// contact nodes, [`StatorModel::packed_compliance_bytes`]) and, for columns from
+/// Bytes of compliance columns one run of the stator `s` may compute and hold by itself,
+/// every contact DOF touched (0 for a stator with mass): its packed compliance (16 bytes per
+/// pair of contact nodes, [`StatorModel::packed_compliance_bytes`]) and, for columns from
 /// elimination-tree paths, the forward solutions kept ([`crate::linalg::PathCost`]) with the
-/// room their chunks are allocated with (a quarter more).
-pub fn column_bytes(stators: &[StatorModel]) -> f64 {
-    stators
-        .iter()
-        .filter(|s| s.massless())
-        .map(|s| stator_columns(s).0)
-        .sum()
+/// room their chunks are allocated with ([`PATH_CHUNK_ROOM`]).
+pub fn column_bytes(s: &StatorModel) -> f64 {
+    if s.massless() {
+        stator_columns(s).0
+    } else {
+        0.0
+    }
 }
 
 /// The memory of path forward solutions allocated per byte held: their chunks are allocated
@@ -99,7 +99,7 @@ pub fn meshed_column_bytes(model: &Model) -> f64 {
         .stators
         .iter()
         .filter_map(|p| match p {
-            StatorPlan::Mesh { model, .. } => Some(column_bytes(std::slice::from_ref(&**model))),
+            StatorPlan::Mesh { model, .. } => Some(column_bytes(model)),
             _ => None,
         })
         .sum()
