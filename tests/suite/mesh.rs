@@ -351,6 +351,49 @@ fn the_seal_meshes_with_hxt_on_request_over_the_same_contact_surface() {
     assert_eq!(b.dim(), 3);
 }
 
+/// The seal geometry's `hi` refines the seal's inside while its tooth tips keep their mesh:
+/// the same contact nodes — the same contact problem — over 5× the nodes (the flatness of the
+/// contact work in the interior DOFs is tested on it at 10⁶ DOFs, tests/suite/large_stator.rs).
+#[test]
+fn the_seal_interior_refines_with_hi_over_the_same_contact_nodes() {
+    if !need_gmsh() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut fine = MeshRequest::new(repo("geometry/labyrinth_seal.geo"));
+    fine.parameters.insert("hi".into(), 0.001);
+    fine.parameters.insert("hxt".into(), 1.0);
+    let (a, b) = (
+        gm::mesh(
+            &MeshRequest::new(repo("geometry/labyrinth_seal.geo")),
+            dir.path(),
+        )
+        .unwrap(),
+        gm::mesh(&fine, dir.path()).unwrap(),
+    );
+    let (a, b) = (Mesh::read(&a.msh).unwrap(), Mesh::read(&b.msh).unwrap());
+    let tips = |m: &Mesh| {
+        let n = m.group_nodes("stator_contact").unwrap();
+        n.iter().map(|&i| m.nodes[i]).collect::<Vec<_>>()
+    };
+    let (ta, tb) = (tips(&a), tips(&b));
+    assert_eq!(ta.len(), tb.len(), "the tips' nodes changed in number");
+    // Each tip node of the refined mesh is one of the shipped mesh's (to the file's digits).
+    let dist = |p: &[f64; 3], q: &[f64; 3]| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>();
+    let worst = tb
+        .iter()
+        .map(|p| ta.iter().map(|q| dist(p, q)).fold(f64::INFINITY, f64::min))
+        .fold(0.0, f64::max)
+        .sqrt();
+    assert!(worst < 1e-7, "a tip node moved by {worst:e} m");
+    assert!(
+        b.nodes.len() > 5 * a.nodes.len(),
+        "{} → {} nodes",
+        a.nodes.len(),
+        b.nodes.len()
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // Scenes with meshed stators.
 
