@@ -228,9 +228,22 @@ pub fn start_for(res: &SpeedResults, case: &Case, linear: [V2; 2]) -> Option<(St
 
 /// Runs the check for `res`, the run of `prep` ([`Coexistence`]; module doc), `end` the run's
 /// end state when it kept one (the companion stops when it joins it: [`JOIN_FRACTION`]).
-/// `None` when no start applies or the companion fails (it never stops the run).
-pub fn check(prep: &Prepared, res: &SpeedResults, end: Option<&EndState>) -> Option<Coexistence> {
-    let (start, init) = start_for(res, &prep.case, prep.linear_start?)?;
+/// `Ok(None)` when no start applies.
+///
+/// # Errors
+/// The companion's failure, as a sentence naming the speed, the start and the error, for the
+/// run's `coexistence_failed`: the check never stops the run, and never fails silently.
+pub fn check(
+    prep: &Prepared,
+    res: &SpeedResults,
+    end: Option<&EndState>,
+) -> Result<Option<Coexistence>, String> {
+    let Some((start, init)) = prep
+        .linear_start
+        .and_then(|linear| start_for(res, &prep.case, linear))
+    else {
+        return Ok(None);
+    };
     let s = &prep.request;
     let settle = SETTLE_REVOLUTIONS.min(res.transient_revolutions).max(1);
     let cs = s.coexistence(init, res.transient_revolutions.max(settle));
@@ -250,9 +263,16 @@ pub fn check(prep: &Prepared, res: &SpeedResults, end: Option<&EndState>) -> Opt
         ..res.plan
     };
     let end = end.filter(|_| res.steady && res.period > 0);
-    match run_companion(prep, &cs, &plan, end, s.tolerance).ok()? {
-        Companion::Ran(c) => Some(compare(start, res, &c, s.tolerance)),
-        Companion::Joined { revolutions, gap } => Some(Coexistence {
+    let companion = run_companion(prep, &cs, &plan, end, s.tolerance).map_err(|e| {
+        format!(
+            "ω/ωn = {:.3}: the coexistence check's companion from the {} start failed ({e}); whether the response depends on the start is not known at this speed (`coexistence_failed`)",
+            res.speed_ratio,
+            start.name()
+        )
+    })?;
+    Ok(Some(match companion {
+        Companion::Ran(c) => compare(start, res, &c, s.tolerance),
+        Companion::Joined { revolutions, gap } => Coexistence {
             start,
             coexisting: false,
             contact_fraction: res.contact_fraction,
@@ -264,8 +284,8 @@ pub fn check(prep: &Prepared, res: &SpeedResults, end: Option<&EndState>) -> Opt
             transient_revolutions: revolutions,
             steps: revolutions * spr,
             joined: true,
-        }),
-    }
+        },
+    }))
 }
 
 /// How the companion `c`, started at `start`, compares with the run `res` at `tolerance`

@@ -162,6 +162,12 @@ pub struct SpeedResults {
     /// run.
     #[serde(default)]
     pub coexistence: Option<super::Coexistence>,
+    /// Why the coexistence check could not answer, when its companion failed (the companion's
+    /// error: an unstable start, a contact solve that did not converge, …): whether the
+    /// response depends on the start is then not known at this speed, and `coexistence` is
+    /// `None`. `None` when the check answered or did not run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coexistence_failed: Option<String>,
     /// The step refined after the run, where its own estimate missed the tolerance the step
     /// was chosen for ([`super::verify`]); `None` when it was not.
     #[serde(default)]
@@ -710,6 +716,7 @@ pub fn analyse(
         step_choice: s.choice,
         started_from_pilot: false,
         coexistence: None,
+        coexistence_failed: None,
         step_refinement: None,
         warnings: Vec::new(),
         poincare_nd: poincare,

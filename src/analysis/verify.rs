@@ -127,7 +127,10 @@ impl Prepared {
         }
         let last = finer.as_ref().unwrap_or(self);
         if last.request.follow_ups.coexistence {
-            res.coexistence = super::coexist::check(last, &res, end.as_ref());
+            match super::coexist::check(last, &res, end.as_ref()) {
+                Ok(c) => res.coexistence = c,
+                Err(why) => res.coexistence_failed = Some(why),
+            }
         }
         Ok(res)
     }

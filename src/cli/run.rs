@@ -112,6 +112,9 @@ fn warn_run(r: &analysis::SpeedResults, tolerance: f64) {
     if let Some(c) = r.coexistence.filter(|c| c.coexisting) {
         eprintln!("warning: {}", coexist_warning(r, &c));
     }
+    if let Some(why) = &r.coexistence_failed {
+        eprintln!("warning: {why}");
+    }
     if let Some(t) = r.dynamics.runaway_at_s {
         eprintln!(
             "warning: ω/ωn = {:.3}: the response runs away when continued: lengthened past its {}-revolution window for the 0–1 test (`run.classify_revolutions`), the run left the divergence bounds at t = {t:.4e} s; the results are those of the window (regime `diverging`, `steady = false`)",

@@ -186,6 +186,30 @@ fn report(
         res,
         &speeds_where(&|r| r.step_refinement.is_some()),
     );
+    warn_starts(&prefix, res, &speeds_where);
+    for r in regimes {
+        println!("  {:>27}  ω/ωn {:.2} – {:.2}", r.label(), r.from, r.to);
+    }
+    if !peaks.is_empty() {
+        let p: Vec<String> = peaks
+            .iter()
+            .map(|(per, v)| format!("{v:.2} ({})", analysis::regime_name(*per)))
+            .collect();
+        println!("  quasi-resonance peaks: {}", p.join(", "));
+    }
+}
+
+/// The speeds (ω/ωn, two decimals) of a sweep where a flag of a run holds.
+type SpeedsWhere<'a> = dyn Fn(&dyn Fn(&analysis::SpeedResults) -> bool) -> Vec<String> + 'a;
+
+/// Warns of the speeds whose response depends on the start and of those whose coexistence
+/// check failed (its companion stopped with an error); `speeds_where` lists the speeds (ω/ωn,
+/// two decimals) where a flag holds.
+fn warn_starts(
+    prefix: &str,
+    res: &SweepResults,
+    speeds_where: &SpeedsWhere<'_>,
+) {
     let coexisting = speeds_where(&|r| r.coexistence.is_some_and(|c| c.coexisting));
     if !coexisting.is_empty() {
         eprintln!(
@@ -196,15 +220,19 @@ fn report(
             coexisting.join(", ")
         );
     }
-    for r in regimes {
-        println!("  {:>27}  ω/ωn {:.2} – {:.2}", r.label(), r.from, r.to);
-    }
-    if !peaks.is_empty() {
-        let p: Vec<String> = peaks
-            .iter()
-            .map(|(per, v)| format!("{v:.2} ({})", analysis::regime_name(*per)))
-            .collect();
-        println!("  quasi-resonance peaks: {}", p.join(", "));
+    let unchecked = speeds_where(&|r| r.coexistence_failed.is_some());
+    if !unchecked.is_empty() {
+        eprintln!(
+            "warning: {}the coexistence check failed at {} of {} speeds (ω/ωn {}): its companion from another start stopped with an error, so whether the response depends on the start is not known there (`coexistence_failed` in each case's record and in summary.json; the first: {})",
+            prefix,
+            unchecked.len(),
+            res.speeds.len(),
+            unchecked.join(", "),
+            res.speeds
+                .iter()
+                .find_map(|r| r.coexistence_failed.as_deref())
+                .unwrap_or_default()
+        );
     }
 }
 
