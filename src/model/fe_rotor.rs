@@ -11,10 +11,12 @@
 //! shaft from its left end.
 //!
 //! The equations are `M q̈ + (C + Ω G) q̇ + K q = f(t)`, `C = C_bearings + C_supports + C_R`. The
-//! Rayleigh part `C_R` is `α M + β K(Ω)` of the assembly (disks, point masses, pedestals and
-//! bearings included; the default) or, with [`FeRotorData::rayleigh_shaft_only`],
+//! Rayleigh part `C_R` is what [`FeRotorData::rayleigh_on`] says: `α M + β K(Ω)` of the
+//! assembly (disks, point masses, pedestals and bearings included; the default),
 //! `Σ_e (α M_e + β K_e)` over the shaft elements alone (bending, and the axial and torsional
-//! elements when those DOFs are on) — ROSS's convention, where α and β are shaft-element data.
+//! elements when those DOFs are on) — ROSS 2's convention, where α and β are shaft-element
+//! data —, or `α (M_shaft + M_disks + M_point_masses) + β K_shaft` — ROSS 3's rotor-level
+//! convention, the rotor's matrices without its bearings, pedestals and supports.
 //! Axial and torsional DOFs are uncoupled from the lateral ones (linear theory: no entries
 //! between them in M, K, G, bearings or supports). They may be free — no axial support (thrust
 //! bearing, [`FeRotorData::axial_supports`]) or no torsional restraint (coupling or drive,
@@ -32,6 +34,7 @@ use crate::error::ModelError;
 use crate::linalg::{Csc, LowRank};
 use crate::model::rotor::{Gyroscopic, RotorBody, UnbalanceLoad};
 pub use crate::resolve::rotor::{Bearing, Disk, FeRotorData, GroundSpring, ModalDamping};
+use crate::scene::RayleighOn;
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
 
@@ -66,11 +69,15 @@ pub struct FeRotor {
     pub g: Csc,
     /// Bearings.
     pub bearings: Vec<Bearing>,
-    /// Rayleigh `[α, β]`.
+    /// Rayleigh `[α, β]` (1/s, s).
     pub rayleigh: [f64; 2],
-    /// `Σ_e (α M_e + β K_e)` over the shaft elements when Rayleigh damping is on the shaft
-    /// only ([`FeRotorData::rayleigh_shaft_only`]); `None`: `α M + β K(Ω)` of the assembly.
-    pub rayleigh_shaft: Option<Csc>,
+    /// What the Rayleigh damping acts on ([`FeRotorData::rayleigh_on`]).
+    pub rayleigh_on: RayleighOn,
+    /// The Rayleigh damping matrix when it is not that of the assembly
+    /// ([`FeRotorData::rayleigh_on`]): `Σ_e (α M_e + β K_e)` over the shaft elements
+    /// (`"shaft"`), or that plus `α` times the disks' and point masses' mass (`"rotor"`);
+    /// `None`: `α M + β K(Ω)` of the assembly, refilled per speed.
+    pub rayleigh_part: Option<Csc>,
     /// Modal damping (none when `None`).
     pub modal_damping: Option<ModalDamping>,
     /// Unbalances.
@@ -104,7 +111,7 @@ struct Refill {
     m_in_c: Vec<usize>,
     k_in_c: Vec<usize>,
     cb_in_c: Vec<usize>,
-    /// Slot in `c` of each stored entry of the shaft-only Rayleigh matrix (empty without).
+    /// Slot in `c` of each stored entry of the Rayleigh matrix `rayleigh_part` (empty without).
     rs_in_c: Vec<usize>,
 }
 
@@ -233,8 +240,8 @@ impl FeRotor {
             g: Csc::from_triplets(ndof, ndof, &t.gt),
             bearings: d.bearings.clone(),
             rayleigh: d.rayleigh,
-            rayleigh_shaft: d
-                .rayleigh_shaft_only
+            rayleigh_on: d.rayleigh_on,
+            rayleigh_part: (d.rayleigh_on != RayleighOn::Assembly)
                 .then(|| Csc::from_triplets(ndof, ndof, &t.rt)),
             modal_damping: d.modal_damping,
             unbalance,
@@ -261,7 +268,7 @@ impl FeRotor {
             &rotor.k_shaft,
             &kb,
             &cb,
-            rotor.rayleigh_shaft.as_ref(),
+            rotor.rayleigh_part.as_ref(),
         );
         Ok(rotor)
     }
@@ -359,13 +366,14 @@ impl FeRotor {
     }
 
     /// Sparse damping without gyroscopics at speed ω: bearings + the Rayleigh part (α M + β K
-    /// of the assembly, or of the shaft elements alone, see the module docs; no modal part),
+    /// of the assembly, of the shaft elements alone, or of the rotor without its bearings, see
+    /// the module docs; no modal part),
     /// refilled on the pattern built once.
     pub fn c_sparse(&self, omega: f64) -> Csc {
         let (kb, cb) = self.bearing_matrices(omega);
         let k = self.k_with(&kb);
         let r = &self.refill;
-        let [alpha, beta] = match self.rayleigh_shaft {
+        let [alpha, beta] = match self.rayleigh_part {
             Some(_) => [0.0; 2],
             None => self.rayleigh,
         };
@@ -381,7 +389,7 @@ impl FeRotor {
         for (s, x) in r.cb_in_c.iter().zip(cb.values()) {
             v[*s] += *x;
         }
-        if let Some(rs) = &self.rayleigh_shaft {
+        if let Some(rs) = &self.rayleigh_part {
             for (s, x) in r.rs_in_c.iter().zip(rs.values()) {
                 v[*s] += *x;
             }
@@ -681,8 +689,9 @@ fn check(d: &FeRotorData) -> Result<(Vec<f64>, Vec<f64>), ModelError> {
     Ok((z, node_diameter))
 }
 
-/// The triplets of M, K (shaft) and G, the shaft elements' Rayleigh damping `α M_e + β K_e`,
-/// with the total mass and polar inertia.
+/// The triplets of M, K (shaft) and G, the Rayleigh damping of `rayleigh_on` when it is not the
+/// assembly's (`Σ_e α M_e + β K_e` over the shaft elements, and with `"rotor"` `α` times the
+/// disks' and point masses' mass too), with the total mass and polar inertia.
 struct Triplets {
     mt: Vec<(usize, usize, f64)>,
     kt: Vec<(usize, usize, f64)>,
@@ -703,9 +712,9 @@ impl Triplets {
     ) -> Self {
         let (mut mt, mut kt, mut gt, mut rt) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let [alpha, beta] = d.rayleigh;
-        let mut rayleigh = |dofs: &[usize], m: &[f64], k: &[f64]| {
+        let rayleigh = |rt: &mut Vec<_>, dofs: &[usize], m: &[f64], k: &[f64]| {
             let c: Vec<f64> = m.iter().zip(k).map(|(m, k)| alpha * m + beta * k).collect();
-            scatter(&mut rt, dofs, &c);
+            scatter(rt, dofs, &c);
         };
         let mut total_mass = 0.0;
         let mut total_ip = 0.0;
@@ -715,21 +724,37 @@ impl Triplets {
             scatter(&mut mt, &dofs, el.m.as_flattened());
             scatter(&mut kt, &dofs, el.k.as_flattened());
             scatter(&mut gt, &dofs, el.g.as_flattened());
-            rayleigh(&dofs, el.m.as_flattened(), el.k.as_flattened());
+            rayleigh(&mut rt, &dofs, el.m.as_flattened(), el.k.as_flattened());
             total_mass += e.mass();
             total_ip += e.spin_inertia();
         }
+        // ROSS 3's rotor-level Rayleigh damping: α times the disks' and point masses' mass too.
+        let body_alpha = if d.rayleigh_on == RayleighOn::Rotor {
+            alpha
+        } else {
+            0.0
+        };
+        let body_mass = |mt: &mut Vec<_>, rt: &mut Vec<_>, r: usize, c: usize, m: f64| {
+            mt.push((r, c, m));
+            if body_alpha != 0.0 {
+                rt.push((r, c, body_alpha * m));
+            }
+        };
         for dk in &d.disks {
             let (m, g) = disk(dk.mass, dk.id, dk.ip);
             let dofs: [usize; 4] = std::array::from_fn(|k| 4 * dk.node + k);
-            scatter(&mut mt, &dofs, m.as_flattened());
+            for (k, row) in m.iter().enumerate() {
+                for (l, v) in row.iter().enumerate().filter(|(_, v)| **v != 0.0) {
+                    body_mass(&mut mt, &mut rt, dofs[k], dofs[l], *v);
+                }
+            }
             scatter(&mut gt, &dofs, g.as_flattened());
             total_mass += dk.mass;
             total_ip += dk.ip;
         }
         for (n, m) in &d.point_masses {
-            mt.push((4 * n, 4 * n, *m));
-            mt.push((4 * n + 1, 4 * n + 1, *m));
+            body_mass(&mut mt, &mut rt, 4 * n, 4 * n, *m);
+            body_mass(&mut mt, &mut rt, 4 * n + 1, 4 * n + 1, *m);
             total_mass += m;
         }
         for (b, pd) in d.bearings.iter().zip(pedestal_dofs) {
@@ -749,21 +774,21 @@ impl Triplets {
                     let ab = [a, b];
                     scatter(&mut mt, &ab, el.m.as_flattened());
                     scatter(&mut kt, &ab, el.k.as_flattened());
-                    rayleigh(&ab, el.m.as_flattened(), el.k.as_flattened());
+                    rayleigh(&mut rt, &ab, el.m.as_flattened(), el.k.as_flattened());
                 }
             }
         }
         for dk in &d.disks {
             if let Some(a) = node_axial[dk.node] {
-                mt.push((a, a, dk.mass));
+                body_mass(&mut mt, &mut rt, a, a, dk.mass);
             }
             if let Some(t) = node_torsion[dk.node] {
-                mt.push((t, t, dk.ip));
+                body_mass(&mut mt, &mut rt, t, t, dk.ip);
             }
         }
         for (n, m) in &d.point_masses {
             if let Some(a) = node_axial[*n] {
-                mt.push((a, a, *m));
+                body_mass(&mut mt, &mut rt, a, a, *m);
             }
         }
         Triplets {
