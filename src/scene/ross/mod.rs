@@ -1,18 +1,31 @@
-//! A rotor saved by ROSS (`Rotor.save`, TOML or JSON; checked with ROSS 2.3.0) as a rubsim scene
-//! (`rubsim import-ross FILE`).
+//! A rotor saved by ROSS (`Rotor.save`, TOML or JSON; checked with ROSS 2.3.0 and 3.0.0) as a
+//! rubsim scene (`rubsim import-ross FILE`).
 //!
 //! ROSS writes one table per element, named `"<Class>_<tag>"`: `ShaftElement_…` (`L`, `idl`,
 //! `odl`, `idr`, `odr`, `n`, `shear_effects`, `rotary_inertia`, `gyroscopic`, `alpha`, `beta`,
 //! and a `material` sub-table with `rho`, `E`, `G_s`), `DiskElement_…` (`n`, `m`, `Id`, `Ip`),
 //! `BearingElement_…` (`n`, coefficient lists `kxx … kzz`, `cxx … czz`, `mxx … mzz`, and
-//! `frequency` when they are tabulated; `CylindricalBearing` names it `speed`), `PointMass_…` (`n`, `m` or `mx`, `my`). They map to
+//! `frequency` when they are tabulated; `CylindricalBearing` names it `speed`, and so does
+//! ROSS 3 for a table over rotor speed), `PointMass_…` (`n`, `m` or `mx`, `my`; ROSS 3 `mz`
+//! too), and a `[parameters]` table: empty in ROSS 2, the rotor's damping in ROSS 3 (`alpha`,
+//! `beta`, `default_damping_ratio`, `modal_damping_ratio`). They map to
 //! `[[rotor.shaft]]` segments of one element each (ν = E/(2G) − 1; a tapered element, `idl ≠ idr`
 //! or `odl ≠ odr`, with `outer_diameter_right`, `inner_diameter_right`), `[[rotor.disk]]` by
 //! inertias, `[[rotor.bearing]]` with `kxx … cyy` (tables over `speeds` when ROSS gives a
 //! `frequency`), `[[rotor.point_mass]]`. ROSS's rotor is 6-DOF: the scene has `axial = true`,
 //! `torsion = true`; a bearing's `kzz`, `czz` becomes an `[[rotor.axial_support]]` (kzz = 0
-//! everywhere leaves u_z free), θ_z is always free. Rayleigh `alpha`, `beta` act on the shaft
-//! elements (`rayleigh_on = "shaft"`).
+//! everywhere leaves u_z free), θ_z is always free.
+//!
+//! **Versions and damping** (`damping`): the file's format is told by its keys — ROSS 3's
+//! `[parameters]` damping keys, its bearings' `interpolation`, a `ross_version` ≥ 3 — and
+//! named, with the damping, in the scene's header. ROSS 2's Rayleigh factors are the shaft
+//! elements' (`rayleigh_on = "shaft"`: Σ_e α M_e + β K_e); ROSS 3's are the rotor's,
+//! `C = α (M_shaft + M_disks + M_point_masses) + β K_shaft` (`rayleigh_on = "rotor"`), the
+//! elements' then ignored as ROSS 3 ignores them; either way each bearing's own C is kept.
+//! ROSS 3's modal damping is refused. **Bearing tables** are interpolated by a smoothing
+//! spline in ROSS 2 and by PCHIP (or linearly, `interpolation = "linear"`) with linear
+//! extrapolation in ROSS 3; the scene notes the difference above each table; ROSS 3's tables
+//! over both speed and whirl frequency are refused.
 //!
 //! **Seals and the other bearing classes.** Every bearing class of ROSS 2.3.0 — `SealElement`,
 //! `BallBearingElement`, `RollerBearingElement`, the fluid-film models (`CylindricalBearing`,
@@ -28,7 +41,7 @@
 //! in use, not in the matrices: ROSS's static analysis (`run_static`) leaves seals out, while
 //! rubsim's scene has no such flag — a seal imported into a run with gravity carries load.
 //!
-//! **Tables over speed.** ROSS evaluates a table of four or more points through scipy's
+//! **Tables over speed.** ROSS 2 evaluates a table of four or more points through scipy's
 //! `UnivariateSpline` (a cubic smoothing spline with s = the number of points, extrapolated
 //! outside the table), of two or three points by linear or quadratic interpolation; rubsim
 //! interpolates linearly and holds the end values outside. The two agree at the table's speeds
@@ -39,12 +52,13 @@
 //! tabulated bearing.
 //!
 //! What rubsim cannot represent is refused at the element's key: elements that differ in
-//! their switches or Rayleigh factors, axial force or torque on an element, bearing mass
-//! coefficients (`mxx … mzz` ≠ 0), speed-dependent kzz, bearings linked to another node
+//! their switches or (where they are the damping) Rayleigh factors, axial force or torque on
+//! an element, bearing mass coefficients (`mxx … mzz` ≠ 0), speed-dependent kzz, bearings
+//! linked to another node
 //! (`n_link`), magnetic bearings (`MagneticBearingElement`, saved by ROSS as a
 //! `BearingElement_…` table carrying its controller's `kp_pid`, `ki_pid`, `kd_pid`: in ROSS's
-//! time response the controller acts, not the saved coefficients), point masses with mx ≠ my,
-//! and every other element class (couplings, gears, …).
+//! time response the controller acts, not the saved coefficients), point masses with mx ≠ my
+//! or (ROSS 3) mz ≠ mx, and every other element class (couplings, gears, …).
 
 //! **What is checked, and where errors point.** Every number must be finite, every node
 //! number `n` a whole number ≥ 0 (never rounded or clamped), every coefficient list non-empty;
@@ -143,7 +157,8 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
     }
 }
 
-/// ROSS 2.3.0's bearing classes whose `M`, `K`, `C` are `BearingElement`'s: coefficients over
+/// ROSS 2.3.0's bearing classes (3.0.0 has them all but `BearingFluidFlow`) whose `M`, `K`,
+/// `C` are `BearingElement`'s: coefficients over
 /// `frequency` between the node and ground.
 const BEARING_CLASSES: [&str; 13] = [
     "BearingElement",
