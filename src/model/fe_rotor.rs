@@ -11,10 +11,12 @@
 //! shaft from its left end.
 //!
 //! The equations are `M q̈ + (C + Ω G) q̇ + K q = f(t)`, `C = C_bearings + C_supports + C_R`. The
-//! Rayleigh part `C_R` is `α M + β K(Ω)` of the assembly (disks, point masses, pedestals and
-//! bearings included; the default) or, with [`FeRotorData::rayleigh_shaft_only`],
+//! Rayleigh part `C_R` is what [`FeRotorData::rayleigh_on`] says: `α M + β K(Ω)` of the
+//! assembly (disks, point masses, pedestals and bearings included; the default),
 //! `Σ_e (α M_e + β K_e)` over the shaft elements alone (bending, and the axial and torsional
-//! elements when those DOFs are on) — ROSS's convention, where α and β are shaft-element data.
+//! elements when those DOFs are on) — ROSS 2's convention, where α and β are shaft-element
+//! data —, or `α (M_shaft + M_disks + M_point_masses) + β K_shaft` — ROSS 3's rotor-level
+//! convention, the rotor's matrices without its bearings, pedestals and supports.
 //! Axial and torsional DOFs are uncoupled from the lateral ones (linear theory: no entries
 //! between them in M, K, G, bearings or supports). They may be free — no axial support (thrust
 //! bearing, [`FeRotorData::axial_supports`]) or no torsional restraint (coupling or drive,
@@ -26,14 +28,16 @@
 //! carries them as they are (unloaded, they stay put). The lateral DOFs must be held: a rotor
 //! without a bearing is refused.
 
-use crate::assembly::scatter;
-use crate::element::timoshenko::{axial_element, disk, shaft_element, torsion_element};
+mod triplets;
+
 use crate::error::ModelError;
 use crate::linalg::{Csc, LowRank};
 use crate::model::rotor::{Gyroscopic, RotorBody, UnbalanceLoad};
 pub use crate::resolve::rotor::{Bearing, Disk, FeRotorData, GroundSpring, ModalDamping};
+use crate::scene::RayleighOn;
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64;
+use triplets::Triplets;
 
 /// The FE rotor model (speed independent parts assembled once).
 #[derive(Debug, Clone)]
@@ -66,11 +70,15 @@ pub struct FeRotor {
     pub g: Csc,
     /// Bearings.
     pub bearings: Vec<Bearing>,
-    /// Rayleigh `[α, β]`.
+    /// Rayleigh `[α, β]` (1/s, s).
     pub rayleigh: [f64; 2],
-    /// `Σ_e (α M_e + β K_e)` over the shaft elements when Rayleigh damping is on the shaft
-    /// only ([`FeRotorData::rayleigh_shaft_only`]); `None`: `α M + β K(Ω)` of the assembly.
-    pub rayleigh_shaft: Option<Csc>,
+    /// What the Rayleigh damping acts on ([`FeRotorData::rayleigh_on`]).
+    pub rayleigh_on: RayleighOn,
+    /// The Rayleigh damping matrix when it is not that of the assembly
+    /// ([`FeRotorData::rayleigh_on`]): `Σ_e (α M_e + β K_e)` over the shaft elements
+    /// (`"shaft"`), or that plus `α` times the disks' and point masses' mass (`"rotor"`);
+    /// `None`: `α M + β K(Ω)` of the assembly, refilled per speed.
+    pub rayleigh_part: Option<Csc>,
     /// Modal damping (none when `None`).
     pub modal_damping: Option<ModalDamping>,
     /// Unbalances.
@@ -104,7 +112,7 @@ struct Refill {
     m_in_c: Vec<usize>,
     k_in_c: Vec<usize>,
     cb_in_c: Vec<usize>,
-    /// Slot in `c` of each stored entry of the shaft-only Rayleigh matrix (empty without).
+    /// Slot in `c` of each stored entry of the Rayleigh matrix `rayleigh_part` (empty without).
     rs_in_c: Vec<usize>,
 }
 
@@ -233,8 +241,8 @@ impl FeRotor {
             g: Csc::from_triplets(ndof, ndof, &t.gt),
             bearings: d.bearings.clone(),
             rayleigh: d.rayleigh,
-            rayleigh_shaft: d
-                .rayleigh_shaft_only
+            rayleigh_on: d.rayleigh_on,
+            rayleigh_part: (d.rayleigh_on != RayleighOn::Assembly)
                 .then(|| Csc::from_triplets(ndof, ndof, &t.rt)),
             modal_damping: d.modal_damping,
             unbalance,
@@ -261,7 +269,7 @@ impl FeRotor {
             &rotor.k_shaft,
             &kb,
             &cb,
-            rotor.rayleigh_shaft.as_ref(),
+            rotor.rayleigh_part.as_ref(),
         );
         Ok(rotor)
     }
@@ -359,13 +367,14 @@ impl FeRotor {
     }
 
     /// Sparse damping without gyroscopics at speed ω: bearings + the Rayleigh part (α M + β K
-    /// of the assembly, or of the shaft elements alone, see the module docs; no modal part),
+    /// of the assembly, of the shaft elements alone, or of the rotor without its bearings, see
+    /// the module docs; no modal part),
     /// refilled on the pattern built once.
     pub fn c_sparse(&self, omega: f64) -> Csc {
         let (kb, cb) = self.bearing_matrices(omega);
         let k = self.k_with(&kb);
         let r = &self.refill;
-        let [alpha, beta] = match self.rayleigh_shaft {
+        let [alpha, beta] = match self.rayleigh_part {
             Some(_) => [0.0; 2],
             None => self.rayleigh,
         };
@@ -381,7 +390,7 @@ impl FeRotor {
         for (s, x) in r.cb_in_c.iter().zip(cb.values()) {
             v[*s] += *x;
         }
-        if let Some(rs) = &self.rayleigh_shaft {
+        if let Some(rs) = &self.rayleigh_part {
             for (s, x) in r.rs_in_c.iter().zip(rs.values()) {
                 v[*s] += *x;
             }
@@ -679,102 +688,6 @@ fn check(d: &FeRotorData) -> Result<(Vec<f64>, Vec<f64>), ModelError> {
         }
     }
     Ok((z, node_diameter))
-}
-
-/// The triplets of M, K (shaft) and G, the shaft elements' Rayleigh damping `α M_e + β K_e`,
-/// with the total mass and polar inertia.
-struct Triplets {
-    mt: Vec<(usize, usize, f64)>,
-    kt: Vec<(usize, usize, f64)>,
-    gt: Vec<(usize, usize, f64)>,
-    rt: Vec<(usize, usize, f64)>,
-    total_mass: f64,
-    total_ip: f64,
-}
-
-impl Triplets {
-    /// Scatters the shaft elements, disks, point masses and pedestals, then the axial and
-    /// torsional DOFs.
-    fn assemble(
-        d: &FeRotorData,
-        pedestal_dofs: &[Option<usize>],
-        node_axial: &[Option<usize>],
-        node_torsion: &[Option<usize>],
-    ) -> Self {
-        let (mut mt, mut kt, mut gt, mut rt) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        let [alpha, beta] = d.rayleigh;
-        let mut rayleigh = |dofs: &[usize], m: &[f64], k: &[f64]| {
-            let c: Vec<f64> = m.iter().zip(k).map(|(m, k)| alpha * m + beta * k).collect();
-            scatter(&mut rt, dofs, &c);
-        };
-        let mut total_mass = 0.0;
-        let mut total_ip = 0.0;
-        for (i, e) in d.elements.iter().enumerate() {
-            let el = shaft_element(e);
-            let dofs: [usize; 8] = std::array::from_fn(|k| 4 * i + k);
-            scatter(&mut mt, &dofs, el.m.as_flattened());
-            scatter(&mut kt, &dofs, el.k.as_flattened());
-            scatter(&mut gt, &dofs, el.g.as_flattened());
-            rayleigh(&dofs, el.m.as_flattened(), el.k.as_flattened());
-            total_mass += e.mass();
-            total_ip += e.spin_inertia();
-        }
-        for dk in &d.disks {
-            let (m, g) = disk(dk.mass, dk.id, dk.ip);
-            let dofs: [usize; 4] = std::array::from_fn(|k| 4 * dk.node + k);
-            scatter(&mut mt, &dofs, m.as_flattened());
-            scatter(&mut gt, &dofs, g.as_flattened());
-            total_mass += dk.mass;
-            total_ip += dk.ip;
-        }
-        for (n, m) in &d.point_masses {
-            mt.push((4 * n, 4 * n, *m));
-            mt.push((4 * n + 1, 4 * n + 1, *m));
-            total_mass += m;
-        }
-        for (b, pd) in d.bearings.iter().zip(pedestal_dofs) {
-            if let (Some((pm, _, _)), Some(p)) = (b.pedestal, pd) {
-                mt.push((*p, *p, pm));
-                mt.push((p + 1, p + 1, pm));
-            }
-        }
-        // Axial and torsional DOFs (after every lateral triplet, so the lateral entries sum in
-        // the same order as without them): bar and torsion elements, disks, point masses.
-        for (i, e) in d.elements.iter().enumerate() {
-            for (dofs, el) in [
-                (node_axial, axial_element(e)),
-                (node_torsion, torsion_element(e)),
-            ] {
-                if let (Some(a), Some(b)) = (dofs[i], dofs[i + 1]) {
-                    let ab = [a, b];
-                    scatter(&mut mt, &ab, el.m.as_flattened());
-                    scatter(&mut kt, &ab, el.k.as_flattened());
-                    rayleigh(&ab, el.m.as_flattened(), el.k.as_flattened());
-                }
-            }
-        }
-        for dk in &d.disks {
-            if let Some(a) = node_axial[dk.node] {
-                mt.push((a, a, dk.mass));
-            }
-            if let Some(t) = node_torsion[dk.node] {
-                mt.push((t, t, dk.ip));
-            }
-        }
-        for (n, m) in &d.point_masses {
-            if let Some(a) = node_axial[*n] {
-                mt.push((a, a, *m));
-            }
-        }
-        Triplets {
-            mt,
-            kt,
-            gt,
-            rt,
-            total_mass,
-            total_ip,
-        }
-    }
 }
 
 /// Largest radius of the forced ellipse `x = Re(X e^{iωt}), y = Re(Y e^{iωt})`:

@@ -24,7 +24,7 @@ use crate::resolve::{
     Clearance, FeRotorInput, FeStatorInput, Placement, Resolved, RingInput, RodInput, RotorInput,
     StatorInput,
 };
-use crate::scene::LoadedScene;
+use crate::scene::{LoadedScene, RayleighOn};
 pub use drive::{Drive, DriveLaw};
 pub use events::{ClearanceEvent, Events, UnbalanceEvent};
 pub use reduce::ReducedRotor;
@@ -286,8 +286,10 @@ impl Rotor {
                             if md.modes == usize::MAX { "all".into() } else { md.modes.to_string() }
                         ));
                     }
-                    if f.rotor.rayleigh_shaft.is_some() {
-                        d[0].push_str(" on the shaft elements only");
+                    match f.rotor.rayleigh_on {
+                        RayleighOn::Assembly => {}
+                        RayleighOn::Shaft => d[0].push_str(" on the shaft elements only"),
+                        RayleighOn::Rotor => d[0].push_str(" on the rotor's mass and the shaft's stiffness"),
                     }
                     d.push("bearings".into());
                     d.join(", ")

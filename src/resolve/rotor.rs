@@ -230,9 +230,10 @@ pub struct FeRotorData {
     pub unbalances: Vec<(usize, f64, f64)>,
     /// Rayleigh `[α, β]`.
     pub rayleigh: [f64; 2],
-    /// Rayleigh damping on the shaft elements only (`Σ_e α M_e + β K_e`, ROSS's convention)
-    /// instead of `α M + β K` of the assembly (disks, point masses, bearings included).
-    pub rayleigh_shaft_only: bool,
+    /// What the Rayleigh damping acts on: the assembly (`α M + β K(Ω)`, disks, point masses,
+    /// bearings included), the shaft elements alone (`Σ_e α M_e + β K_e`) or the rotor without
+    /// its bearings (`α M_rotor + β K_shaft`); see [`RayleighOn`].
+    pub rayleigh_on: RayleighOn,
     /// Modal damping.
     pub modal_damping: Option<ModalDamping>,
     /// Axial DOF `u_z` per node (axial bar elements, see
@@ -283,7 +284,7 @@ pub fn fe_rotor(ls: &LoadedScene, s: &FeRotorSpec) -> Result<FeRotorData, SceneE
             .map(|u| (u.node, u.mass * u.radius, u.phase_deg.to_radians()))
             .collect(),
         rayleigh: s.rayleigh,
-        rayleigh_shaft_only: s.rayleigh_on == RayleighOn::Shaft,
+        rayleigh_on: s.rayleigh_on,
         modal_damping: s.modal_damping.as_ref().map(|m| ModalDamping {
             ratio: m.ratio,
             max_frequency: m.max_frequency.unwrap_or(f64::INFINITY),

@@ -41,8 +41,10 @@ pub struct FeRotorSpec {
     #[serde(default)]
     pub rayleigh: [f64; 2],
     /// What the Rayleigh damping acts on: `"assembly"` (default: M and K(Ω) of the whole
-    /// rotor, disks, point masses, pedestals and bearings included) or `"shaft"` (the shaft
-    /// elements' own M_e and K_e only, ROSS's convention).
+    /// rotor, disks, point masses, pedestals and bearings included), `"shaft"` (the shaft
+    /// elements' own M_e and K_e only, ROSS 2's element-level convention) or `"rotor"` (the
+    /// mass of the shaft, disks and point masses and the shaft's stiffness, ROSS 3's
+    /// rotor-level convention).
     #[serde(default, skip_serializing_if = "RayleighOn::is_assembly")]
     #[schemars(extend("default" = "assembly"))]
     pub rayleigh_on: RayleighOn,
@@ -97,15 +99,25 @@ pub struct ModalDampingSpec {
     pub modes: Option<usize>,
 }
 
-/// What `rotor.rayleigh` acts on.
+/// What `rotor.rayleigh = [α, β]` acts on (α in 1/s, β in s; the damping matrix C in N·s/m,
+/// N·m·s/rad, added to the bearings', supports' and modal damping).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum RayleighOn {
-    /// `α M + β K(Ω)` of the assembled rotor (bearings, disks, point masses, pedestals).
+    /// `C_R = α M + β K(Ω)` of the assembled rotor (bearings, disks, point masses, pedestals).
     #[default]
     Assembly,
-    /// `Σ_e α M_e + β K_e` over the shaft elements alone (ROSS's convention).
+    /// `C_R = Σ_e (α M_e + β K_e)` over the shaft elements alone (bending, and the axial and
+    /// torsional elements when those DOFs are on): ROSS 2's convention, where α and β are
+    /// shaft-element data (`ShaftElement.C`), and ROSS 3's when only the elements carry them.
     Shaft,
+    /// `C_R = α (M_shaft + M_disks + M_point_masses) + β K_shaft`: the mass of the rotor
+    /// without its bearings (every DOF: lateral, and the axial and torsional ones when on — a
+    /// disk's m on u_z and I_p on θ_z, a point mass's m on u_z) and the shaft elements'
+    /// stiffness; bearings, pedestals, axial and torsional supports add neither mass nor
+    /// stiffness to it. ROSS 3's rotor-level `alpha`, `beta` (`Rotor._build_base_matrices`:
+    /// `C0 = alpha M0 + beta K0` over every element but the bearings, whose own C is added).
+    Rotor,
 }
 
 impl RayleighOn {

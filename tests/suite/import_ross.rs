@@ -364,3 +364,219 @@ fn out_refuses_existing_files_the_input_and_links() {
     assert!(err.contains("bad.toml:11:"), "{err}");
     assert!(!dir.join("bad_scene.toml").exists());
 }
+
+/// The rotors ROSS 3.0.0 saved (`scripts/ross3_fixtures.py`) and its `run_modal` results.
+const ROSS3: &str = "tests/data/ross/ross3";
+
+/// The scene `import-ross` writes for the ROSS 3 fixture `name`, and its text.
+fn ross3_scene(name: &str) -> (String, String) {
+    let path = repo(&format!("{ROSS3}/{name}"));
+    let text = common::read(&path);
+    let scene = rubsim::scene::ross::import(&path, &text).unwrap();
+    (scene, text)
+}
+
+/// Issue 30: ROSS 3 keeps the Rayleigh factors on the rotor (`[parameters] alpha, beta`), which
+/// `import-ross` dropped (ζ₁ 0.0010 against ROSS's 0.0239 for `rotor_example_with_damping`).
+/// Imported as `rayleigh_on = "rotor"` with the bearings' own damping, the first 12 modes (ζ <
+/// 0.5) at 0 and 1000 rad/s equal ROSS 3.0.0's dense `run_modal` — also for a rotor whose
+/// elements carry other factors, which ROSS 3 ignores beside the rotor's.
+#[test]
+fn ross3_rotor_level_damping_gives_ross3_modes() {
+    let reference: serde_json::Value = serde_json::from_str(&common::read(&repo(&format!(
+        "{ROSS3}/modal_reference.json"
+    ))))
+    .unwrap();
+    assert_eq!(reference["ross_version"], "3.0.0");
+    let floats = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let rotors = reference["rotors"].as_object().unwrap();
+    assert_eq!(rotors.len(), 2);
+    for (name, speeds) in rotors {
+        let (scene, _) = ross3_scene(&format!("{name}.toml"));
+        assert!(scene.contains("rayleigh_on = \"rotor\""), "{scene}");
+        assert!(scene.contains("# Format: ROSS 3 ("), "{scene}");
+        let m = common::build(&common::parse(&scene, common::NO_SETS));
+        for (speed, want) in speeds.as_object().unwrap() {
+            let omega: f64 = speed.parse().unwrap();
+            let got = rubsim::linear::modal(&m.rotor, omega, 200).unwrap();
+            let got: Vec<_> = got.modes.iter().filter(|g| g.damping_ratio < 0.5).collect();
+            let (wd, zeta) = (floats(&want["wd"]), floats(&want["damping_ratio"]));
+            assert_eq!(wd.len(), 12);
+            let (mut worst_wd, mut worst_zeta) = (0.0_f64, 0.0_f64);
+            for (w, z) in wd.iter().zip(&zeta) {
+                let g = got
+                    .iter()
+                    .min_by(|a, b| (a.omega_d - w).abs().total_cmp(&(b.omega_d - w).abs()))
+                    .unwrap();
+                worst_wd = worst_wd.max((g.omega_d / w - 1.0).abs());
+                worst_zeta = worst_zeta.max((g.damping_ratio / z - 1.0).abs());
+            }
+            eprintln!("{name} at {omega} rad/s: ω_d {worst_wd:.2e}, ζ {worst_zeta:.2e}");
+            assert!(
+                worst_wd < 1e-8 && worst_zeta < 1e-8,
+                "{name} at {omega}: ω_d {worst_wd:e}, ζ {worst_zeta:e}"
+            );
+        }
+    }
+    // ROSS's first mode as the issue measured it (ROSS 3.1.0: ζ₁ = 0.0239).
+    let z1 = floats(&rotors["rotor_example_with_damping"]["0.0"]["damping_ratio"])[0];
+    assert!((z1 - 0.0239).abs() < 1e-4, "{z1}");
+    // The JSON form gives the same scene, table for table.
+    let body = |s: &str| -> Vec<String> {
+        s.lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with("title"))
+            .map(String::from)
+            .collect()
+    };
+    let (toml_scene, _) = ross3_scene("rotor_example_with_damping.toml");
+    let (json_scene, _) = ross3_scene("rotor_example_with_damping.json");
+    assert_eq!(body(&json_scene), body(&toml_scene));
+    assert!(
+        toml_scene.contains("rayleigh = [8.0501, 1e-5]\nrayleigh_on = \"rotor\"")
+            && toml_scene.contains("cyy = 100.4553"),
+        "{toml_scene}"
+    );
+}
+
+/// Each ROSS damping convention maps to its own scene, and what the scene cannot hold is
+/// refused at the ROSS file's line and key: ROSS 3's modal damping, rotor-level factors given
+/// twice or negative, two-axis bearing tables, an unknown `interpolation`.
+#[test]
+fn ross3_damping_conventions_mapped_or_refused_by_key() {
+    let (_, text) = ross3_scene("both_damping.toml");
+    let import = |text: &str| rubsim::scene::ross::import(Path::new("r3.toml"), text);
+    // Beside the rotor's factors the elements' are ignored (by ROSS too), even unequal ones.
+    let unequal = text.replacen("alpha = 3.0", "alpha = 7.0", 1);
+    let scene = import(&unequal).unwrap();
+    assert!(
+        scene.contains("rayleigh = [1.5, 4e-5]\nrayleigh_on = \"rotor\"")
+            && scene.contains("ROSS 3 ignores the shaft elements' `alpha`, `beta`"),
+        "{scene}"
+    );
+    // The rotor's factors zero: the elements' are ROSS 3's damping, as in ROSS 2.
+    let elemental =
+        text.replacen("alpha = 1.5", "alpha = 0.0", 1)
+            .replacen("beta = 4e-5", "beta = 0.0", 1);
+    let scene = import(&elemental).unwrap();
+    assert!(
+        scene.contains("rayleigh = [3.0, 2e-5]\nrayleigh_on = \"shaft\""),
+        "{scene}"
+    );
+    let err = import(&elemental.replacen("alpha = 3.0", "alpha = 7.0", 1))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("\"ShaftElement_Shaft Element 1\".alpha`") && err.contains("must be the same"),
+        "{err}"
+    );
+    // ROSS 2.3.0's element-level factors stay "shaft".
+    let ross2 = common::read(&repo(TOML))
+        .replace("alpha = 0.0", "alpha = 8.0501")
+        .replace("beta = 0.0", "beta = 1e-5");
+    let scene = rubsim::scene::ross::import(&repo(TOML), &ross2).unwrap();
+    assert!(
+        scene.contains("rayleigh = [8.0501, 1e-5]\nrayleigh_on = \"shaft\"")
+            && scene.contains("# Format: ROSS 2 ("),
+        "{scene}"
+    );
+    let line = |needle: &str, t: &str| 1 + t.lines().position(|l| l.starts_with(needle)).unwrap();
+    // ROSS 3's modal damping, alone or beside the elements' factors.
+    let modal = elemental.replacen(
+        "[parameters]\n",
+        "[parameters]\nmodal_damping_ratio = [ 0.01, 0.02,]\n",
+        1,
+    );
+    let err = import(&modal).unwrap_err().to_string();
+    let at = format!(
+        "r3.toml:{}: key `parameters.modal_damping_ratio`",
+        line("modal_damping_ratio", &modal)
+    );
+    assert!(
+        err.contains(&at) && err.contains("modal damping") && err.contains("keeps neither"),
+        "{err}"
+    );
+    // Negative or non-numeric rotor-level factors, and factors at the top beside [parameters].
+    for (from, to, key) in [
+        ("alpha = 1.5", "alpha = -1.5", "alpha"),
+        ("beta = 4e-5", "beta = \"x\"", "beta"),
+    ] {
+        let bad = text.replacen(from, to, 1);
+        let err = import(&bad).unwrap_err().to_string();
+        let at = format!(
+            "r3.toml:{}: key `parameters.{key}`",
+            line(&format!("{key} = "), &bad)
+        );
+        assert!(err.contains(&at), "{to}: {err}");
+    }
+    let twice = text.replacen("ross_version", "alpha = 2.0\nross_version", 1);
+    let err = import(&twice).unwrap_err().to_string();
+    assert!(
+        err.contains(&format!(
+            "r3.toml:{}: key `alpha`",
+            line("alpha = 2.0", &twice)
+        )) && err.contains("once"),
+        "{err}"
+    );
+    // At the top alone they are the rotor's factors too.
+    let top = text.replacen("alpha = 1.5\nbeta = 4e-5\n", "", 1).replacen(
+        "ross_version",
+        "alpha = 1.5\nbeta = 4e-5\nross_version",
+        1,
+    );
+    let scene = import(&top).unwrap();
+    assert!(
+        scene.contains("rayleigh = [1.5, 4e-5]\nrayleigh_on = \"rotor\"")
+            && scene.contains("(at the top of the file)"),
+        "{scene}"
+    );
+    // Bearing tables: over both speed and frequency refused, an unknown interpolation refused,
+    // a PCHIP table noted as such.
+    let bearing = "[\"BearingElement_Bearing 0\"]\n";
+    let grid = text.replacen(
+        bearing,
+        &format!("{bearing}speed = [ 0.0, 100.0,]\nfrequency = [ 0.0, 100.0,]\n"),
+        1,
+    );
+    let err = import(&grid).unwrap_err().to_string();
+    assert!(
+        err.contains("\"BearingElement_Bearing 0\".speed") && err.contains("two-axis"),
+        "{err}"
+    );
+    let table = text
+        .replacen(
+            bearing,
+            &format!("{bearing}speed = [ 0.0, 100.0, 200.0,]\n"),
+            1,
+        )
+        .replacen(
+            "kxx = [ 1000000.0,]",
+            "kxx = [ 1000000.0, 2000000.0, 3000000.0,]",
+            1,
+        );
+    let scene = import(&table).unwrap();
+    assert!(
+        scene.contains("ROSS 3 interpolates this table by PCHIP")
+            && scene.contains("extrapolates linearly"),
+        "{scene}"
+    );
+    let err = import(&table.replacen("interpolation = \"pchip\"", "interpolation = \"cubic\"", 1))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains(".interpolation`") && err.contains("\"pchip\" and \"linear\""),
+        "{err}"
+    );
+    let linear =
+        import(&table.replacen("interpolation = \"pchip\"", "interpolation = \"linear\"", 1))
+            .unwrap();
+    assert!(
+        linear.contains("ROSS 3 interpolates this table linearly, as rubsim does"),
+        "{linear}"
+    );
+}

@@ -86,7 +86,7 @@ fn rayleigh_on_the_shaft_only_damps_by_the_shaft_energy() {
     let (m_asm, m_shaft) = (model(&text), model(&shaft_text));
     let f = &fe(&m_shaft.rotor).rotor;
     let (lam, phi) = undamped_modes(&f.m, &f.k(0.0)).unwrap();
-    let cs = dense(f.rayleigh_shaft.as_ref().unwrap());
+    let cs = dense(f.rayleigh_part.as_ref().unwrap());
     let r_asm = linear::modal(&m_asm.rotor, 0.0, 6).unwrap();
     let r_shaft = linear::modal(&m_shaft.rotor, 0.0, 6).unwrap();
     for (i, l) in lam.iter().enumerate().take(6) {

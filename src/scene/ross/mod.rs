@@ -1,18 +1,31 @@
-//! A rotor saved by ROSS (`Rotor.save`, TOML or JSON; checked with ROSS 2.3.0) as a rubsim scene
-//! (`rubsim import-ross FILE`).
+//! A rotor saved by ROSS (`Rotor.save`, TOML or JSON; checked with ROSS 2.3.0 and 3.0.0) as a
+//! rubsim scene (`rubsim import-ross FILE`).
 //!
 //! ROSS writes one table per element, named `"<Class>_<tag>"`: `ShaftElement_…` (`L`, `idl`,
 //! `odl`, `idr`, `odr`, `n`, `shear_effects`, `rotary_inertia`, `gyroscopic`, `alpha`, `beta`,
 //! and a `material` sub-table with `rho`, `E`, `G_s`), `DiskElement_…` (`n`, `m`, `Id`, `Ip`),
 //! `BearingElement_…` (`n`, coefficient lists `kxx … kzz`, `cxx … czz`, `mxx … mzz`, and
-//! `frequency` when they are tabulated; `CylindricalBearing` names it `speed`), `PointMass_…` (`n`, `m` or `mx`, `my`). They map to
+//! `frequency` when they are tabulated; `CylindricalBearing` names it `speed`, and so does
+//! ROSS 3 for a table over rotor speed), `PointMass_…` (`n`, `m` or `mx`, `my`; ROSS 3 `mz`
+//! too), and a `[parameters]` table: empty in ROSS 2, the rotor's damping in ROSS 3 (`alpha`,
+//! `beta`, `default_damping_ratio`, `modal_damping_ratio`). They map to
 //! `[[rotor.shaft]]` segments of one element each (ν = E/(2G) − 1; a tapered element, `idl ≠ idr`
 //! or `odl ≠ odr`, with `outer_diameter_right`, `inner_diameter_right`), `[[rotor.disk]]` by
 //! inertias, `[[rotor.bearing]]` with `kxx … cyy` (tables over `speeds` when ROSS gives a
 //! `frequency`), `[[rotor.point_mass]]`. ROSS's rotor is 6-DOF: the scene has `axial = true`,
 //! `torsion = true`; a bearing's `kzz`, `czz` becomes an `[[rotor.axial_support]]` (kzz = 0
-//! everywhere leaves u_z free), θ_z is always free. Rayleigh `alpha`, `beta` act on the shaft
-//! elements (`rayleigh_on = "shaft"`).
+//! everywhere leaves u_z free), θ_z is always free.
+//!
+//! **Versions and damping** (`damping`): the file's format is told by its keys — ROSS 3's
+//! `[parameters]` damping keys, its bearings' `interpolation`, a `ross_version` ≥ 3 — and
+//! named, with the damping, in the scene's header. ROSS 2's Rayleigh factors are the shaft
+//! elements' (`rayleigh_on = "shaft"`: Σ_e α M_e + β K_e); ROSS 3's are the rotor's,
+//! `C = α (M_shaft + M_disks + M_point_masses) + β K_shaft` (`rayleigh_on = "rotor"`), the
+//! elements' then ignored as ROSS 3 ignores them; either way each bearing's own C is kept.
+//! ROSS 3's modal damping is refused. **Bearing tables** are interpolated by a smoothing
+//! spline in ROSS 2 and by PCHIP (or linearly, `interpolation = "linear"`) with linear
+//! extrapolation in ROSS 3; the scene notes the difference above each table; ROSS 3's tables
+//! over both speed and whirl frequency are refused.
 //!
 //! **Seals and the other bearing classes.** Every bearing class of ROSS 2.3.0 — `SealElement`,
 //! `BallBearingElement`, `RollerBearingElement`, the fluid-film models (`CylindricalBearing`,
@@ -28,7 +41,7 @@
 //! in use, not in the matrices: ROSS's static analysis (`run_static`) leaves seals out, while
 //! rubsim's scene has no such flag — a seal imported into a run with gravity carries load.
 //!
-//! **Tables over speed.** ROSS evaluates a table of four or more points through scipy's
+//! **Tables over speed.** ROSS 2 evaluates a table of four or more points through scipy's
 //! `UnivariateSpline` (a cubic smoothing spline with s = the number of points, extrapolated
 //! outside the table), of two or three points by linear or quadratic interpolation; rubsim
 //! interpolates linearly and holds the end values outside. The two agree at the table's speeds
@@ -39,12 +52,13 @@
 //! tabulated bearing.
 //!
 //! What rubsim cannot represent is refused at the element's key: elements that differ in
-//! their switches or Rayleigh factors, axial force or torque on an element, bearing mass
-//! coefficients (`mxx … mzz` ≠ 0), speed-dependent kzz, bearings linked to another node
+//! their switches or (where they are the damping) Rayleigh factors, axial force or torque on
+//! an element, bearing mass coefficients (`mxx … mzz` ≠ 0), speed-dependent kzz, bearings
+//! linked to another node
 //! (`n_link`), magnetic bearings (`MagneticBearingElement`, saved by ROSS as a
 //! `BearingElement_…` table carrying its controller's `kp_pid`, `ki_pid`, `kd_pid`: in ROSS's
-//! time response the controller acts, not the saved coefficients), point masses with mx ≠ my,
-//! and every other element class (couplings, gears, …).
+//! time response the controller acts, not the saved coefficients), point masses with mx ≠ my
+//! or (ROSS 3) mz ≠ mx, and every other element class (couplings, gears, …).
 
 //! **What is checked, and where errors point.** Every number must be finite, every node
 //! number `n` a whole number ≥ 0 (never rounded or clamped), every coefficient list non-empty;
@@ -54,9 +68,11 @@
 //! in comments escaped as Rust string literals), each table under a comment naming the ROSS
 //! element and line it came from.
 
+mod damping;
 mod source;
 
 use crate::error::SceneError;
+use damping::{Damping, Format};
 use source::{Element, Source};
 use std::path::Path;
 use toml::Value;
@@ -74,6 +90,7 @@ use toml_edit::{ArrayOfTables, DocumentMut, Item, Table as EditTable, Value as E
 /// represented, is missing or is out of range.
 pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
     let src = Source::parse(path, text)?;
+    let format = Format::of(&src);
     let mut shafts = Vec::new();
     let mut body = Vec::new();
     for (name, v) in &src.doc {
@@ -93,7 +110,7 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
                     ("polar_inertia", float(el.number("Ip")?), "Ip"),
                 ],
             )),
-            c if BEARING_CLASSES.contains(&c) => bearing(&mut body, &el)?,
+            c if BEARING_CLASSES.contains(&c) => bearing(&mut body, &el, format)?,
             "PointMass" => body.push(point_mass(&el)?),
             _ => return Err(el.error("", format!("ROSS element class `{class}` cannot be represented in rubsim (shaft elements, disks, bearings, seals and point masses can)"))),
         }
@@ -102,11 +119,16 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
     let Some(first) = shafts.first() else {
         return Err(src.error(&["ShaftElement"], "the file has no shaft element".into()));
     };
+    let any_elemental = shafts.iter().any(|s| s.flags[3..] != [0.0; 2]);
+    let factors = [first.flags[3], first.flags[4]];
+    let damping = damping::damping(&src, &first.entry.table, factors, any_elemental)?;
+    // The elements' Rayleigh factors are compared only where they are ROSS's damping.
+    let compared = if damping.elemental { 5 } else { 3 };
     for (i, s) in shafts.iter().enumerate() {
         if s.n != i {
             return Err(src.error(&[&s.entry.table, "n"], format!("shaft element n = {}, expected {i}: elements must follow each other from node 0", s.n)));
         }
-        if let Some(k) = (0..5).find(|&k| s.flags[k].to_bits() != first.flags[k].to_bits()) {
+        if let Some(k) = (0..compared).find(|&k| s.flags[k].to_bits() != first.flags[k].to_bits()) {
             let show = |x: f64| {
                 if k < 3 {
                     (x != 0.0).to_string()
@@ -121,21 +143,22 @@ pub fn import(path: &Path, text: &str) -> Result<String, SceneError> {
         Some(Value::String(v)) => format!("{v:?}"),
         _ => "(unknown version)".into(),
     };
-    let mut w = Writer::new(&first.entry.table, first.flags);
+    let mut w = Writer::new(&first.entry.table, first.flags, &damping);
     for s in shafts {
         w.push(s.entry);
     }
     for e in body {
         w.push(e);
     }
-    let scene = w.finish(&version, &src.file_name());
+    let scene = w.finish(&version, &src.file_name(), format, &damping);
     match super::parse(path, &scene, &[]) {
         Ok(_) => Ok(scene),
         Err(e) => Err(w.origins.translate(&src, e)),
     }
 }
 
-/// ROSS 2.3.0's bearing classes whose `M`, `K`, `C` are `BearingElement`'s: coefficients over
+/// ROSS 2.3.0's bearing classes (3.0.0 has them all but `BearingFluidFlow`) whose `M`, `K`,
+/// `C` are `BearingElement`'s: coefficients over
 /// `frequency` between the node and ground.
 const BEARING_CLASSES: [&str; 13] = [
     "BearingElement",
@@ -300,10 +323,12 @@ fn point_mass(el: &Element) -> Result<Entry, SceneError> {
         Some(_) => (el.number("m")?, el.number("m")?, "m"),
         None => (el.number("mx")?, el.number("my")?, "mx"),
     };
-    if mx != my {
+    // ROSS 3 saves `mz` too (the mass on u_z), which rubsim's point mass carries as its `mass`.
+    let mz = el.number_or("mz", Some(mx))?;
+    if let Some((k, v)) = [("my", my), ("mz", mz)].into_iter().find(|(_, v)| *v != mx) {
         return Err(el.error(
-            "my",
-            format!("point mass mx = {mx} ≠ my = {my}: rubsim's point masses are isotropic"),
+            k,
+            format!("point mass {k} = {v} ≠ mx = {mx}: rubsim's point masses are isotropic"),
         ));
     }
     Ok(Entry::new(
@@ -316,8 +341,9 @@ fn point_mass(el: &Element) -> Result<Entry, SceneError> {
     ))
 }
 
-/// A bearing's `[[rotor.bearing]]` (and `[[rotor.axial_support]]` for kzz, czz) entries.
-fn bearing(body: &mut Vec<Entry>, el: &Element) -> Result<(), SceneError> {
+/// A bearing's `[[rotor.bearing]]` (and `[[rotor.axial_support]]` for kzz, czz) entries, its
+/// table's note written as the file's `format` interpolates it.
+fn bearing(body: &mut Vec<Entry>, el: &Element, format: Format) -> Result<(), SceneError> {
     let t = el.table;
     if let Some(k) = ["kp_pid", "ki_pid", "kd_pid", "controller_transfer_function"]
         .into_iter()
@@ -348,8 +374,13 @@ fn bearing(body: &mut Vec<Entry>, el: &Element) -> Result<(), SceneError> {
         }
     }
     let node = el.node("n")?;
-    // `CylindricalBearing` saves the speeds of its table as `speed` (rad/s), the `frequency` it
-    // hands to `BearingElement`; every other class saves `frequency`.
+    if t.contains_key("frequency") && t.contains_key("speed") {
+        return Err(el.error("speed", "a table over both speed and whirl frequency (ROSS 3's two-axis table) cannot be represented: rubsim's bearing tables are over speed alone".into()));
+    }
+    // ROSS 2's `CylindricalBearing` saves the speeds of its table as `speed` (rad/s), the
+    // `frequency` it hands to `BearingElement`; ROSS 3 saves a table over rotor speed as
+    // `speed` and one over whirl frequency as `frequency`, which its synchronous analyses
+    // (every `run_*`, the frequency the speed) evaluate at the speed: both are tables over speed.
     let fkey = if !t.contains_key("frequency") && t.contains_key("speed") {
         "speed"
     } else {
@@ -379,12 +410,7 @@ fn bearing(body: &mut Vec<Entry>, el: &Element) -> Result<(), SceneError> {
     let mut entry = Entry::new("bearing", el, values);
     if tabulated {
         entry.values.push(("speeds", floats(&freq), fkey));
-        let how = match freq.len() {
-            2 => "linearly, as rubsim does",
-            3 => "with a parabola through the three points, rubsim linearly",
-            _ => "with a cubic smoothing spline, rubsim linearly",
-        };
-        entry.note = Some(format!("ROSS interpolates this table {how};\n# they agree at `speeds` (for a spline: when it passes through the points), and between them when\n# the coefficients are linear in speed."));
+        entry.note = Some(table_note(el, format, freq.len())?);
     }
     body.push(entry);
     let mut axial = [0.0; 2];
@@ -407,6 +433,38 @@ fn bearing(body: &mut Vec<Entry>, el: &Element) -> Result<(), SceneError> {
         ));
     }
     Ok(())
+}
+
+/// What the scene says above a bearing table of `points` points of `el`: how ROSS of the file's
+/// `format` interpolates it and where rubsim's linear interpolation, held constant outside the
+/// table, agrees with it.
+///
+/// # Errors
+/// A ROSS 3 `interpolation` other than `"pchip"` or `"linear"`.
+fn table_note(el: &Element, format: Format, points: usize) -> Result<String, SceneError> {
+    if format == Format::Ross2 {
+        let how = match points {
+            2 => "linearly, as rubsim does",
+            3 => "with a parabola through the three points, rubsim linearly",
+            _ => "with a cubic smoothing spline, rubsim linearly",
+        };
+        return Ok(format!("ROSS interpolates this table {how};\n# they agree at `speeds` (for a spline: when it passes through the points), and between them when\n# the coefficients are linear in speed."));
+    }
+    let linear = match el.table.get("interpolation") {
+        None => points == 2,
+        Some(Value::String(m)) if m == "pchip" => points == 2,
+        Some(Value::String(m)) if m == "linear" => true,
+        Some(m) => {
+            let msg = format!("interpolation = {m}: ROSS 3 knows \"pchip\" and \"linear\"");
+            return Err(el.error("interpolation", msg));
+        }
+    };
+    let how = if linear {
+        "linearly, as rubsim does; they agree inside `speeds`"
+    } else {
+        "by PCHIP (a monotone cubic through the points), rubsim linearly;\n# they agree at `speeds`, and between them when the coefficients are linear in speed"
+    };
+    Ok(format!("ROSS 3 interpolates this table {how}. Outside\n# `speeds` ROSS extrapolates linearly from the end slopes, rubsim holds the end values."))
 }
 
 /// Where each key of the generated scene came from: (scene key, ROSS table, ROSS key, the
@@ -459,9 +517,9 @@ struct Writer {
 }
 
 impl Writer {
-    /// The `[rotor]` table with the switches and Rayleigh factors `flags` of the shaft element
-    /// `table`.
-    fn new(table: &str, flags: [f64; 5]) -> Self {
+    /// The `[rotor]` table with the switches `flags` of the shaft element `table` and the
+    /// Rayleigh damping `damping`.
+    fn new(table: &str, flags: [f64; 5], damping: &Damping) -> Self {
         let mut rotor = EditTable::new();
         rotor.set_position(1);
         rotor.insert("kind", toml_edit::value("fe"));
@@ -477,12 +535,12 @@ impl Writer {
                 String::new(),
             ));
         }
-        rotor.insert("rayleigh", Item::Value(floats(&flags[3..])));
+        rotor.insert("rayleigh", Item::Value(floats(&damping.rayleigh)));
         for (key, ross) in [("", "alpha"), (".0", "alpha"), (".1", "beta")] {
-            let origin = (format!("rotor.rayleigh{key}"), table.to_string(), ross);
+            let origin = (format!("rotor.rayleigh{key}"), damping.table.clone(), ross);
             origins.push((origin.0, origin.1, origin.2, String::new()));
         }
-        rotor.insert("rayleigh_on", toml_edit::value("shaft"));
+        rotor.insert("rayleigh_on", toml_edit::value(damping.on));
         Writer {
             rotor,
             position: 2,
@@ -519,12 +577,15 @@ impl Writer {
         self.origins.0.push((at, e.table, "", label));
     }
 
-    /// The scene's text: a header naming the ROSS version `version` (a quoted, escaped string)
-    /// and the file `file`, the title, `[rotor]` with its arrays, and `[run]`.
-    fn finish(&mut self, version: &str, file: &str) -> String {
+    /// The scene's text: a header naming the ROSS version `version` (a quoted, escaped string),
+    /// the file's format, the file `file` and the damping, the title, `[rotor]` with its
+    /// arrays, and `[run]`.
+    fn finish(&mut self, version: &str, file: &str, format: Format, damping: &Damping) -> String {
         let mut doc = DocumentMut::new();
+        let damping: String = damping.comment.iter().map(|l| format!("# {l}\n")).collect();
         doc.decor_mut().set_prefix(format!(
-            "# Imported from ROSS {version} by `rubsim import-ross` from {file:?}; each table's\n# comment names the ROSS element (and its line) it comes from.\n"
+            "# Imported from ROSS {version} by `rubsim import-ross` from {file:?}; each table's\n# comment names the ROSS element (and its line) it comes from.\n# Format: {}.\n{damping}",
+            format.describe()
         ));
         doc.insert("title", toml_edit::value(format!("ROSS rotor {file}")));
         doc.insert("rotor", Item::Table(std::mem::take(&mut self.rotor)));

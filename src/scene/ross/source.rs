@@ -62,9 +62,11 @@ impl<'a> Source<'a> {
             .unwrap_or_default()
     }
 
-    /// The 1-based line of the deepest of `keys` (a table name, then keys inside it) found in
-    /// the file.
+    /// The 1-based line of the deepest of `keys` (a table name, then keys inside it; empty
+    /// names skipped: `""` is the file's top level) found in the file.
     pub fn line(&self, keys: &[&str]) -> Option<usize> {
+        let keys: Vec<&str> = keys.iter().copied().filter(|k| !k.is_empty()).collect();
+        let keys = keys.as_slice();
         let at = match &self.spans {
             Some(doc) => toml_offset(doc.as_table(), keys),
             None => json_offset(self.text, keys),
@@ -78,6 +80,7 @@ impl<'a> Source<'a> {
             file: self.path.to_path_buf(),
             key: keys
                 .iter()
+                .filter(|k| !k.is_empty())
                 .map(|k| toml_key(k))
                 .collect::<Vec<_>>()
                 .join("."),
