@@ -19,6 +19,7 @@ UNBALANCE kg·m instead of 2e-4.
 
 `--cross` runs only the two converged runs (ROSS's full model at 5e-6 s, rubsim generalised-α
 at 1e-6 s) and prints how far apart their orbits are (ROSS 3.0.0 on Python 3.12 does too).
+`--rubsim` runs only rubsim's rows (no ROSS needed: numpy only).
 """
 
 import json
@@ -99,6 +100,10 @@ def cross_only():
 def main():
     if "--cross" in sys.argv:
         return cross_only()
+    if "--rubsim" in sys.argv:
+        rows, ref_rs = rubsim_rows()
+        radius = float(np.hypot(ref_rs[1], ref_rs[2]).max() * 1e6)
+        return report(rows, dict(largest_radius_um=radius), "ross_compare_rubsim.json")
     quick = "--quick" in sys.argv
     rows = []
     # ROSS: a warm-up call (import and numba compile), then the runs.
@@ -111,6 +116,17 @@ def main():
         for dt in ross_dts:
             r = ross_run(dt, modes)
             rows.append(dict(code=name, dt=dt, wall_s=r[3], error=rms_error(r, ref)))
+    rs_rows, ref_rs = rubsim_rows()
+    rows += rs_rows
+    cross = dict(rubsim_vs_ross_full=rms_error(ref_rs, ref_full),
+                 ross_12_vs_full=rms_error(ref_red, ref_full),
+                 largest_radius_um=float(np.hypot(ref_rs[1], ref_rs[2]).max() * 1e6))
+    report(rows, cross, "ross_compare.json")
+
+
+def rubsim_rows():
+    """rubsim's rows, each scheme and step against rubsim's own reference; (rows, reference)."""
+    rows = []
     # rubsim: its own reference is generalised-α at 1e-6 s (checked against collocated).
     ref_rs = rubsim_run("generalized_alpha", 1e-6)
     ref_col = rubsim_run("collocated", 2.5e-7)
@@ -125,13 +141,14 @@ def main():
             best = min((rubsim_run(integ, dt) for _ in range(3)), key=lambda r: r[3])
             rows.append(dict(code=f"rubsim {integ}", dt=best[4], wall_s=best[3],
                              error=rms_error(best, ref_rs)))
-    cross = dict(rubsim_vs_ross_full=rms_error(ref_rs, ref_full),
-                 ross_12_vs_full=rms_error(ref_red, ref_full),
-                 largest_radius_um=float(np.hypot(ref_rs[1], ref_rs[2]).max() * 1e6))
+    return rows, ref_rs
+
+
+def report(rows, cross, name):
     for r in rows:
         print(f"{r['code']:<58} dt {r['dt']:.2e}  wall {r['wall_s']:8.3f} s  error {r['error']:.2e}")
     print(json.dumps(cross))
-    (REPO / "target/ross_compare.json").write_text(json.dumps(dict(rows=rows, cross=cross),
+    (REPO / "target" / name).write_text(json.dumps(dict(rows=rows, cross=cross),
                                                               indent=1))
 
 
