@@ -84,6 +84,13 @@ def rms_error(run, ref):
     return float(np.sqrt(np.mean((x - xr) ** 2 + (y - yr) ** 2) / np.mean(xr**2 + yr**2)))
 
 
+def window_errors(run, ref, windows=10):
+    """rms_error over each of `windows` equal parts of 0 … T_END (the same normalisation)."""
+    (x, y), (xr, yr) = grid(*run[:3]), grid(*ref[:3])
+    d2 = ((x - xr) ** 2 + (y - yr) ** 2).reshape(windows, -1).mean(axis=1)
+    return [float(v) for v in np.sqrt(d2 / np.mean(xr**2 + yr**2))]
+
+
 def cross_only():
     """The converged runs only: their orbits' rms distance over ROSS's rms radius."""
     import ross as rs
@@ -140,13 +147,17 @@ def rubsim_rows():
         for dt in [1e-4, 5e-5, 2e-5, 1e-5]:
             best = min((rubsim_run(integ, dt) for _ in range(3)), key=lambda r: r[3])
             rows.append(dict(code=f"rubsim {integ}", dt=best[4], wall_s=best[3],
-                             error=rms_error(best, ref_rs)))
+                             error=rms_error(best, ref_rs),
+                             window_errors=window_errors(best, ref_rs)))
     return rows, ref_rs
 
 
 def report(rows, cross, name):
     for r in rows:
         print(f"{r['code']:<58} dt {r['dt']:.2e}  wall {r['wall_s']:8.3f} s  error {r['error']:.2e}")
+        if "window_errors" in r:
+            print(f"{'':<12}per {T_END / len(r['window_errors']):g} s: "
+                  + " ".join(f"{e:.1e}" for e in r["window_errors"]))
     print(json.dumps(cross))
     (REPO / "target" / name).write_text(json.dumps(dict(rows=rows, cross=cross),
                                                               indent=1))
