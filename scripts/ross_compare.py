@@ -19,6 +19,7 @@ UNBALANCE kg·m instead of 2e-4.
 
 `--cross` runs only the two converged runs (ROSS's full model at 5e-6 s, rubsim generalised-α
 at 1e-6 s) and prints how far apart their orbits are (ROSS 3.0.0 on Python 3.12 does too).
+`--rubsim` runs only rubsim's rows (no ROSS needed: numpy only).
 """
 
 import json
@@ -83,6 +84,13 @@ def rms_error(run, ref):
     return float(np.sqrt(np.mean((x - xr) ** 2 + (y - yr) ** 2) / np.mean(xr**2 + yr**2)))
 
 
+def window_errors(run, ref, windows=10):
+    """rms_error over each of `windows` equal parts of 0 … T_END (the same normalisation)."""
+    (x, y), (xr, yr) = grid(*run[:3]), grid(*ref[:3])
+    d2 = ((x - xr) ** 2 + (y - yr) ** 2).reshape(windows, -1).mean(axis=1)
+    return [float(v) for v in np.sqrt(d2 / np.mean(xr**2 + yr**2))]
+
+
 def cross_only():
     """The converged runs only: their orbits' rms distance over ROSS's rms radius."""
     import ross as rs
@@ -99,6 +107,10 @@ def cross_only():
 def main():
     if "--cross" in sys.argv:
         return cross_only()
+    if "--rubsim" in sys.argv:
+        rows, ref_rs = rubsim_rows()
+        radius = float(np.hypot(ref_rs[1], ref_rs[2]).max() * 1e6)
+        return report(rows, dict(largest_radius_um=radius), "ross_compare_rubsim.json")
     quick = "--quick" in sys.argv
     rows = []
     # ROSS: a warm-up call (import and numba compile), then the runs.
@@ -111,6 +123,17 @@ def main():
         for dt in ross_dts:
             r = ross_run(dt, modes)
             rows.append(dict(code=name, dt=dt, wall_s=r[3], error=rms_error(r, ref)))
+    rs_rows, ref_rs = rubsim_rows()
+    rows += rs_rows
+    cross = dict(rubsim_vs_ross_full=rms_error(ref_rs, ref_full),
+                 ross_12_vs_full=rms_error(ref_red, ref_full),
+                 largest_radius_um=float(np.hypot(ref_rs[1], ref_rs[2]).max() * 1e6))
+    report(rows, cross, "ross_compare.json")
+
+
+def rubsim_rows():
+    """rubsim's rows, each scheme and step against rubsim's own reference; (rows, reference)."""
+    rows = []
     # rubsim: its own reference is generalised-α at 1e-6 s (checked against collocated).
     ref_rs = rubsim_run("generalized_alpha", 1e-6)
     ref_col = rubsim_run("collocated", 2.5e-7)
@@ -124,14 +147,19 @@ def main():
         for dt in [1e-4, 5e-5, 2e-5, 1e-5]:
             best = min((rubsim_run(integ, dt) for _ in range(3)), key=lambda r: r[3])
             rows.append(dict(code=f"rubsim {integ}", dt=best[4], wall_s=best[3],
-                             error=rms_error(best, ref_rs)))
-    cross = dict(rubsim_vs_ross_full=rms_error(ref_rs, ref_full),
-                 ross_12_vs_full=rms_error(ref_red, ref_full),
-                 largest_radius_um=float(np.hypot(ref_rs[1], ref_rs[2]).max() * 1e6))
+                             error=rms_error(best, ref_rs),
+                             window_errors=window_errors(best, ref_rs)))
+    return rows, ref_rs
+
+
+def report(rows, cross, name):
     for r in rows:
         print(f"{r['code']:<58} dt {r['dt']:.2e}  wall {r['wall_s']:8.3f} s  error {r['error']:.2e}")
+        if "window_errors" in r:
+            print(f"{'':<12}per {T_END / len(r['window_errors']):g} s: "
+                  + " ".join(f"{e:.1e}" for e in r["window_errors"]))
     print(json.dumps(cross))
-    (REPO / "target/ross_compare.json").write_text(json.dumps(dict(rows=rows, cross=cross),
+    (REPO / "target" / name).write_text(json.dumps(dict(rows=rows, cross=cross),
                                                               indent=1))
 
 
