@@ -52,6 +52,7 @@ pub mod discrepancy;
 pub mod dynamics;
 pub mod fanout;
 mod lengthen;
+pub mod periodic;
 mod pilot;
 pub mod refine;
 pub mod refinement;

@@ -36,6 +36,7 @@ mod convergence;
 mod import_ross;
 mod map;
 mod mesh;
+mod periodic;
 mod refine;
 mod rotordyn;
 mod run;
@@ -209,6 +210,25 @@ pub enum Cmd {
         #[arg(long, default_value_t = 11)]
         reference: u32,
         /// Output directory (default: out/<scene name>/convergence).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// The periodic response at one speed by shooting from the settled run: its Floquet
+    /// multipliers and stability (summary.json, multipliers.csv).
+    Periodic {
+        #[command(flatten)]
+        c: Common,
+        /// Speed, in `--unit` (default: the scene's single speed).
+        #[arg(long)]
+        speed: Option<f64>,
+        /// Unit of `--speed`: ratio (ω/ω_n), rad/s or rpm.
+        #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
+        unit: UnitArg,
+        /// Period of the orbit in revolutions (default: the period the settled run repeats
+        /// with, 1 when it does not repeat).
+        #[arg(long)]
+        period: Option<usize>,
+        /// Output directory (default: out/<scene name>/periodic).
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -577,6 +597,13 @@ pub fn run() -> Result<()> {
         Cmd::Mesh(a) => mesh::mesh(a),
         Cmd::Stress(a) => stress::stress(a),
         Cmd::Refine(a) => refine::refine(a),
+        Cmd::Periodic {
+            c,
+            speed,
+            unit,
+            period,
+            out,
+        } => periodic::periodic(c, (*speed, *unit), *period, out.clone()),
         Cmd::Modal {
             c,
             speed,

@@ -205,11 +205,7 @@ type SpeedsWhere<'a> = dyn Fn(&dyn Fn(&analysis::SpeedResults) -> bool) -> Vec<S
 /// Warns of the speeds whose response depends on the start and of those whose coexistence
 /// check failed (its companion stopped with an error); `speeds_where` lists the speeds (ω/ωn,
 /// two decimals) where a flag holds.
-fn warn_starts(
-    prefix: &str,
-    res: &SweepResults,
-    speeds_where: &SpeedsWhere<'_>,
-) {
+fn warn_starts(prefix: &str, res: &SweepResults, speeds_where: &SpeedsWhere<'_>) {
     let coexisting = speeds_where(&|r| r.coexistence.is_some_and(|c| c.coexisting));
     if !coexisting.is_empty() {
         eprintln!(

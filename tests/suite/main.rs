@@ -34,6 +34,7 @@ mod mesh;
 mod mutation;
 mod orbit_snapshots;
 mod outdir;
+mod periodic;
 mod reduction;
 mod reduction_auto;
 mod reduction_stator;

@@ -37,6 +37,48 @@ pub struct EndState {
     bodies: Vec<BodyState>,
 }
 
+impl EndState {
+    /// The state as one vector for shooting (`analysis::periodic`): each body of central
+    /// differences in order (the rotor, then the stators with mass) as its uᴺ then uᴺ⁻¹ (m,
+    /// rad), massless stators contributing nothing. `None` when a body is implicit.
+    pub fn state_vector(&self) -> Option<Vec<f64>> {
+        let mut x = Vec::new();
+        for b in &self.bodies {
+            match b {
+                BodyState::Central(u) => {
+                    x.extend_from_slice(&u[0]);
+                    x.extend_from_slice(&u[1]);
+                }
+                BodyState::Implicit(..) => return None,
+                BodyState::None => {}
+            }
+        }
+        Some(x)
+    }
+
+    /// This state with its vector replaced by `x` ([`EndState::state_vector`]'s layout): a
+    /// restart at the same step then starts exactly from uᴺ = x's first half and uᴺ⁻¹ = its
+    /// second (per body). `None` when `x` has another length or a body is implicit.
+    pub fn with_state_vector(&self, x: &[f64]) -> Option<EndState> {
+        let mut out = self.clone();
+        let mut at = 0;
+        for b in &mut out.bodies {
+            match b {
+                BodyState::Central(u) => {
+                    let n = u[0].len();
+                    let (now, before) = (x.get(at..at + n)?, x.get(at + n..at + 2 * n)?);
+                    u[0].copy_from_slice(now);
+                    u[1].copy_from_slice(before);
+                    at += 2 * n;
+                }
+                BodyState::Implicit(..) => return None,
+                BodyState::None => {}
+            }
+        }
+        (at == x.len()).then_some(out)
+    }
+}
+
 /// The bodies of a stepper that carry state: the rotor, then each stator's (its reduced body
 /// for a reduced stator; `None` for a massless one).
 fn bodies<'b>(rotor: &'b DynBody, stators: &'b [StatorDyn]) -> Vec<Option<&'b DynBody>> {

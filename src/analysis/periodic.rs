@@ -1,0 +1,330 @@
+//! Periodic responses by shooting, with their Floquet multipliers and stability (issue 29,
+//! first part: one speed; continuation along a parameter is not built yet).
+//!
+//! **The map.** A constant-speed run's discrete Poincaré map `P` takes the state `x` at a whole
+//! revolution — `x = (uᴺ, uᴺ⁻¹)` of every body of central differences, the rotor then the
+//! stators with mass ([`EndState::state_vector`]; a massless stator carries no state, its
+//! contact forces being solved anew at each step) — to the state `k` revolutions later: `k N`
+//! steps of the run's own scheme and Δt (`N` steps a revolution), the unbalance starting at its
+//! phase of t = 0. A periodic response of period `k T` (`T = 2π/Ω`) is a fixed point
+//! `x* = P(x*)`: the same discrete orbit a long run settles on, without its transient.
+//!
+//! **Newton.** `F(x) = P(x) − x` is solved by Newton from a settled run's end state, with the
+//! Jacobian `M = ∂P/∂x` by central differences (two `k`-revolution runs per state
+//! component, `h = 10⁻⁵ max |x|`) and steps halved up to [`MAX_HALVINGS`] times while the residual does not
+//! fall. Converged when `max |F| ≤` [`SHOOT_TOLERANCE`] `· max |x|`; after [`MAX_NEWTON`]
+//! iterations without it the report says so (`converged = false`, the residual reached) —
+//! a response that is not periodic at period `k` (a torus, chaos) gets that report, not a
+//! Newton that runs on.
+//!
+//! **Floquet multipliers.** At the fixed point `M` is the monodromy matrix of the discrete map
+//! and its eigenvalues `ρ` the Floquet multipliers: the orbit is stable when every `|ρ| < 1`.
+//! It loses stability through `ρ = −1` (period doubling), `ρ = +1` (a fold or a symmetry-breaking
+//! branch) or a complex pair crossing the unit circle (Neimark–Sacker: a torus). For a case
+//! without contact the map is linear and `ρ` are the eigenvalues of the `k N`-step propagator,
+//! which approach `exp(λ k T)` (λ the rotor's eigenvalues, `rubsim modal`) as Δt² for central
+//! differences. With contact the map is piecewise smooth: where a contact starts or ends within
+//! the `k` revolutions the differences straddle the event and `M` is the mean of the one-sided
+//! derivatives of the scheme's own map (the forward-increment multipliers make that map Lipschitz), not the
+//! saltation-matrix monodromy of the continuous flow; the multipliers of an orbit that grazes
+//! (a contact starting with zero penetration rate) are not reliable and are reported as found.
+
+use super::speed::{analyse, Prepared, SpeedResults};
+use super::Keep;
+use crate::error::{Error, Result};
+use crate::time::{EndState, StepPlan, Stepper};
+use nalgebra::DMatrix;
+use serde::Serialize;
+
+/// Relative residual `max |P(x) − x| / max |x|` of a converged fixed point.
+pub const SHOOT_TOLERANCE: f64 = 1e-9;
+/// Newton iterations before the shooting reports no convergence.
+pub const MAX_NEWTON: usize = 16;
+/// Halvings of a Newton step that does not lower the residual.
+pub const MAX_HALVINGS: usize = 6;
+/// Largest state (components of `x`) shot: each Newton iteration runs the map twice per
+/// component, so a larger state (an FE rotor with many nodes, a stator with mass) is refused
+/// before it starts rather than left to run for hours (a reduced model or the variational
+/// equations of issue 29's later parts are the way there).
+pub const MAX_STATE: usize = 400;
+/// Relative central-difference step of the Jacobian (of `max |x|`).
+const FD_STEP: f64 = 1e-5;
+
+/// A periodic response found by shooting ([`shoot`]) and its stability.
+#[derive(Debug, Clone, Serialize)]
+pub struct PeriodicOrbit {
+    /// ν = ω/ω_n.
+    pub speed_ratio: f64,
+    /// Period in revolutions `k` (the orbit repeats after `k T`).
+    pub period: usize,
+    /// Whether Newton met [`SHOOT_TOLERANCE`].
+    pub converged: bool,
+    /// Newton iterations taken.
+    pub iterations: usize,
+    /// `max |P(x) − x| / max |x|` at the last iterate.
+    pub residual: f64,
+    /// The Floquet multipliers `[Re ρ, Im ρ]`, largest modulus first (at the last iterate).
+    pub multipliers: Vec<[f64; 2]>,
+    /// The largest `|ρ|`.
+    pub largest_modulus: f64,
+    /// Every `|ρ| < 1` (and converged).
+    pub stable: bool,
+    /// How the largest multiplier leaves the unit circle when it does: `period_doubling` (real,
+    /// `ρ < −1`), `fold` (real, `ρ > 1`: a fold or a symmetry-breaking branch) or
+    /// `neimark_sacker` (a complex pair); `None` when stable.
+    pub instability: Option<&'static str>,
+    /// The orbit from the fixed point, run for `6 k` revolutions and analysed as a steady
+    /// window (extents, lines, contact fraction).
+    pub orbit: Box<SpeedResults>,
+    /// Components of the state `x`.
+    pub state_size: usize,
+    /// Steps integrated in all: the settling run, the maps and their differences, the orbit.
+    pub steps: u64,
+}
+
+/// Runs `prep` to its settled state and shoots the periodic response of period `period`
+/// revolutions from there (`None`: the period the settled run was classified with, 1 when it
+/// was not periodic). See the module docs.
+///
+/// # Errors
+/// The run's errors (an unstable step, a contact solve that fails); [`Error::Study`] for a
+/// state larger than [`MAX_STATE`], an implicit scheme or a speed that is not constant.
+pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
+    let mut req = prep.request;
+    // The settling run keeps its end state (kept with the error estimate's bookkeeping).
+    req.follow_ups.error_estimate = true;
+    let (rec, stats, plan, end, _) = prep.drive_with(&prep.plan, &req, None)?;
+    let settled = analyse(&prep.case, &req, &plan, &rec, stats, Keep::default());
+    let mut steps = settled.stats.steps as u64;
+    let end = end.ok_or_else(|| {
+        Error::study(
+            "run.integrator",
+            "shooting restarts the run's scheme from its settled state, which this run does not keep (an implicit scheme or a fixed window `run.duration`): use an explicit scheme with a settling window".to_string(),
+        )
+    })?;
+    let k = period.unwrap_or(settled.period).max(1);
+    let x0 = end.state_vector().ok_or_else(|| {
+        Error::study(
+            "run.integrator",
+            "shooting needs the state of central differences; the implicit schemes are not shot yet (choose an explicit one: `--set run.integrator=collocated` or `forward_increment`)".to_string(),
+        )
+    })?;
+    if x0.len() > MAX_STATE {
+        return Err(Error::study(
+            "rotor",
+            format!(
+                "the periodic orbit's state has {} components; shooting runs the map twice per component per Newton iteration and is limited to {MAX_STATE} (reduce the rotor, e.g. `rotor.modal_reduction`, or make the stators massless)",
+                x0.len()
+            ),
+        ));
+    }
+    let map = Map {
+        prep,
+        plan: StepPlan {
+            steps: k * plan.steps_per_rev.max(1),
+            steady_from: 0,
+            ..plan
+        },
+        end,
+    };
+    let (x, newton) = map.newton(x0)?;
+    steps += newton.steps;
+    let (multipliers, jsteps) = map.multipliers(&x)?;
+    steps += jsteps;
+    let (orbit, osteps) = map.orbit(&x, k)?;
+    steps += osteps;
+    let largest = multipliers.first().map_or(0.0, |r| r[0].hypot(r[1]));
+    let instability = (largest >= 1.0).then(|| {
+        let r = multipliers[0];
+        if r[1].abs() > 1e-9 * largest {
+            "neimark_sacker"
+        } else if r[0] < 0.0 {
+            "period_doubling"
+        } else {
+            "fold"
+        }
+    });
+    Ok(PeriodicOrbit {
+        speed_ratio: prep.speed_ratio,
+        period: k,
+        converged: newton.converged,
+        iterations: newton.iterations,
+        residual: newton.residual,
+        stable: newton.converged && largest < 1.0,
+        largest_modulus: largest,
+        instability,
+        multipliers,
+        orbit: Box::new(orbit),
+        state_size: x.len(),
+        steps,
+    })
+}
+
+/// How Newton ended: the last residual, its iterations and steps.
+struct Newton {
+    converged: bool,
+    iterations: usize,
+    residual: f64,
+    steps: u64,
+}
+
+/// The discrete Poincaré map of `k` revolutions of a prepared run (module docs).
+struct Map<'a> {
+    prep: &'a Prepared,
+    /// `k N` steps, nothing cut.
+    plan: StepPlan,
+    /// The settled end state, whose layout the vectors follow.
+    end: EndState,
+}
+
+impl Map<'_> {
+    /// A stepper of the map's plan started at the state `x`.
+    fn stepper(&self, x: &[f64], plan: &StepPlan) -> Result<Stepper<'_>> {
+        let p = self.prep;
+        let mut st = Stepper::new(
+            &p.case,
+            p.request.step.integrator,
+            plan,
+            p.request.initial(),
+        )?;
+        let start = self.end.with_state_vector(x).filter(|s| st.restart(s));
+        if start.is_none() {
+            return Err(Error::study(
+                "run.integrator",
+                "the run's state does not restart at its own step".to_string(),
+            ));
+        }
+        Ok(st)
+    }
+
+    /// `P(x)`: the state after the map's `k N` steps from `x`.
+    fn apply(&self, x: &[f64]) -> Result<Vec<f64>> {
+        let n = self.plan.steps;
+        let mut st = self.stepper(x, &self.plan)?;
+        st.run_to(n - 1, &mut None)?;
+        let older = st.history();
+        st.run_to(n, &mut None)?;
+        st.end_state(&older)
+            .and_then(|e| e.state_vector())
+            .ok_or_else(|| {
+                Error::study("run", "the map's end state could not be taken".to_string())
+            })
+    }
+
+    /// Newton on `P(x) − x` from `x` (module docs).
+    fn newton(&self, mut x: Vec<f64>) -> Result<(Vec<f64>, Newton)> {
+        let per_map = self.plan.steps as u64;
+        let mut steps = 0u64;
+        let mut px = self.apply(&x)?;
+        steps += per_map;
+        let mut res = residual(&x, &px);
+        let mut iterations = 0;
+        while res > SHOOT_TOLERANCE && iterations < MAX_NEWTON {
+            iterations += 1;
+            let (m, js) = self.jacobian(&x)?;
+            steps += js;
+            let n = x.len();
+            let a = m - DMatrix::<f64>::identity(n, n);
+            let f = nalgebra::DVector::from_iterator(n, px.iter().zip(&x).map(|(p, x)| x - p));
+            let Some(dx) = a.lu().solve(&f) else {
+                break; // M − I singular: a multiplier at +1 (a fold); reported as not converged
+            };
+            let mut scale = 1.0;
+            let mut accepted = false;
+            for _ in 0..=MAX_HALVINGS {
+                let trial: Vec<f64> = x
+                    .iter()
+                    .zip(dx.iter())
+                    .map(|(x, d)| x + scale * d)
+                    .collect();
+                let pt = self.apply(&trial)?;
+                steps += per_map;
+                let rt = residual(&trial, &pt);
+                if rt.is_finite() && rt < res {
+                    (x, px, res, accepted) = (trial, pt, rt, true);
+                    break;
+                }
+                scale *= 0.5;
+            }
+            if !accepted {
+                break;
+            }
+        }
+        Ok((
+            x,
+            Newton {
+                converged: res <= SHOOT_TOLERANCE,
+                iterations,
+                residual: res,
+                steps,
+            },
+        ))
+    }
+
+    /// `∂P/∂x` at `x` by central differences of step `h` = [`FD_STEP`] `· max |x|` (two maps per
+    /// component); and the steps it took. The map's round-off over its `k N` steps (≈ 1e-13 of
+    /// `|x|`) divided by `h` bounds the entries' error: ≈ 1e-8, where forward differences at a
+    /// step small enough for their truncation would give 1e-6.
+    fn jacobian(&self, x: &[f64]) -> Result<(DMatrix<f64>, u64)> {
+        let n = x.len();
+        let h = FD_STEP * x.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
+        let mut m = DMatrix::<f64>::zeros(n, n);
+        for j in 0..n {
+            let mut xp = x.to_vec();
+            xp[j] += h;
+            let mut xm = x.to_vec();
+            xm[j] -= h;
+            let (pp, pm) = (self.apply(&xp)?, self.apply(&xm)?);
+            for i in 0..n {
+                m[(i, j)] = (pp[i] - pm[i]) / (2.0 * h);
+            }
+        }
+        Ok((m, (2 * n * self.plan.steps) as u64))
+    }
+
+    /// The Floquet multipliers at `x`, largest modulus first.
+    fn multipliers(&self, x: &[f64]) -> Result<(Vec<[f64; 2]>, u64)> {
+        let (m, steps) = self.jacobian(x)?;
+        let mut rho: Vec<[f64; 2]> = m
+            .complex_eigenvalues()
+            .iter()
+            .map(|c| [c.re, c.im])
+            .collect();
+        rho.sort_by(|a, b| b[0].hypot(b[1]).total_cmp(&a[0].hypot(a[1])));
+        Ok((rho, steps))
+    }
+
+    /// The orbit from `x` over `6 k` revolutions, analysed as a steady window.
+    fn orbit(&self, x: &[f64], k: usize) -> Result<(SpeedResults, u64)> {
+        let p = self.prep;
+        let spr = self.plan.steps_per_rev.max(1);
+        let plan = StepPlan {
+            steps: 6 * k * spr,
+            steady_from: 0,
+            ..self.plan
+        };
+        let (rec, stats) = self.stepper(x, &plan)?.run(None)?;
+        let steps = stats.steps as u64;
+        let mut s = p.request;
+        s.step.revolutions = 6 * k;
+        s.step.transient_revolutions = 0;
+        Ok((
+            analyse(&p.case, &s, &plan, &rec, stats, Keep::default()),
+            steps,
+        ))
+    }
+}
+
+/// `max |P(x) − x| / max |x|` (∞ for a non-finite map).
+fn residual(x: &[f64], px: &[f64]) -> f64 {
+    let scale = x.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
+    let d = x
+        .iter()
+        .zip(px)
+        .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+    if d.is_finite() {
+        d / scale
+    } else {
+        f64::INFINITY
+    }
+}

@@ -1,0 +1,125 @@
+//! `rubsim periodic`: the periodic response at one speed by shooting, its Floquet multipliers
+//! and stability (`analysis::periodic`).
+
+use super::{chosen_settings, default_out, load, Common, UnitArg};
+use anyhow::{Context, Result};
+use rubsim::analysis::{self, periodic::PeriodicOrbit};
+use rubsim::output::summary::{finish, Base, Summary};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+/// The body of `summary.json` of `rubsim periodic`.
+#[derive(Debug, Serialize)]
+struct PeriodicBody<'a> {
+    /// The orbit, its multipliers and stability.
+    periodic: &'a PeriodicOrbit,
+    /// Wall time of the command (s).
+    wall_s: f64,
+}
+
+/// Shoots the periodic response at `speed` (default: the scene's single speed) of `period`
+/// revolutions (default: the settled run's), and writes `summary.json` and `multipliers.csv`.
+pub fn periodic(
+    c: &Common,
+    (speed, unit): (Option<f64>, UnitArg),
+    period: Option<usize>,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    let (ls, model) = load(c)?;
+    if let Some(v) = speed {
+        if !(v.is_finite() && v > 0.0) {
+            anyhow::bail!("--speed must be a positive speed, got {v}");
+        }
+    }
+    if period == Some(0) {
+        anyhow::bail!("--period must be a whole number of revolutions ≥ 1, got 0");
+    }
+    let v = speed
+        .map(|v| unit.ratio(v, model.rotor.natural_frequency()))
+        .or_else(|| analysis::single_speed(&ls.scene.run, &model))
+        .with_context(|| {
+            format!(
+                "{}: `rubsim periodic` needs run.speed_ratio or run.speed, or --speed",
+                c.scene.display()
+            )
+        })?;
+    let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("periodic")))?;
+    let t0 = std::time::Instant::now();
+    let s = chosen_settings(&ls, &model, &[v])?;
+    let mut request = s.request_at(0, v);
+    request.follow_ups.coexistence = false;
+    request.follow_ups.refine_step = false;
+    let prep = analysis::prepare(&model, &request)?;
+    let orbit = analysis::periodic::shoot(&prep, period)?;
+    report(&orbit);
+    outd.write("multipliers.csv", multipliers_csv(&orbit).as_bytes())?;
+    let body = PeriodicBody {
+        periodic: &orbit,
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    let base = Base::new(&ls, &model, "periodic");
+    finish(outd, &Summary { base, body })?;
+    Ok(())
+}
+
+/// Prints the orbit's period, convergence, stability and largest multipliers.
+fn report(o: &PeriodicOrbit) {
+    println!(
+        "ω/ωn = {:.4}: period {} revolution(s), state of {} components; Newton {} in {} iteration(s), residual {:.2e}; {} steps",
+        o.speed_ratio,
+        o.period,
+        o.state_size,
+        if o.converged { "converged" } else { "did NOT converge" },
+        o.iterations,
+        o.residual,
+        o.steps
+    );
+    let r = &o.orbit;
+    println!(
+        "  orbit: x/|Z0| ∈ [{:.4}, {:.4}], y/|Z0| ∈ [{:.4}, {:.4}], contact fraction {:.4}, 1× {:.4}",
+        r.extents_nd[0], r.extents_nd[1], r.extents_nd[2], r.extents_nd[3], r.contact_fraction, r.amp_1x_nd
+    );
+    let state = match (o.converged, o.stable, o.instability) {
+        (false, ..) => {
+            "unknown (no periodic orbit of this period found near the settled state)".to_string()
+        }
+        (true, true, _) => "stable".to_string(),
+        (true, false, Some(how)) => format!("unstable ({how})"),
+        (true, false, None) => "unstable".to_string(),
+    };
+    println!("  largest |ρ| = {:.6}: {state}", o.largest_modulus);
+    for (i, m) in o.multipliers.iter().take(6).enumerate() {
+        println!(
+            "  ρ{} = {:+.6} {:+.6}i (|ρ| = {:.6})",
+            i + 1,
+            m[0],
+            m[1],
+            m[0].hypot(m[1])
+        );
+    }
+    if !o.converged {
+        eprintln!(
+            "warning: ω/ωn = {:.4}: shooting did not find a periodic orbit of {} revolution(s) (residual {:.2e} after {} Newton iterations): the response there may be of another period (`--period`), quasi-periodic or chaotic; the multipliers are those of the last iterate",
+            o.speed_ratio, o.period, o.residual, o.iterations
+        );
+    }
+}
+
+/// `multipliers.csv`: index, real and imaginary parts, modulus and angle (degrees) of each
+/// Floquet multiplier, largest modulus first.
+fn multipliers_csv(o: &PeriodicOrbit) -> String {
+    let mut s = String::from("index,re,im,modulus,angle_deg\n");
+    for (i, m) in o.multipliers.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "{},{:e},{:e},{:e},{:e}",
+            i + 1,
+            m[0],
+            m[1],
+            m[0].hypot(m[1]),
+            m[1].atan2(m[0]).to_degrees()
+        );
+    }
+    s
+}
