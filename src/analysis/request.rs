@@ -234,15 +234,24 @@ impl RunRequest {
     /// A pilot of the scene's run at ν = `speed_ratio` by `scheme` at `scale` × the paper's
     /// rule (no `run.dt`): [`super::pilot::PILOT_WINDOW`] revolutions analysed after
     /// [`super::pilot::PILOT_TRANSIENT`] from the scene's start, fixed (even where the run is
-    /// `run.duration` long: pilots measure the step on their own short window), no follow-ups.
+    /// `run.duration` long: pilots measure the step on their own short window), no follow-ups
+    /// — but never past the run's own end when it is `run.revolutions` long and shorter than
+    /// that: its transient is then cut (its window kept, or the whole run when shorter), so a
+    /// response that runs away only after the run's end (the ROSS rub scene at 4× its
+    /// unbalance: dry whip past 0.62 s of a 0.5 s run) does not stop the step choice.
     pub fn pilot(s: &RunSettings, speed_ratio: f64, scheme: Scheme, scale: f64) -> Self {
         let mut step = s.step;
         step.integrator = scheme;
         step.dt = None;
         step.dt_scale = scale;
+        let (transient, window) = (super::pilot::PILOT_TRANSIENT, super::pilot::PILOT_WINDOW);
+        let total = match step.duration {
+            None => (transient + window).min(step.revolutions.max(1)),
+            Some(_) => transient + window,
+        };
         step.duration = None;
-        step.transient_revolutions = super::pilot::PILOT_TRANSIENT;
-        step.revolutions = super::pilot::PILOT_TRANSIENT + super::pilot::PILOT_WINDOW;
+        step.transient_revolutions = total.saturating_sub(window);
+        step.revolutions = total;
         Self {
             step,
             ..s.request(speed_ratio).fixed()

@@ -613,3 +613,38 @@ fn the_error_target_is_the_default_and_the_fe_sweep_meets_it() {
         );
     }
 }
+
+/// A pilot never integrates past the run's own end: ROSS's rub example at 4× its unbalance
+/// (`rotor.unbalance.0.mass = 8e-4`) is a 10-revolution run (0.5 s) that whips backward and runs
+/// away only when continued (0.64 s). Its pilots took 16 revolutions and stopped the step
+/// choice ("response diverged at t = 0.62 s"); now they take the run's 10 and the run reports
+/// its dry whip (whirl −5.59×) and the runaway past its window.
+#[test]
+fn pilots_stop_at_the_run_end_so_a_later_runaway_does_not_stop_the_step_choice() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("o");
+    let o = common::cli::rubsim(
+        &common::repo(""),
+        &[
+            "run",
+            "scenes/fe/ross_rub_example.toml",
+            "--set",
+            "rotor.unbalance.0.mass=8e-4",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let err = common::cli::text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("step for run.tolerance"), "{err}");
+    assert!(
+        err.contains("the response runs away when continued"),
+        "{err}"
+    );
+    let s = common::cli::json(&out.join("summary.json"));
+    assert_eq!(s["result"]["dynamics"]["regime"], "diverging");
+    assert!(
+        s["result"]["whirl"]["dominant_order"].as_f64().unwrap() < -5.0,
+        "{s}"
+    );
+}
