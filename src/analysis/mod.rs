@@ -45,6 +45,7 @@
 
 pub mod autostep;
 pub mod bench;
+pub mod branch;
 pub mod coexist;
 pub mod convergence;
 pub mod cutoff;

@@ -80,6 +80,10 @@ pub struct PeriodicOrbit {
     pub state_size: usize,
     /// Steps integrated in all: the settling run, the maps and their differences, the orbit.
     pub steps: u64,
+    /// The last iterate `x` and the state it is laid out in (a start for a neighbouring speed:
+    /// [`shoot_from`]).
+    #[serde(skip)]
+    fixed_point: (Vec<f64>, EndState),
 }
 
 /// Runs `prep` to its settled state and shoots the periodic response of period `period`
@@ -95,7 +99,7 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
     req.follow_ups.error_estimate = true;
     let (rec, stats, plan, end, _) = prep.drive_with(&prep.plan, &req, None)?;
     let settled = analyse(&prep.case, &req, &plan, &rec, stats, Keep::default());
-    let mut steps = settled.stats.steps as u64;
+    let steps = settled.stats.steps as u64;
     let end = end.ok_or_else(|| {
         Error::study(
             "run.integrator",
@@ -118,15 +122,50 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
             ),
         ));
     }
+    let mut o = solve(prep, k, &plan, end, x0)?;
+    o.steps += steps;
+    Ok(o)
+}
+
+/// The period-`from.period` orbit of `prep` by Newton from the orbit `from` found at a
+/// neighbouring speed (its state carried to this speed's step: `EndState::retimed`), without
+/// a settling run.
+///
+/// # Errors
+/// As [`shoot`].
+pub fn shoot_from(prep: &Prepared, from: &PeriodicOrbit) -> Result<PeriodicOrbit> {
+    let (x, end) = &from.fixed_point;
+    let start = end
+        .with_state_vector(x)
+        .map(|e| e.retimed(prep.plan.dt))
+        .ok_or_else(|| {
+            Error::study("run", "the orbit's state does not fit this run".to_string())
+        })?;
+    let x0 = start.state_vector().ok_or_else(|| {
+        Error::study("run", "the orbit's state does not fit this run".to_string())
+    })?;
+    solve(prep, from.period, &prep.plan, start, x0)
+}
+
+/// Newton from `x0` (laid out as `end`) on the `k`-revolution map of `prep` at the step of
+/// `plan`, the multipliers at the last iterate and its orbit.
+fn solve(
+    prep: &Prepared,
+    k: usize,
+    plan: &StepPlan,
+    end: EndState,
+    x0: Vec<f64>,
+) -> Result<PeriodicOrbit> {
     let map = Map {
         prep,
         plan: StepPlan {
             steps: k * plan.steps_per_rev.max(1),
             steady_from: 0,
-            ..plan
+            ..*plan
         },
         end,
     };
+    let mut steps = 0;
     let (x, newton) = map.newton(x0)?;
     steps += newton.steps;
     let (multipliers, jsteps) = map.multipliers(&x)?;
@@ -157,6 +196,7 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
         orbit: Box::new(orbit),
         state_size: x.len(),
         steps,
+        fixed_point: (x, map.end),
     })
 }
 

@@ -32,6 +32,7 @@ macro_rules! eprintln {
 
 mod bench;
 mod check;
+mod continuation;
 mod convergence;
 mod import_ross;
 mod map;
@@ -229,6 +230,31 @@ pub enum Cmd {
         #[arg(long)]
         period: Option<usize>,
         /// Output directory (default: out/<scene name>/periodic).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// A periodic orbit continued over speed by shooting from point to point: its stability
+    /// along the branch and the located changes of stability (branch.csv, bifurcations.csv,
+    /// branch.png, summary.json).
+    Continue {
+        #[command(flatten)]
+        c: Common,
+        /// First speed, in `--unit` (default: the scene's `[run.sweep]`).
+        #[arg(long)]
+        from: Option<f64>,
+        /// Last speed, in `--unit` (below `--from`: continued downwards).
+        #[arg(long)]
+        to: Option<f64>,
+        /// Speed step, in `--unit`.
+        #[arg(long)]
+        step: Option<f64>,
+        /// Unit of the speeds: ratio (ω/ω_n), rad/s or rpm.
+        #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
+        unit: UnitArg,
+        /// Period of the orbit in revolutions (default: the first speed's settled period).
+        #[arg(long)]
+        period: Option<usize>,
+        /// Output directory (default: out/<scene name>/continue).
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -597,6 +623,15 @@ pub fn run() -> Result<()> {
         Cmd::Mesh(a) => mesh::mesh(a),
         Cmd::Stress(a) => stress::stress(a),
         Cmd::Refine(a) => refine::refine(a),
+        Cmd::Continue {
+            c,
+            from,
+            to,
+            step,
+            unit,
+            period,
+            out,
+        } => continuation::continuation(c, (*from, *to, *step, *unit), *period, out.clone()),
         Cmd::Periodic {
             c,
             speed,

@@ -225,3 +225,130 @@ fn the_periodic_command_writes_its_multipliers_and_refuses_what_it_cannot_shoot(
 }
 
 const NO_SETS: &[&str] = &[];
+
+/// The branch of period `k` of the paper case over `speeds` (ν), with the scene's settings.
+fn branch(k: usize, speeds: &[f64]) -> rubsim::analysis::branch::Branch {
+    let (ls, m) = common::file_model(&repo(PAPER), NO_SETS);
+    rubsim::analysis::branch::continue_in_speed(&m, &common::settings(&ls), speeds, Some(k))
+        .expect("continue")
+}
+
+/// ν from `a` to `b` by 0.1 (either way).
+fn speeds(a: f64, b: f64) -> Vec<f64> {
+    let n = ((b - a).abs() / 0.1).round() as usize;
+    (0..=n)
+        .map(|i| a + (b - a).signum() * 0.1 * i as f64)
+        .collect()
+}
+
+/// Continued in speed, the paper case's orbits change stability where its sweep changes
+/// regime (docs/VALIDATION.md §3: 1× to 2.2, period 4 at 2.4–2.5, ½× 2.3 and 2.6–4.1, ⅓× 4.2
+/// on): the period-1 branch doubles between 2.2 and 2.3; the period-2 branch loses stability
+/// between 2.3 and 2.4, regains it between 2.5 and 2.6, and doubles again between 4.1 and 4.2;
+/// each located to 1/64 of the step, the multiplier real and on either side of −1.
+#[test]
+fn the_paper_case_branches_change_stability_where_its_sweep_changes_regime() {
+    let b1 = branch(1, &speeds(1.5, 2.6));
+    assert!(b1.ended.is_none(), "{:?}", b1.ended);
+    assert_eq!(b1.points.len(), 12);
+    assert_eq!(b1.bifurcations.len(), 1, "{:?}", b1.bifurcations);
+    let b2 = branch(2, &speeds(2.3, 4.3));
+    assert!(b2.ended.is_none(), "{:?}", b2.ended);
+    let found: Vec<f64> = b1
+        .bifurcations
+        .iter()
+        .chain(&b2.bifurcations)
+        .map(|b| {
+            assert_eq!(b.kind, "period_doubling");
+            assert!(b.between[1] - b.between[0] <= 0.1 / 64.0 + 1e-12, "{b:?}");
+            let (s, u) = (b.rho[0], b.rho[1]);
+            assert!(
+                s[1] == 0.0 && u[1] == 0.0 && s[0] > -1.0 && u[0] < -1.0,
+                "{b:?}"
+            );
+            b.speed_ratio
+        })
+        .collect();
+    eprintln!("period doublings at ν {found:?}");
+    let sweep_changes = [(2.2, 2.3), (2.3, 2.4), (2.5, 2.6), (4.1, 4.2)];
+    assert_eq!(found.len(), sweep_changes.len(), "{found:?}");
+    for (v, (a, b)) in found.iter().zip(sweep_changes) {
+        assert!(
+            *v > a && *v < b,
+            "a period doubling at {v} outside ({a}, {b})"
+        );
+    }
+}
+
+/// The coexistence the sweep's check flags at ν 4.10 (a companion from full contact settles
+/// on another response) appears as two stable branches there: period 2 continued up from 2.6
+/// and period 3 continued down from 5.8.
+#[test]
+fn coexisting_responses_are_two_stable_branches() {
+    let up = branch(2, &speeds(2.6, 4.1));
+    let down = branch(3, &speeds(5.8, 4.1));
+    for b in [&up, &down] {
+        assert!(b.ended.is_none(), "{:?}", b.ended);
+        let last = b.points.last().unwrap();
+        assert!(
+            (last.speed_ratio - 4.1).abs() < 1e-9 && last.stable,
+            "{last:?}"
+        );
+    }
+    let (a, b) = (up.points.last().unwrap(), down.points.last().unwrap());
+    assert!(
+        (a.contact_fraction - b.contact_fraction).abs() > 0.01,
+        "{} against {}",
+        a.contact_fraction,
+        b.contact_fraction
+    );
+}
+
+/// `rubsim continue`: branch.csv, bifurcations.csv, branch.png and summary.json; a speed
+/// step that is not positive is refused, nothing written.
+#[test]
+fn the_continue_command_writes_the_branch_and_refuses_a_bad_step() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("c");
+    let stdout = cli::ok(
+        &repo(""),
+        &[
+            "continue",
+            PAPER,
+            "--from",
+            "1.5",
+            "--to",
+            "2.6",
+            "--step",
+            "0.1",
+            "--period",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(stdout.contains("period_doubling at ω/ωn 2.24"), "{stdout}");
+    let csv = std::fs::read_to_string(out.join("branch.csv")).unwrap();
+    assert!(csv.starts_with(rubsim::output::branch::BRANCH_HEADER));
+    assert_eq!(csv.lines().count(), 13);
+    let bif = std::fs::read_to_string(out.join("bifurcations.csv")).unwrap();
+    assert_eq!(bif.lines().count(), 2);
+    assert!(out.join("branch.png").metadata().unwrap().len() > 10_000);
+    let s = cli::json(&out.join("summary.json"));
+    assert_eq!(s["command"], "continue");
+    assert_eq!(s["branch"]["period"], 1);
+    let bad = tmp.path().join("bad");
+    let err = cli::fails(
+        &repo(""),
+        &[
+            "continue",
+            PAPER,
+            "--step",
+            "0",
+            "--out",
+            bad.to_str().unwrap(),
+        ],
+    );
+    assert!(err.contains("--step"), "{err}");
+    assert!(!bad.exists());
+}

@@ -79,6 +79,30 @@ impl EndState {
     }
 }
 
+impl EndState {
+    /// This state carried to a run of step `dt` (s) — a predictor for a neighbouring speed
+    /// whose plan has another Δt (`analysis::branch`): each central body's earlier
+    /// displacements moved along their increments to the new step,
+    /// `uᴺ⁻ʲ ← uᴺ − (uᴺ − uᴺ⁻ʲ) dt/Δt_e` (the velocities kept to first order), and its step set
+    /// to `dt`, so that [`Stepper::restart`] at `dt` takes them as they are. Implicit bodies
+    /// (u, v, a) need no change.
+    pub fn retimed(&self, dt: f64) -> EndState {
+        let mut out = self.clone();
+        let r = dt / self.dt;
+        for b in &mut out.bodies {
+            if let BodyState::Central(u) = b {
+                let [now, u1, u2] = u;
+                for ((a, b1), b2) in now.iter().zip(u1.iter_mut()).zip(u2.iter_mut()) {
+                    *b1 = a - (a - *b1) * r;
+                    *b2 = a - (a - *b2) * r;
+                }
+            }
+        }
+        out.dt = dt;
+        out
+    }
+}
+
 /// The bodies of a stepper that carry state: the rotor, then each stator's (its reduced body
 /// for a reduced stator; `None` for a massless one).
 fn bodies<'b>(rotor: &'b DynBody, stators: &'b [StatorDyn]) -> Vec<Option<&'b DynBody>> {

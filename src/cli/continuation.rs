@@ -1,0 +1,129 @@
+//! `rubsim continue`: a periodic orbit continued over speed (`analysis::branch`): branch.csv,
+//! bifurcations.csv, branch.png and summary.json.
+
+use super::{chosen_settings, default_out, load, Common, UnitArg};
+use anyhow::{Context, Result};
+use rubsim::analysis::{self, branch::Branch};
+use rubsim::output::summary::{finish, Base, Summary};
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// The body of `summary.json` of `rubsim continue`.
+#[derive(Debug, Serialize)]
+struct ContinueBody<'a> {
+    /// The branch: its points, bifurcations and where it ended.
+    branch: &'a Branch,
+    /// Wall time of the command (s).
+    wall_s: f64,
+}
+
+/// Continues the period-`period` orbit over the speeds `from … to` by `step` (in `unit`;
+/// default: the scene's `[run.sweep]`) and writes its files.
+pub fn continuation(
+    c: &Common,
+    range: (Option<f64>, Option<f64>, Option<f64>, UnitArg),
+    period: Option<usize>,
+    out: Option<PathBuf>,
+) -> Result<()> {
+    let (ls, model) = load(c)?;
+    if period == Some(0) {
+        anyhow::bail!("--period must be a whole number of revolutions ≥ 1, got 0");
+    }
+    let wn = model.rotor.natural_frequency();
+    let (from, to, step, unit) = range;
+    let sweep = ls.scene.run.sweep.as_ref();
+    let pick = |given: Option<f64>, scene: Option<f64>, name: &str| -> Result<f64> {
+        given.map(|v| unit.ratio(v, wn)).or(scene).with_context(|| {
+            format!(
+                "{}: `rubsim continue` needs --{name} or the scene's [run.sweep]",
+                c.scene.display()
+            )
+        })
+    };
+    let a = pick(from, sweep.map(|s| s.from), "from")?;
+    let b = pick(to, sweep.map(|s| s.to), "to")?;
+    let h = match step {
+        Some(v) => unit.ratio(v, wn),
+        None => sweep
+            .map(|s| s.step)
+            .context("`rubsim continue` needs --step or the scene's [run.sweep]")?,
+    };
+    for (name, v) in [("from", a), ("to", b), ("step", h)] {
+        if !(v.is_finite() && v > 0.0) {
+            anyhow::bail!("--{name} must be a positive speed, got {v}");
+        }
+    }
+    let mut speeds = analysis::sweep_speeds(a.min(b), a.max(b), h);
+    if b < a {
+        speeds.reverse();
+    }
+    let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("continue")))?;
+    let t0 = std::time::Instant::now();
+    let s = chosen_settings(&ls, &model, &speeds)?;
+    let branch = analysis::branch::continue_in_speed(&model, &s, &speeds, period)?;
+    report(&branch);
+    rubsim::output::branch::write_branch(&mut outd, &ls.scene.title, &branch, ls.scene.output.png)?;
+    let body = ContinueBody {
+        branch: &branch,
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    finish(
+        outd,
+        &Summary {
+            base: Base::new(&ls, &model, "continue"),
+            body,
+        },
+    )?;
+    Ok(())
+}
+
+/// Prints the branch's stretches of stability, its bifurcations and where it ended.
+fn report(b: &Branch) {
+    let (Some(first), Some(last)) = (b.points.first(), b.points.last()) else {
+        println!("no point of the period-{} branch converged", b.period);
+        if let Some(why) = &b.ended {
+            eprintln!("warning: {why}");
+        }
+        return;
+    };
+    println!(
+        "period-{} orbit continued over ω/ωn {:.4} … {:.4}: {} points, {} steps",
+        b.period,
+        first.speed_ratio,
+        last.speed_ratio,
+        b.points.len(),
+        b.steps
+    );
+    let mut start = 0;
+    for i in 1..=b.points.len() {
+        if i == b.points.len() || b.points[i].stable != b.points[start].stable {
+            println!(
+                "  {:>8}  ω/ωn {:.4} – {:.4}",
+                if b.points[start].stable {
+                    "stable"
+                } else {
+                    "unstable"
+                },
+                b.points[start].speed_ratio,
+                b.points[i - 1].speed_ratio
+            );
+            start = i;
+        }
+    }
+    for x in &b.bifurcations {
+        println!(
+            "  {} at ω/ωn {:.4} (between {:.4} and {:.4}; ρ {:+.4}{:+.4}i → {:+.4}{:+.4}i)",
+            x.kind,
+            x.speed_ratio,
+            x.between[0],
+            x.between[1],
+            x.rho[0][0],
+            x.rho[0][1],
+            x.rho[1][0],
+            x.rho[1][1]
+        );
+    }
+    if let Some(why) = &b.ended {
+        eprintln!("warning: the branch ends before the last speed: {why}");
+    }
+}
