@@ -43,6 +43,7 @@
 //! [`bench`](mod@bench) (timing and the comparison with a converged sweep), [`stress`] (stator stress
 //! probe), [`refine`] (mesh-refinement metrics).
 
+pub mod arclength;
 pub mod autostep;
 pub mod bench;
 pub mod branch;

@@ -83,7 +83,7 @@ pub struct PeriodicOrbit {
     /// The last iterate `x` and the state it is laid out in (a start for a neighbouring speed:
     /// [`shoot_from`]).
     #[serde(skip)]
-    fixed_point: (Vec<f64>, EndState),
+    pub(crate) fixed_point: (Vec<f64>, EndState),
 }
 
 /// Runs `prep` to its settled state and shoots the periodic response of period `period`
@@ -173,16 +173,7 @@ fn solve(
     let (orbit, osteps) = map.orbit(&x, k)?;
     steps += osteps;
     let largest = multipliers.first().map_or(0.0, |r| r[0].hypot(r[1]));
-    let instability = (largest >= 1.0).then(|| {
-        let r = multipliers[0];
-        if r[1].abs() > 1e-9 * largest {
-            "neimark_sacker"
-        } else if r[0] < 0.0 {
-            "period_doubling"
-        } else {
-            "fold"
-        }
-    });
+    let instability = (largest >= 1.0).then(|| crossing(multipliers[0], largest));
     Ok(PeriodicOrbit {
         speed_ratio: prep.speed_ratio,
         period: k,
@@ -198,6 +189,18 @@ fn solve(
         steps,
         fixed_point: (x, map.end),
     })
+}
+
+/// How a multiplier `r` of modulus `largest` ≥ 1 leaves the unit circle: `neimark_sacker` (a
+/// complex pair), `period_doubling` (real, negative) or `fold` (real, positive).
+pub(crate) fn crossing(r: [f64; 2], largest: f64) -> &'static str {
+    if r[1].abs() > 1e-9 * largest {
+        "neimark_sacker"
+    } else if r[0] < 0.0 {
+        "period_doubling"
+    } else {
+        "fold"
+    }
 }
 
 /// How Newton ended: the last residual, its iterations and steps.

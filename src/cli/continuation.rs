@@ -17,20 +17,59 @@ struct ContinueBody<'a> {
     wall_s: f64,
 }
 
+/// Options of `rubsim continue`.
+#[derive(clap::Args, Clone)]
+pub struct ContinueArgs {
+    #[command(flatten)]
+    pub c: Common,
+    /// First speed, in `--unit` (default: the scene's `[run.sweep]`).
+    #[arg(long)]
+    pub from: Option<f64>,
+    /// Last speed, in `--unit` (below `--from`: continued downwards).
+    #[arg(long)]
+    pub to: Option<f64>,
+    /// Speed step, in `--unit`.
+    #[arg(long)]
+    pub step: Option<f64>,
+    /// Unit of the speeds: ratio (ω/ω_n), rad/s or rpm.
+    #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
+    pub unit: UnitArg,
+    /// Period of the orbit in revolutions (default: the first speed's settled period).
+    #[arg(long)]
+    pub period: Option<usize>,
+    /// Pseudo-arclength continuation: the branch followed around folds, starting from
+    /// `--from` towards `--to` with `--step` as the first step, within their range.
+    #[arg(long)]
+    pub arclength: bool,
+    /// Most points of a pseudo-arclength branch.
+    #[arg(long, default_value_t = 200)]
+    pub max_points: usize,
+    /// Output directory (default: out/<scene name>/continue).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
 /// Continues the period-`period` orbit over the speeds `from … to` by `step` (in `unit`;
-/// default: the scene's `[run.sweep]`) and writes its files.
-pub fn continuation(
-    c: &Common,
-    range: (Option<f64>, Option<f64>, Option<f64>, UnitArg),
-    period: Option<usize>,
-    out: Option<PathBuf>,
-) -> Result<()> {
-    let (ls, model) = load(c)?;
+/// default: the scene's `[run.sweep]`) — in ν alone, or by pseudo-arclength from `from`
+/// (`arclength`: at most that many points) — and writes its files.
+pub fn continuation(args: &ContinueArgs) -> Result<()> {
+    let ContinueArgs {
+        c,
+        from,
+        to,
+        step,
+        unit,
+        period,
+        arclength,
+        max_points,
+        out,
+    } = args.clone();
+    let arclength = arclength.then_some(max_points);
+    let (ls, model) = load(&c)?;
     if period == Some(0) {
         anyhow::bail!("--period must be a whole number of revolutions ≥ 1, got 0");
     }
     let wn = model.rotor.natural_frequency();
-    let (from, to, step, unit) = range;
     let sweep = ls.scene.run.sweep.as_ref();
     let pick = |given: Option<f64>, scene: Option<f64>, name: &str| -> Result<f64> {
         given.map(|v| unit.ratio(v, wn)).or(scene).with_context(|| {
@@ -60,7 +99,15 @@ pub fn continuation(
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("continue")))?;
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &speeds)?;
-    let branch = analysis::branch::continue_in_speed(&model, &s, &speeds, period)?;
+    let branch = match arclength {
+        Some(max_points) => {
+            if max_points < 2 {
+                anyhow::bail!("--max-points must be at least 2, got {max_points}");
+            }
+            analysis::arclength::continue_arclength(&model, &s, (a, b, h), period, max_points)?
+        }
+        None => analysis::branch::continue_in_speed(&model, &s, &speeds, period)?,
+    };
     report(&branch);
     rubsim::output::branch::write_branch(&mut outd, &ls.scene.title, &branch, ls.scene.output.png)?;
     let body = ContinueBody {

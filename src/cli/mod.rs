@@ -216,48 +216,11 @@ pub enum Cmd {
     },
     /// The periodic response at one speed by shooting from the settled run: its Floquet
     /// multipliers and stability (summary.json, multipliers.csv).
-    Periodic {
-        #[command(flatten)]
-        c: Common,
-        /// Speed, in `--unit` (default: the scene's single speed).
-        #[arg(long)]
-        speed: Option<f64>,
-        /// Unit of `--speed`: ratio (ω/ω_n), rad/s or rpm.
-        #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
-        unit: UnitArg,
-        /// Period of the orbit in revolutions (default: the period the settled run repeats
-        /// with, 1 when it does not repeat).
-        #[arg(long)]
-        period: Option<usize>,
-        /// Output directory (default: out/<scene name>/periodic).
-        #[arg(long)]
-        out: Option<PathBuf>,
-    },
+    Periodic(periodic::PeriodicArgs),
     /// A periodic orbit continued over speed by shooting from point to point: its stability
     /// along the branch and the located changes of stability (branch.csv, bifurcations.csv,
     /// branch.png, summary.json).
-    Continue {
-        #[command(flatten)]
-        c: Common,
-        /// First speed, in `--unit` (default: the scene's `[run.sweep]`).
-        #[arg(long)]
-        from: Option<f64>,
-        /// Last speed, in `--unit` (below `--from`: continued downwards).
-        #[arg(long)]
-        to: Option<f64>,
-        /// Speed step, in `--unit`.
-        #[arg(long)]
-        step: Option<f64>,
-        /// Unit of the speeds: ratio (ω/ω_n), rad/s or rpm.
-        #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
-        unit: UnitArg,
-        /// Period of the orbit in revolutions (default: the first speed's settled period).
-        #[arg(long)]
-        period: Option<usize>,
-        /// Output directory (default: out/<scene name>/continue).
-        #[arg(long)]
-        out: Option<PathBuf>,
-    },
+    Continue(continuation::ContinueArgs),
     /// Damped modes of the rotor alone at one speed, and its static deflection under gravity.
     Modal {
         #[command(flatten)]
@@ -623,22 +586,8 @@ pub fn run() -> Result<()> {
         Cmd::Mesh(a) => mesh::mesh(a),
         Cmd::Stress(a) => stress::stress(a),
         Cmd::Refine(a) => refine::refine(a),
-        Cmd::Continue {
-            c,
-            from,
-            to,
-            step,
-            unit,
-            period,
-            out,
-        } => continuation::continuation(c, (*from, *to, *step, *unit), *period, out.clone()),
-        Cmd::Periodic {
-            c,
-            speed,
-            unit,
-            period,
-            out,
-        } => periodic::periodic(c, (*speed, *unit), *period, out.clone()),
+        Cmd::Continue(a) => continuation::continuation(a),
+        Cmd::Periodic(a) => periodic::periodic(a),
         Cmd::Modal {
             c,
             speed,

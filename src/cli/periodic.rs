@@ -18,15 +18,37 @@ struct PeriodicBody<'a> {
     wall_s: f64,
 }
 
+/// Options of `rubsim periodic`.
+#[derive(clap::Args, Clone)]
+pub struct PeriodicArgs {
+    #[command(flatten)]
+    pub c: Common,
+    /// Speed, in `--unit` (default: the scene's single speed).
+    #[arg(long)]
+    pub speed: Option<f64>,
+    /// Unit of `--speed`: ratio (ω/ω_n), rad/s or rpm.
+    #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
+    pub unit: UnitArg,
+    /// Period of the orbit in revolutions (default: the period the settled run repeats
+    /// with, 1 when it does not repeat).
+    #[arg(long)]
+    pub period: Option<usize>,
+    /// Output directory (default: out/<scene name>/periodic).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
 /// Shoots the periodic response at `speed` (default: the scene's single speed) of `period`
 /// revolutions (default: the settled run's), and writes `summary.json` and `multipliers.csv`.
-pub fn periodic(
-    c: &Common,
-    (speed, unit): (Option<f64>, UnitArg),
-    period: Option<usize>,
-    out: Option<PathBuf>,
-) -> Result<()> {
-    let (ls, model) = load(c)?;
+pub fn periodic(a: &PeriodicArgs) -> Result<()> {
+    let PeriodicArgs {
+        c,
+        speed,
+        unit,
+        period,
+        out,
+    } = a.clone();
+    let (ls, model) = load(&c)?;
     if let Some(v) = speed {
         if !(v.is_finite() && v > 0.0) {
             anyhow::bail!("--speed must be a positive speed, got {v}");

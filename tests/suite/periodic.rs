@@ -351,4 +351,107 @@ fn the_continue_command_writes_the_branch_and_refuses_a_bad_step() {
     );
     assert!(err.contains("--step"), "{err}");
     assert!(!bad.exists());
+    // Around the fold of the ring scene's full rub by pseudo-arclength.
+    let arc = tmp.path().join("arc");
+    let stdout = cli::ok(
+        &repo(""),
+        &[
+            "continue",
+            "scenes/periodic/ring_hysteresis.toml",
+            "--arclength",
+            "--period",
+            "1",
+            "--out",
+            arc.to_str().unwrap(),
+        ],
+    );
+    assert!(stdout.contains("fold at ω/ωn 4.545"), "{stdout}");
+    let bif = std::fs::read_to_string(arc.join("bifurcations.csv")).unwrap();
+    assert!(bif.lines().any(|l| l.starts_with("fold,4.545")), "{bif}");
+}
+
+/// Pseudo-arclength around a fold (`rubsim continue --arclength`): the unit rotor in a ring
+/// (`scenes/periodic/ring_hysteresis.toml`: κ 25, δ 1.5 e, ξ 0.2, μ 0.1) in synchronous full
+/// annular rub, continued up from ν 1.8. The branch turns at a fold and comes back as the
+/// unstable smaller orbit: the fold within 1e-3 of the closed form's (docs/ORACLES.md §2: the
+/// double root of the whirl radius, ν 4.545144), every point's radius within 5e-3 of the
+/// closed form's larger root before the fold and its smaller root after, and the rub losing
+/// stability to a torus (a complex pair, Neimark–Sacker) between ν 3.0 and 3.3 — a long run
+/// from the rub at 3.5 reads quasi-periodic.
+#[test]
+fn arclength_follows_the_full_rub_around_its_fold() {
+    let (ls, m) = common::file_model(&repo("scenes/periodic/ring_hysteresis.toml"), NO_SETS);
+    let b = rubsim::analysis::arclength::continue_arclength(
+        &m,
+        &common::settings(&ls),
+        (1.8, 4.8, 0.1),
+        Some(1),
+        200,
+    )
+    .expect("continue");
+    assert!(b.ended.is_none(), "{:?}", b.ended);
+    let folds: Vec<_> = b.bifurcations.iter().filter(|x| x.kind == "fold").collect();
+    assert_eq!(folds.len(), 1, "{:?}", b.bifurcations);
+    let (k, mu, xi, d) = (25.0, 0.1, 0.2, 1.5);
+    // The closed form's fold: where the quadratic in r has a double root.
+    let disc = |nu: f64| {
+        let (a, bb, p, q) = (
+            1.0 - nu * nu + k,
+            -k * d,
+            2.0 * xi * nu + mu * k,
+            -mu * k * d,
+        );
+        let (qa, qb, qc) = (
+            a * a + p * p,
+            2.0 * (a * bb + p * q),
+            bb * bb + q * q - nu.powi(4),
+        );
+        (qb * qb - 4.0 * qa * qc, qa, qb)
+    };
+    let (mut lo, mut hi) = (4.0, 5.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if disc(mid).0 > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let fold = folds[0].speed_ratio;
+    eprintln!("fold at ν {fold:.6} against {lo:.6}");
+    assert!((fold - lo).abs() < 1e-3, "fold at {fold}, closed form {lo}");
+    // Radii along the branch: the larger root up to the fold, the smaller after it.
+    let mut past = false;
+    let mut worst = 0.0_f64;
+    for w in b.points.windows(2) {
+        past |= w[1].speed_ratio < w[0].speed_ratio;
+        let p = &w[1];
+        let nu = p.speed_ratio;
+        let z0 = nu * nu / ((1.0 - nu * nu).powi(2) + (2.0 * xi * nu).powi(2)).sqrt();
+        let r = p.extents_nd[1] * z0;
+        let (dd, qa, qb) = disc(nu);
+        if dd < 0.0 {
+            continue; // the last points around the fold's vertex
+        }
+        let root = (-qb + if past { -1.0 } else { 1.0 } * dd.sqrt()) / (2.0 * qa);
+        if root <= d {
+            continue;
+        }
+        worst = worst.max((r / root - 1.0).abs());
+    }
+    eprintln!("radius against the closed form: {worst:.2e} at most");
+    assert!(worst < 5e-3, "radius off by {worst}");
+    let ns: Vec<_> = b
+        .bifurcations
+        .iter()
+        .filter(|x| x.kind == "neimark_sacker")
+        .collect();
+    assert!(
+        ns.iter()
+            .any(|x| x.between[0] >= 3.0 && x.between[1] <= 3.3),
+        "{:?}",
+        b.bifurcations
+    );
+    assert!(b.points.first().unwrap().stable);
+    assert!(b.points.last().unwrap().speed_ratio < 1.8);
 }

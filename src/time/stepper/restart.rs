@@ -80,6 +80,28 @@ impl EndState {
 }
 
 impl EndState {
+    /// The sizes of the central-difference bodies in [`EndState::state_vector`]'s order (the
+    /// state holds `2 n` components per body); `None` when a body is implicit.
+    pub fn central_sizes(&self) -> Option<Vec<usize>> {
+        let mut v = Vec::new();
+        for b in &self.bodies {
+            match b {
+                BodyState::Central(u) => v.push(u[0].len()),
+                BodyState::Implicit(..) => return None,
+                BodyState::None => {}
+            }
+        }
+        Some(v)
+    }
+
+    /// This state's displacements taken as those of a run of step `dt` (s): its step set to
+    /// `dt`, nothing else changed, so that [`Stepper::restart`] at `dt` takes `uᴺ` and `uᴺ⁻¹`
+    /// exactly as they are (the caller made them at that step).
+    pub fn at_step(mut self, dt: f64) -> EndState {
+        self.dt = dt;
+        self
+    }
+
     /// This state carried to a run of step `dt` (s) — a predictor for a neighbouring speed
     /// whose plan has another Δt (`analysis::branch`): each central body's earlier
     /// displacements moved along their increments to the new step,

@@ -1,0 +1,513 @@
+//! Pseudo-arclength continuation of a periodic orbit in speed (issue 29): the branch followed
+//! around folds, where continuation in ν alone ([`super::branch`]) stops.
+//!
+//! **The map in ν.** Along the branch every point uses the same `N` steps a revolution
+//! (`Δt = 2π/(Ω N)`, `N` the finer of the plans at the range's two ends), so the discrete map
+//! `P(y; ν)` of `k` revolutions is smooth in ν. Its state is `y = (u, v)` per central body,
+//! `v = (uᴺ − uᴺ⁻¹)/Δt` — a velocity, which keeps its meaning as Δt changes with ν (the
+//! stepper's `(uᴺ, uᴺ⁻¹)` is rebuilt from it at each speed's Δt).
+//!
+//! **Continuation.** The unknowns `w = (y ⊘ s, ν)`, `s` the size of each block at the first
+//! point (displacements and velocities scaled apart), solve `P(y; ν) − y = 0` with the
+//! pseudo-arclength condition `tᵀ (w − w_p) = 0`, `w_p = w_i + h t` predicted along the unit
+//! secant `t` of the last two points (the first secant from a step in ν). Newton on the
+//! bordered system `[[∂P/∂y − I, ∂P/∂ν], [tᵀ]]`, the derivatives by central differences (two maps
+//! per column); a step whose Newton does not converge in [`MAX_CORRECTOR`] iterations is halved
+//! (at most [`MAX_STEP_HALVINGS`] times) and grows back by 1.5 after an easy one. The
+//! multipliers at each point are the eigenvalues of `∂P/∂y` there.
+//!
+//! **Folds** are where ν turns back: the secant's ν-component changes sign between two points;
+//! the fold's speed is the vertex of the parabola ν(σ) through the three points around it (σ the
+//! arclength), reported with the interval of the points. A change of stability that is not a
+//! fold (a multiplier through −1 or a complex pair) is reported with the interval of its two
+//! points.
+
+use super::branch::{Bifurcation, Branch, BranchPoint};
+use super::periodic;
+use super::speed::{prepare, Prepared};
+use super::{Keep, RunSettings};
+use crate::error::{Error, Result};
+use crate::model::Model;
+use crate::time::{EndState, StepPlan, Stepper};
+use nalgebra::{DMatrix, DVector};
+
+/// Newton iterations of one corrector.
+pub const MAX_CORRECTOR: usize = 10;
+/// Halvings of a step whose corrector fails before the branch is reported as ended.
+pub const MAX_STEP_HALVINGS: usize = 5;
+/// Relative residual of a converged point (as [`periodic::SHOOT_TOLERANCE`]).
+const TOLERANCE: f64 = 1e-9;
+/// Relative central-difference step of the Jacobians.
+const FD_STEP: f64 = 1e-5;
+
+/// The branch's map: the model, settings, period and fixed steps a revolution, and the state
+/// layout (an end state of the run, the sizes of its central bodies).
+struct Arc<'a> {
+    model: &'a Model,
+    s: &'a RunSettings,
+    k: usize,
+    n_rev: usize,
+    template: EndState,
+    sizes: Vec<usize>,
+    /// Scales of the components of `y` (displacement and velocity blocks).
+    scale: Vec<f64>,
+    steps: u64,
+}
+
+/// Continues the period-`period` orbit from ν = `from` (shot from its settled run) over speeds
+/// within `[lo, hi]`, starting towards `to` with the step `h` (in ν), for at most `max_points`
+/// points (module docs).
+///
+/// # Errors
+/// The first point's shooting errors ([`periodic::shoot`]); later failures end the branch
+/// (`ended`).
+pub fn continue_arclength(
+    model: &Model,
+    s: &RunSettings,
+    (from, to, h): (f64, f64, f64),
+    period: Option<usize>,
+    max_points: usize,
+) -> Result<Branch> {
+    let (lo, hi) = (from.min(to), from.max(to));
+    let first = periodic::shoot(&prepare(model, &request(s, from))?, period)?;
+    let k = first.period;
+    let mut branch = Branch {
+        period: k,
+        points: Vec::new(),
+        bifurcations: Vec::new(),
+        ended: None,
+        steps: first.steps,
+    };
+    if !first.converged {
+        branch.ended = Some(format!(
+            "no periodic orbit of {k} revolution(s) at ω/ωn = {from:.4} (residual {:.2e})",
+            first.residual
+        ));
+        return Ok(branch);
+    }
+    let plan_at = |v: f64| -> Result<StepPlan> { Ok(prepare(model, &request(s, v))?.plan) };
+    let (pa, pb) = (plan_at(lo)?, plan_at(hi)?);
+    let n_rev = pa.steps_per_rev.max(pb.steps_per_rev);
+    let (x, end) = (&first.fixed_point.0, &first.fixed_point.1);
+    let sizes = end.central_sizes().ok_or_else(|| {
+        Error::study(
+            "run.integrator",
+            "continuation needs central-difference bodies".to_string(),
+        )
+    })?;
+    let dt0 = end.dt;
+    let y0 = to_uv(x, &sizes, dt0);
+    let mut arc = Arc {
+        model,
+        s,
+        k,
+        n_rev,
+        template: end.clone(),
+        scale: block_scales(&y0, &sizes),
+        sizes,
+        steps: 0,
+    };
+    // The first point again at the branch's fixed N, by Newton in y at ν = from.
+    let (y0, _) = arc.correct_at(y0, from)?;
+    let w0 = arc.w(&y0, from);
+    let p0 = arc.point(&y0, from, 0)?;
+    branch.points.push(p0);
+    let dir = if to >= from { 1.0 } else { -1.0 };
+    let (y1, it1) = arc.correct_at(y0.clone(), from + dir * h)?;
+    let w1 = arc.w(&y1, from + dir * h);
+    branch.points.push(arc.point(&y1, from + dir * h, it1)?);
+    let mut ws = vec![w0, w1];
+    let mut ds = dist(&ws[0], &ws[1]);
+    let ds_max = 4.0 * ds;
+    while branch.points.len() < max_points {
+        let n = ws.len();
+        let t = unit(&sub(&ws[n - 1], &ws[n - 2]));
+        let mut step = ds;
+        let mut next = None;
+        for _ in 0..=MAX_STEP_HALVINGS {
+            let wp: Vec<f64> = ws[n - 1]
+                .iter()
+                .zip(&t)
+                .map(|(w, t)| w + step * t)
+                .collect();
+            if let Ok(Some((w, iters))) = arc.corrector(&wp, &t) {
+                next = Some((w, iters));
+                break;
+            }
+            step *= 0.5;
+        }
+        let Some((w, iters)) = next else {
+            branch.ended = Some(format!(
+                "the corrector did not converge past ω/ωn = {:.4} with the step halved {MAX_STEP_HALVINGS} times",
+                ws[n - 1].last().copied().unwrap_or(f64::NAN)
+            ));
+            break;
+        };
+        ds = if iters <= 3 {
+            (1.5 * step).min(ds_max)
+        } else {
+            step
+        };
+        let v = *w.last().unwrap_or(&f64::NAN);
+        let y = arc.y(&w);
+        branch.points.push(arc.point(&y, v, iters)?);
+        ws.push(w);
+        fold_between(&ws, &branch.points, &mut branch.bifurcations);
+        if !(lo..=hi).contains(&v) {
+            break;
+        }
+    }
+    stability_changes(&mut branch);
+    branch.steps += arc.steps;
+    Ok(branch)
+}
+
+/// The run request at ν: the scene's settings, no follow-ups.
+fn request(s: &RunSettings, v: f64) -> super::RunRequest {
+    let mut r = s.request(v);
+    r.follow_ups = super::FollowUps::default();
+    r
+}
+
+impl Arc<'_> {
+    /// The prepared run at ν with the branch's `N` steps a revolution.
+    fn prep(&self, v: f64) -> Result<Prepared> {
+        let mut p = prepare(self.model, &request(self.s, v))?;
+        let spr = p.request.step.samples_per_rev.max(1);
+        let dt = 2.0 * std::f64::consts::PI / (p.omega * self.n_rev as f64);
+        p.plan = StepPlan {
+            dt,
+            steps_per_rev: self.n_rev,
+            record_every: (self.n_rev / spr).max(1),
+            steps: self.k * self.n_rev,
+            steady_from: 0,
+            ..p.plan
+        };
+        Ok(p)
+    }
+
+    /// The end state of `y` for a run of step `dt` (its `(uᴺ, uᴺ⁻¹)` at that step).
+    fn start(&self, y: &[f64], dt: f64) -> Result<EndState> {
+        self.template
+            .with_state_vector(&from_uv(y, &self.sizes, dt))
+            .map(|e| e.at_step(dt))
+            .ok_or_else(|| Error::study("run", "the branch's state does not fit".to_string()))
+    }
+
+    /// `P(y; ν)` in the `(u, v)` layout.
+    fn map(&mut self, y: &[f64], v: f64) -> Result<Vec<f64>> {
+        let p = self.prep(v)?;
+        let dt = p.plan.dt;
+        let start = self.start(y, dt)?;
+        let n = p.plan.steps;
+        let mut st = Stepper::new(
+            &p.case,
+            p.request.step.integrator,
+            &p.plan,
+            p.request.initial(),
+        )?;
+        if !st.restart(&start) {
+            return Err(Error::study(
+                "run",
+                "the branch's state does not restart".to_string(),
+            ));
+        }
+        st.run_to(n - 1, &mut None)?;
+        let older = st.history();
+        st.run_to(n, &mut None)?;
+        self.steps += n as u64;
+        let end = st
+            .end_state(&older)
+            .and_then(|e| e.state_vector())
+            .ok_or_else(|| Error::study("run", "the map's end state".to_string()))?;
+        Ok(to_uv(&end, &self.sizes, dt))
+    }
+
+    /// `∂P/∂y` at `(y, ν)` by central differences (unscaled).
+    fn dp_dy(&mut self, y: &[f64], v: f64) -> Result<DMatrix<f64>> {
+        let n = y.len();
+        let mut m = DMatrix::zeros(n, n);
+        for j in 0..n {
+            let h = FD_STEP * self.scale[j];
+            let (mut a, mut b) = (y.to_vec(), y.to_vec());
+            a[j] += h;
+            b[j] -= h;
+            let (pa, pb) = (self.map(&a, v)?, self.map(&b, v)?);
+            for i in 0..n {
+                m[(i, j)] = (pa[i] - pb[i]) / (2.0 * h);
+            }
+        }
+        Ok(m)
+    }
+
+    /// Newton in `y` at a fixed ν from `y`; the point and its iterations.
+    fn correct_at(&mut self, mut y: Vec<f64>, v: f64) -> Result<(Vec<f64>, usize)> {
+        for it in 0..=MAX_CORRECTOR {
+            let py = self.map(&y, v)?;
+            let f: Vec<f64> = py.iter().zip(&y).map(|(p, y)| p - y).collect();
+            if self.residual(&f) <= TOLERANCE {
+                return Ok((y, it));
+            }
+            let n = y.len();
+            let a = self.dp_dy(&y, v)? - DMatrix::<f64>::identity(n, n);
+            let rhs = DVector::from_iterator(n, f.iter().map(|f| -f));
+            let Some(d) = a.lu().solve(&rhs) else { break };
+            for (y, d) in y.iter_mut().zip(d.iter()) {
+                *y += d;
+            }
+        }
+        Err(Error::study(
+            "run",
+            format!(
+                "no periodic orbit of {} revolution(s) at ω/ωn = {v:.4} on the branch's step",
+                self.k
+            ),
+        ))
+    }
+
+    /// The pseudo-arclength corrector from the prediction `wp` along `t`: the point and its
+    /// iterations, `None` when Newton does not converge.
+    fn corrector(&mut self, wp: &[f64], t: &[f64]) -> Result<Option<(Vec<f64>, usize)>> {
+        let n = wp.len() - 1;
+        let mut w = wp.to_vec();
+        for it in 0..=MAX_CORRECTOR {
+            let (y, v) = (self.y(&w), w[n]);
+            let py = self.map(&y, v)?;
+            let f: Vec<f64> = py.iter().zip(&y).map(|(p, y)| p - y).collect();
+            let g: f64 = t
+                .iter()
+                .zip(w.iter().zip(wp))
+                .map(|(t, (w, p))| t * (w - p))
+                .sum();
+            if self.residual(&f) <= TOLERANCE && g.abs() <= 1e-9 {
+                return Ok(Some((w, it)));
+            }
+            // The bordered Jacobian in the scaled unknowns.
+            let dy = self.dp_dy(&y, v)?;
+            let hv = FD_STEP * v.abs().max(1e-3);
+            let (pa, pb) = (self.map(&y, v + hv)?, self.map(&y, v - hv)?);
+            let mut a = DMatrix::<f64>::zeros(n + 1, n + 1);
+            for i in 0..n {
+                for j in 0..n {
+                    let id = if i == j { 1.0 } else { 0.0 };
+                    a[(i, j)] = (dy[(i, j)] - id) * self.scale[j];
+                }
+                a[(i, n)] = (pa[i] - pb[i]) / (2.0 * hv);
+            }
+            for j in 0..=n {
+                a[(n, j)] = t[j];
+            }
+            let rhs = DVector::from_iterator(n + 1, f.iter().map(|f| -f).chain([-g]));
+            let Some(d) = a.lu().solve(&rhs) else {
+                return Ok(None);
+            };
+            for (w, d) in w.iter_mut().zip(d.iter()) {
+                *w += d;
+            }
+            if !w.iter().all(|x| x.is_finite()) {
+                return Ok(None);
+            }
+        }
+        Ok(None)
+    }
+
+    /// `max |f| / max |y|` per block scale.
+    fn residual(&self, f: &[f64]) -> f64 {
+        f.iter()
+            .zip(&self.scale)
+            .fold(0.0_f64, |m, (f, s)| m.max(f.abs() / s))
+    }
+
+    /// The scaled unknowns of `(y, ν)`.
+    fn w(&self, y: &[f64], v: f64) -> Vec<f64> {
+        y.iter()
+            .zip(&self.scale)
+            .map(|(y, s)| y / s)
+            .chain([v])
+            .collect()
+    }
+
+    /// `y` of the scaled unknowns.
+    fn y(&self, w: &[f64]) -> Vec<f64> {
+        w.iter().zip(&self.scale).map(|(w, s)| w * s).collect()
+    }
+
+    /// The branch point at `(y, ν)`: multipliers of `∂P/∂y`, the orbit analysed over `6k`
+    /// revolutions.
+    fn point(&mut self, y: &[f64], v: f64, iterations: usize) -> Result<BranchPoint> {
+        let m = self.dp_dy(y, v)?;
+        let mut rho: Vec<[f64; 2]> = m
+            .complex_eigenvalues()
+            .iter()
+            .map(|c| [c.re, c.im])
+            .collect();
+        rho.sort_by(|a, b| b[0].hypot(b[1]).total_cmp(&a[0].hypot(a[1])));
+        let largest = rho.first().map_or(0.0, |r| r[0].hypot(r[1]));
+        let p = self.prep(v)?;
+        let start = self.start(y, p.plan.dt)?;
+        let orbit = orbit(&p, &start, self.k)?;
+        self.steps += orbit.stats.steps as u64;
+        Ok(BranchPoint {
+            speed_ratio: v,
+            stable: largest < 1.0,
+            largest_modulus: largest,
+            rho1: rho.first().copied().unwrap_or_default(),
+            instability: (largest >= 1.0).then(|| periodic::crossing(rho[0], largest)),
+            extents_nd: orbit.extents_nd,
+            amp_1x_nd: orbit.amp_1x_nd,
+            contact_fraction: orbit.contact_fraction,
+            iterations,
+            residual: 0.0,
+        })
+    }
+}
+
+/// The orbit from `start` over `6k` revolutions of `p`'s plan, analysed as a steady window.
+fn orbit(p: &Prepared, start: &EndState, k: usize) -> Result<super::SpeedResults> {
+    let plan = StepPlan {
+        steps: 6 * k * p.plan.steps_per_rev,
+        steady_from: 0,
+        ..p.plan
+    };
+    let mut st = Stepper::new(
+        &p.case,
+        p.request.step.integrator,
+        &plan,
+        p.request.initial(),
+    )?;
+    if !st.restart(start) {
+        return Err(Error::study(
+            "run",
+            "the branch's state does not restart".to_string(),
+        ));
+    }
+    let (rec, stats) = st.run(None)?;
+    let mut s = p.request;
+    s.step.revolutions = 6 * k;
+    s.step.transient_revolutions = 0;
+    Ok(super::analyse(
+        &p.case,
+        &s,
+        &plan,
+        &rec,
+        stats,
+        Keep::default(),
+    ))
+}
+
+/// `(uᴺ, uᴺ⁻¹)` per body → `(u, v)`, `v = (uᴺ − uᴺ⁻¹)/dt`.
+fn to_uv(x: &[f64], sizes: &[usize], dt: f64) -> Vec<f64> {
+    let mut y = x.to_vec();
+    let mut at = 0;
+    for &n in sizes {
+        for i in 0..n {
+            y[at + n + i] = (x[at + i] - x[at + n + i]) / dt;
+        }
+        at += 2 * n;
+    }
+    y
+}
+
+/// `(u, v)` per body → `(uᴺ, uᴺ⁻¹)` at step `dt`.
+fn from_uv(y: &[f64], sizes: &[usize], dt: f64) -> Vec<f64> {
+    let mut x = y.to_vec();
+    let mut at = 0;
+    for &n in sizes {
+        for i in 0..n {
+            x[at + n + i] = y[at + i] - dt * y[at + n + i];
+        }
+        at += 2 * n;
+    }
+    x
+}
+
+/// Each component's scale: the largest |value| of its block (displacements, velocities) per
+/// body, never zero.
+fn block_scales(y: &[f64], sizes: &[usize]) -> Vec<f64> {
+    let mut s = vec![1.0; y.len()];
+    let mut at = 0;
+    for &n in sizes {
+        for b in [at, at + n] {
+            let m = y[b..b + n].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let m = if m > 0.0 { m } else { 1.0 };
+            s[b..b + n].iter_mut().for_each(|x| *x = m);
+        }
+        at += 2 * n;
+    }
+    s
+}
+
+fn sub(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(a, b)| a - b).collect()
+}
+
+fn dist(a: &[f64], b: &[f64]) -> f64 {
+    sub(a, b).iter().map(|d| d * d).sum::<f64>().sqrt()
+}
+
+fn unit(a: &[f64]) -> Vec<f64> {
+    let n = a.iter().map(|d| d * d).sum::<f64>().sqrt().max(1e-300);
+    a.iter().map(|d| d / n).collect()
+}
+
+/// A fold between the last points: ν's direction along the branch turns; its speed is the
+/// vertex of the parabola ν(σ) through the last three points.
+fn fold_between(ws: &[Vec<f64>], points: &[BranchPoint], out: &mut Vec<Bifurcation>) {
+    let n = ws.len();
+    if n < 3 {
+        return;
+    }
+    let nu = |w: &Vec<f64>| *w.last().unwrap_or(&f64::NAN);
+    let (a, b, c) = (nu(&ws[n - 3]), nu(&ws[n - 2]), nu(&ws[n - 1]));
+    if (b - a) * (c - b) >= 0.0 {
+        return;
+    }
+    let (s1, s2) = (dist(&ws[n - 3], &ws[n - 2]), dist(&ws[n - 2], &ws[n - 1]));
+    // ν(σ) through (0, a), (s1, b), (s1 + s2, c): the vertex.
+    let (x1, x2) = (s1, s1 + s2);
+    let d1 = (b - a) / x1;
+    let d2 = (c - b) / (x2 - x1);
+    let curv = (d2 - d1) / x2;
+    let vertex = if curv != 0.0 {
+        let sv = 0.5 * (x1 - d1 / curv);
+        a + d1 * sv + curv * sv * (sv - x1)
+    } else {
+        b
+    };
+    let m = points.len();
+    let rho = |p: &BranchPoint| p.rho1;
+    out.push(Bifurcation {
+        kind: "fold",
+        between: [a.min(c), a.max(c).max(b)],
+        speed_ratio: vertex,
+        rho: [rho(&points[m - 2]), rho(&points[m - 1])],
+    });
+}
+
+/// Changes of stability between consecutive points that no fold explains, with the interval
+/// of their two points.
+fn stability_changes(b: &mut Branch) {
+    let mut found = Vec::new();
+    for pair in b.points.windows(2) {
+        let (p, q) = (&pair[0], &pair[1]);
+        if p.stable == q.stable {
+            continue;
+        }
+        let (lo, hi) = (
+            p.speed_ratio.min(q.speed_ratio),
+            p.speed_ratio.max(q.speed_ratio),
+        );
+        let unstable = if p.stable { q } else { p };
+        let stable = if p.stable { p } else { q };
+        if unstable.instability == Some("fold") {
+            continue; // the fold's own report
+        }
+        found.push(Bifurcation {
+            kind: unstable.instability.unwrap_or("unknown"),
+            between: [lo, hi],
+            speed_ratio: 0.5 * (lo + hi),
+            rho: [stable.rho1, unstable.rho1],
+        });
+    }
+    b.bifurcations.extend(found);
+}
