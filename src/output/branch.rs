@@ -16,7 +16,7 @@ pub const BIFURCATIONS_HEADER: &str =
     "kind,speed_ratio,from,to,rho_stable_re,rho_stable_im,rho_unstable_re,rho_unstable_im";
 
 /// Writes `branch.csv`, `bifurcations.csv` and (`png`) `branch.png` — the orbit's largest
-/// |y|/|Z0| and |x|/|Z0| against ω/ωn, the stable stretches and the unstable ones as separate
+/// |x| or |y| (/|Z0|) against ω/ωn, the stable stretches and the unstable ones as separate
 /// curves — into `out`.
 ///
 /// # Errors
@@ -71,41 +71,27 @@ pub fn write_branch(out: &mut OutDir, title: &str, branch: &Branch, png: bool) -
             ),
             &curves(branch),
             "ω/ωn",
-            "largest |x|, |y| / |Z0|",
+            "largest |x|, |y| over the orbit / |Z0|",
         )?;
     }
     Ok(())
 }
 
-/// The diagram's curves: the largest |y| and |x| over the orbit, each split into its stable
-/// and unstable stretches (a non-finite value breaks a line where the other holds).
+/// The diagram's curves: the orbit's largest |x| or |y| (/|Z0|), split into its stable and
+/// unstable stretches (a non-finite value breaks a line where the other holds).
 fn curves(branch: &Branch) -> Vec<Curve> {
-    let reach = |e: [f64; 4], y: bool| {
-        if y {
-            e[2].abs().max(e[3].abs())
-        } else {
-            e[0].abs().max(e[1].abs())
-        }
-    };
-    let mut out = Vec::new();
-    for (y, name) in [(true, "|y|"), (false, "|x|")] {
-        for (stable, how) in [(true, "stable"), (false, "unstable")] {
-            out.push(Curve {
-                label: format!("{name} max, {how}"),
-                points: branch
-                    .points
-                    .iter()
-                    .map(|p| {
-                        let v = if p.stable == stable {
-                            reach(p.extents_nd, y)
-                        } else {
-                            f64::NAN
-                        };
-                        (p.speed_ratio, v)
-                    })
-                    .collect(),
-            });
-        }
-    }
-    out
+    [(true, "stable"), (false, "unstable")]
+        .into_iter()
+        .map(|(stable, how)| Curve {
+            label: how.to_string(),
+            points: branch
+                .points
+                .iter()
+                .map(|p| {
+                    let reach = p.extents_nd.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                    (p.speed_ratio, if p.stable == stable { reach } else { f64::NAN })
+                })
+                .collect(),
+        })
+        .collect()
 }
