@@ -69,6 +69,8 @@ pub fn continue_arclength(
     max_points: usize,
 ) -> Result<Branch> {
     let (lo, hi) = (from.min(to), from.max(to));
+    let pinned = super::branch::pinned_reduction(model, s, hi)?;
+    let s = &pinned;
     let first = periodic::shoot(&prepare(model, &request(s, from))?, period)?;
     let k = first.period;
     let mut branch = Branch {

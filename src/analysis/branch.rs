@@ -5,9 +5,11 @@
 //! The orbit of period `k` revolutions is shot at the first speed from its settled run
 //! ([`super::periodic::shoot`]); at each next speed Newton starts from the previous fixed point,
 //! its velocities `(uᴺ − uᴺ⁻¹)/Δt` carried to the new speed's step
-//! ([`crate::time::EndState::retimed`]). The branch ends where Newton does not converge from
-//! there (a fold — the orbit turns back —, or the orbit ceases to exist); the report says at
-//! which speed. Between two converged points whose stability differs (every `|ρ| < 1` on one
+//! ([`crate::time::EndState::retimed`]); where Newton does not converge the step is halved
+//! ([`MAX_SUBSTEPS`] times at most, the midpoints joining the branch). The branch ends where it
+//! still does not (a fold — the orbit turns back, `rubsim continue --arclength` follows it —,
+//! or the orbit ceases to exist); the report says at which speed. A reduced model's cut-off is
+//! pinned for the whole branch ([`pinned_reduction`]). Between two converged points whose stability differs (every `|ρ| < 1` on one
 //! side only) the change is located by bisection in ν ([`LOCATE_STEPS`] halvings, each a
 //! Newton from the nearer point) and named by the multiplier that crosses the unit circle on
 //! the unstable side: `period_doubling` (ρ through −1), `fold` (through +1) or
@@ -19,6 +21,10 @@ use super::RunSettings;
 use crate::error::Result;
 use crate::model::Model;
 use serde::Serialize;
+
+/// Halvings of a continuation step whose Newton does not converge, each reaching the
+/// midpoint first (the contact set can change much between two speeds of a sweep's grid).
+pub const MAX_SUBSTEPS: usize = 4;
 
 /// Halvings of the interval in which a change of stability is located (the interval shrinks
 /// to 1/2⁶ = 1/64 of the continuation step).
@@ -115,6 +121,9 @@ pub fn continue_in_speed(
             steps: 0,
         });
     };
+    let top = speeds.iter().fold(first, |m, v| m.max(*v));
+    let pinned = pinned_reduction(model, s, top)?;
+    let s = &pinned;
     let start = periodic::shoot(&prepare(model, &request(s, first))?, period)?;
     let k = start.period;
     let mut steps = start.steps;
@@ -135,13 +144,22 @@ pub fn continue_in_speed(
     }
     let mut prev = start;
     branch.points.push(BranchPoint::of(&prev));
-    for &v in rest {
+    // Speeds still to reach, the next last; a step whose Newton fails is halved (up to
+    // [`MAX_SUBSTEPS`] times) by reaching its midpoint first.
+    let mut todo: Vec<(f64, usize)> = rest.iter().rev().map(|&v| (v, 0)).collect();
+    while let Some((v, depth)) = todo.pop() {
         let next = match at_speed(model, s, v, &prev) {
             Ok(o) if o.converged => o,
+            Ok(o) if depth < MAX_SUBSTEPS => {
+                steps += o.steps;
+                todo.push((v, depth + 1));
+                todo.push((0.5 * (prev.speed_ratio + v), depth + 1));
+                continue;
+            }
             Ok(o) => {
                 steps += o.steps;
                 branch.ended = Some(format!(
-                    "Newton did not converge at ω/ωn = {v:.4} from the orbit at {:.4} (residual {:.2e}): a fold, or the period-{k} orbit ends there",
+                    "Newton did not converge at ω/ωn = {v:.4} from the orbit at {:.4} (residual {:.2e}, the step halved {MAX_SUBSTEPS} times): a fold, or the period-{k} orbit ends there",
                     prev.speed_ratio, o.residual
                 ));
                 break;
@@ -162,6 +180,33 @@ pub fn continue_in_speed(
     }
     branch.steps = steps;
     Ok(branch)
+}
+
+/// The settings `s` with a reduced model's cut-off pinned for the whole branch: a default
+/// cut-off `cutoff_factor × max(harmonics × ω, ω_c)` follows the speed, and with it the
+/// reduced basis — a state at one speed would mean another thing at the next. Pinned at the
+/// branch's highest speed `top_ratio` (ν), every point keeps the modes its own speed would ask
+/// for and one basis. Unchanged without a reduction or with a fixed `cutoff`.
+///
+/// # Errors
+/// The case at the top speed.
+pub fn pinned_reduction(model: &Model, s: &RunSettings, top_ratio: f64) -> Result<RunSettings> {
+    let Some(r) = s.reduction_of(model).copied() else {
+        return Ok(*s);
+    };
+    if r.cutoff.is_some() {
+        return Ok(*s);
+    }
+    let top = top_ratio * model.rotor.natural_frequency();
+    let cf = model.case_with(top, None)?.contact_frequency();
+    let cut = r.cutoff_factor * (r.harmonics * top).max(cf);
+    Ok(RunSettings {
+        reduction: Some(crate::resolve::ReductionInput {
+            cutoff: Some(cut),
+            ..r
+        }),
+        ..*s
+    })
 }
 
 /// The run request of the continuation at ν: the scene's settings, no follow-ups.

@@ -89,7 +89,10 @@ fn curves(branch: &Branch) -> Vec<Curve> {
                 .iter()
                 .map(|p| {
                     let reach = p.extents_nd.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-                    (p.speed_ratio, if p.stable == stable { reach } else { f64::NAN })
+                    (
+                        p.speed_ratio,
+                        if p.stable == stable { reach } else { f64::NAN },
+                    )
                 })
                 .collect(),
         })

@@ -455,3 +455,24 @@ fn arclength_follows_the_full_rub_around_its_fold() {
     assert!(b.points.first().unwrap().stable);
     assert!(b.points.last().unwrap().speed_ratio < 1.8);
 }
+
+/// The FE paper rotor (`scenes/fe/paper_rotor_rub.toml`, reduced with the cut-off the tolerance
+/// chooses — pinned at the branch's top speed so that one modal basis serves every point)
+/// continued from ν 1.5 to 2.6: its period-1 orbit doubles within 0.02 of the Jeffcott
+/// rotor's 2.2414 (the bound against the sweep), as its sweep's regimes follow the
+/// Jeffcott's. Measured: 2.2258 with the cut-off pinned at ν 2.6, 2.2430 at ν 6.0 (`rubsim
+/// continue … --from 1.5 --to 6.0`, more modes): the reduction's truncation moves a doubling
+/// more than it moves an orbit's extents.
+#[test]
+fn the_fe_paper_rotor_branch_doubles_where_the_jeffcott_does() {
+    let (ls, m) = common::file_model(&repo("scenes/fe/paper_rotor_rub.toml"), NO_SETS);
+    let sp = speeds(1.5, 2.6);
+    let s = rubsim::study::run_settings(&ls, &m, &sp).expect("step choice");
+    let b = rubsim::analysis::branch::continue_in_speed(&m, &s, &sp, Some(1)).expect("continue");
+    assert!(b.ended.is_none(), "{:?}", b.ended);
+    assert_eq!(b.bifurcations.len(), 1, "{:?}", b.bifurcations);
+    let pd = &b.bifurcations[0];
+    assert_eq!(pd.kind, "period_doubling");
+    eprintln!("FE rotor: period doubling at ν {:.4}", pd.speed_ratio);
+    assert!((pd.speed_ratio - 2.2414).abs() < 0.02, "{pd:?}");
+}
