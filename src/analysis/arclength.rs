@@ -118,7 +118,22 @@ pub fn continue_arclength(
     let (y1, it1) = arc.correct_at(y0.clone(), from + dir * h)?;
     let w1 = arc.w(&y1, from + dir * h);
     branch.points.push(arc.point(&y1, from + dir * h, it1)?);
-    let mut ws = vec![w0, w1];
+    follow(&mut arc, &mut branch, vec![w0, w1], (lo, hi), max_points);
+    stability_changes(&mut branch);
+    branch.steps += arc.steps;
+    Ok(branch)
+}
+
+/// Continues `branch` from its last two points `ws` (scaled unknowns) by pseudo-arclength
+/// until it leaves `[lo, hi]`, holds `max_points` points or its corrector fails with the step
+/// halved [`MAX_STEP_HALVINGS`] times; folds found on the way are added.
+fn follow(
+    arc: &mut Arc<'_>,
+    branch: &mut Branch,
+    mut ws: Vec<Vec<f64>>,
+    (lo, hi): (f64, f64),
+    max_points: usize,
+) {
     let mut ds = dist(&ws[0], &ws[1]);
     let ds_max = 4.0 * ds;
     while branch.points.len() < max_points {
@@ -152,16 +167,19 @@ pub fn continue_arclength(
         };
         let v = *w.last().unwrap_or(&f64::NAN);
         let y = arc.y(&w);
-        branch.points.push(arc.point(&y, v, iters)?);
+        match arc.point(&y, v, iters) {
+            Ok(p) => branch.points.push(p),
+            Err(e) => {
+                branch.ended = Some(format!("ω/ωn = {v:.4}: {e}"));
+                break;
+            }
+        }
         ws.push(w);
         fold_between(&ws, &branch.points, &mut branch.bifurcations);
         if !(lo..=hi).contains(&v) {
             break;
         }
     }
-    stability_changes(&mut branch);
-    branch.steps += arc.steps;
-    Ok(branch)
 }
 
 /// The run request at ν: the scene's settings, no follow-ups.
