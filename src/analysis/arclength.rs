@@ -22,13 +22,13 @@
 //! fold (a multiplier through −1 or a complex pair) is reported with the interval of its two
 //! points.
 
-use super::branch::{Bifurcation, Branch, BranchPoint};
+use super::branch::{request, Bifurcation, Branch, BranchPoint};
 use super::periodic;
 use super::speed::{prepare, Prepared};
-use super::{Keep, RunSettings};
+use super::RunSettings;
 use crate::error::{Error, Result};
 use crate::model::Model;
-use crate::time::{EndState, StepPlan, Stepper};
+use crate::time::{EndState, StepPlan};
 use nalgebra::{DMatrix, DVector};
 
 /// Newton iterations of one corrector.
@@ -182,13 +182,6 @@ fn follow(
     }
 }
 
-/// The run request at ν: the scene's settings, no follow-ups.
-fn request(s: &RunSettings, v: f64) -> super::RunRequest {
-    let mut r = s.request(v);
-    r.follow_ups = super::FollowUps::default();
-    r
-}
-
 impl Arc<'_> {
     /// The prepared run at ν with the branch's `N` steps a revolution.
     fn prep(&self, v: f64) -> Result<Prepared> {
@@ -217,30 +210,10 @@ impl Arc<'_> {
     /// `P(y; ν)` in the `(u, v)` layout.
     fn map(&mut self, y: &[f64], v: f64) -> Result<Vec<f64>> {
         let p = self.prep(v)?;
-        let dt = p.plan.dt;
-        let start = self.start(y, dt)?;
-        let n = p.plan.steps;
-        let mut st = Stepper::new(
-            &p.case,
-            p.request.step.integrator,
-            &p.plan,
-            p.request.initial(),
-        )?;
-        if !st.restart(&start) {
-            return Err(Error::study(
-                "run",
-                "the branch's state does not restart".to_string(),
-            ));
-        }
-        st.run_to(n - 1, &mut None)?;
-        let older = st.history();
-        st.run_to(n, &mut None)?;
-        self.steps += n as u64;
-        let end = st
-            .end_state(&older)
-            .and_then(|e| e.state_vector())
-            .ok_or_else(|| Error::study("run", "the map's end state".to_string()))?;
-        Ok(to_uv(&end, &self.sizes, dt))
+        let start = self.start(y, p.plan.dt)?;
+        let end = periodic::end_after(&p, &p.plan, &start)?;
+        self.steps += p.plan.steps as u64;
+        Ok(to_uv(&end, &self.sizes, p.plan.dt))
     }
 
     /// `∂P/∂y` at `(y, ν)` by central differences (unscaled).
@@ -355,17 +328,11 @@ impl Arc<'_> {
     /// The branch point at `(y, ν)`: multipliers of `∂P/∂y`, the orbit analysed over `6k`
     /// revolutions.
     fn point(&mut self, y: &[f64], v: f64, iterations: usize) -> Result<BranchPoint> {
-        let m = self.dp_dy(y, v)?;
-        let mut rho: Vec<[f64; 2]> = m
-            .complex_eigenvalues()
-            .iter()
-            .map(|c| [c.re, c.im])
-            .collect();
-        rho.sort_by(|a, b| b[0].hypot(b[1]).total_cmp(&a[0].hypot(a[1])));
+        let rho = periodic::floquet(&self.dp_dy(y, v)?);
         let largest = rho.first().map_or(0.0, |r| r[0].hypot(r[1]));
         let p = self.prep(v)?;
         let start = self.start(y, p.plan.dt)?;
-        let orbit = orbit(&p, &start, self.k)?;
+        let orbit = periodic::orbit_from(&p, &p.plan, &start, self.k)?;
         self.steps += orbit.stats.steps as u64;
         Ok(BranchPoint {
             speed_ratio: v,
@@ -380,39 +347,6 @@ impl Arc<'_> {
             residual: 0.0,
         })
     }
-}
-
-/// The orbit from `start` over `6k` revolutions of `p`'s plan, analysed as a steady window.
-fn orbit(p: &Prepared, start: &EndState, k: usize) -> Result<super::SpeedResults> {
-    let plan = StepPlan {
-        steps: 6 * k * p.plan.steps_per_rev,
-        steady_from: 0,
-        ..p.plan
-    };
-    let mut st = Stepper::new(
-        &p.case,
-        p.request.step.integrator,
-        &plan,
-        p.request.initial(),
-    )?;
-    if !st.restart(start) {
-        return Err(Error::study(
-            "run",
-            "the branch's state does not restart".to_string(),
-        ));
-    }
-    let (rec, stats) = st.run(None)?;
-    let mut s = p.request;
-    s.step.revolutions = 6 * k;
-    s.step.transient_revolutions = 0;
-    Ok(super::analyse(
-        &p.case,
-        &s,
-        &plan,
-        &rec,
-        stats,
-        Keep::default(),
-    ))
 }
 
 /// `(uᴺ, uᴺ⁻¹)` per body → `(u, v)`, `v = (uᴺ − uᴺ⁻¹)/dt`.

@@ -221,37 +221,10 @@ struct Map<'a> {
 }
 
 impl Map<'_> {
-    /// A stepper of the map's plan started at the state `x`.
-    fn stepper(&self, x: &[f64], plan: &StepPlan) -> Result<Stepper<'_>> {
-        let p = self.prep;
-        let mut st = Stepper::new(
-            &p.case,
-            p.request.step.integrator,
-            plan,
-            p.request.initial(),
-        )?;
-        let start = self.end.with_state_vector(x).filter(|s| st.restart(s));
-        if start.is_none() {
-            return Err(Error::study(
-                "run.integrator",
-                "the run's state does not restart at its own step".to_string(),
-            ));
-        }
-        Ok(st)
-    }
-
     /// `P(x)`: the state after the map's `k N` steps from `x`.
     fn apply(&self, x: &[f64]) -> Result<Vec<f64>> {
-        let n = self.plan.steps;
-        let mut st = self.stepper(x, &self.plan)?;
-        st.run_to(n - 1, &mut None)?;
-        let older = st.history();
-        st.run_to(n, &mut None)?;
-        st.end_state(&older)
-            .and_then(|e| e.state_vector())
-            .ok_or_else(|| {
-                Error::study("run", "the map's end state could not be taken".to_string())
-            })
+        let start = self.end.with_state_vector(x).ok_or_else(not_restarted)?;
+        end_after(self.prep, &self.plan, &start)
     }
 
     /// Newton on `P(x) − x` from `x` (module docs).
@@ -328,34 +301,86 @@ impl Map<'_> {
     /// The Floquet multipliers at `x`, largest modulus first.
     fn multipliers(&self, x: &[f64]) -> Result<(Vec<[f64; 2]>, u64)> {
         let (m, steps) = self.jacobian(x)?;
-        let mut rho: Vec<[f64; 2]> = m
-            .complex_eigenvalues()
-            .iter()
-            .map(|c| [c.re, c.im])
-            .collect();
-        rho.sort_by(|a, b| b[0].hypot(b[1]).total_cmp(&a[0].hypot(a[1])));
-        Ok((rho, steps))
+        Ok((floquet(&m), steps))
     }
 
     /// The orbit from `x` over `6 k` revolutions, analysed as a steady window.
     fn orbit(&self, x: &[f64], k: usize) -> Result<(SpeedResults, u64)> {
-        let p = self.prep;
-        let spr = self.plan.steps_per_rev.max(1);
-        let plan = StepPlan {
-            steps: 6 * k * spr,
-            steady_from: 0,
-            ..self.plan
-        };
-        let (rec, stats) = self.stepper(x, &plan)?.run(None)?;
-        let steps = stats.steps as u64;
-        let mut s = p.request;
-        s.step.revolutions = 6 * k;
-        s.step.transient_revolutions = 0;
-        Ok((
-            analyse(&p.case, &s, &plan, &rec, stats, Keep::default()),
-            steps,
-        ))
+        let start = self.end.with_state_vector(x).ok_or_else(not_restarted)?;
+        let orbit = orbit_from(self.prep, &self.plan, &start, k)?;
+        let steps = orbit.stats.steps as u64;
+        Ok((orbit, steps))
     }
+}
+
+/// The error of a state that does not restart the run's scheme at its own step.
+fn not_restarted() -> Error {
+    Error::study(
+        "run.integrator",
+        "the run's state does not restart at its own step".to_string(),
+    )
+}
+
+/// A stepper of `p`'s case and scheme on `plan`, restarted from `start` (taken at `plan`'s
+/// step: [`Stepper::restart`] then keeps it as it is).
+pub(super) fn restarted<'a>(
+    p: &'a Prepared,
+    plan: &StepPlan,
+    start: &EndState,
+) -> Result<Stepper<'a>> {
+    let mut st = Stepper::new(
+        &p.case,
+        p.request.step.integrator,
+        plan,
+        p.request.initial(),
+    )?;
+    if !st.restart(start) {
+        return Err(not_restarted());
+    }
+    Ok(st)
+}
+
+/// The state vector ([`EndState::state_vector`]) after `plan.steps` steps of `p` from `start`.
+pub(super) fn end_after(p: &Prepared, plan: &StepPlan, start: &EndState) -> Result<Vec<f64>> {
+    let n = plan.steps;
+    let mut st = restarted(p, plan, start)?;
+    st.run_to(n - 1, &mut None)?;
+    let older = st.history();
+    st.run_to(n, &mut None)?;
+    st.end_state(&older)
+        .and_then(|e| e.state_vector())
+        .ok_or_else(|| Error::study("run", "the map's end state could not be taken".to_string()))
+}
+
+/// The orbit of `p` from `start` over `6 k` revolutions of `plan`'s step, analysed as a steady
+/// window (extents, lines, contact fraction).
+pub(super) fn orbit_from(
+    p: &Prepared,
+    plan: &StepPlan,
+    start: &EndState,
+    k: usize,
+) -> Result<SpeedResults> {
+    let plan = StepPlan {
+        steps: 6 * k * plan.steps_per_rev.max(1),
+        steady_from: 0,
+        ..*plan
+    };
+    let (rec, stats) = restarted(p, &plan, start)?.run(None)?;
+    let mut s = p.request;
+    s.step.revolutions = 6 * k;
+    s.step.transient_revolutions = 0;
+    Ok(analyse(&p.case, &s, &plan, &rec, stats, Keep::default()))
+}
+
+/// The eigenvalues `[Re ρ, Im ρ]` of a monodromy matrix `m`, largest modulus first.
+pub(super) fn floquet(m: &DMatrix<f64>) -> Vec<[f64; 2]> {
+    let mut rho: Vec<[f64; 2]> = m
+        .complex_eigenvalues()
+        .iter()
+        .map(|c| [c.re, c.im])
+        .collect();
+    rho.sort_by(|a, b| b[0].hypot(b[1]).total_cmp(&a[0].hypot(a[1])));
+    rho
 }
 
 /// `max |P(x) − x| / max |x|` (∞ for a non-finite map).
