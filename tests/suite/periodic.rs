@@ -395,17 +395,7 @@ fn arclength_follows_the_full_rub_around_its_fold() {
     let (k, mu, xi, d) = (25.0, 0.1, 0.2, 1.5);
     // The closed form's fold: where the quadratic in r has a double root.
     let disc = |nu: f64| {
-        let (a, bb, p, q) = (
-            1.0 - nu * nu + k,
-            -k * d,
-            2.0 * xi * nu + mu * k,
-            -mu * k * d,
-        );
-        let (qa, qb, qc) = (
-            a * a + p * p,
-            2.0 * (a * bb + p * q),
-            bb * bb + q * q - nu.powi(4),
-        );
+        let (qa, qb, qc) = common::oracles::radial_annular_rub_quadratic(nu, k, mu, xi, d);
         (qb * qb - 4.0 * qa * qc, qa, qb)
     };
     let (mut lo, mut hi) = (4.0, 5.0);
