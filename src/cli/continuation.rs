@@ -66,9 +66,7 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
     } = args.clone();
     let arclength = arclength.then_some(max_points);
     let (ls, model) = load(&c)?;
-    if period == Some(0) {
-        anyhow::bail!("--period must be a whole number of revolutions ≥ 1, got 0");
-    }
+    super::periodic::check_period(period)?;
     let wn = model.rotor.natural_frequency();
     let sweep = ls.scene.run.sweep.as_ref();
     let pick = |given: Option<f64>, scene: Option<f64>, name: &str| -> Result<f64> {

@@ -54,9 +54,7 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
             anyhow::bail!("--speed must be a positive speed, got {v}");
         }
     }
-    if period == Some(0) {
-        anyhow::bail!("--period must be a whole number of revolutions ≥ 1, got 0");
-    }
+    check_period(period)?;
     let v = speed
         .map(|v| unit.ratio(v, model.rotor.natural_frequency()))
         .or_else(|| analysis::single_speed(&ls.scene.run, &model))
@@ -82,6 +80,15 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
     };
     let base = Base::new(&ls, &model, "periodic");
     finish(outd, &Summary { base, body })?;
+    Ok(())
+}
+
+/// Refuses `--period 0` (an orbit repeats after a whole number ≥ 1 of revolutions); also
+/// `rubsim continue`'s check.
+pub fn check_period(period: Option<usize>) -> Result<()> {
+    if period == Some(0) {
+        anyhow::bail!("--period must be a whole number of revolutions ≥ 1, got 0");
+    }
     Ok(())
 }
 
