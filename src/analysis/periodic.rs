@@ -86,6 +86,24 @@ pub struct PeriodicOrbit {
     pub(crate) fixed_point: (Vec<f64>, EndState),
 }
 
+/// `rubsim periodic`'s orbit: the run of `model` at ν = `speed_ratio` with the settings `s`
+/// (without the coexistence check and the step refinement, which shooting does not use),
+/// prepared and shot ([`shoot`]).
+///
+/// # Errors
+/// As [`super::prepare`] and [`shoot`].
+pub fn shoot_at(
+    model: &crate::model::Model,
+    s: &super::RunSettings,
+    speed_ratio: f64,
+    period: Option<usize>,
+) -> Result<PeriodicOrbit> {
+    let mut request = s.request_at(0, speed_ratio);
+    request.follow_ups.coexistence = false;
+    request.follow_ups.refine_step = false;
+    shoot(&super::prepare(model, &request)?, period)
+}
+
 /// Runs `prep` to its settled state and shoots the periodic response of period `period`
 /// revolutions from there (`None`: the period the settled run was classified with, 1 when it
 /// was not periodic). See the module docs.

@@ -85,27 +85,15 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
             .map(|s| s.step)
             .context("`rubsim continue` needs --step or the scene's [run.sweep]")?,
     };
-    for (name, v) in [("from", a), ("to", b), ("step", h)] {
-        if !(v.is_finite() && v > 0.0) {
-            anyhow::bail!("--{name} must be a positive speed, got {v}");
-        }
+    if arclength.is_some_and(|n| n < 2) {
+        anyhow::bail!("--max-points must be at least 2, got {max_points}");
     }
-    let mut speeds = analysis::sweep_speeds(a.min(b), a.max(b), h);
-    if b < a {
-        speeds.reverse();
-    }
+    let speeds = analysis::continuation::speeds(a, b, h)
+        .with_context(|| format!("--from {a}, --to {b}, --step {h}"))?;
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("continue")))?;
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &speeds)?;
-    let branch = match arclength {
-        Some(max_points) => {
-            if max_points < 2 {
-                anyhow::bail!("--max-points must be at least 2, got {max_points}");
-            }
-            analysis::arclength::continue_arclength(&model, &s, (a, b, h), period, max_points)?
-        }
-        None => analysis::branch::continue_in_speed(&model, &s, &speeds, period)?,
-    };
+    let branch = analysis::continuation::continue_branch(&model, &s, (a, b, h), period, arclength)?;
     report(&branch);
     rubsim::output::branch::write_branch(&mut outd, &ls.scene.title, &branch, ls.scene.output.png)?;
     let body = ContinueBody {

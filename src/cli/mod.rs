@@ -49,9 +49,8 @@ mod sweep;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use rubsim::analysis::{Keep, Prepared, RunSettings, SpeedResults};
+use rubsim::analysis::{Prepared, RunSettings};
 use rubsim::model::Model;
-use rubsim::results::Series;
 use rubsim::scene::{self, LoadedScene};
 use rubsim::time::FrameSink;
 use std::path::{Path, PathBuf};
@@ -476,8 +475,8 @@ pub fn announce_sweep(model: &Model, settings: &RunSettings, speeds: &[f64], run
 const PROGRESS_AFTER_S: f64 = 2.0;
 
 /// A frame sink that only moves a progress bar (about 200 updates over the run).
-struct Progress {
-    pb: ProgressBar,
+pub(crate) struct Progress {
+    pub(crate) pb: ProgressBar,
     every: usize,
 }
 
@@ -494,7 +493,7 @@ impl FrameSink for Progress {
 impl Progress {
     /// A progress bar over the main run of `prep` when it is estimated to take longer than
     /// [`PROGRESS_AFTER_S`] and stderr is a terminal; `None` otherwise.
-    fn for_run(prep: &Prepared) -> Option<Self> {
+    pub(crate) fn for_run(prep: &Prepared) -> Option<Self> {
         use std::io::IsTerminal;
         let b = rubsim::time::estimate(&prep.case, &prep.plan, false);
         if b.wall_s < PROGRESS_AFTER_S || !std::io::stderr().is_terminal() {
@@ -512,24 +511,6 @@ impl Progress {
             every: (prep.plan.steps / 200).max(1),
         })
     }
-}
-
-/// [`Series::run`] of a single run: its estimate on stderr first, and a progress bar on
-/// stderr when it is long ([`PROGRESS_AFTER_S`]) and stderr is a terminal.
-pub fn run_single(
-    series: &Series<'_>,
-    model: &Model,
-    prep: &Prepared,
-    keep: Keep,
-    prefix: &str,
-) -> rubsim::error::Result<(SpeedResults, Vec<String>)> {
-    announce(prep);
-    let Some(mut progress) = Progress::for_run(prep) else {
-        return series.run(model, prep, keep, prefix);
-    };
-    let out = series.run_with(model, prep, keep, prefix, Some(&mut progress));
-    progress.pb.finish_and_clear();
-    out
 }
 
 /// Prepares (and locks) the output directory `dir`; prints its notes (a recovered commit,

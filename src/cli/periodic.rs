@@ -67,11 +67,7 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("periodic")))?;
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &[v])?;
-    let mut request = s.request_at(0, v);
-    request.follow_ups.coexistence = false;
-    request.follow_ups.refine_step = false;
-    let prep = analysis::prepare(&model, &request)?;
-    let orbit = analysis::periodic::shoot(&prep, period)?;
+    let orbit = analysis::periodic::shoot_at(&model, &s, v, period)?;
     report(&orbit);
     outd.write("multipliers.csv", multipliers_csv(&orbit).as_bytes())?;
     let body = PeriodicBody {

@@ -11,7 +11,8 @@ use rubsim::model::Model;
 use rubsim::output::summary::{Base, ModelRecord, Summary};
 use rubsim::output::OutDir;
 use rubsim::scene::LoadedScene;
-use rubsim::study::summary::{CasesRecord, MapBody, ShardBody, ShardRecord, SweepBody};
+use rubsim::study::assemble::Tables;
+use rubsim::study::summary::{ShardBody, ShardRecord};
 use rubsim::study::{self, CaseStore, Computed, Kind, Merged, Shard, Study, StudyRequest};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -126,40 +127,23 @@ pub fn run(c: &Common, kind: Kind, a: &StudyArgs) -> Result<()> {
 }
 
 /// Writes the study's tables, pictures and summary from the cases this process computed
-/// (`held`) and the case files of `stores`, and commits the output directory.
+/// (`held`) and the case files of `stores` ([`study::assemble::write`]), commits the output
+/// directory and prints what it found.
 fn assemble(
-    mut outd: OutDir,
+    outd: OutDir,
     ls: &LoadedScene,
     study: &Study,
     (stores, held): (&[&CaseStore], Vec<Computed>),
     model_rec: ModelRecord,
     t0: std::time::Instant,
 ) -> Result<()> {
-    let counts = study::shard_counts(outd.dir());
-    let results = study::results(stores, study, &counts, held)?;
-    let cases = CasesRecord::new(results.len(), stores);
-    let base = Base::with_model(ls, model_rec, study.kind.name());
-    match study.kind {
-        Kind::Sweep => {
-            let variants = super::sweep::assemble(&mut outd, ls, study, results)?;
-            let sweeps = variants.iter().map(|v| v.record()).collect();
-            let body = SweepBody {
-                sweeps,
-                cases,
-                wall_s: t0.elapsed().as_secs_f64(),
-            };
-            finish(outd, &Summary { base, body })
-        }
-        Kind::Map => {
-            let map = super::map::assemble(&mut outd, ls, study, results)?;
-            let body = MapBody {
-                map,
-                cases,
-                wall_s: t0.elapsed().as_secs_f64(),
-            };
-            finish(outd, &Summary { base, body })
-        }
+    let (tables, dir) = study::assemble::write(outd, (ls, study), (stores, held), model_rec, t0)?;
+    match &tables {
+        Tables::Sweep(variants) => variants.iter().for_each(super::sweep::report),
+        Tables::Map(map, runs) => super::map::report(map, runs),
     }
+    println!("results in {}", dir.display());
+    Ok(())
 }
 
 /// `rubsim merge DIR [MORE…]`: the case stores of `DIR` (its `cases/` and its

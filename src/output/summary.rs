@@ -123,6 +123,19 @@ pub struct RunBody<'a> {
     pub wall_s: f64,
 }
 
+impl<'a> RunBody<'a> {
+    /// The body of the run `result`, the command having taken `wall_s` seconds.
+    pub fn new(result: &'a SpeedResults, wall_s: f64) -> Self {
+        Self {
+            result,
+            regime: crate::analysis::regime_label(result),
+            dynamics: result.dynamics.regime.name(),
+            coexisting: result.coexistence.as_ref().map(|c| c.coexisting),
+            wall_s,
+        }
+    }
+}
+
 /// `rubsim run` of a speed transient.
 #[derive(Debug, Clone, Serialize)]
 pub struct TransientBody<'a, S, O> {

@@ -17,12 +17,14 @@
 //! ([`Shard::from_slurm`]), and what a run reports while it runs goes to the caller's
 //! [`Progress`].
 
+pub mod assemble;
 pub mod case;
 pub mod merge;
 pub mod packed;
 pub mod run;
 pub mod series;
 pub mod shard;
+pub mod single;
 pub mod store;
 pub mod summary;
 pub mod variant;
