@@ -9,6 +9,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 cargo test --release --features fault-injection -- --ignored
+# The Python package (from_ross against ROSS's rotor objects); quick when scripts/test.sh has
+# built it.
+.venv/bin/pip install -q ./python
 export RUBSIM_BIN="${RUBSIM_BIN:-$PWD/target/release/rubsim}"
 status=0
 RUBSIM_REQUIRE_ROSS=1 .venv/bin/python -m pytest tests/post -q -m slow || status=$?

@@ -4,7 +4,10 @@
 # Rust tests (`cargo test --release --features fault-injection`: every test not marked
 # `#[ignore = "slow tier …"]`, with the test hooks that kill a run at chosen points), then
 # the Python read-back tests of the VTK/HDF5 outputs with pyvista, VTK, meshio and h5py
-# (tests/post, `-m "not slow"`, against the release binary that `cargo test` builds).
+# (tests/post, `-m "not slow"`, against the release binary that `cargo test` builds), and the
+# Python package's tests (python/tests) against its wheel, built here from the checkout and
+# installed into .venv with `pip install ./python` (maturin from PyPI, the crates from
+# crates.io; the library is compiled once more, without the test hooks, as users build it).
 # The slow tier is scripts/test-slow.sh; CI (.ci/run) runs both. Tiers and their cost:
 # docs/PERFORMANCE.md, "Test tiers and build time".
 set -euo pipefail
@@ -23,11 +26,12 @@ if ! wait "$py"; then
   exit 1
 fi
 rm -f "$pylog"
+.venv/bin/pip install -q ./python
 export RUBSIM_BIN="${RUBSIM_BIN:-$PWD/target/release/rubsim}"
 status=0
-.venv/bin/python -m pytest tests/post -q -m "not slow" || status=$?
+.venv/bin/python -m pytest tests/post python/tests -q -m "not slow" || status=$?
 if [ "$status" -eq 5 ]; then
-  echo "scripts/test.sh: pytest collected no tests in tests/post" >&2
+  echo "scripts/test.sh: pytest collected no tests in tests/post and python/tests" >&2
   exit 1
 fi
 exit "$status"

@@ -1,0 +1,257 @@
+//! One speed, a speed transient and the rotor's modes, run with the GIL released. With an
+//! output directory the run writes exactly what `rubsim run` writes there
+//! ([`rubsim::study::single`]); without one it writes nothing. Either way the results come back
+//! as a dict: `summary` (JSON text: `summary.json`'s body), numpy arrays, `warnings` (list of
+//! str) and `dir` (the committed folder or None).
+
+use crate::errors::{IntoPy, StudyError};
+use crate::progress::StepProgress;
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rubsim::analysis::{self, Keep, SpeedResults};
+use rubsim::error::Result;
+use rubsim::model::Model;
+use rubsim::output::summary::RunBody;
+use rubsim::output::OutDir;
+use rubsim::scene::LoadedScene;
+use rubsim::study::single;
+use rubsim::time::FrameSink;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Where a call writes: the output directory and whether a folder rubsim did not make may be
+/// taken (the command line's `--force`).
+pub struct Out {
+    /// The directory, or none (nothing written).
+    pub dir: Option<PathBuf>,
+    /// Take a non-empty folder rubsim did not make.
+    pub force: bool,
+}
+
+impl Out {
+    /// The output directory prepared and locked ([`OutDir::prepare`]); `None` without one.
+    pub fn open(&self) -> Result<Option<OutDir>> {
+        self.dir
+            .as_deref()
+            .map(|d| open_dir(d, self.force))
+            .transpose()
+    }
+}
+
+/// [`OutDir::prepare`], or [`OutDir::prepare_forced`] with `force`.
+pub fn open_dir(dir: &Path, force: bool) -> Result<OutDir> {
+    if force {
+        OutDir::prepare_forced(dir)
+    } else {
+        OutDir::prepare(dir)
+    }
+}
+
+/// `rows × k` values as a numpy array of that shape (rows of `k` columns, flattened in `flat`).
+pub fn array2<'py>(py: Python<'py>, flat: Vec<f64>, k: usize) -> PyResult<Bound<'py, PyAny>> {
+    let n = flat.len() / k.max(1);
+    Ok(PyArray1::from_vec(py, flat).reshape([n, k])?.into_any())
+}
+
+/// Pairs as an `n × 2` numpy array.
+pub fn pairs<'py>(py: Python<'py>, v: &[[f64; 2]]) -> PyResult<Bound<'py, PyAny>> {
+    array2(py, v.iter().flatten().copied().collect(), 2)
+}
+
+/// Tuples as an `n × 2` numpy array.
+fn tuples<'py>(py: Python<'py>, v: &[(f64, f64)]) -> PyResult<Bound<'py, PyAny>> {
+    array2(py, v.iter().flat_map(|&(a, b)| [a, b]).collect(), 2)
+}
+
+/// JSON text of a summary body.
+pub fn json<T: serde::Serialize>(value: &T) -> PyResult<String> {
+    serde_json::to_string(value).map_err(|e| StudyError::new_err(e.to_string()))
+}
+
+/// ν = `speed`, else the scene's single speed (`run.speed_ratio`, `run.speed`).
+fn speed_of(ls: &LoadedScene, model: &Model, speed: Option<f64>) -> PyResult<f64> {
+    speed
+        .or_else(|| analysis::single_speed(&ls.scene.run, model))
+        .ok_or_else(|| {
+            StudyError::new_err(format!(
+                "{}: the scene has no run.speed_ratio or run.speed: give speed= (or use sweep())",
+                ls.file.display()
+            ))
+        })
+}
+
+/// The run at ν = `speed` (default: the scene's single speed) of `ls`'s `model`, with the step
+/// `rubsim run` chooses; see the module.
+pub fn run_speed<'py>(
+    py: Python<'py>,
+    (ls, model): (&LoadedScene, &Model),
+    speed: Option<f64>,
+    out: Out,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    if ls.scene.run.speed_profile.is_some() {
+        return Err(StudyError::new_err(format!(
+            "{}: the scene has [run.speed_profile]: run it with transient()",
+            ls.file.display()
+        )));
+    }
+    let v = speed_of(ls, model, speed)?;
+    let mut hooks = StepProgress::new(progress);
+    let started = Instant::now();
+    let ran = py.detach(|| -> Result<(SpeedResults, Option<PathBuf>)> {
+        let outd = out.open()?;
+        let s = rubsim::study::run_settings(ls, model, &[v])?;
+        if let Some(outd) = outd {
+            let (r, dir) = single::run_speed(outd, (ls, model), (&s, v), started, &mut hooks)?;
+            return Ok((r, Some(dir)));
+        }
+        let prep = analysis::prepare(model, &s.request_at(0, v))?;
+        hooks.plan(prep.plan.steps);
+        let mut sinks: [&mut dyn FrameSink; 1] = [&mut hooks];
+        let keep = Keep::single_run(&ls.scene.output, v);
+        Ok((prep.run(keep, &mut sinks)?, None))
+    });
+    let (r, dir) = ran.map_err(|e| hooks.error(e))?;
+    let d = PyDict::new(py);
+    let body = RunBody::new(&r, started.elapsed().as_secs_f64());
+    d.set_item("summary", json(&body)?)?;
+    d.set_item("orbit", pairs(py, &r.orbit_nd)?)?;
+    d.set_item("poincare", pairs(py, &r.poincare_nd)?)?;
+    d.set_item("spectrum", tuples(py, &r.spectrum)?)?;
+    d.set_item("full_spectrum", tuples(py, &r.full_spectrum)?)?;
+    d.set_item("force_history", tuples(py, &r.force_history)?)?;
+    let mut warnings = analysis::notices::run_warnings(&r, ls.scene.run.tolerance);
+    warnings.append(&mut hooks.warnings);
+    d.set_item("warnings", warnings)?;
+    d.set_item("dir", dir)?;
+    Ok(d)
+}
+
+/// The speed transient of `ls` (`[run.speed_profile]`) on `model`; see the module. The arrays:
+/// `spin` (t, Ω, φ, Ω̇ per recorded sample), `response` (x, y of the analysed node, m),
+/// `contact` (|F| on station 0, friction power, friction energy so far), `torque` (a driven
+/// rotor's drive and friction torques; empty otherwise).
+pub fn run_transient<'py>(
+    py: Python<'py>,
+    (ls, model): (&LoadedScene, &Model),
+    out: Out,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let spec = ls.scene.run.speed_profile.as_ref().ok_or_else(|| {
+        StudyError::new_err(format!(
+            "{}: the scene has no [run.speed_profile]: give one (or use run())",
+            ls.file.display()
+        ))
+    })?;
+    let mut hooks = StepProgress::new(progress);
+    let started = Instant::now();
+    let ran = py.detach(
+        || -> Result<(analysis::TransientResults, Option<PathBuf>)> {
+            if let Some(outd) = out.open()? {
+                let t = single::run_transient(outd, (ls, model), started, &mut hooks)?;
+                return Ok((t.results, Some(t.dir)));
+            }
+            let s = analysis::RunSettings::from_scene(&ls.scene);
+            let prep =
+                analysis::prepare_transient(model, &s, spec)?.with_events(&ls.scene.run.event)?;
+            hooks.plan(prep.plan.steps);
+            let mut sinks: [&mut dyn FrameSink; 1] = [&mut hooks];
+            Ok((prep.run(&mut sinks)?, None))
+        },
+    );
+    let (r, dir) = ran.map_err(|e| hooks.error(e))?;
+    let d = PyDict::new(py);
+    d.set_item("summary", json(&r)?)?;
+    d.set_item(
+        "spin",
+        array2(py, r.spin.iter().flatten().copied().collect(), 4)?,
+    )?;
+    d.set_item("response", pairs(py, &r.response)?)?;
+    let contact = r.contact.iter().flatten().copied().collect();
+    d.set_item("contact", array2(py, contact, 3)?)?;
+    d.set_item("torque", pairs(py, &r.torque)?)?;
+    d.set_item("warnings", std::mem::take(&mut hooks.warnings))?;
+    d.set_item("dir", dir)?;
+    Ok(d)
+}
+
+/// The damped modes of the rotor alone at Ω = `speed` (rad/s), the `modes` lowest: the JSON of
+/// `linear::modal`'s results (ω_d, ζ, log dec, whirl, kind, shapes of each mode).
+pub fn modal(py: Python<'_>, model: &Model, speed: f64, modes: usize) -> PyResult<String> {
+    if !(speed.is_finite() && speed >= 0.0) {
+        return Err(StudyError::new_err(format!(
+            "speed must be a finite speed ≥ 0 (rad/s), got {speed}"
+        )));
+    }
+    if modes == 0 {
+        return Err(StudyError::new_err("modes must be at least 1"));
+    }
+    let res = py
+        .detach(|| rubsim::linear::modal(&model.rotor, speed, modes))
+        .py_err()?;
+    json(&res)
+}
+
+/// Refuses a period of 0 revolutions.
+fn check_period(period: Option<usize>) -> PyResult<()> {
+    match period {
+        Some(0) => Err(StudyError::new_err(
+            "period must be a whole number of revolutions ≥ 1, got 0",
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The periodic orbit of `period` revolutions (default: the settled run's) at ν = `speed`
+/// (default: the scene's) by shooting, as `rubsim periodic`: the JSON of
+/// `analysis::periodic::PeriodicOrbit` (multipliers, stability, the orbit's results).
+pub fn periodic(
+    py: Python<'_>,
+    (ls, model): (&LoadedScene, &Model),
+    speed: Option<f64>,
+    period: Option<usize>,
+) -> PyResult<String> {
+    check_period(period)?;
+    let v = speed_of(ls, model, speed)?;
+    let orbit = py
+        .detach(|| {
+            let s = rubsim::study::run_settings(ls, model, &[v])?;
+            analysis::periodic::shoot_at(model, &s, v, period)
+        })
+        .py_err()?;
+    json(&orbit)
+}
+
+/// The period-`period` orbit continued over ν `from … to` by `step` (default: the scene's
+/// `[run.sweep]`), by pseudo-arclength in at most `arclength` points when given, as `rubsim
+/// continue`: the JSON of `analysis::branch::Branch`.
+pub fn continuation(
+    py: Python<'_>,
+    (ls, model): (&LoadedScene, &Model),
+    range: [Option<f64>; 3],
+    period: Option<usize>,
+    arclength: Option<usize>,
+) -> PyResult<String> {
+    check_period(period)?;
+    let sweep = ls.scene.run.sweep.as_ref();
+    let scene = sweep.map(|s| [s.from, s.to, s.step]);
+    let mut abh = [0.0; 3];
+    for (k, name) in ["from_", "to", "step"].iter().enumerate() {
+        abh[k] = range[k].or(scene.map(|s| s[k])).ok_or_else(|| {
+            StudyError::new_err(format!(
+                "{}: give {name}= (the scene has no [run.sweep])",
+                ls.file.display()
+            ))
+        })?;
+    }
+    let [a, b, h] = abh;
+    let branch = py
+        .detach(|| {
+            let speeds = analysis::continuation::speeds(a, b, h)?;
+            let s = rubsim::study::run_settings(ls, model, &speeds)?;
+            analysis::continuation::continue_branch(model, &s, (a, b, h), period, arclength)
+        })
+        .py_err()?;
+    json(&branch)
+}
