@@ -292,27 +292,3 @@ def test_fluid_film_bearings_match_ross(tmp_path):
     assert worst["wd"] < 1e-8 and worst["zeta"] < 1e-6 and worst["zeta_abs"] < 1e-9, worst
     assert worst["kappa"] < 1e-6, worst
 
-
-@pytest.mark.parametrize("name", ["rotor_example", "rotor_example_with_damping"])
-def test_from_ross_takes_rosss_rotor_objects(tmp_path, name):
-    """Issue 30: the Python package's `rubsim.from_ross` of ROSS's own rotor object (ROSS 2.3
-    here; ROSS 3 files: python/tests/test_rubsim.py) gives the rotor `rubsim import-ross` gives,
-    and its modes at 0 and 1000 rad/s are ROSS's `run_modal` — each ROSS mode matched to
-    rubsim's nearest in ω_d among those with ζ < 0.5, to the tolerances of the file tests above
-    (ROSS's ARPACK figures move by ~1e-8 run to run)."""
-    rubsim_py = pytest.importorskip("rubsim", reason="the Python package: pip install ./python")
-    rotor = getattr(rs, name)()
-    scene = rubsim_py.from_ross(rotor)
-    from_file = rubsim_py.Scene(imported(rotor, tmp_path, name))
-    assert scene.to_dict()["rotor"] == from_file.to_dict()["rotor"]
-    for speed in (0.0, 1000.0):
-        want = ross_modal(rotor, speed)
-        got = scene.modal(speed, modes=200)
-        keep = got.damping_ratio < 0.5
-        wd, zeta = got.omega_d[keep], got.damping_ratio[keep]
-        for i in range(12):
-            if want.damping_ratio[i] > 0.5:
-                continue
-            k = int(np.argmin(np.abs(wd - want.wd[i])))
-            assert rel(wd[k], want.wd[i]) < 1e-7, (speed, i, wd[k], want.wd[i])
-            assert abs(zeta[k] - want.damping_ratio[i]) < 1e-7, (speed, i)
