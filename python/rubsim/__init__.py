@@ -10,6 +10,7 @@ Its calls run the rubsim library in this process, with the GIL released while it
 - :meth:`Scene.sweep` and :meth:`Scene.map` — the studies of ``[run.sweep]`` and ``[run.map]``,
   their tables as dicts of numpy arrays;
 - :meth:`Scene.modal` — the damped modes of the rotor alone;
+- :meth:`Scene.thermal` — the thermal spiral (Newkirk effect) of ``[thermal]``;
 - :meth:`Scene.periodic` and :meth:`Scene.continuation` — periodic orbits by shooting, their
   Floquet multipliers, and their branches over speed with the bifurcations located;
 - :func:`from_ross` / :func:`import_ross` — a ROSS rotor (2.x or 3.x) as a rubsim scene.
@@ -57,6 +58,7 @@ __all__ = [
     "Modal",
     "Periodic",
     "Branch",
+    "Thermal",
     "from_ross",
     "import_ross",
     "RubsimError",
@@ -222,6 +224,18 @@ class Scene:
         _warn(d["warnings"])
         return Transient(d)
 
+    def thermal(
+        self,
+        speed: Optional[float] = None,
+        *,
+        unit: str = "ratio",
+        out: Optional[PathLike] = None,
+        force: bool = False,
+    ) -> "Thermal":
+        """The thermal spiral (Newkirk effect) of ``[thermal]`` at ``speed`` (default: the
+        scene's), as ``rubsim run`` runs a scene with ``[thermal]``."""
+        return Thermal(self._native.thermal(self._ratio(speed, unit), _path(out), force))
+
     def sweep(
         self,
         *,
@@ -378,6 +392,31 @@ class Transient:
 
     def __repr__(self) -> str:
         return f"<rubsim.Transient {len(self.t)} samples, {self.summary['duration']:.4g} s>"
+
+
+class Thermal:
+    """A thermal spiral: per coupling step ``t`` (s) and, as complex numbers in the rotor's
+    frame, ``delta_t`` (K), ``bow`` (m), ``one_x`` (the 1× vector, m), ``heat`` (the friction
+    power's first harmonic, W); ``power`` (mean friction power, W), ``contact_fraction``;
+    ``growth_rate`` (1/s) and ``rotation_rate`` (rad/s) of the spiral, ``runaway_at_s``;
+    ``summary`` (everything)."""
+
+    def __init__(self, d: dict):
+        self.summary = json.loads(d["summary"])
+        self.t = d["t"]
+        for name in ("delta_t", "bow", "one_x", "heat"):
+            a = d[name]
+            setattr(self, name, a[:, 0] + 1j * a[:, 1])
+        self.power = d["power"]
+        self.contact_fraction = d["contact_fraction"]
+        self.growth_rate = self.summary["growth_rate"]
+        self.rotation_rate = self.summary["rotation_rate"]
+        self.runaway_at_s = self.summary["runaway_at_s"]
+        self.dir = None if d["dir"] is None else pathlib.Path(d["dir"])
+
+    def __repr__(self) -> str:
+        end = "runs away" if self.runaway_at_s is not None else f"{self.t[-1]:.4g} s"
+        return f"<rubsim.Thermal growth {self.growth_rate:+.3g} 1/s, {end}>"
 
 
 # The columns of a study's table: (name, how it is read from one case's results), as in

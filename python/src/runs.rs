@@ -96,6 +96,12 @@ pub fn run_speed<'py>(
             ls.file.display()
         )));
     }
+    if ls.scene.thermal.is_some() {
+        return Err(StudyError::new_err(format!(
+            "{}: the scene has [thermal]: run it with thermal()",
+            ls.file.display()
+        )));
+    }
     let v = speed_of(ls, model, speed)?;
     let mut hooks = StepProgress::new(progress);
     let started = Instant::now();
@@ -254,4 +260,54 @@ pub fn continuation(
         })
         .py_err()?;
     json(&branch)
+}
+
+/// The thermal spiral of `[thermal]` at ν = `speed` (default: the scene's), as `rubsim run`
+/// runs it: `summary` (JSON of `analysis::thermal::ThermalResults`), per coupling step `t`
+/// (s), `delta_t` (K), `bow` (m), `one_x` (m), `heat` (W) — n × 2, rotor frame —, `power` (W),
+/// `contact_fraction`, and `dir`.
+pub fn run_thermal<'py>(
+    py: Python<'py>,
+    (ls, model): (&LoadedScene, &Model),
+    speed: Option<f64>,
+    out: Out,
+) -> PyResult<Bound<'py, PyDict>> {
+    let hs = analysis::thermal::HotSpot::of_scene(ls).ok_or_else(|| {
+        StudyError::new_err(format!(
+            "{}: the scene has no [thermal]: give one (or use run())",
+            ls.file.display()
+        ))
+    })?;
+    let v = speed_of(ls, model, speed)?;
+    let started = Instant::now();
+    let (r, dir) = py
+        .detach(
+            || -> Result<(analysis::thermal::ThermalResults, Option<PathBuf>)> {
+                let outd = out.open()?;
+                let s = rubsim::study::run_settings(ls, model, &[v])?;
+                if let Some(outd) = outd {
+                    let (r, dir) = single::run_thermal(outd, (ls, model), (&s, v), started)?;
+                    return Ok((r, Some(dir)));
+                }
+                Ok((analysis::thermal::run_thermal(model, &s, v, &hs)?, None))
+            },
+        )
+        .py_err()?;
+    let d = PyDict::new(py);
+    d.set_item("summary", json(&r)?)?;
+    let col = |f: &dyn Fn(&analysis::thermal::ThermalSample) -> [f64; 2]| -> Vec<[f64; 2]> {
+        r.samples.iter().map(f).collect()
+    };
+    let t: Vec<f64> = r.samples.iter().map(|s| s.t_s).collect();
+    d.set_item("t", PyArray1::from_vec(py, t))?;
+    d.set_item("delta_t", pairs(py, &col(&|s| s.delta_t))?)?;
+    d.set_item("bow", pairs(py, &col(&|s| s.bow))?)?;
+    d.set_item("one_x", pairs(py, &col(&|s| s.one_x))?)?;
+    d.set_item("heat", pairs(py, &col(&|s| s.heat))?)?;
+    let power: Vec<f64> = r.samples.iter().map(|s| s.power).collect();
+    d.set_item("power", PyArray1::from_vec(py, power))?;
+    let contact: Vec<f64> = r.samples.iter().map(|s| s.contact_fraction).collect();
+    d.set_item("contact_fraction", PyArray1::from_vec(py, contact))?;
+    d.set_item("dir", dir)?;
+    Ok(d)
 }

@@ -151,6 +151,19 @@ impl NativeScene {
         runs::run_speed(py, (&self.ls, model), speed, out, progress)
     }
 
+    /// The thermal spiral of `[thermal]`; see `runs::run_thermal`.
+    #[pyo3(signature = (speed=None, out=None, force=false))]
+    fn thermal<'py>(
+        &self,
+        py: Python<'py>,
+        speed: Option<f64>,
+        out: Option<PathBuf>,
+        force: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let model = self.model(py)?;
+        runs::run_thermal(py, (&self.ls, model), speed, Out { dir: out, force })
+    }
+
     /// The speed transient of `[run.speed_profile]`; see `runs::run_transient`.
     #[pyo3(signature = (out=None, force=false, progress=None))]
     fn transient<'py>(

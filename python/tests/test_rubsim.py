@@ -294,3 +294,19 @@ def test_periodic_orbits_and_their_branch(tmp_path):
         scene.periodic(1.7, period=0)
     with pytest.raises(rubsim.RubsimError, match="step"):
         scene.continuation(2.1, 2.5, -0.1)
+
+
+def test_the_thermal_spiral_from_python(tmp_path):
+    """`Scene.thermal` runs `[thermal]` as `rubsim run` does (issue 27): the same spiral, and
+    `run()` refuses such a scene instead of ignoring its heat."""
+    scene = rubsim.Scene(ROOT / "scenes" / "thermal" / "newkirk_ring.toml", set={"thermal.duration": 10})
+    th = scene.thermal(out=tmp_path / "py")
+    cli("run", ROOT / "scenes" / "thermal" / "newkirk_ring.toml", "--set", "thermal.duration=10",
+        "--out", tmp_path / "cli")
+    want = summary(tmp_path / "cli")["thermal"]
+    assert without_wall(summary(tmp_path / "py")["thermal"]) == without_wall(want)
+    assert th.growth_rate == want["growth_rate"] > 0
+    assert np.all(np.diff(np.abs(th.delta_t)[5:]) > 0)
+    assert np.allclose(np.abs(th.bow), np.abs(th.delta_t) * want["bow_per_kelvin"])
+    with pytest.raises(rubsim.StudyError, match="thermal"):
+        scene.run()

@@ -67,6 +67,7 @@ pub mod speed;
 pub mod steady;
 pub mod stress;
 pub mod sweep;
+pub mod thermal;
 pub mod transient;
 pub mod verify;
 pub mod whirl;

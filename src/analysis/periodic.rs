@@ -339,6 +339,16 @@ fn not_restarted() -> Error {
     )
 }
 
+/// A stepper of `p`'s case, scheme and start on `plan`.
+pub(super) fn stepper<'a>(p: &'a Prepared, plan: &StepPlan) -> Result<Stepper<'a>> {
+    Ok(Stepper::new(
+        &p.case,
+        p.request.step.integrator,
+        plan,
+        p.request.initial(),
+    )?)
+}
+
 /// A stepper of `p`'s case and scheme on `plan`, restarted from `start` (taken at `plan`'s
 /// step: [`Stepper::restart`] then keeps it as it is).
 pub(super) fn restarted<'a>(
@@ -346,12 +356,7 @@ pub(super) fn restarted<'a>(
     plan: &StepPlan,
     start: &EndState,
 ) -> Result<Stepper<'a>> {
-    let mut st = Stepper::new(
-        &p.case,
-        p.request.step.integrator,
-        plan,
-        p.request.initial(),
-    )?;
+    let mut st = stepper(p, plan)?;
     if !st.restart(start) {
         return Err(not_restarted());
     }

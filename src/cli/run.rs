@@ -32,6 +32,12 @@ pub fn run(c: &Common, out: Option<PathBuf>, speed: Option<f64>, unit: UnitArg) 
     let outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene)))?;
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &[v])?;
+    if ls.scene.thermal.is_some() {
+        let (r, dir) = single::run_thermal(outd, (&ls, &model), (&s, v), t0)?;
+        print_thermal(&r);
+        println!("results in {}", dir.display());
+        return Ok(());
+    }
     let mut hooks = Hooks::default();
     let (r, dir) = single::run_speed(outd, (&ls, &model), (&s, v), t0, &mut hooks)?;
     hooks.done();
@@ -167,6 +173,47 @@ fn print_end(r: &analysis::TransientResults, stress: Option<&TransientStress>) {
         println!(
             "stator `{}`: largest stress {:.4e} Pa at t = {:.4} s, Ω/ωn = {:.3} ({} nodes in contact)",
             p.name, p.stress_pa, p.t_s, p.speed_ratio, p.contacts
+        );
+    }
+}
+
+/// Prints a thermal run's end: the coupling, the spiral's growth and rotation, a runaway.
+fn print_thermal(r: &analysis::thermal::ThermalResults) {
+    let last = r.samples.last();
+    println!(
+        "ω/ωn = {:.3}: thermal spiral over {:.4} s of machine time in {} coupling steps of {:.4e} s ({}; {:.1} revolution(s) integrated a step, {} steps in all)",
+        r.speed_ratio,
+        r.machine_time_s,
+        r.samples.len(),
+        r.coupling_step_s,
+        if r.resolved { "fully resolved" } else { "accelerated" },
+        r.revolutions_per_step,
+        r.steps
+    );
+    if let Some(s) = last {
+        println!(
+            "  at the end: |ΔT| = {:.4e} K, |bow| = {:.4e} m, |1×| = {:.4e} m at {:.2}° (rotor frame), friction power {:.4e} W",
+            s.delta_t[0].hypot(s.delta_t[1]),
+            s.bow[0].hypot(s.bow[1]),
+            s.one_x[0].hypot(s.one_x[1]),
+            s.one_x[1].atan2(s.one_x[0]).to_degrees(),
+            s.power
+        );
+    }
+    println!(
+        "  spiral: growth rate {:+.4e} 1/s, rotation {:+.4e} rad/s in the rotor's frame ({})",
+        r.growth_rate,
+        r.rotation_rate,
+        if r.growth_rate > 0.0 {
+            "growing"
+        } else {
+            "settling"
+        }
+    );
+    if let Some(t) = r.runaway_at_s {
+        eprintln!(
+            "warning: ω/ωn = {:.3}: the thermal spiral runs away: |ΔT| passed `thermal.max_temperature_difference` at t = {t:.4} s, growing at {:.4e} 1/s; the run stopped there",
+            r.speed_ratio, r.growth_rate
         );
     }
 }

@@ -24,6 +24,7 @@ pub mod manifest;
 pub mod outdir;
 pub mod rotordyn;
 pub mod summary;
+pub mod thermal;
 pub mod transient;
 pub mod transient_stress;
 pub mod whirl;

@@ -136,6 +136,15 @@ impl<'a> RunBody<'a> {
     }
 }
 
+/// `rubsim run` of a scene with `[thermal]`: the thermal spiral.
+#[derive(Debug, Clone, Serialize)]
+pub struct ThermalBody<'a> {
+    /// The spiral's results.
+    pub thermal: &'a crate::analysis::thermal::ThermalResults,
+    /// Wall time of the command (s).
+    pub wall_s: f64,
+}
+
 /// `rubsim run` of a speed transient.
 #[derive(Debug, Clone, Serialize)]
 pub struct TransientBody<'a, S, O> {

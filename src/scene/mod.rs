@@ -22,6 +22,7 @@ mod rotor;
 mod run;
 pub mod schema;
 mod stator;
+pub mod thermal;
 pub mod validate;
 
 pub use event::{EventKind, EventSpec};
@@ -58,6 +59,10 @@ pub struct Scene {
     /// What to write.
     #[serde(default)]
     pub output: OutputSpec,
+    /// The slow rub of the Newkirk effect: the hot-spot model, its thermal bow and the
+    /// coupling of heat and vibration (`[thermal]`; none: no heating).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thermal: Option<thermal::ThermalSpec>,
 }
 
 fn one() -> usize {

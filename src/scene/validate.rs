@@ -48,6 +48,9 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
     output_component(ls)?;
     validate_series(ls)?;
     validate_unbalance_for_clearance(ls)?;
+    if let Some(t) = &ls.scene.thermal {
+        super::thermal::validate(ls, t)?;
+    }
     // Last: every variant of a parameter study is the scene with one key changed, so the scene
     // itself must be valid first (else its own error would be blamed on the study).
     if let Some(v) = ls.scene.run.sweep.as_ref().and_then(|w| w.vary.as_ref()) {

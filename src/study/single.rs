@@ -10,7 +10,7 @@ use crate::analysis::{self, Keep, Prepared, SpeedResults, TransientPrepared, Tra
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::output::summary::{self, Base, RunBody, SnapshotsRecord, Summary};
-use crate::output::summary::{TransientBody, WaterfallRecord};
+use crate::output::summary::{ThermalBody, TransientBody, WaterfallRecord};
 use crate::output::transient_stress::TransientStress;
 use crate::output::{figures, transient as transient_out, whirl as whirl_out, OutDir};
 use crate::results::{ResultsSink, Series};
@@ -202,4 +202,31 @@ fn missed_snapshot(ls: &LoadedScene, r: &TransientResults, v: f64) -> String {
         lo / r.omega_n,
         hi / r.omega_n,
     )
+}
+
+/// The thermal spiral of `ls` (`[thermal]`) on `model` at ν = `speed` with the settings `s`,
+/// written into `outd` as `rubsim run` writes it — `spiral.csv`, `spiral.png` and `thermal.png`
+/// when `output.png`, `summary.json` — and committed. Returns the results and the committed
+/// folder.
+///
+/// # Errors
+/// A scene without `[thermal]` ([`Error::Study`]); the run's errors
+/// ([`analysis::thermal::run_thermal`]) and the writers'.
+pub fn run_thermal(
+    mut outd: OutDir,
+    (ls, model): (&LoadedScene, &Model),
+    (s, speed): (&analysis::RunSettings, f64),
+    started: Instant,
+) -> Result<(analysis::thermal::ThermalResults, PathBuf)> {
+    let hs = analysis::thermal::HotSpot::of_scene(ls)
+        .ok_or_else(|| Error::study(ls.file.display(), "the scene has no [thermal]"))?;
+    let r = analysis::thermal::run_thermal(model, s, speed, &hs)?;
+    crate::output::thermal::write_thermal(&mut outd, &ls.scene.title, &r, ls.scene.output.png)?;
+    let body = ThermalBody {
+        thermal: &r,
+        wall_s: started.elapsed().as_secs_f64(),
+    };
+    let base = Base::new(ls, model, "run");
+    let dir = summary::finish(outd, &Summary { base, body })?;
+    Ok((r, dir))
 }

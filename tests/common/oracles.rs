@@ -34,3 +34,91 @@ pub fn radial_annular_rub_quadratic(
         b * b + q * q - nu.powi(4),
     )
 }
+
+/// The Newkirk spiral of a Jeffcott rotor rubbing all round a radial ring at zero clearance
+/// (docs/VALIDATION.md §21): mass `m`, damping `c`, stiffness `k`, ring `k_s` with friction
+/// `mu` at the section radius `radius`, speed `omega`, unbalance `me` (kg·m, phase 0), and the
+/// hot-spot model's gain `gain` (K/W), times `th`, `tc` (s) and bow per kelvin `bow` (m/K).
+/// The rub's force on the rotor is `−k_s (1 + iμ) z`, its heat's first harmonic in the rotor's
+/// frame `Q = μ k_s Ω R Z` (Z the 1× vector), so the slow dynamics are linear:
+/// `τ_h S' = −S + G Q`, `τ_c ΔT' = −ΔT + S`, `Z = H (m e Ω² + k g ΔT)`,
+/// `H = 1 / (k + k_s (1 + iμ) − m Ω² + i c Ω)`.
+#[derive(Debug, Clone, Copy)]
+pub struct Newkirk {
+    pub m: f64,
+    pub c: f64,
+    pub k: f64,
+    pub ks: f64,
+    pub mu: f64,
+    pub radius: f64,
+    pub omega: f64,
+    pub me: f64,
+    pub gain: f64,
+    pub th: f64,
+    pub tc: f64,
+    pub bow: f64,
+}
+
+type C64 = num_complex::Complex64;
+
+impl Newkirk {
+    /// The receptance H (m/N) of the rotor with the rub.
+    pub fn h(&self) -> C64 {
+        let w = self.omega;
+        1.0 / C64::new(
+            self.k + self.ks - self.m * w * w,
+            self.mu * self.ks + self.c * w,
+        )
+    }
+
+    /// The loop gain Λ = G μ k_s Ω R H k g.
+    pub fn lambda(&self) -> C64 {
+        self.gain * self.mu * self.ks * self.omega * self.radius * self.h() * self.k * self.bow
+    }
+
+    /// The slow dynamics' two eigenvalues s (1/s), the larger real part first: the roots of
+    /// `(1 + τ_h s)(1 + τ_c s) = Λ`.
+    pub fn rates(&self) -> [C64; 2] {
+        let (a, b, c) = (self.th * self.tc, self.th + self.tc, 1.0 - self.lambda());
+        let d = (b * b - 4.0 * a * c).sqrt();
+        let (s1, s2) = ((-b + d) / (2.0 * a), (-b - d) / (2.0 * a));
+        if s1.re >= s2.re {
+            [s1, s2]
+        } else {
+            [s2, s1]
+        }
+    }
+
+    /// The 1× vector Z (m, rotor frame) at the temperature difference `dt` (K).
+    pub fn one_x(&self, dt: C64) -> C64 {
+        self.h() * (self.me * self.omega * self.omega + self.k * self.bow * dt)
+    }
+
+    /// ΔT (K) at the `times` (s, increasing from 0) from S = ΔT = `start`: the linear ODEs by
+    /// fourth-order Runge–Kutta steps of at most 1 ms.
+    pub fn trajectory(&self, start: C64, times: &[f64]) -> Vec<C64> {
+        let q = self.mu * self.ks * self.omega * self.radius;
+        let f = |x: [C64; 2]| {
+            let qz = q * self.one_x(x[1]);
+            [(self.gain * qz - x[0]) / self.th, (x[0] - x[1]) / self.tc]
+        };
+        let add = |x: [C64; 2], k: [C64; 2], h: f64| [x[0] + k[0] * h, x[1] + k[1] * h];
+        let (mut x, mut t) = ([start, start], 0.0);
+        let mut out = Vec::with_capacity(times.len());
+        for &target in times {
+            while t < target - 1e-12 {
+                let h = (target - t).min(1e-3);
+                let k1 = f(x);
+                let k2 = f(add(x, k1, h / 2.0));
+                let k3 = f(add(x, k2, h / 2.0));
+                let k4 = f(add(x, k3, h));
+                for i in 0..2 {
+                    x[i] += (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (h / 6.0);
+                }
+                t += h;
+            }
+            out.push(x[1]);
+        }
+        out
+    }
+}

@@ -1,0 +1,102 @@
+//! The files of a thermal run (`analysis::thermal`): `spiral.csv` (every coupling step), the
+//! 1× vector's spiral in the rotor's frame with time marks (`spiral.png`) and the temperature,
+//! bow, 1× amplitude and friction power against time (`thermal.png`).
+
+use super::OutDir;
+use crate::analysis::thermal::ThermalResults;
+use crate::error::Result;
+use crate::plot::{self, Curve, Series};
+use std::fmt::Write as _;
+
+/// Header of `spiral.csv`: per coupling step the machine time (s), ΔT (K), the bow (m), the
+/// 1× vector (m) — all in the rotor's frame —, its amplitude (m) and angle (degrees), the heat's
+/// first harmonic (W, rotor frame), the mean friction power (W) and the contact fraction.
+pub const SPIRAL_HEADER: &str = "t_s,delta_t_x_k,delta_t_y_k,bow_x_m,bow_y_m,one_x_re_m,one_x_im_m,one_x_amp_m,one_x_deg,heat_x_w,heat_y_w,power_w,contact_fraction";
+
+/// Marks on the spiral: about this many along the run.
+const MARKS: usize = 10;
+
+/// Writes `spiral.csv` and (`png`) `spiral.png` and `thermal.png` into `out`.
+///
+/// # Errors
+/// I/O and drawing errors, naming the file.
+pub fn write_thermal(out: &mut OutDir, title: &str, r: &ThermalResults, png: bool) -> Result<()> {
+    let mut csv = format!("{SPIRAL_HEADER}\n");
+    for s in &r.samples {
+        let z = s.one_x;
+        let _ = writeln!(
+            csv,
+            "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}",
+            s.t_s,
+            s.delta_t[0],
+            s.delta_t[1],
+            s.bow[0],
+            s.bow[1],
+            z[0],
+            z[1],
+            z[0].hypot(z[1]),
+            z[1].atan2(z[0]).to_degrees(),
+            s.heat[0],
+            s.heat[1],
+            s.power,
+            s.contact_fraction
+        );
+    }
+    out.write("spiral.csv", csv.as_bytes())?;
+    if !png {
+        return Ok(());
+    }
+    let every = r.samples.len().div_ceil(MARKS).max(1);
+    let um = |v: f64| v * 1e6;
+    let path: Vec<(f64, f64)> = r
+        .samples
+        .iter()
+        .map(|s| (um(s.one_x[0]), um(s.one_x[1])))
+        .collect();
+    let mut marks = Vec::new();
+    for s in r.samples.iter().step_by(every) {
+        marks.push((um(s.one_x[0]), um(s.one_x[1])));
+        marks.push((f64::NAN, f64::NAN));
+    }
+    let step_s = every as f64 * r.coupling_step_s;
+    let p = out.stage("spiral.png")?;
+    plot::lines(
+        &p,
+        &format!(
+            "{title} — the 1× vector in the rotor's frame, ω/ωn = {:.3}",
+            r.speed_ratio
+        ),
+        &[
+            Curve {
+                label: "1× vector".into(),
+                points: path,
+            },
+            Curve {
+                label: format!("every {step_s:.4} s from t = 0"),
+                points: marks,
+            },
+        ],
+        "Re (µm)",
+        "Im (µm)",
+    )?;
+    let t: Vec<f64> = r.samples.iter().map(|s| s.t_s).collect();
+    let series =
+        |label: &str, f: &dyn Fn(&crate::analysis::thermal::ThermalSample) -> f64| Series {
+            label: label.into(),
+            t: t.clone(),
+            y: r.samples.iter().map(f).collect(),
+        };
+    let p = out.stage("thermal.png")?;
+    plot::stacked_series(
+        &p,
+        &format!("{title} — heat, bow and vibration"),
+        &[
+            series("|ΔT| (K)", &|s| s.delta_t[0].hypot(s.delta_t[1])),
+            series("|bow| (µm)", &|s| um(s.bow[0].hypot(s.bow[1]))),
+            series("|1×| (µm)", &|s| um(s.one_x[0].hypot(s.one_x[1]))),
+            series("friction power (W)", &|s| s.power),
+        ],
+        "t (s)",
+        "",
+    )
+}

@@ -1,0 +1,180 @@
+//! `[thermal]`: the slow rub of the Newkirk effect as the user writes it — the hot-spot model of
+//! the rubbing section, its thermal bow, and how the vibration (fast) and the heat (slow) are
+//! coupled — and its checks (each error names the file, the dotted key and its line).
+//!
+//! The model (docs/VALIDATION.md §21 derives it and its linear stability): the friction power
+//! at the station's contact points heats the rotor on one side. The first circumferential
+//! harmonic of that heat, in the rotor's frame, `Q` (W, a vector: its direction is the hot
+//! spot's), drives the temperature difference across the section `ΔT` (K, a vector in the
+//! rotor's frame) through two lags: the surface zone `S` follows `G Q` with the heating time
+//! `τ_h`, and the section's difference follows `S` with the cooling time `τ_c`:
+//!
+//! ```text
+//! τ_h dS/dt = −S + G Q,      τ_c dΔT/dt = −ΔT + S.
+//! ```
+//!
+//! ΔT bends the shaft with curvature `α ΔT / D` over the heated length `a`, centred at the
+//! disk of a simply supported span `L`: the disk's bow `b = α a (2L − a)/(8D) ΔT` (toward the
+//! hot side), which rotates with the rotor and loads it like an unbalance, `k b e^{iΩt}`.
+
+use super::validate::checks::positive;
+use super::{LoadedScene, RotorSpec};
+use crate::error::SceneError;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+fn four() -> usize {
+    4
+}
+fn two_hundred() -> f64 {
+    200.0
+}
+
+/// `[thermal]`: the Newkirk hot-spot model at one station (module docs).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ThermalSpec {
+    /// The station whose rub heats the rotor (its name; default: the first station).
+    #[serde(default)]
+    pub station: Option<String>,
+    /// α (1/K): the shaft's coefficient of thermal expansion (steel: 1.2e-5).
+    pub expansion: f64,
+    /// D (m): the shaft diameter the temperature difference acts across.
+    pub diameter: f64,
+    /// a (m): the axial length over which ΔT bends the shaft, centred at the disk.
+    pub heated_length: f64,
+    /// L (m): the bearing span of the Jeffcott rotor (default: `rotor.shaft.length`).
+    #[serde(default)]
+    pub span: Option<f64>,
+    /// G (K/W): the steady temperature difference per watt of the heat's first harmonic.
+    pub gain: f64,
+    /// τ_h (s): how fast the surface zone follows the heat input.
+    pub heating_time: f64,
+    /// τ_c (s): how fast the section's temperature difference follows the surface, and cools.
+    pub cooling_time: f64,
+    /// Machine time to run (s).
+    pub duration: f64,
+    /// The coupling step h (s): the heat is advanced by h after each vibration run of
+    /// `revolutions` revolutions, whose steady heat input it holds over h. Default: the
+    /// vibration run's own length (every revolution of the machine time integrated: the fully
+    /// resolved coupling).
+    #[serde(default)]
+    pub step: Option<f64>,
+    /// Revolutions integrated per coupling step (the last one's heat and 1× vector are taken).
+    #[serde(default = "four")]
+    pub revolutions: usize,
+    /// Revolutions integrated before the first coupling step (default:
+    /// `run.transient_revolutions`).
+    #[serde(default)]
+    pub settle_revolutions: Option<usize>,
+    /// |ΔT| (K) above which the spiral is taken to run away: the run stops there and reports
+    /// its growth rate.
+    #[serde(default = "two_hundred")]
+    pub max_temperature_difference: f64,
+    /// ΔT at t = 0, `[x, y]` in the rotor's frame (K); S starts equal to it.
+    #[serde(default)]
+    pub initial: [f64; 2],
+}
+
+/// Checks `[thermal]`: every coefficient, length and time positive (an error names its key),
+/// the heated length within the span, a Jeffcott rotor (FE rotors: not yet), a known station,
+/// no speed profile.
+///
+/// # Errors
+/// [`SceneError::Invalid`] naming the key.
+pub fn validate(ls: &LoadedScene, t: &ThermalSpec) -> Result<(), SceneError> {
+    let k = |s: &str| format!("thermal.{s}");
+    for (name, v) in [
+        ("expansion", t.expansion),
+        ("diameter", t.diameter),
+        ("heated_length", t.heated_length),
+        ("gain", t.gain),
+        ("heating_time", t.heating_time),
+        ("cooling_time", t.cooling_time),
+        ("duration", t.duration),
+        ("max_temperature_difference", t.max_temperature_difference),
+    ] {
+        positive(ls, &k(name), v)?;
+    }
+    for (i, v) in t.initial.iter().enumerate() {
+        if !v.is_finite() {
+            return Err(ls.invalid(
+                &k(&format!("initial.{i}")),
+                format!("must be finite, got {v}"),
+            ));
+        }
+    }
+    if let Some(h) = t.step {
+        positive(ls, &k("step"), h)?;
+    }
+    if t.revolutions == 0 {
+        return Err(ls.invalid(&k("revolutions"), "must be at least 1"));
+    }
+    let shaft = match &ls.scene.rotor {
+        RotorSpec::Jeffcott(j) => j.shaft.as_ref().map(|s| s.length),
+        RotorSpec::Fe(_) => {
+            return Err(ls.invalid(
+                "thermal",
+                "the thermal bow is modelled on the Jeffcott rotor (`rotor.kind = \"jeffcott\"`); FE rotors are not supported yet",
+            ))
+        }
+    };
+    let span = match (t.span, shaft) {
+        (Some(l), _) => {
+            positive(ls, &k("span"), l)?;
+            l
+        }
+        (None, Some(l)) => l,
+        (None, None) => {
+            return Err(ls.invalid(
+                &k("span"),
+                "give the bearing span L (m): the rotor has no `shaft` table to take it from",
+            ))
+        }
+    };
+    if t.heated_length > span {
+        return Err(ls.invalid(
+            &k("heated_length"),
+            format!(
+                "the heated length {} m exceeds the span {span} m",
+                t.heated_length
+            ),
+        ));
+    }
+    if ls.scene.stations.is_empty() {
+        return Err(ls.invalid(
+            "thermal",
+            "the rub that heats the rotor needs a `[[station]]` and a stator",
+        ));
+    }
+    if let Some(name) = &t.station {
+        if !ls.scene.stations.iter().any(|s| &s.name == name) {
+            return Err(ls.invalid(&k("station"), format!("no station named `{name}`")));
+        }
+    }
+    if ls.scene.run.speed_profile.is_some() {
+        return Err(ls.invalid(
+            "thermal",
+            "a thermal run is at one constant speed: remove `[run.speed_profile]` (or `[thermal]`)",
+        ));
+    }
+    Ok(())
+}
+
+impl ThermalSpec {
+    /// The bearing span L (m): `span`, else the Jeffcott shaft's length (validated present).
+    pub fn span_of(&self, rotor: &RotorSpec) -> f64 {
+        match (self.span, rotor) {
+            (Some(l), _) => l,
+            (None, RotorSpec::Jeffcott(j)) => j.shaft.as_ref().map_or(f64::NAN, |s| s.length),
+            (None, RotorSpec::Fe(_)) => f64::NAN,
+        }
+    }
+
+    /// The disk's bow per kelvin of ΔT (m/K): `α a (2L − a) / (8 D)`, the midspan deflection of
+    /// a simply supported span L with curvature α ΔT / D over its central length a.
+    pub fn bow_per_kelvin(&self, rotor: &RotorSpec) -> f64 {
+        let (a, l) = (self.heated_length, self.span_of(rotor));
+        self.expansion * a * (2.0 * l - a) / (8.0 * self.diameter)
+    }
+}
