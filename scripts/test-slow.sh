@@ -8,6 +8,21 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+# ROSS 3 needs Python ≥ 3.12 (the project's .venv is 3.11 with ROSS 2.3): a venv .venv-ross3 of
+# pyenv's 3.12 with ROSS 3.0.0 (the PyPI mirror's latest for it), for from_ross of ROSS 3 rotor
+# objects (python/tests/test_from_ross.py) — made (about 2 min of downloads the first time)
+# while the Rust tests run, and waited for below.
+py312=$(PYENV_VERSION=3.12.1 pyenv which python 2>/dev/null || command -v python3.12 || true)
+ross3log=$(mktemp)
+ross3=""
+if [ -n "$py312" ]; then
+  (
+    [ -x .venv-ross3/bin/python ] || "$py312" -m venv .venv-ross3
+    .venv-ross3/bin/python -c "import ross, pytest" 2>/dev/null \
+      || .venv-ross3/bin/pip install -q 'ross-rotordynamics==3.0.0' pytest
+  ) >"$ross3log" 2>&1 &
+  ross3=$!
+fi
 cargo test --release --workspace --features fault-injection -- --ignored
 # The Python package (from_ross against ROSS's rotor objects): the wheel scripts/test.sh built,
 # else built here.
@@ -24,19 +39,19 @@ if [ "$status" -eq 5 ]; then
   exit 1
 fi
 [ "$status" -eq 0 ] || exit "$status"
-# ROSS 3 needs Python ≥ 3.12 (the project's .venv is 3.11 with ROSS 2.3): a venv .venv-ross3 of
-# pyenv's 3.12 with ROSS 3.0.0 (the PyPI mirror's latest for it) and the same abi3 wheel, for
-# from_ross of ROSS 3 rotor objects (python/tests/test_from_ross.py). About 2 min the first time.
-py312=$(PYENV_VERSION=3.12.1 pyenv which python 2>/dev/null || command -v python3.12 || true)
-if [ -n "$py312" ]; then
-  [ -x .venv-ross3/bin/python ] || "$py312" -m venv .venv-ross3
-  .venv-ross3/bin/python -c "import ross, pytest" 2>/dev/null \
-    || .venv-ross3/bin/pip install -q 'ross-rotordynamics==3.0.0' pytest
+# The same abi3 wheel in the ROSS 3 venv.
+if [ -n "$ross3" ]; then
+  if ! wait "$ross3"; then
+    echo "scripts/test-slow.sh: the ROSS 3 venv (.venv-ross3) could not be made:" >&2
+    cat "$ross3log" >&2
+    exit 1
+  fi
   .venv-ross3/bin/pip install -q --force-reinstall --no-deps target/wheels/rubsim-*.whl
   RUBSIM_REQUIRE_ROSS=1 .venv-ross3/bin/python -m pytest python/tests/test_from_ross.py -q -m slow
 else
   echo "scripts/test-slow.sh: no Python 3.12 (pyenv 3.12.1 or python3.12): from_ross of ROSS 3 objects not tested" >&2
 fi
+rm -f "$ross3log"
 # Issue 13: a short run of each fuzzer (scene, msh, manifest, ross; FUZZ_TIME seconds each) from
 # the committed seeds. FUZZ_BUILD=quick builds the instrumented crate cheaply — no AddressSanitizer,
 # opt-level 1, 16 codegen units, its own target directory — keeping the coverage
