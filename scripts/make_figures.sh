@@ -27,6 +27,13 @@ for s in "$out"/convergence/speed_*/; do
   cp "$s/work_precision.png" "$dst/work_precision_$(basename "$s").png"
   cp "$s/error_vs_dt.png" "$dst/error_vs_dt_$(basename "$s").png"
 done
+# The thermal spiral (issue 27) and a branch's largest multiplier (issue 29).
+"$bin" run scenes/thermal/newkirk_ring.toml --out "$out/thermal" --force >/dev/null
+cp "$out/thermal/spiral.png" "$dst/thermal_spiral.png"
+cp "$out/thermal/thermal.png" "$dst/thermal_history.png"
+"$bin" continue scenes/paper/partial_rub.toml --from 2.0 --to 2.5 --step 0.1 --period 1 \
+  --out "$out/continue_pd" --force >/dev/null
+cp "$out/continue_pd/branch_multipliers.png" "$dst/continue_multipliers.png"
 echo "figures in $dst"
 # Meshed stators (issue 4): docs/figures/stators.
 bash scripts/make_mesh_figures.sh

@@ -70,6 +70,9 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
     let orbit = analysis::periodic::shoot_at(&model, &s, v, period)?;
     report(&orbit);
     outd.write("multipliers.csv", multipliers_csv(&orbit).as_bytes())?;
+    if ls.scene.output.png {
+        rubsim::output::branch::write_multipliers(&mut outd, &ls.scene.title, &orbit.multipliers)?;
+    }
     let body = PeriodicBody {
         periodic: &orbit,
         wall_s: t0.elapsed().as_secs_f64(),

@@ -1,5 +1,6 @@
 //! The files of `rubsim continue` (`analysis::branch`): `branch.csv`, `bifurcations.csv` and
-//! `branch.png`, the bifurcation diagram of the continued orbit.
+//! `branch.png`, the bifurcation diagram of the continued orbit, `branch_multipliers.png` (its
+//! largest multiplier about the unit circle); and `rubsim periodic`'s `multipliers.png`.
 
 use super::OutDir;
 use crate::analysis::branch::Branch;
@@ -62,6 +63,7 @@ pub fn write_branch(out: &mut OutDir, title: &str, branch: &Branch, png: bool) -
     }
     out.write("bifurcations.csv", bif.as_bytes())?;
     if png {
+        write_branch_multipliers(out, title, branch)?;
         let p = out.stage("branch.png")?;
         plot::lines(
             &p,
@@ -97,4 +99,83 @@ fn curves(branch: &Branch) -> Vec<Curve> {
                 .collect(),
         })
         .collect()
+}
+
+/// The unit circle |ρ| = 1 as a closed curve.
+fn unit_circle() -> Curve {
+    Curve {
+        label: "|ρ| = 1".into(),
+        points: (0..=360)
+            .map(|k| {
+                let a = f64::from(k).to_radians();
+                (a.cos(), a.sin())
+            })
+            .collect(),
+    }
+}
+
+/// Points drawn as dots (each followed by a break).
+fn dots(points: impl Iterator<Item = [f64; 2]>) -> Vec<(f64, f64)> {
+    points
+        .flat_map(|m| [(m[0], m[1]), (f64::NAN, f64::NAN)])
+        .collect()
+}
+
+/// Writes `multipliers.png` into `out`: the Floquet multipliers `rho` (`[Re ρ, Im ρ]`) as dots
+/// about the unit circle, to scale — a multiplier outside is unstable, through −1 a period
+/// doubling, through +1 a fold, a complex pair a Neimark–Sacker.
+///
+/// # Errors
+/// I/O and drawing errors, naming the file.
+pub fn write_multipliers(out: &mut OutDir, title: &str, rho: &[[f64; 2]]) -> Result<()> {
+    let p = out.stage("multipliers.png")?;
+    plot::equal_aspect(
+        &p,
+        &format!("{title} — Floquet multipliers"),
+        &[
+            unit_circle(),
+            Curve {
+                label: "ρ".into(),
+                points: dots(rho.iter().copied()),
+            },
+        ],
+        "Re ρ",
+        "Im ρ",
+    )
+}
+
+/// `branch_multipliers.png`: the largest multiplier ρ₁ of every point of the branch, the stable
+/// points and the unstable ones apart, about the unit circle (where ρ₁ leaves it is the
+/// bifurcation's kind).
+fn write_branch_multipliers(out: &mut OutDir, title: &str, branch: &Branch) -> Result<()> {
+    let p = out.stage("branch_multipliers.png")?;
+    let of = |stable: bool| {
+        dots(
+            branch
+                .points
+                .iter()
+                .filter(|q| q.stable == stable)
+                .map(|q| q.rho1),
+        )
+    };
+    plot::equal_aspect(
+        &p,
+        &format!(
+            "{title} — the largest multiplier along the period-{} branch",
+            branch.period
+        ),
+        &[
+            unit_circle(),
+            Curve {
+                label: "ρ₁, stable".into(),
+                points: of(true),
+            },
+            Curve {
+                label: "ρ₁, unstable".into(),
+                points: of(false),
+            },
+        ],
+        "Re ρ₁",
+        "Im ρ₁",
+    )
 }

@@ -60,7 +60,7 @@ pub fn write_thermal(out: &mut OutDir, title: &str, r: &ThermalResults, png: boo
     }
     let step_s = every as f64 * r.coupling_step_s;
     let p = out.stage("spiral.png")?;
-    plot::lines(
+    plot::equal_aspect(
         &p,
         &format!(
             "{title} — the 1× vector in the rotor's frame, ω/ωn = {:.3}",
@@ -74,6 +74,10 @@ pub fn write_thermal(out: &mut OutDir, title: &str, r: &ThermalResults, png: boo
             Curve {
                 label: format!("every {step_s:.4} s from t = 0"),
                 points: marks,
+            },
+            Curve {
+                label: "origin".into(),
+                points: vec![(0.0, 0.0)],
             },
         ],
         "Re (µm)",

@@ -37,4 +37,5 @@ pub use mesh_field::mesh_field;
 pub use mode_shape::{mode_shape_2d, mode_shape_3d, Shape3d, ShapeLine};
 pub use orbit::{orbit_grid, Boundary, OrbitPanel};
 pub use whirl::{full_cascade, full_spectrum, WhirlRow};
-pub use xy::{bifurcation, lines, loglog, loglog_marked, stacked_series, Curve, Series};
+pub use xy::{bifurcation, equal_aspect, lines, loglog, loglog_marked, stacked_series};
+pub use xy::{Curve, Series};

@@ -7,7 +7,8 @@ use plotters::prelude::*;
 
 use super::chart::{draw_legend, draw_no_data, draw_segments, no_data_figure, render_titled};
 use super::chart::{thick_brush, Axes, Frame};
-use super::geom::{densify, finite_range, finite_segments, legend_corner, marker_shape};
+use super::geom::{densify, equal_aspect_ranges, finite_range, finite_segments};
+use super::geom::{legend_corner, marker_shape};
 use super::geom::{padded, padded_log};
 use super::style::{fitting_font, log_formatter, tick_formatter, FIG_H, FIG_W, PALETTE, TICK_SIZE};
 use crate::error::Result;
@@ -256,6 +257,29 @@ pub fn lines(
     x_label: &str,
     y_label: &str,
 ) -> Result<()> {
+    curves_plot(path, title, curves, (x_label, y_label), false)
+}
+
+/// [`lines`] with equal data units per pixel on both axes: paths in a plane drawn to their true
+/// shape (a vector's path in the rotor's frame, multipliers about the unit circle).
+pub fn equal_aspect(
+    path: &Path,
+    title: &str,
+    curves: &[Curve],
+    x_label: &str,
+    y_label: &str,
+) -> Result<()> {
+    curves_plot(path, title, curves, (x_label, y_label), true)
+}
+
+/// The body of [`lines`] and [`equal_aspect`].
+fn curves_plot(
+    path: &Path,
+    title: &str,
+    curves: &[Curve],
+    (x_label, y_label): (&str, &str),
+    aspect: bool,
+) -> Result<()> {
     let segs: Vec<Vec<Vec<(f64, f64)>>> = curves
         .iter()
         .map(|c| {
@@ -264,14 +288,25 @@ pub fn lines(
         })
         .collect();
     let all = || segs.iter().flatten().flatten();
-    let (x0, x1) = padded(finite_range(all().map(|p| p.0)), 0.02);
-    let (y0, y1) = padded(finite_range(all().map(|p| p.1)), 0.05);
     let has_data = all().next().is_some();
-    let samples = unit_samples(segs.iter().flatten(), |p| {
-        ((p.0 - x0) / (x1 - x0), (p.1 - y0) / (y1 - y0))
-    });
-    let legend = legend_position(curves, &samples);
     render_titled(path, (FIG_W, FIG_H), title, |body| {
+        let ((x0, x1), (y0, y1)) = if aspect {
+            let f = CURVES_FRAME;
+            let (w, h) = body.dim_in_pixel();
+            let pw = f64::from((w as i32 - f.left - f.right - f.y_area).max(20));
+            let ph = f64::from((h as i32 - f.top - f.bottom - f.x_area).max(20));
+            let pts: Vec<(f64, f64)> = all().copied().collect();
+            equal_aspect_ranges(&pts, pw, ph)
+        } else {
+            (
+                padded(finite_range(all().map(|p| p.0)), 0.02),
+                padded(finite_range(all().map(|p| p.1)), 0.05),
+            )
+        };
+        let samples = unit_samples(segs.iter().flatten(), |p| {
+            ((p.0 - x0) / (x1 - x0), (p.1 - y0) / (y1 - y0))
+        });
+        let legend = legend_position(curves, &samples);
         let mut chart = CURVES_FRAME
             .builder(&body)
             .build_cartesian_2d(x0..x1, y0..y1)?;

@@ -161,6 +161,7 @@ fn the_periodic_command_writes_its_multipliers_and_refuses_what_it_cannot_shoot(
     assert_eq!(s["command"], "periodic");
     assert_eq!(s["periodic"]["period"], 1);
     assert_eq!(s["periodic"]["stable"], false);
+    assert!(out.join("multipliers.png").metadata().unwrap().len() > 10_000);
     let csv = std::fs::read_to_string(out.join("multipliers.csv")).unwrap();
     assert!(csv.starts_with("index,re,im,modulus,angle_deg\n"));
     assert_eq!(csv.lines().count(), 5);
@@ -334,6 +335,7 @@ fn the_continue_command_writes_the_branch_and_refuses_a_bad_step() {
     let bif = std::fs::read_to_string(out.join("bifurcations.csv")).unwrap();
     assert_eq!(bif.lines().count(), 2);
     assert!(out.join("branch.png").metadata().unwrap().len() > 10_000);
+    assert!(out.join("branch_multipliers.png").metadata().unwrap().len() > 10_000);
     let s = cli::json(&out.join("summary.json"));
     assert_eq!(s["command"], "continue");
     assert_eq!(s["branch"]["period"], 1);
