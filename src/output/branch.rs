@@ -139,8 +139,7 @@ pub fn write_multipliers(out: &mut OutDir, title: &str, rho: &[[f64; 2]]) -> Res
                 points: dots(rho.iter().copied()),
             },
         ],
-        "Re ρ",
-        "Im ρ",
+        ("Re ρ", "Im ρ"),
     )
 }
 
@@ -175,7 +174,6 @@ fn write_branch_multipliers(out: &mut OutDir, title: &str, branch: &Branch) -> R
                 points: of(false),
             },
         ],
-        "Re ρ₁",
-        "Im ρ₁",
+        ("Re ρ₁", "Im ρ₁"),
     )
 }

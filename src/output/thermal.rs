@@ -80,8 +80,7 @@ pub fn write_thermal(out: &mut OutDir, title: &str, r: &ThermalResults, png: boo
                 points: vec![(0.0, 0.0)],
             },
         ],
-        "Re (µm)",
-        "Im (µm)",
+        ("Re (µm)", "Im (µm)"),
     )?;
     let t: Vec<f64> = r.samples.iter().map(|s| s.t_s).collect();
     let series =

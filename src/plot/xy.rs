@@ -262,14 +262,14 @@ pub fn lines(
 
 /// [`lines`] with equal data units per pixel on both axes: paths in a plane drawn to their true
 /// shape (a vector's path in the rotor's frame, multipliers about the unit circle).
+/// `labels`: the x and y axes' descriptions.
 pub fn equal_aspect(
     path: &Path,
     title: &str,
     curves: &[Curve],
-    x_label: &str,
-    y_label: &str,
+    labels: (&str, &str),
 ) -> Result<()> {
-    curves_plot(path, title, curves, (x_label, y_label), true)
+    curves_plot(path, title, curves, labels, true)
 }
 
 /// The body of [`lines`] and [`equal_aspect`].
