@@ -365,14 +365,19 @@ pub(super) fn restarted<'a>(
 
 /// The state vector ([`EndState::state_vector`]) after `plan.steps` steps of `p` from `start`.
 pub(super) fn end_after(p: &Prepared, plan: &StepPlan, start: &EndState) -> Result<Vec<f64>> {
-    let n = plan.steps;
     let mut st = restarted(p, plan, start)?;
+    run_to_end(&mut st, plan.steps)?
+        .and_then(|e| e.state_vector())
+        .ok_or_else(|| Error::study("run", "the map's end state could not be taken".to_string()))
+}
+
+/// Runs `st` to step `n` and takes its end state there (the history one step before kept for
+/// it); `None` when it cannot be taken ([`Stepper::end_state`]).
+pub(super) fn run_to_end(st: &mut Stepper<'_>, n: usize) -> Result<Option<EndState>> {
     st.run_to(n - 1, &mut None)?;
     let older = st.history();
     st.run_to(n, &mut None)?;
-    st.end_state(&older)
-        .and_then(|e| e.state_vector())
-        .ok_or_else(|| Error::study("run", "the map's end state could not be taken".to_string()))
+    Ok(st.end_state(&older))
 }
 
 /// The orbit of `p` from `start` over `6 k` revolutions of `plan`'s step, analysed as a steady

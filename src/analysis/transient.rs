@@ -593,20 +593,7 @@ fn friction(p: &TransientPrepared, rec: &Record, spin: &[[f64; 4]]) -> Vec<[f64;
     for (i, sp) in spin.iter().enumerate() {
         let mut power = 0.0;
         for (s, st) in p.case.stations.iter().enumerate() {
-            let k = i * rec.nstations + s;
-            let ft = [
-                rec.force[k][0] - rec.force_normal[k][0],
-                rec.force[k][1] - rec.force_normal[k][1],
-            ];
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-            let v = if b > a {
-                let (da, db) = (rec.disp_at(a, s), rec.disp_at(b, s));
-                let h = rec.t[b] - rec.t[a];
-                [(db[0] - da[0]) / h, (db[1] - da[1]) / h]
-            } else {
-                [0.0, 0.0]
-            };
-            power += ft[0].hypot(ft[1]) * sp[1] * st.radius - (ft[0] * v[0] + ft[1] * v[1]);
+            power += friction_power(rec, (i, s), sp[1], st.radius);
         }
         if i > 0 {
             energy += 0.5 * (power + prev_power) * (rec.t[i] - rec.t[i - 1]);
@@ -616,6 +603,30 @@ fn friction(p: &TransientPrepared, rec: &Record, spin: &[[f64; 4]]) -> Vec<[f64;
         out.push([f[0].hypot(f[1]), power, energy]);
     }
     out
+}
+
+/// The friction power (W) on station `s` of `rec` at sample `i`, the spin `omega` (rad/s) and
+/// the section's radius (m): the contact force less its normal part, `F_t`, acts at the
+/// contact point, whose velocity is the centre's `v` (central differences of the recorded
+/// displacement, one-sided at the ends, 0 with one sample) plus the surface speed Ω R along
+/// the spin tangent `a = −F_t/|F_t|`, so `P = |F_t| Ω R − F_t · v` — also the heat of a thermal
+/// run ([`super::thermal`]).
+pub(super) fn friction_power(rec: &Record, (i, s): (usize, usize), omega: f64, radius: f64) -> f64 {
+    let n = rec.len();
+    let k = i * rec.nstations + s;
+    let ft = [
+        rec.force[k][0] - rec.force_normal[k][0],
+        rec.force[k][1] - rec.force_normal[k][1],
+    ];
+    let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+    let v = if b > a {
+        let (da, db) = (rec.disp_at(a, s), rec.disp_at(b, s));
+        let h = rec.t[b] - rec.t[a];
+        [(db[0] - da[0]) / h, (db[1] - da[1]) / h]
+    } else {
+        [0.0, 0.0]
+    };
+    ft[0].hypot(ft[1]) * omega * radius - (ft[0] * v[0] + ft[1] * v[1])
 }
 
 /// Points of resampling per revolution in the angle domain.
