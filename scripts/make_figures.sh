@@ -34,6 +34,9 @@ cp "$out/thermal/thermal.png" "$dst/thermal_history.png"
 "$bin" continue scenes/paper/partial_rub.toml --from 2.0 --to 2.5 --step 0.1 --period 1 \
   --out "$out/continue_pd" --force >/dev/null
 cp "$out/continue_pd/branch_multipliers.png" "$dst/continue_multipliers.png"
+# Dry whirl and dry whip with stick (issue 28): the rig's sweep from roll into whip.
+"$bin" sweep scenes/stick/dry_whirl.toml --out "$out/dry_whirl" --fresh >/dev/null
+cp "$out/dry_whirl/dry_whirl.png" "$dst/dry_whirl_sweep.png"
 echo "figures in $dst"
 # Meshed stators (issue 4): docs/figures/stators.
 bash scripts/make_mesh_figures.sh

@@ -52,6 +52,7 @@ pub mod continuation;
 pub mod convergence;
 pub mod cutoff;
 pub mod discrepancy;
+pub mod dry;
 pub mod dynamics;
 pub mod fanout;
 mod lengthen;

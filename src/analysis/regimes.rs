@@ -16,11 +16,17 @@ pub struct RegimeRange {
     pub regime: Regime,
     /// A period above [`super::MAX_PERIOD`] found on the Poincaré points.
     pub long_period: Option<usize>,
+    /// Dry whirl or dry whip (runs with stick, [`super::dry`]); the range's label then.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dry_rub: Option<super::dry::DryRub>,
 }
 
 impl RegimeRange {
     /// The range's regime in words: as [`regime_label`].
     pub fn label(&self) -> String {
+        if let Some(d) = self.dry_rub {
+            return d.label().into();
+        }
         match (self.period, self.regime, self.long_period) {
             (0, Regime::Periodic, Some(q)) => regime_name(q),
             (0, Regime::QuasiPeriodic, _) => "quasi-periodic".into(),
@@ -33,25 +39,28 @@ impl RegimeRange {
 }
 
 /// Groups consecutive speeds with the same period and, not periodic, the same class
-/// ([`super::dynamics`]).
+/// ([`super::dynamics`]); with stick, consecutive dry whirls (or whips) form one range whatever
+/// their periods.
 pub fn regime_ranges(speeds: &[SpeedResults]) -> Vec<RegimeRange> {
     let mut out: Vec<RegimeRange> = Vec::new();
     for r in speeds {
         let (regime, long_period) = (r.dynamics.regime, r.dynamics.long_period);
-        match out.last_mut() {
-            Some(last)
-                if last.period == r.period
-                    && last.regime == regime
-                    && last.long_period == long_period =>
-            {
-                last.to = r.speed_ratio
+        let same = |last: &RegimeRange| match (last.dry_rub, r.dry_rub) {
+            (Some(a), Some(b)) => a == b,
+            (None, None) => {
+                last.period == r.period && last.regime == regime && last.long_period == long_period
             }
+            _ => false,
+        };
+        match out.last_mut() {
+            Some(last) if same(last) => last.to = r.speed_ratio,
             _ => out.push(RegimeRange {
                 period: r.period,
                 from: r.speed_ratio,
                 to: r.speed_ratio,
                 regime,
                 long_period,
+                dry_rub: r.dry_rub,
             }),
         }
     }
@@ -100,11 +109,15 @@ pub fn regime_name(period: usize) -> String {
     }
 }
 
-/// The regime of a run in words: its period ([`regime_name`]); for a run that is not periodic
+/// The regime of a run in words: "dry whirl" or "dry whip" for a run with stick in a backward
+/// whirl of full contact ([`super::dry`]); else its period ([`regime_name`]); for a run that is not periodic
 /// its class ([`super::dynamics`]) — "1/9×" and longer periods found on the Poincaré points,
 /// "quasi-periodic", "chaotic", "diverging" (not periodic, and running away when continued), or
 /// "not periodic (undetermined)".
 pub fn regime_label(r: &SpeedResults) -> String {
+    if let Some(d) = r.dry_rub {
+        return d.label().into();
+    }
     if r.period > 0 {
         return regime_name(r.period);
     }
@@ -119,7 +132,7 @@ pub fn regime_label(r: &SpeedResults) -> String {
 
 /// The regime classes of a map cell, in the order of their colours (the first five as before
 /// the split of the responses that are not periodic).
-pub const REGIME_CLASSES: [&str; 9] = [
+pub const REGIME_CLASSES: [&str; 11] = [
     "no contact",
     "1×",
     "1/2×",
@@ -129,15 +142,22 @@ pub const REGIME_CLASSES: [&str; 9] = [
     "chaotic",
     "not periodic (undetermined)",
     "1/9× and longer",
+    "dry whirl",
+    "dry whip",
 ];
 
 /// The class of a run for a regime map (an index into [`REGIME_CLASSES`]): no contact in the
 /// steady window, else by Poincaré period — 1, 2, 3, 4 to [`super::MAX_PERIOD`] — and, not
 /// periodic, by [`super::dynamics`]: quasi-periodic, chaotic, undetermined, or a longer period
-/// found on the Poincaré points.
+/// found on the Poincaré points; a run with stick in dry whirl or dry whip by that first.
 pub fn regime_class(r: &SpeedResults) -> usize {
     if r.contact_fraction == 0.0 {
         return 0;
+    }
+    match r.dry_rub {
+        Some(super::dry::DryRub::Whirl) => return 9,
+        Some(super::dry::DryRub::Whip) => return 10,
+        None => {}
     }
     match r.period {
         0 => match r.dynamics.regime {

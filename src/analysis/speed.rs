@@ -137,6 +137,14 @@ pub struct SpeedResults {
     /// Largest contact-force magnitude on station 0 over every step of the analysed steady
     /// window (after the transient) / |U|ω² ([`RunStats::steady`]).
     pub contact_force_max_nd: f64,
+    /// A run whose stations stick (`station.N.stick`): the fraction of the steady window's
+    /// contact instants at which some pair stuck; `None` without stick.
+    #[serde(default)]
+    pub stick_fraction: Option<f64>,
+    /// A run with stick in a backward whirl of full annular contact: dry whirl (rolling) or
+    /// dry whip (slipping) ([`super::dry`]).
+    #[serde(default)]
+    pub dry_rub: Option<super::dry::DryRub>,
     /// Fraction of the steps of the analysed steady window with at least one pair carrying
     /// force ([`RunStats::steady`]).
     pub contact_fraction: f64,
@@ -624,6 +632,14 @@ pub(super) fn window_points(
     (w, nrev)
 }
 
+/// The force scale of the non-dimensional forces: the unbalance force |U|ω² (N), or 1 N
+/// without unbalance.
+fn force_scale(case: &Case) -> f64 {
+    Some(case.unbalance_force)
+        .filter(|f| *f > 0.0)
+        .unwrap_or(1.0)
+}
+
 /// Analysis of a record: transient cut, Poincaré section, extents, spectrum; the contact
 /// figures come from the loop's counters `stats`, taken at every step (the record keeps one
 /// step in `record_every`).
@@ -641,9 +657,7 @@ pub fn analyse(
 ) -> SpeedResults {
     let spr = s.step.samples_per_rev;
     let z0 = if case.z0 > 0.0 { case.z0 } else { 1.0 };
-    let fu = Some(case.unbalance_force)
-        .filter(|f| *f > 0.0)
-        .unwrap_or(1.0);
+    let fu = force_scale(case);
     let (window, nrev) = window_points(case, s, plan, rec);
     let first = plan.steady_from / plan.record_every;
     let last = first + window.len();
@@ -686,6 +700,7 @@ pub fn analyse(
     let (whirl, full) = whirl_lines(&window[(nrev - lrev) * spr..nrev * spr], lrev);
     let nrev_f = (last - first) as f64 / spr as f64;
     let (spectrum, full_spectrum) = spectra(case, keep, &comp, &full, lrev, nrev_f);
+    let (stick_fraction, dry_rub) = super::dry::of_run(case, &stats.steady, &whirl);
     SpeedResults {
         speed_ratio: case.speed_ratio,
         omega: case.omega,
@@ -708,6 +723,8 @@ pub fn analyse(
         amp_third_nd: amp(1.0 / 3.0),
         whirl,
         contact_force_max_nd: stats.steady.force_max / fu,
+        stick_fraction,
+        dry_rub,
         contact_fraction: stats.steady.fraction(),
         penetration_max_m: stats.whole.penetration_max,
         plan: *plan,

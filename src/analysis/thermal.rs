@@ -22,7 +22,6 @@
 
 use super::periodic::{restarted, run_to_end, stepper};
 use super::speed::{prepare, Prepared};
-use super::transient::friction_power;
 use super::RunSettings;
 use crate::error::{Error, Result};
 use crate::math::V2;
@@ -348,7 +347,7 @@ fn set_bow(p: &mut Prepared, base: &[UnbalanceLoad], dofs: [usize; 2], me: f64, 
 /// harmonic in the rotor's frame `Q` (W), its mean (W), the station's 1× vector in the rotor's
 /// frame (m) and the fraction of steps in contact.
 fn harmonics(p: &Prepared, rec: &Record, station: usize, spr: usize) -> (V2, f64, V2, f64) {
-    let (omega, radius) = (p.omega, p.case.stations[station].radius);
+    let omega = p.omega;
     let n = rec.len();
     let from = n.saturating_sub(spr + 1);
     let (mut q, mut power, mut contact) = ([0.0; 2], 0.0, 0usize);
@@ -359,7 +358,7 @@ fn harmonics(p: &Prepared, rec: &Record, station: usize, spr: usize) -> (V2, f64
             continue;
         }
         contact += 1;
-        let pw = friction_power(rec, (i, station), omega, radius);
+        let pw = rec.friction_power_at(i, station);
         power += pw;
         // The contact point's angle in the rotor's frame: the normal (−F_n / |F_n|) less Ωt.
         let theta = (-fn_[1]).atan2(-fn_[0]) - omega * rec.t[i];

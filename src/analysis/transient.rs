@@ -425,7 +425,7 @@ pub fn analyse_transient(
             .collect()
     };
     let torque: Vec<[f64; 2]> = rec.spin.iter().map(|s| [s[3], s[4]]).collect();
-    let contact = friction(p, rec, &spin);
+    let contact = friction(p, rec);
     let comp = p.settings.component;
     let x: Vec<f64> = rec.observed.iter().map(|d| d[comp]).collect();
     let phi: Vec<f64> = spin.iter().map(|s| s[2]).collect();
@@ -580,20 +580,19 @@ fn spin_at(p: &TransientPrepared, spin: &[[f64; 4]], t: f64) -> SpinState {
 }
 
 /// Per sample: |F| on station 0 (N), the friction power summed over stations (W) and its
-/// integral (J, trapezoid). The friction force on a station is its contact force less the
-/// normal part, `F_t`; it acts at the contact point, whose velocity is the centre's `v` plus
-/// the surface speed Ω R along the spin tangent `a = −F_t/|F_t|` (friction opposes the
-/// sliding of a massless stator, at rest), so the power dissipated is
-/// `P = |F_t| Ω R − F_t · v`, v by central differences of the recorded displacement.
-fn friction(p: &TransientPrepared, rec: &Record, spin: &[[f64; 4]]) -> Vec<[f64; 3]> {
+/// integral (J, trapezoid). The power is the one the stepper records (`Record::friction_power`):
+/// per pair the tangential force times the slip of the section's surface over the stator's
+/// material point over the step (docs/STICK.md §1), the stator's own motion included — 0
+/// while a pair sticks.
+fn friction(p: &TransientPrepared, rec: &Record) -> Vec<[f64; 3]> {
     let n = rec.len();
     let mut out = Vec::with_capacity(n);
     let mut energy = 0.0;
     let mut prev_power = 0.0;
-    for (i, sp) in spin.iter().enumerate() {
+    for i in 0..n {
         let mut power = 0.0;
-        for (s, st) in p.case.stations.iter().enumerate() {
-            power += friction_power(rec, (i, s), sp[1], st.radius);
+        for s in 0..p.case.stations.len() {
+            power += rec.friction_power_at(i, s);
         }
         if i > 0 {
             energy += 0.5 * (power + prev_power) * (rec.t[i] - rec.t[i - 1]);
@@ -603,30 +602,6 @@ fn friction(p: &TransientPrepared, rec: &Record, spin: &[[f64; 4]]) -> Vec<[f64;
         out.push([f[0].hypot(f[1]), power, energy]);
     }
     out
-}
-
-/// The friction power (W) on station `s` of `rec` at sample `i`, the spin `omega` (rad/s) and
-/// the section's radius (m): the contact force less its normal part, `F_t`, acts at the
-/// contact point, whose velocity is the centre's `v` (central differences of the recorded
-/// displacement, one-sided at the ends, 0 with one sample) plus the surface speed Ω R along
-/// the spin tangent `a = −F_t/|F_t|`, so `P = |F_t| Ω R − F_t · v` — also the heat of a thermal
-/// run ([`super::thermal`]).
-pub(super) fn friction_power(rec: &Record, (i, s): (usize, usize), omega: f64, radius: f64) -> f64 {
-    let n = rec.len();
-    let k = i * rec.nstations + s;
-    let ft = [
-        rec.force[k][0] - rec.force_normal[k][0],
-        rec.force[k][1] - rec.force_normal[k][1],
-    ];
-    let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-    let v = if b > a {
-        let (da, db) = (rec.disp_at(a, s), rec.disp_at(b, s));
-        let h = rec.t[b] - rec.t[a];
-        [(db[0] - da[0]) / h, (db[1] - da[1]) / h]
-    } else {
-        [0.0, 0.0]
-    };
-    ft[0].hypot(ft[1]) * omega * radius - (ft[0] * v[0] + ft[1] * v[1])
 }
 
 /// Points of resampling per revolution in the angle domain.

@@ -67,6 +67,9 @@ pub struct Candidate {
     pub mu: f64,
     /// Section radius r (m).
     pub radius: f64,
+    /// Coulomb friction with stick: the pair's tangential force is an unknown inside the cone
+    /// `|t| ≤ μ p` (`time::stick`); false: permanent slip `t = μ p`.
+    pub stick: bool,
 }
 
 /// Frozen geometry of a pair in one step.

@@ -28,12 +28,12 @@ fn table(header: &str, rows: impl IntoIterator<Item = String>) -> String {
 }
 
 /// The `sweep.csv` header.
-pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,regime,zero_one_k,long_period,coexisting,coexist_start,coexist_contact_fraction,coexist_period,coexist_extents_rel";
+pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,regime,zero_one_k,long_period,coexisting,coexist_start,coexist_contact_fraction,coexist_period,coexist_extents_rel,stick_fraction,dry_rub";
 
 /// One `sweep.csv` row.
 pub fn sweep_row(r: &SpeedResults) -> String {
     format!(
-        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{},{},{},{:.3e},{:.3e},{},{},{},{},{}",
+        "{:.4},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{:.6},{:.6e},{},{:.6e},{:.6e},{:.4},{:.3e},{},{},{},{:.3e},{:.3e},{},{},{},{},{},{}",
         r.speed_ratio,
         r.period,
         r.extents_nd[0],
@@ -72,6 +72,25 @@ pub fn sweep_row(r: &SpeedResults) -> String {
         whirl_columns(r),
         dynamics_columns(r),
         coexist_columns(r),
+        stick_columns(r),
+    )
+}
+
+/// The stick columns of `sweep.csv` and `map.csv` (`station.N.stick`; docs/STICK.md): the
+/// fraction of the steady window's contact instants at which some pair stuck, and the
+/// dry-friction class (`whirl`, `whip`); both empty for a run without stick, the class empty
+/// for one that is not a backward whirl in full contact.
+pub fn stick_columns(r: &SpeedResults) -> String {
+    format!(
+        "{},{}",
+        r.stick_fraction
+            .map(|f| format!("{f:.4}"))
+            .unwrap_or_default(),
+        match r.dry_rub {
+            Some(crate::analysis::dry::DryRub::Whirl) => "whirl",
+            Some(crate::analysis::dry::DryRub::Whip) => "whip",
+            None => "",
+        }
     )
 }
 
@@ -358,7 +377,7 @@ pub fn orbit_size_nd(r: &SpeedResults) -> f64 {
 pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Result<()> {
     let speed_col = !keys.contains(&"speed_ratio");
     let header = format!(
-        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,coexisting,coexist_start,coexist_contact_fraction,coexist_period,coexist_extents_rel,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,zero_one_k,long_period",
+        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,coexisting,coexist_start,coexist_contact_fraction,coexist_period,coexist_extents_rel,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,zero_one_k,long_period,stick_fraction,dry_rub",
         keys[0],
         keys[1],
         if speed_col { ",speed_ratio" } else { "" }
@@ -366,7 +385,7 @@ pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Re
     let rows = cells.iter().map(|c| {
         let r = c.run;
         format!(
-            "{},{}{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.6},{},{},{},{},{:.3e},{:.3e},{},{},{:.6},{},{},{}",
+            "{},{}{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.6},{},{},{},{},{:.3e},{:.3e},{},{},{:.6},{},{},{},{}",
             crate::scene::toml_number(c.x),
             crate::scene::toml_number(c.y),
             if speed_col {
@@ -405,7 +424,8 @@ pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Re
             r.dynamics
                 .long_period
                 .map(|q| q.to_string())
-                .unwrap_or_default()
+                .unwrap_or_default(),
+            stick_columns(r)
         )
     });
     out.write("map.csv", table(&header, rows).as_bytes())

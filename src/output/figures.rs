@@ -82,7 +82,44 @@ pub fn sweep_drawings<'a>(
     }
     sweep_spectra(out, prefix, res, fig, draw)?;
     sweep_orbits(out, prefix, res, fig, draw)?;
+    sweep_dry_whirl(out, prefix, res, fig.title, draw)?;
     sweep_regime_map(out, prefix, res, fig.title, draw)
+}
+
+/// `dry_whirl.png` of a sweep with stick (docs/STICK.md §4): against speed, the dominant
+/// whirl frequency (backward below zero: a roll follows `−RΩ/δ`, a whip stays locked near the
+/// coupled natural frequency), the fraction of the contact instants in stick and the contact
+/// fraction; nothing for a sweep without stick.
+fn sweep_dry_whirl(
+    out: &mut OutDir,
+    prefix: &str,
+    res: &SweepResults,
+    title: &str,
+    draw: &mut Drawings<'_>,
+) -> Result<()> {
+    if res.speeds.iter().all(|r| r.stick_fraction.is_none()) {
+        return Ok(());
+    }
+    let column = |label: &str, f: &dyn Fn(&SpeedResults) -> f64| plot::Series {
+        label: label.into(),
+        t: res.speeds.iter().map(|r| r.speed_ratio).collect(),
+        y: res.speeds.iter().map(f).collect(),
+    };
+    let series = vec![
+        column(
+            "dominant whirl frequency / ωn (backward < 0)",
+            &|r: &SpeedResults| r.whirl.dominant_order * r.speed_ratio,
+        ),
+        column(
+            "fraction of contact instants in stick",
+            &|r: &SpeedResults| r.stick_fraction.unwrap_or(0.0),
+        ),
+        column("contact fraction", &|r: &SpeedResults| r.contact_fraction),
+    ];
+    let t = format!("{title} — dry whirl (stick) and whip (slip)");
+    draw.add(out, &format!("{prefix}dry_whirl.png"), move |p| {
+        plot::stacked_series(p, &t, &series, "ω/ωn", "")
+    })
 }
 
 /// Index of the sweep speed nearest ω/ω_n = `v`.

@@ -11,7 +11,7 @@ use plotters::prelude::*;
 use super::chart::{no_data_figure, render_titled, Axes, Frame};
 use super::geom::finite_range;
 use super::mesh_field::{colour_bar, viridis};
-use super::style::{font, tick_formatter, FIG_H, FIG_W, PALETTE};
+use super::style::{category_colour, font, tick_formatter, FIG_H, FIG_W};
 use crate::error::Result;
 
 /// Frame of the map chart.
@@ -75,7 +75,7 @@ pub fn category_map(
         return no_data_figure(path, title);
     }
     let (ex, ey) = (edges(grid.xs), edges(grid.ys));
-    let colour = |k: usize| PALETTE[k % PALETTE.len()];
+    let colour = category_colour;
     let fx = tick_formatter(ex[0], ex[ex.len() - 1], 8);
     let fy = tick_formatter(ey[0], ey[ey.len() - 1], 8);
     render_titled(path, (FIG_W, FIG_H), title, |body| {

@@ -38,6 +38,19 @@ pub(super) const PALETTE: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
+/// Colours of the categories past the palette's ten (a map's dry whirl and dry whip): dark
+/// blue and dark red, apart from every colour of [`PALETTE`].
+pub(super) const PALETTE_MORE: [RGBColor; 2] = [RGBColor(0, 0, 110), RGBColor(110, 0, 0)];
+
+/// The colour of category `k`: [`PALETTE`], then [`PALETTE_MORE`], then round again.
+pub(super) fn category_colour(k: usize) -> RGBColor {
+    let k = k % (PALETTE.len() + PALETTE_MORE.len());
+    PALETTE
+        .get(k)
+        .copied()
+        .unwrap_or_else(|| PALETTE_MORE[k - PALETTE.len()])
+}
+
 /// Width of the ordinary (non-grid) figures in pixels.
 pub(super) const FIG_W: u32 = 1200;
 /// Height of the ordinary (non-grid) figures in pixels.

@@ -49,6 +49,9 @@ pub struct Station {
     pub radius: f64,
     /// Coulomb friction coefficient μ.
     pub friction: f64,
+    /// Coulomb friction with stick (`station.N.stick`): the tangential force an unknown inside
+    /// the cone `|t| ≤ μ p`; false: permanent slip.
+    pub stick: bool,
 }
 
 impl From<&StationSpec> for Station {
@@ -58,6 +61,7 @@ impl From<&StationSpec> for Station {
             node: st.node,
             radius: st.radius,
             friction: st.friction,
+            stick: st.stick,
         }
     }
 }

@@ -360,7 +360,14 @@ pub struct StationSpec {
     pub node: usize,
     /// Section radius r (m).
     pub radius: f64,
-    /// Coulomb friction coefficient μ (permanent slip, Eq. 19).
+    /// Coulomb friction coefficient μ (permanent slip, Eq. 19, unless `stick`).
     #[serde(default)]
     pub friction: f64,
+    /// Coulomb friction with stick (issue 28): the tangential force `t` is a second unknown of
+    /// every pair, inside the cone `|t| ≤ μ p`; a pair sticks — the section's surface, spin
+    /// `R Ω` included, moves with the stator's material point — while the force it needs stays
+    /// in the cone, and slips against the relative motion at `μ p` otherwise (docs/STICK.md).
+    /// Default false: permanent slip, the force `μ p` always against the spin.
+    #[serde(default)]
+    pub stick: bool,
 }

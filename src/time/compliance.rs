@@ -70,6 +70,9 @@ pub(crate) struct Compliance {
     /// Forces applied since the last reset: (touched position `2·j + component`, DOF, force in
     /// N), one entry per DOF.
     forces: Vec<(usize, usize, f64)>,
+    /// The forces of the last solve before the last reset (the displacement at the step's
+    /// start, which a pair's stick measures its slip from).
+    last: Vec<(usize, usize, f64)>,
     /// Touched position → index in `forces` (`usize::MAX`: no force there).
     fpos: Vec<usize>,
     /// Entries of `F` read by the loop (flexibilities and displacements), the work counter of
@@ -143,6 +146,7 @@ impl Compliance {
             cols: ContactColumns::default(),
             start: Vec::new(),
             forces: Vec::new(),
+            last: Vec::new(),
             fpos: Vec::new(),
             reads: Cell::new(0),
             rhs: vec![0.0; n],
@@ -462,6 +466,19 @@ impl Compliance {
             .sum()
     }
 
+    /// Displacement of prepared contact DOF `d` (m) under the forces before the last reset: the
+    /// stator's displacement at the start of the step (0 without any).
+    pub(crate) fn disp_before(&self, d: usize) -> f64 {
+        let [l] = self.locs_of([d]);
+        if l == usize::MAX {
+            return 0.0;
+        }
+        self.last
+            .iter()
+            .map(|&(k, _, f)| self.entry(l, k) * f)
+            .sum()
+    }
+
     /// Adds the force `f` (N) at contact DOF `d` (prepared by [`Compliance::ensure`] here).
     #[inline]
     pub(crate) fn apply(&mut self, d: usize, f: f64) {
@@ -482,6 +499,8 @@ impl Compliance {
         for &(l, _, _) in &self.forces {
             self.fpos[l] = usize::MAX;
         }
+        self.last.clear();
+        self.last.extend_from_slice(&self.forces);
         self.forces.clear();
     }
 

@@ -106,6 +106,59 @@ impl<'a> SpinDof<'a> {
         self.drive.drive_torque(t, self.cur.omega)
     }
 
+    /// The unbalance reaction torque `Σ m_u e (cos θ ü_y − sin θ ü_x)` (N·m) of `case`'s and
+    /// the events' unbalances on the lateral step of `rotor` ending in `u_next`, at tₙ = `t`.
+    fn unbalance_reaction(&self, case: &Case, events: &Events, rotor: &DynBody, t: f64) -> f64 {
+        let inv_dt2 = 1.0 / (self.dt * self.dt);
+        let acc = |i: usize| (rotor.u_next[i] - 2.0 * rotor.u[i] + rotor.u_prev[i]) * inv_dt2;
+        let loads = (case.loop_rotor().unbalance.iter().map(|u| (u, 1.0)))
+            .chain(events.unbalance.iter().map(|e| (&e.load, e.share(t))));
+        let mut tu = 0.0;
+        for (u, share) in loads {
+            let (s, c) = (self.cur.phi + u.phase).sin_cos();
+            tu += share * u.me * (c * acc(u.dofs[1]) - s * acc(u.dofs[0]));
+        }
+        tu
+    }
+
+    /// The step's length in Ω (`h`: half a step first), Ω at its start, `J/h` and `c_t/2`.
+    fn step_factors(&self, n: usize) -> (f64, f64, f64, f64) {
+        let (d, dt) = (self.drive, self.dt);
+        // The first step starts from Ω₀ over half a step (the velocity form's start): its
+        // torques are the step's own, so no estimate of φ̈⁰ enters φ.
+        let (h, w_prev) = if n == 0 {
+            (0.5 * dt, d.speed0)
+        } else {
+            (dt, self.w_half)
+        };
+        (h, w_prev, d.inertia / h, 0.5 * d.drag_viscous)
+    }
+
+    /// The spin increment `φⁿ⁺¹ − φⁿ` of step `n` (from tₙ = `t`) without a friction torque,
+    /// the lateral step being the prediction in `rotor.u_next`, and its derivative `κ` with
+    /// respect to the friction torque (rad/(N·m), ≥ 0: `Δφ = Δφ₀ − κ T_rub`) — the spin's share
+    /// of a sticking pair's tangential flexibility (`time::stick`).
+    pub(crate) fn free_increment(
+        &self,
+        case: &Case,
+        events: &Events,
+        rotor: &DynBody,
+        n: usize,
+        t: f64,
+    ) -> (f64, f64) {
+        let d = self.drive;
+        let torque =
+            self.drive_torque(t) - d.drag - self.unbalance_reaction(case, events, rotor, t);
+        let (_, w_prev, j, ct) = self.step_factors(n);
+        let w_next = (w_prev * (j - ct) + torque) / (j + ct);
+        (self.dt * w_next, self.dt / (j + ct))
+    }
+
+    /// The spin increment of the step that ended at tₙ, `φⁿ − φⁿ⁻¹` (rad).
+    pub(crate) fn last_increment(&self) -> f64 {
+        self.dt * self.w_half
+    }
+
     /// Steps the spin tₙ → tₙ₊₁ (`n`, `t` = tₙ) with the step's friction torque `friction`
     /// (N·m, `Σ R μ p`) and the unbalance reaction of `case`'s unbalances on the corrected
     /// lateral step of `rotor` (uⁿ⁺¹ in `u_next`).
@@ -123,24 +176,9 @@ impl<'a> SpinDof<'a> {
         t: f64,
     ) -> Result<(), SolveError> {
         let (d, dt) = (self.drive, self.dt);
-        let inv_dt2 = 1.0 / (dt * dt);
-        let acc = |i: usize| (rotor.u_next[i] - 2.0 * rotor.u[i] + rotor.u_prev[i]) * inv_dt2;
-        let loads = (case.loop_rotor().unbalance.iter().map(|u| (u, 1.0)))
-            .chain(events.unbalance.iter().map(|e| (&e.load, e.share(t))));
-        let mut tu = 0.0;
-        for (u, share) in loads {
-            let (s, c) = (self.cur.phi + u.phase).sin_cos();
-            tu += share * u.me * (c * acc(u.dofs[1]) - s * acc(u.dofs[0]));
-        }
+        let tu = self.unbalance_reaction(case, events, rotor, t);
         let torque = self.drive_torque(t) - d.drag - friction - tu;
-        // The first step starts from Ω₀ over half a step (the velocity form's start): its
-        // torques are the step's own, so no estimate of φ̈⁰ enters φ.
-        let (h, w_prev) = if n == 0 {
-            (0.5 * dt, d.speed0)
-        } else {
-            (dt, self.w_half)
-        };
-        let (j, ct) = (d.inertia / h, 0.5 * d.drag_viscous);
+        let (h, w_prev, j, ct) = self.step_factors(n);
         let w_next = ((w_prev * (j - ct) + torque) / (j + ct)).max(0.0);
         let a = (w_next - w_prev) / h;
         self.cur.phi += dt * w_next;

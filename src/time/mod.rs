@@ -72,6 +72,7 @@ mod solve;
 mod spin;
 mod stator;
 mod stepper;
+mod stick;
 mod workspace;
 
 pub use budget::{estimate, one_at_a_time, Budget};

@@ -1,5 +1,6 @@
 //! What a run keeps: the recorded samples ([`Record`]) and the loop's counters ([`RunStats`]).
 
+use super::workspace::StationForces;
 use crate::math::V2;
 
 /// What the run keeps: rotor-station displacements and contact forces on the rotor, every
@@ -19,6 +20,11 @@ pub struct Record {
     pub force: Vec<V2>,
     /// Normal part of the contact force on each station (N), sample-major.
     pub force_normal: Vec<V2>,
+    /// Friction power dissipated at each station's contacts (W), sample-major: `Σ t ζ/Δt` over
+    /// its pairs of the step ending at the sample, `t` the tangential force and `ζ` the slip
+    /// of the section's surface over the stator's material point (docs/STICK.md §1) — 0 in
+    /// stick.
+    pub friction_power: Vec<f64>,
     /// Elastic energy stored in massless stators (J) per sample.
     pub stator_energy: Vec<f64>,
     /// Active pairs per sample.
@@ -37,6 +43,7 @@ impl Record {
             observed: Vec::with_capacity(samples),
             force: Vec::with_capacity(samples * nstations),
             force_normal: Vec::with_capacity(samples * nstations),
+            friction_power: Vec::with_capacity(samples * nstations),
             stator_energy: Vec::with_capacity(samples),
             active: Vec::with_capacity(samples),
             spin: Vec::new(),
@@ -57,6 +64,13 @@ impl Record {
     /// Contact force on station `s` at sample `i`.
     pub fn force_at(&self, i: usize, s: usize) -> V2 {
         self.force[i * self.nstations + s]
+    }
+    /// Friction power dissipated at station `s` at sample `i` (W; 0 when not recorded).
+    pub fn friction_power_at(&self, i: usize, s: usize) -> f64 {
+        self.friction_power
+            .get(i * self.nstations + s)
+            .copied()
+            .unwrap_or(0.0)
     }
 }
 
@@ -118,6 +132,9 @@ pub struct ContactStats {
     pub instants: usize,
     /// Instants with at least one pair carrying force.
     pub contact_instants: usize,
+    /// Instants with at least one pair sticking (`station.N.stick`; docs/STICK.md).
+    #[serde(default)]
+    pub stick_instants: usize,
     /// Largest magnitude of the contact force on station 0 (N), 0 without contact.
     pub force_max: f64,
     /// Time of `force_max` (s); 0 without contact.
@@ -134,6 +151,16 @@ impl ContactStats {
         Self {
             from_step,
             ..Self::default()
+        }
+    }
+
+    /// Fraction of the window's instants in contact at which some pair stuck (0 without
+    /// contact).
+    pub fn stick_fraction(&self) -> f64 {
+        if self.contact_instants == 0 {
+            0.0
+        } else {
+            self.stick_instants as f64 / self.contact_instants as f64
         }
     }
 
@@ -157,6 +184,7 @@ impl ContactStats {
             from_step: self.from_step,
             instants: self.instants + later.instants,
             contact_instants: self.contact_instants + later.contact_instants,
+            stick_instants: self.stick_instants + later.stick_instants,
             force_max,
             force_max_time,
             penetration_max: self.penetration_max.max(later.penetration_max),
@@ -165,14 +193,24 @@ impl ContactStats {
     }
 
     /// Adds instant tₖ = kΔt, `k` = `n`, `dt` = Δt (s): the force on station 0 `[Fx, Fy]` (N),
-    /// the pairs carrying force and the smallest post-correction gap of the instant (m; +∞
-    /// when no pair was solved).
+    /// the pairs carrying force and those sticking, and the smallest post-correction gap of
+    /// the instant (m; +∞ when no pair was solved).
     #[inline]
-    pub(crate) fn observe(&mut self, n: usize, dt: f64, force: V2, active: usize, gap: f64) {
+    pub(crate) fn observe(
+        &mut self,
+        n: usize,
+        dt: f64,
+        force: V2,
+        (active, sticking): (usize, usize),
+        gap: f64,
+    ) {
         self.instants += 1;
         if active > 0 {
             self.contact_instants += 1;
             self.active_max = self.active_max.max(active);
+        }
+        if sticking > 0 {
+            self.stick_instants += 1;
         }
         // Squares: no square root on the instants that set no new peak.
         let f2 = force[0] * force[0] + force[1] * force[1];
@@ -224,21 +262,23 @@ impl Recorder {
         rec.observed.reserve(more);
         rec.force.reserve(more * nst);
         rec.force_normal.reserve(more * nst);
+        rec.friction_power.reserve(more * nst);
         rec.stator_energy.reserve(more);
         rec.active.reserve(more);
     }
 
     /// Appends one sample: time `t` (s), the rotor DOF vector, the contact force and its normal
-    /// part on each station (N), the massless stators' elastic energy (J), the active pairs.
+    /// part (N) and the friction power (W) on each station (`forces`), the massless stators'
+    /// elastic energy (J), the active pairs.
     pub(crate) fn sample(
         &mut self,
         t: f64,
         rotor_u: &[f64],
-        force: &[V2],
-        force_normal: &[V2],
+        forces: &StationForces,
         energy: f64,
         active: usize,
     ) {
+        let (force, force_normal, power) = (&forces.total, &forces.normal, &forces.power);
         let rec = &mut self.rec;
         rec.t.push(t);
         let o = self.observed;
@@ -247,12 +287,14 @@ impl Recorder {
             rec.disp.push([rotor_u[d[0]], rotor_u[d[1]]]);
             rec.force.push(force[s]);
             rec.force_normal.push(force_normal[s]);
+            rec.friction_power.push(power[s]);
         }
         if self.station_dofs.is_empty() {
             let d = self.fallback;
             rec.disp.push([rotor_u[d[0]], rotor_u[d[1]]]);
             rec.force.push([0.0; 2]);
             rec.force_normal.push([0.0; 2]);
+            rec.friction_power.push(0.0);
         }
         rec.stator_energy.push(energy);
         rec.active.push(active as u32);

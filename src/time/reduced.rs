@@ -64,6 +64,12 @@ impl ReducedDyn {
         &self.view
     }
 
+    /// Displacement of contact DOFs `[x, y]` (full numbers) at the step's start, `qⁿ`'s
+    /// boundary coordinates (m).
+    pub(crate) fn start_disp(&self, dofs: [Option<usize>; 2]) -> [f64; 2] {
+        dofs.map(|d| d.map_or(0.0, |d| self.body.u[self.q_of[d]]))
+    }
+
     /// `(S⁻¹)_ab` of the reduced operator between contact DOFs `a`, `b` (full numbers).
     #[inline]
     pub(crate) fn flex(&self, a: usize, b: usize) -> f64 {

@@ -113,7 +113,7 @@ impl Stepper<'_> {
                     continue;
                 }
                 let cj = self.ws.sel[j];
-                let bj = self.ws.states[cj].b(self.pairs.cands[cj].mu);
+                let bj = self.ws.states[cj].b(self.ws.mu_eff[cj]);
                 let m = self.pair_block(held, ci, cj);
                 for a in 0..2 {
                     rel[a] -= (m[a][0] * bj[0] + m[a][1] * bj[1]) * pj;
@@ -123,7 +123,15 @@ impl Stepper<'_> {
             let st = self.ws.states[ci];
             let spin = dot(st.a, [-st.n[1], st.n[0]]).signum();
             let clear = self.ws.clear0[ci];
-            let Some(al) = align_normal(rel, w, c.mu, spin, clear, st.n, 0.1 * ANGLE_TOL) else {
+            let Some(al) = align_normal(
+                rel,
+                w,
+                self.ws.mu_eff[ci],
+                spin,
+                clear,
+                st.n,
+                0.1 * ANGLE_TOL,
+            ) else {
                 continue;
             };
             let turn = (st.n[0] * al.n[1] - st.n[1] * al.n[0]).atan2(dot(st.n, al.n));

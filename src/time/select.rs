@@ -87,6 +87,7 @@ impl Pairs {
                     target: t,
                     mu: st.friction,
                     radius: st.radius,
+                    stick: st.stick,
                 });
             }
         }

@@ -24,7 +24,7 @@ impl Stepper<'_> {
     /// `W_ij = n_i · F_r(s_i, s_j) b_j` (the rotor's flexibility between the pairs' stations,
     /// unless held) `+ n_i · F_s,ij s_j` (the stator's between their targets, when on one
     /// stator; [`PairBlocks`] keeps those while the selection holds).
-    fn assemble(&mut self, held: Held) {
+    pub(crate) fn assemble(&mut self, held: Held) {
         let (case, pairs, rotor, stators) = (self.case, &self.pairs, &self.rotor, &self.stators);
         let ws = &mut self.ws;
         let q = ws.sel.len();
@@ -57,7 +57,7 @@ impl Stepper<'_> {
         for &ci in &ws.sel {
             let c = &pairs.cands[ci];
             let st = &ws.states[ci];
-            let b = st.b(c.mu);
+            let b = st.b(ws.mu_eff[ci]);
             let tg = &case.stators[c.stator].targets[c.target];
             ws.dirs
                 .push((st.n, b, tg.stator_direction(st.n, b), c.station));
@@ -118,7 +118,40 @@ impl Stepper<'_> {
         let dashpots = self.any_dashpot();
         let rings = self.pairs.exact_rings && self.ring_start(held);
         let mut pivots = 0;
+        let stick = self.stick_selected();
         for k in 0..super::ring::MAX_SOLVES {
+            if stick {
+                // Dashpots and stick are not combined (the scene refuses them).
+                pivots += self.solve_friction(held, step, time)?;
+            } else {
+                pivots += self.solve_normal(held, dashpots, q, step, time)?;
+            }
+            // Ring targets: solve again with normals aligned to the solved configuration (not
+            // after the last solve, whose forces must match the normals they are applied along).
+            if !(rings && k + 1 < super::ring::MAX_SOLVES && self.ring_align(held)) {
+                break;
+            }
+        }
+        self.apply_forces(held, into);
+        if dashpots {
+            self.apply_dashpots(held, into);
+        }
+        self.target_displacements();
+        self.friction_dissipation(held, into, step, time);
+        Ok(pivots)
+    }
+
+    /// One complementarity solve of the normal forces `ws.pvec` with every pair's force
+    /// direction fixed (permanent slip, Eq. 19); returns the principal pivots taken.
+    fn solve_normal(
+        &mut self,
+        held: Held,
+        dashpots: bool,
+        q: usize,
+        step: usize,
+        time: f64,
+    ) -> Result<usize, SolveError> {
+        {
             self.assemble(held);
             if dashpots {
                 self.dashpot_into_problem(held);
@@ -128,7 +161,7 @@ impl Stepper<'_> {
             for (i, &ci) in ws.sel.iter().enumerate() {
                 ws.guess[i] = ws.carried[ci];
             }
-            pivots += lcp::solve_warm(
+            let pivots = lcp::solve_warm(
                 q,
                 &ws.wmat[..q * q],
                 &ws.gvec[..q],
@@ -145,18 +178,8 @@ impl Stepper<'_> {
             for (i, &ci) in ws.sel.iter().enumerate() {
                 ws.carried[ci] = ws.pvec[i] > 0.0;
             }
-            // Ring targets: solve again with normals aligned to the solved configuration (not
-            // after the last solve, whose forces must match the normals they are applied along).
-            if !(rings && k + 1 < super::ring::MAX_SOLVES && self.ring_align(held)) {
-                break;
-            }
+            Ok(pivots)
         }
-        self.apply_forces(held, into);
-        if dashpots {
-            self.apply_dashpots(held, into);
-        }
-        self.target_displacements();
-        Ok(pivots)
     }
 
     /// Applies the solved normal forces: `−b p` on the rotor section (a correction along M̃⁻¹, or
@@ -173,7 +196,7 @@ impl Stepper<'_> {
             }
             let ci = ws.sel[i];
             let c = &pairs.cands[ci];
-            let b = ws.states[ci].b(c.mu);
+            let b = ws.states[ci].b(ws.mu_eff[ci]);
             let n = ws.states[ci].n;
             let rd = pairs.station_dofs[c.station];
             if rotor_in {
@@ -271,7 +294,7 @@ impl Stepper<'_> {
     pub(crate) fn collect_pairs(&mut self, into: ForceSet) {
         let (case, pairs) = (self.case, &self.pairs);
         let ws = &mut self.ws;
-        let (sel, states, pvec) = (&ws.sel, &ws.states, &ws.pvec);
+        let (sel, states, pvec, mu_eff) = (&ws.sel, &ws.states, &ws.pvec, &ws.mu_eff);
         let out = match into {
             ForceSet::Main => &mut ws.frame_pairs,
             ForceSet::WithMass => &mut ws.with_mass_pairs,
@@ -280,7 +303,7 @@ impl Stepper<'_> {
             let p = pvec[i];
             if p > 0.0 && out.len() < out.capacity() {
                 let c = &pairs.cands[ci];
-                let b = states[ci].b(c.mu);
+                let b = states[ci].b(mu_eff[ci]);
                 let node = match &case.stators[c.stator].targets[c.target] {
                     Target::Node { node, .. } => *node,
                     Target::Ring { .. } => 0,

@@ -35,6 +35,18 @@ impl StatorDyn {
             StatorDyn::Reduced(r) => target_disp(dofs, r.disp()),
         }
     }
+    /// Displacement of a target's DOFs `[x, y]` at the step's start, tₙ (m): a massless
+    /// stator's under the last solve's forces (its DOFs prepared), a body's `uⁿ`.
+    pub(crate) fn target_disp_start(&self, dofs: [Option<usize>; 2]) -> V2 {
+        match self {
+            StatorDyn::Massless(c) => [
+                dofs[0].map_or(0.0, |d| c.disp_before(d)),
+                dofs[1].map_or(0.0, |d| c.disp_before(d)),
+            ],
+            StatorDyn::Massive(b) => target_disp(dofs, &b.u),
+            StatorDyn::Reduced(r) => r.start_disp(dofs),
+        }
+    }
     #[inline]
     pub(crate) fn flex(&self, a: usize, b: usize) -> f64 {
         match self {

@@ -45,11 +45,11 @@ pub struct Stepper<'a> {
     pub(crate) case: &'a Case,
     /// The speed: the case's constant speed (the constant-speed path, unchanged), a profile
     /// Ω(t), or a driven rotor's spin DOF (`time::drive`).
-    spin: Spin<'a>,
+    pub(crate) spin: Spin<'a>,
     /// A gyroscopic rotor's load of the speed's change (a transient run only).
     gyro: Option<GyroLoad>,
     /// Scheduled unbalances and clearance changes ([`Stepper::set_events`]).
-    events: Events,
+    pub(crate) events: Events,
     /// The constant speed's unbalance load over a revolution (`None`: `sincos` each step).
     unbalance: Option<UnbalanceTable>,
     pub(crate) plan: StepPlan,
@@ -212,7 +212,8 @@ impl<'a> Stepper<'a> {
             events: Events::default(),
             plan: *plan,
             scheme,
-            ws: StepWorkspace::new(pairs.len(), case.stations.len(), full_len(case)),
+            ws: StepWorkspace::new(pairs.len(), case.stations.len(), full_len(case))
+                .with_friction(&pairs.cands),
             pairs,
             static_phase,
             increment_phase,
@@ -475,6 +476,7 @@ impl<'a> Stepper<'a> {
         self.ws.main.clear();
         self.rotor.rhs.fill(0.0);
         self.ws.friction_torque = 0.0;
+        self.ws.sticking = 0;
         self.active = 0;
     }
 
@@ -518,6 +520,7 @@ impl<'a> Stepper<'a> {
         ws.with_mass.clear();
         ws.with_mass_pairs.clear();
         ws.with_mass_active = 0;
+        ws.with_mass_sticking = 0;
         for (s, d) in self.pairs.station_dofs.iter().enumerate() {
             self.rotor.rhs[d[0]] += ws.main.total[s][0];
             self.rotor.rhs[d[1]] += ws.main.total[s][1];
@@ -604,11 +607,14 @@ impl<'a> Stepper<'a> {
         } else {
             ForceSet::Main
         };
+        let static_sticking = std::mem::take(&mut self.ws.sticking);
         self.stats.pivots += self.solve_contact(Held::No, into, n, t)?;
         let act = self.ws.active();
         self.collect_pairs(into);
         if collocated {
             self.ws.with_mass_active = act;
+            self.ws.with_mass_sticking = self.ws.sticking;
+            self.ws.sticking = static_sticking;
             self.active += act;
         } else {
             self.active = act;

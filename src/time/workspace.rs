@@ -17,6 +17,9 @@ pub(crate) struct StationForces {
     pub(crate) total: Vec<V2>,
     /// Normal part `−Σ n p`.
     pub(crate) normal: Vec<V2>,
+    /// Friction power dissipated at the station's pairs over the step, `Σ t ζ/Δt` (W; `t` the
+    /// tangential force, `ζ` the pair's slip, `super::stick`).
+    pub(crate) power: Vec<f64>,
 }
 
 impl StationForces {
@@ -24,6 +27,7 @@ impl StationForces {
         Self {
             total: vec![[0.0; 2]; nst],
             normal: vec![[0.0; 2]; nst],
+            power: vec![0.0; nst],
         }
     }
     /// Back to zero.
@@ -32,6 +36,7 @@ impl StationForces {
         for f in self.total.iter_mut().chain(self.normal.iter_mut()) {
             *f = [0.0; 2];
         }
+        self.power.fill(0.0);
     }
     /// `self = a + b`, component by component.
     #[inline]
@@ -41,6 +46,9 @@ impl StationForces {
         }
         for (o, (x, y)) in self.normal.iter_mut().zip(a.normal.iter().zip(&b.normal)) {
             *o = [x[0] + y[0], x[1] + y[1]];
+        }
+        for (o, (x, y)) in self.power.iter_mut().zip(a.power.iter().zip(&b.power)) {
+            *o = x + y;
         }
     }
 }
@@ -120,6 +128,8 @@ pub(crate) struct StepWorkspace {
     pub(crate) with_mass_pairs: Vec<PairForce>,
     /// Collocated scheme: how many of those.
     pub(crate) with_mass_active: usize,
+    /// Collocated scheme: how many of those stuck.
+    pub(crate) with_mass_sticking: usize,
     /// Pairs in contact at the frame's instant.
     pub(crate) frame_pairs: Vec<PairForce>,
     /// The rub's friction torque on the rotor of the step, `Σ R μ p` over the pairs of its
@@ -142,6 +152,51 @@ pub(crate) struct StepWorkspace {
     /// The selected pairs with force after a solve: their slot in `blocks` and the force
     /// `s_j p_j` on their target (the targets' displacements).
     pub(crate) forced: Vec<(usize, V2)>,
+    /// Per candidate: the signed friction coefficient `μ_e` of its force direction
+    /// `b = n + μ_e a` — the station's μ under permanent slip; with stick, `±μ` while the pair
+    /// slips, `t/p` while it sticks (`super::stick`).
+    pub(crate) mu_eff: Vec<f64>,
+    /// Per candidate with stick: its friction state, `+1`/`−1` slipping with the section's
+    /// surface ahead of/behind the stator's along `a`, `0` sticking; kept from step to step.
+    pub(crate) slip: Vec<i8>,
+    /// Pairs that stuck in the last solve.
+    pub(crate) sticking: usize,
+    /// Per candidate: its stator target's displacement after its last solve (m) and that
+    /// solve's step (`usize::MAX`: never) — a massless stator's displacement at the start of
+    /// the next step without summing its forces again (`super::stick`).
+    pub(crate) us_end: Vec<(V2, usize)>,
+    /// The tangential part of a problem with stick (`super::stick`).
+    pub(crate) stick: StickScratch,
+}
+
+/// Buffers of the tangential rows of a contact problem with stick (`super::stick`), grown only
+/// when a problem is larger than every earlier one.
+#[derive(Debug, Default)]
+pub(crate) struct StickScratch {
+    /// The selected-pair index of each tangential row (the pairs with stick).
+    pub(crate) rows: Vec<usize>,
+    /// The row of each tangential unknown (the rows whose pair sticks).
+    pub(crate) unk: Vec<usize>,
+    /// Per row: the slip `ζ̃` of the section's surface over the stator's along `a` over the
+    /// step with no contact force (m).
+    pub(crate) zeta: Vec<f64>,
+    /// Per row: the slip with the solved forces (m).
+    pub(crate) slip: Vec<f64>,
+    /// Per row: `−∂ζ/∂p_j` (rows × q, m/N).
+    pub(crate) wtn: Vec<f64>,
+    /// Per row: `−∂ζ/∂t_k` (rows × unknowns, m/N).
+    pub(crate) wtt: Vec<f64>,
+    /// Per normal row: `∂g/∂t_k` (q × unknowns, m/N).
+    pub(crate) wnt: Vec<f64>,
+    /// The unknowns' block of `wtt`, factored (unknowns²) and its pivots.
+    pub(crate) lu: Vec<f64>,
+    pub(crate) piv: Vec<usize>,
+    /// `X = W_TT⁻¹ [W_TN | −ζ̃]` of the unknowns (unknowns × (q + 1)).
+    pub(crate) x: Vec<f64>,
+    /// Scratch column (unknowns).
+    pub(crate) col: Vec<f64>,
+    /// Tangential forces of the unknowns (N; on the rotor `−a t`).
+    pub(crate) t: Vec<f64>,
 }
 
 impl StepWorkspace {
@@ -174,6 +229,7 @@ impl StepWorkspace {
             recorded: StationForces::new(nst),
             with_mass_pairs: Vec::with_capacity(nc),
             with_mass_active: 0,
+            with_mass_sticking: 0,
             frame_pairs: Vec::with_capacity(nc),
             friction_torque: 0.0,
             full_u: vec![0.0; nfull],
@@ -183,7 +239,19 @@ impl StepWorkspace {
             us: Vec::with_capacity(cap0),
             rv: Vec::with_capacity(cap0 * nst),
             forced: Vec::with_capacity(cap0),
+            mu_eff: vec![0.0; nc],
+            slip: vec![1; nc],
+            sticking: 0,
+            us_end: vec![([0.0; 2], usize::MAX); nc],
+            stick: StickScratch::default(),
         }
+    }
+
+    /// The friction coefficient of every candidate's force direction at the start: its μ
+    /// (permanent slip, or a pair with stick slipping forward).
+    pub(crate) fn with_friction(mut self, cands: &[crate::contact::Candidate]) -> Self {
+        self.mu_eff = cands.iter().map(|c| c.mu).collect();
+        self
     }
 
     /// Makes room for a problem of `q` pairs (allocates only when `q` exceeds every earlier

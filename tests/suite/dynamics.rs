@@ -189,7 +189,10 @@ fn the_regime_map_has_a_chaotic_class() {
     let mut lines = text.lines();
     let cols: Vec<&str> = lines.next().unwrap().split(',').collect();
     let at = |name: &str| cols.iter().position(|c| *c == name).unwrap();
-    assert_eq!(cols[cols.len() - 2..], ["zero_one_k", "long_period"]);
+    assert_eq!(
+        cols[cols.len() - 4..],
+        ["zero_one_k", "long_period", "stick_fraction", "dry_rub"]
+    );
     let mut seen = Vec::new();
     for l in lines {
         let row: Vec<&str> = l.split(',').collect();

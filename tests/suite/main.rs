@@ -44,6 +44,7 @@ mod ross_options;
 mod schema;
 mod steady;
 mod step_refinement;
+mod stick;
 mod thermal;
 mod transient_scenes;
 mod transients;

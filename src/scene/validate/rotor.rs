@@ -77,6 +77,12 @@ pub(super) fn validate_stations(ls: &LoadedScene) -> Result<(), SceneError> {
         }
         positive(ls, &k("radius"), st.radius)?;
         non_negative(ls, &k("friction"), st.friction)?;
+        if st.stick && st.friction <= 0.0 {
+            return Err(ls.invalid(
+                &k("stick"),
+                format!("stick needs friction: `station.{i}.friction` is {}, and a pair sticks only inside the cone |t| ≤ μ p (give μ > 0, or leave `stick` out)", st.friction),
+            ));
+        }
         if !names.insert(st.name.as_str()) {
             return Err(ls.invalid(&k("name"), format!("duplicate station name `{}`", st.name)));
         }

@@ -342,6 +342,17 @@ pub(super) fn validate_contact_damping(
     let (c, mode) = s.contact_damping();
     let key = format!("stator.{i}.contact_damping");
     non_negative(ls, &key, c)?;
+    let stick = ls
+        .scene
+        .stations
+        .iter()
+        .position(|st| st.name == s.station() && st.stick);
+    if let (true, Some(j)) = (c > 0.0, stick) {
+        return Err(ls.invalid(
+            &key,
+            format!("a contact dashpot cannot act on a station with stick (`station.{j}.stick = true`): the dashpot's force enters the normal problem only; leave one of them out"),
+        ));
+    }
     let mode_key = format!("{key}_mode");
     if !matches!(mode, "normal" | "full") {
         return Err(ls.invalid(

@@ -53,7 +53,7 @@ impl Stepper<'_> {
     pub(super) fn record(&mut self, t: f64, forces: ForceSet, active: usize) {
         let f = self.ws.instant_forces(forces);
         self.recorder
-            .sample(t, &self.rotor.u, &f.total, &f.normal, self.energy, active);
+            .sample(t, &self.rotor.u, f, self.energy, active);
         if let Spin::Driven(d) = &self.spin {
             let c = d.cur;
             let td = d.drive_torque(t);
@@ -76,7 +76,12 @@ impl Stepper<'_> {
         let gap = self.instant_gap;
         self.instant_gap = f64::INFINITY;
         self.stats.min_gap = self.stats.min_gap.min(gap);
-        self.segment.observe(n, self.plan.dt, force, active, gap);
+        let sticking = match forces {
+            ForceSet::Main => self.ws.sticking,
+            ForceSet::WithMass => self.ws.sticking + self.ws.with_mass_sticking,
+        };
+        self.segment
+            .observe(n, self.plan.dt, force, (active, sticking), gap);
     }
 
     /// The instant that closes the segment opened at instant `from`: the next whole revolution

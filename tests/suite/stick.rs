@@ -1,0 +1,510 @@
+//! Coulomb friction with stick (`station.N.stick`, issue 28; docs/STICK.md): a Jeffcott rotor
+//! in a ring on springs with mass rolls on it — dry whirl at `ω = −RΩ/δ` — while the rolling
+//! speed is below the coupled natural frequency, and whips — slips, its whirl locked near that
+//! frequency whatever the speed — above. Both steady whirls have closed forms in the frame
+//! whirling with them (docs/STICK.md §3), which the runs match: frequency, radius, normal
+//! force, the friction the roll needs (inside the cone) and the whip's (on it), first-order
+//! convergence of the whip in Δt, and no chattering between stick and slip.
+
+use crate::common;
+
+use common::{case_and_plan, scene_model};
+use rubsim::analysis::dry::DryRub;
+use rubsim::math::loglog_slope;
+use rubsim::time::{integrate, Initial, Record, RunStats, Scheme};
+
+/// A complex number `(re, im)`.
+type C = (f64, f64);
+
+fn mul(a: C, b: C) -> C {
+    (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0)
+}
+fn div(a: C, b: C) -> C {
+    let d = b.0 * b.0 + b.1 * b.1;
+    ((a.0 * b.0 + a.1 * b.1) / d, (a.1 * b.0 - a.0 * b.1) / d)
+}
+fn add(a: C, b: C) -> C {
+    (a.0 + b.0, a.1 + b.1)
+}
+fn abs(a: C) -> f64 {
+    a.0.hypot(a.1)
+}
+
+/// The rig: rotor m = 1 kg, k = 1 N/m, c = 0.1 N·s/m (ξ 0.05, ω_n = 1 rad/s), no unbalance;
+/// section R = 0.05 m; ring m_s = 0.1 kg, k_s = 100 N/m, c_s = 0.5 N·s/m at δ = 0.01 m, so the
+/// roll runs at 5 Ω and exists for 0.2 < Ω < 1.92 rad/s (the coupled frequency
+/// √((k + k_s)/(m + m_s)) = 9.58 rad/s over R/δ).
+const M: f64 = 1.0;
+const K: f64 = 1.0;
+const CR: f64 = 0.1;
+const MS: f64 = 0.1;
+const KS: f64 = 100.0;
+const CS: f64 = 0.5;
+const DELTA: f64 = 0.01;
+const R: f64 = 0.05;
+
+/// The rotor's and the ring's dynamic stiffness at whirl frequency `w` (rad/s),
+/// `k − m ω² + i c ω`, with a ring of mass `ms` and damping `cs`, the rotor's damping `cr`.
+fn stiffness_with(w: f64, ms: f64, cs: f64, cr: f64) -> (C, C) {
+    ((K - M * w * w, cr * w), (KS - ms * w * w, cs * w))
+}
+
+/// The rolling whirl (docs/STICK.md §3.1) at spin `omega`: its frequency `ω = −RΩ/δ`, the
+/// rotor's and the ring's whirl radii (m), the normal force `p` (N) and the friction it needs
+/// over the normal force `t/p`.
+fn rolling(omega: f64) -> (f64, f64, f64, f64, f64) {
+    rolling_with(omega, MS, CS)
+}
+
+/// [`rolling`] in a ring of mass `ms` and damping `cs`.
+fn rolling_with(omega: f64, ms: f64, cs: f64) -> (f64, f64, f64, f64, f64) {
+    let w = -R * omega / DELTA;
+    let (dr, ds) = stiffness_with(w, ms, cs, CR);
+    // z_r − z_s = δ with D_r z_r = −f, D_s z_s = f: f = −δ D_r D_s/(D_r + D_s).
+    let f = mul((-DELTA, 0.0), div(mul(dr, ds), add(dr, ds)));
+    let (zr, zs) = (abs(div(f, dr)), abs(div(f, ds)));
+    (w, zr, zs, f.0, f.1 / f.0)
+}
+
+/// The whip (docs/STICK.md §3.2) with the ring's damping `cs`: the slipping backward whirl,
+/// `f = p(1 + iμ)`, at the root of `Im[(1 + iμ)(D_r + D_s)/(D_r D_s)] = 0` near the coupled
+/// frequency; its frequency, the rotor's and the ring's radii and `p`.
+fn whip(mu: f64, cs: f64) -> (f64, f64, f64, f64) {
+    let g = |w: f64| {
+        let (dr, ds) = stiffness_with(w, MS, cs, CR);
+        mul((1.0, mu), div(add(dr, ds), mul(dr, ds)))
+    };
+    let (mut a, mut b) = (-6.0, -9.5);
+    assert!(g(a).1.signum() != g(b).1.signum(), "no root bracketed");
+    for _ in 0..200 {
+        let mid = 0.5 * (a + b);
+        if g(mid).1.signum() == g(a).1.signum() {
+            a = mid;
+        } else {
+            b = mid;
+        }
+    }
+    let p = -DELTA / g(a).0;
+    let (dr, ds) = stiffness_with(a, MS, cs, CR);
+    let f = (p, p * mu);
+    (a, abs(div(f, dr)), abs(div(f, ds)), p)
+}
+
+fn scene(mu: f64) -> String {
+    format!(
+        r#"
+[rotor]
+kind = "jeffcott"
+mass = {M}
+stiffness = {K}
+damping = {CR}
+[[station]]
+name = "s"
+radius = {R}
+friction = {mu}
+stick = true
+[[stator]]
+kind = "ring"
+name = "ring"
+station = "s"
+clearance = {DELTA}
+stiffness = {KS}
+mass = {MS}
+damping = {CS}
+[run]
+speed = 1.0
+revolutions = 40
+transient_revolutions = 20
+error_estimate = false
+check_coexistence = false
+"#
+    )
+}
+
+/// The run at spin `omega` (rad/s) with `kind` at step `dt`, started touching the ring and
+/// whirling backward at the rolling speed.
+fn whirl_run(mu: f64, omega: f64, kind: Scheme, dt: f64, revs: usize) -> (Record, RunStats) {
+    whirl_run_with(mu, omega, kind, dt, revs, &[])
+}
+
+/// [`whirl_run`] with more overrides.
+fn whirl_run_with(
+    mu: f64,
+    omega: f64,
+    kind: Scheme,
+    dt: f64,
+    revs: usize,
+    more: &[&str],
+) -> (Record, RunStats) {
+    let mut sets = vec![
+        format!("run.dt={dt}"),
+        format!("run.revolutions={revs}"),
+        format!("run.transient_revolutions={}", revs / 2),
+    ];
+    sets.extend(more.iter().map(|s| s.to_string()));
+    let (ls, model) = scene_model(&scene(mu), &sets);
+    let (case, plan) = case_and_plan(&ls, &model, omega, kind);
+    let r0 = 1.05 * DELTA;
+    let init = Initial {
+        u: [r0, 0.0],
+        v: [0.0, -R * omega / DELTA * r0],
+    };
+    integrate(&case, kind, &plan, init).unwrap()
+}
+
+/// Over the recorded samples from `from` on: the whirl frequency (rad/s, from the unwrapped
+/// angle of the rotor's position) and the ranges of the rotor's radius (m), the normal force
+/// (N), the ring centre's radius (m: `x_C − δ n`, `n` from the normal force) and `|t|/p`.
+struct Whirl {
+    freq: f64,
+    radius: [f64; 2],
+    normal: [f64; 2],
+    ring: [f64; 2],
+    friction: [f64; 2],
+    /// The recorded friction power's range (W).
+    power: [f64; 2],
+}
+
+fn whirl_of(rec: &Record, from: usize) -> Whirl {
+    let last = rec.len() - 1;
+    let (mut angle, mut prev) = (0.0, None::<f64>);
+    let span = [f64::INFINITY, 0.0];
+    let mut w = Whirl {
+        freq: 0.0,
+        radius: span,
+        normal: span,
+        ring: span,
+        friction: span,
+        power: [f64::INFINITY, f64::NEG_INFINITY],
+    };
+    let range = |r: &mut [f64; 2], v: f64| {
+        r[0] = r[0].min(v);
+        r[1] = r[1].max(v);
+    };
+    for i in from..=last {
+        let u = rec.disp_at(i, 0);
+        let th = u[1].atan2(u[0]);
+        if let Some(p) = prev {
+            let mut d = th - p;
+            d -= (d / std::f64::consts::TAU).round() * std::f64::consts::TAU;
+            angle += d;
+        }
+        prev = Some(th);
+        range(&mut w.radius, u[0].hypot(u[1]));
+        // The force on the rotor is −n p − a t.
+        let (f, fnorm) = (rec.force_at(i, 0), rec.force_normal[i]);
+        let p = fnorm[0].hypot(fnorm[1]);
+        let t = (f[0] - fnorm[0]).hypot(f[1] - fnorm[1]);
+        range(&mut w.normal, p);
+        range(&mut w.friction, t / p);
+        let n = [-fnorm[0] / p, -fnorm[1] / p];
+        range(
+            &mut w.ring,
+            (u[0] - DELTA * n[0]).hypot(u[1] - DELTA * n[1]),
+        );
+        range(&mut w.power, rec.friction_power_at(i, 0));
+    }
+    w.freq = angle / (rec.t[last] - rec.t[from]);
+    w
+}
+
+/// The samples of the second half of a record.
+fn second_half(rec: &Record) -> usize {
+    rec.len() / 2
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a / b - 1.0).abs()
+}
+
+/// Checks a rolling run against the closed form `want = (ω, z_r, z_s, p, t/p)`: the whirl to
+/// `tol[0]`, the radii and the normal force to `tol[1]`, the friction to `tol[2]` (relative),
+/// every instant of the steady window in stick (no chattering into slip), no penetration.
+fn assert_rolls(
+    tag: &str,
+    rec: &Record,
+    stats: &RunStats,
+    want: (f64, f64, f64, f64, f64),
+    tol: [f64; 3],
+) {
+    let got = whirl_of(rec, second_half(rec));
+    let (w, zr, zs, p, need) = want;
+    assert!(
+        rel(got.freq, w) < tol[0],
+        "{tag}: whirl {} vs {w} rad/s",
+        got.freq
+    );
+    assert_eq!(
+        stats.steady.contact_instants, stats.steady.instants,
+        "{tag}"
+    );
+    assert_eq!(stats.steady.stick_instants, stats.steady.instants, "{tag}");
+    for (name, r, want, tol) in [
+        ("rotor radius", got.radius, zr, tol[1]),
+        ("ring radius", got.ring, zs, tol[1]),
+        ("normal force", got.normal, p, tol[1]),
+        ("friction t/p", got.friction, need, tol[2]),
+    ] {
+        assert!(
+            rel(r[0], want) < tol && rel(r[1], want) < tol,
+            "{tag}: {name} {:.6e}..{:.6e}, closed form {want:.6e}",
+            r[0],
+            r[1]
+        );
+    }
+    assert!(
+        stats.min_gap > -1e-6 * DELTA,
+        "{tag}: penetration {:.3e}",
+        -stats.min_gap
+    );
+}
+
+#[test]
+fn rolling_whirl_matches_its_closed_form_in_every_scheme() {
+    let omega = 0.6;
+    let want = rolling(omega);
+    assert!(
+        want.4.abs() < 0.3 && want.3 > 0.0,
+        "the roll exists at μ = 0.3"
+    );
+    // Generalised-α (the implicit scheme a stator with mass takes): second order, the force
+    // imposed at tₙ₊₁.
+    let ga = Scheme::GeneralizedAlpha {
+        rho_inf: rubsim::time::STATOR_WITH_MASS_RHO_INF,
+    };
+    let (rec, stats) = whirl_run(0.3, omega, ga, 2e-3, 30);
+    assert_rolls("generalised-α", &rec, &stats, want, [2e-5, 1e-4, 1e-4]);
+    // Forward increment: the whirl, radii and force to second order, but the friction the roll
+    // needs to first order — the multipliers of step n act along the normal frozen at tₙ₊₁, a
+    // lag of ω Δt that tilts the force by p ω Δt: t/p is 14 % high at Δt = 2 ms. Its errors
+    // halve with Δt and their Richardson extrapolation meets the closed form.
+    let mut ratios = Vec::new();
+    for dt in [1e-3, 5e-4] {
+        let (rec, stats) = whirl_run(0.3, omega, Scheme::ForwardIncrement, dt, 30);
+        assert_rolls("forward increment", &rec, &stats, want, [2e-5, 2e-4, 0.08]);
+        ratios.push(whirl_of(&rec, second_half(&rec)).friction[1]);
+    }
+    let extrapolated = 2.0 * ratios[1] - ratios[0];
+    assert!(
+        rel(extrapolated, want.4) < 2e-3,
+        "t/p {ratios:?} → {extrapolated} vs {}",
+        want.4
+    );
+    let (e1, e2) = (ratios[0] - want.4, ratios[1] - want.4);
+    assert!(
+        (e1 / e2 - 2.0).abs() < 0.1,
+        "first order: errors {e1:.3e}, {e2:.3e}"
+    );
+    // A massless ring in the collocated scheme: the static solve at tₙ with the rotor held, the
+    // ring alone following the section's surface while it sticks.
+    let want = rolling_with(omega, 0.0, 0.0);
+    let massless = ["stator.0.mass=0.0", "stator.0.damping=0.0"];
+    let (rec, stats) = whirl_run_with(0.3, omega, Scheme::Collocated, 1e-3, 30, &massless);
+    assert_rolls(
+        "collocated, massless ring",
+        &rec,
+        &stats,
+        want,
+        [2e-5, 2e-4, 6e-3],
+    );
+}
+
+/// The ring's damping of the whip tests (N·s/m): the circular whip is then the attractor; at
+/// the rig's 0.5 N·s/m it is modulated, stick and slip alternating (docs/STICK.md §3.3).
+const CS_WHIP: f64 = 2.0;
+
+#[test]
+fn whip_locks_near_the_coupled_frequency_whatever_the_speed() {
+    let mu = 0.3;
+    let (w, zr, zs, p) = whip(mu, CS_WHIP);
+    let damped = ["stator.0.damping=2.0"];
+    let ga = Scheme::GeneralizedAlpha {
+        rho_inf: rubsim::time::STATOR_WITH_MASS_RHO_INF,
+    };
+    for omega in [2.5, 4.0] {
+        let (rec, stats) = whirl_run_with(mu, omega, ga, 1e-3, 60, &damped);
+        let got = whirl_of(&rec, second_half(&rec));
+        // Slipping: the friction on the cone, no instant in stick, and the whirl the closed
+        // form's whatever the speed (locked).
+        let tag = format!("Ω = {omega}");
+        assert_eq!(stats.steady.stick_instants, 0, "{tag}");
+        assert!(rel(got.friction[0], mu) < 1e-9 && rel(got.friction[1], mu) < 1e-9);
+        assert!(rel(got.freq, w) < 1e-4, "{tag}: whirl {} vs {w}", got.freq);
+        for (name, r, want) in [
+            ("rotor radius", got.radius, zr),
+            ("ring radius", got.ring, zs),
+            ("normal force", got.normal, p),
+        ] {
+            assert!(
+                rel(r[0], want) < 1e-3 && rel(r[1], want) < 1e-3,
+                "{tag}: {name} {r:?} vs {want}"
+            );
+        }
+    }
+    // Forward increment: first order in Δt (fitted slope).
+    let dts = [2e-3, 1e-3, 5e-4];
+    let mut errs = Vec::new();
+    for dt in dts {
+        let (rec, _) = whirl_run_with(mu, 4.0, Scheme::ForwardIncrement, dt, 60, &damped);
+        let got = whirl_of(&rec, second_half(&rec));
+        errs.push(rel(got.freq, w).max(rel(0.5 * (got.radius[0] + got.radius[1]), zr)));
+    }
+    let slope = loglog_slope(&dts, &errs);
+    assert!(
+        (slope - 1.0).abs() < 0.15,
+        "order {slope:.3} (errors {errs:?})"
+    );
+}
+
+#[test]
+fn runs_tell_dry_whirl_from_dry_whip() {
+    let text = scene(0.3);
+    let start = |omega: f64| {
+        let r0 = 1.05 * DELTA;
+        vec![
+            format!("run.speed={omega}"),
+            "run.dt=2e-3".to_string(),
+            format!("run.initial_displacement=[{r0}, 0.0]"),
+            format!("run.initial_velocity=[0.0, {}]", -R * omega / DELTA * r0),
+        ]
+    };
+    let (ls, model) = scene_model(&text, &start(0.6));
+    let settings = common::settings(&ls);
+    let req = settings.request(0.6);
+    let r = rubsim::analysis::run_speed(&model, &req, Default::default()).unwrap();
+    assert_eq!(r.dry_rub, Some(DryRub::Whirl), "Ω = 0.6");
+    assert_eq!(r.stick_fraction, Some(1.0));
+    assert_eq!(rubsim::analysis::regime_label(&r), "dry whirl");
+    let (ls, model) = scene_model(&text, &start(4.0));
+    let req = common::settings(&ls).request(4.0);
+    let r = rubsim::analysis::run_speed(&model, &req, Default::default()).unwrap();
+    assert_eq!(r.dry_rub, Some(DryRub::Whip), "Ω = 4");
+    assert_eq!(r.stick_fraction, Some(0.0));
+    assert_eq!(rubsim::analysis::regime_label(&r), "dry whip");
+    // Permanent slip cannot roll: the same start at Ω = 0.6 leaves no dry whirl behind.
+    let (ls, model) = scene_model(
+        &text,
+        &[start(0.6), vec!["station.0.stick=false".into()]].concat(),
+    );
+    let req = common::settings(&ls).request(0.6);
+    let r = rubsim::analysis::run_speed(&model, &req, Default::default()).unwrap();
+    assert_eq!((r.dry_rub, r.stick_fraction), (None, None));
+}
+
+#[test]
+fn stick_without_friction_or_with_a_dashpot_is_refused_by_key() {
+    let text = scene(0.3);
+    let err = |sets: &[&str]| -> String {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let ls = rubsim::scene::parse("stick.toml".as_ref(), &text, &sets);
+        match ls {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("{sets:?} accepted"),
+        }
+    };
+    let e = err(&["station.0.friction=0.0"]);
+    assert!(
+        e.contains("station.0.stick") && e.contains("friction"),
+        "{e}"
+    );
+    let e = err(&["stator.0.contact_damping=1.0"]);
+    assert!(
+        e.contains("stator.0.contact_damping") && e.contains("stick"),
+        "{e}"
+    );
+}
+
+#[test]
+fn friction_dissipates_only_in_slip_and_balances_the_spin_s_work() {
+    // Rolling: the section's surface moves with the ring, no slip, no friction power, though
+    // the friction force is 4 % of the normal force.
+    let omega = 0.6;
+    let ga = Scheme::GeneralizedAlpha {
+        rho_inf: rubsim::time::STATOR_WITH_MASS_RHO_INF,
+    };
+    let (rec, _) = whirl_run(0.3, omega, ga, 2e-3, 30);
+    let got = whirl_of(&rec, second_half(&rec));
+    let scale = got.normal[1] * got.friction[1] * R * omega;
+    assert!(
+        got.power[0].abs().max(got.power[1].abs()) < 1e-9 * scale,
+        "rolling dissipates {:?} W (scale {scale:.3e} W)",
+        got.power
+    );
+    // The whip: the spin's work through the friction torque, R μ p Ω, goes into the two
+    // dampers, c ω² |z_r|² + c_s ω² |z_s|², and into heat at the slip, μ p (RΩ + ωδ) — in
+    // the closed form and in the run (its own radii, force and whirl).
+    let (mu, omega) = (0.3, 4.0);
+    let (w, zr, zs, p) = whip(mu, CS_WHIP);
+    let heat = mu * p * (R * omega + w * DELTA);
+    let damping = w * w * (CR * zr * zr + CS_WHIP * zs * zs);
+    assert!(
+        rel(R * mu * p * omega, damping + heat) < 1e-9,
+        "closed form balance"
+    );
+    let (rec, _) = whirl_run_with(mu, omega, ga, 1e-3, 60, &["stator.0.damping=2.0"]);
+    let got = whirl_of(&rec, second_half(&rec));
+    assert!(
+        rel(got.power[0], heat) < 1e-3 && rel(got.power[1], heat) < 1e-3,
+        "heat {:?} W, closed form {heat:.5e} W",
+        got.power
+    );
+    let mean = |r: [f64; 2]| 0.5 * (r[0] + r[1]);
+    let (p_run, zr_run, zs_run) = (mean(got.normal), mean(got.radius), mean(got.ring));
+    let damping_run = got.freq * got.freq * (CR * zr_run * zr_run + CS_WHIP * zs_run * zs_run);
+    let input = R * mu * p_run * omega;
+    let heat_run = mean(got.power);
+    assert!(
+        rel(input, damping_run + heat_run) < 1e-3,
+        "spin's work {input:.5e} W against dampers {damping_run:.5e} W + heat {heat_run:.5e} W"
+    );
+}
+
+#[test]
+fn the_scene_s_sweep_crosses_from_dry_whirl_into_dry_whip() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("sweep");
+    let scene = common::repo("scenes/stick/dry_whirl.toml");
+    let stdout = common::cli::ok(
+        tmp.path(),
+        &[
+            "sweep",
+            scene.to_str().unwrap(),
+            "--set",
+            "run.sweep.from=1.0",
+            "--set",
+            "run.sweep.to=2.5",
+            "--set",
+            "run.sweep.step=1.5",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        stdout.contains("dry whirl  ω/ωn 1.00") && stdout.contains("dry whip  ω/ωn 2.50"),
+        "{stdout}"
+    );
+    let text = common::read(&out.join("sweep.csv"));
+    let mut lines = text.lines();
+    let cols: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |name: &str| cols.iter().position(|c| *c == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 2);
+    assert_eq!(
+        (rows[0][at("dry_rub")], rows[0][at("stick_fraction")]),
+        ("whirl", "1.0000")
+    );
+    assert_eq!(rows[1][at("dry_rub")], "whip");
+    let stick: f64 = rows[1][at("stick_fraction")].parse().unwrap();
+    assert!(stick < 0.5, "the whip slips: {stick}");
+    // The roll's whirl follows −RΩ/δ = −4.35 Ω; the whip's is locked near the coupled
+    // frequency, 9.58 rad/s undamped.
+    let order: f64 = rows[0][at("whirl_order")].parse().unwrap();
+    assert!((order + 0.05 / 0.0115).abs() < 1e-3, "roll order {order}");
+    let order: f64 = rows[1][at("whirl_order")].parse().unwrap();
+    assert!(
+        (order * 2.5 + 8.8).abs() < 0.2,
+        "whip at {} rad/s",
+        order * 2.5
+    );
+    assert!(out.join("dry_whirl.png").exists());
+}
