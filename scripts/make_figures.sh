@@ -37,6 +37,8 @@ cp "$out/continue_pd/branch_multipliers.png" "$dst/continue_multipliers.png"
 # Dry whirl and dry whip with stick (issue 28): the rig's sweep from roll into whip.
 "$bin" sweep scenes/stick/dry_whirl.toml --out "$out/dry_whirl" --fresh >/dev/null
 cp "$out/dry_whirl/dry_whirl.png" "$dst/dry_whirl_sweep.png"
+"$bin" run scenes/stick/whirl_runup.toml --out "$out/whirl_runup" --force >/dev/null
+cp "$out/whirl_runup/full_waterfall.png" "$dst/dry_whirl_runup.png"
 echo "figures in $dst"
 # Meshed stators (issue 4): docs/figures/stators.
 bash scripts/make_mesh_figures.sh

@@ -123,7 +123,8 @@ pub fn cascade_drawing(
 }
 
 /// Writes a transient's `full_waterfall.csv` and, with `png`, `full_waterfall.png` (the
-/// windows' lines against the speed Ω/ω_n).
+/// windows' lines against the speed Ω/ω_n, within ±1.5 × the top speed or the strongest
+/// line of any window, whichever is wider).
 pub fn write_waterfall(
     out: &mut OutDir,
     title: &str,
@@ -165,7 +166,15 @@ pub fn write_waterfall(
             }
         })
         .collect();
-    let fmax = rows.iter().map(|r| r.speed).fold(1.0, f64::max) * 1.5;
+    // ±1.5 × the top speed, widened to every window's strongest line (a dry whirl's or whip's
+    // backward line lies at many times the speed).
+    let strongest = rows
+        .iter()
+        .filter_map(|r| r.lines.first())
+        .map(|l| 1.1 * l.0.abs())
+        .filter(|f| f.is_finite());
+    let fmax =
+        (rows.iter().map(|r| r.speed).fold(1.0, f64::max) * 1.5).max(strongest.fold(0.0, f64::max));
     let p = out.stage("full_waterfall.png")?;
     plot::full_cascade(
         &p,

@@ -268,17 +268,17 @@ impl Recorder {
     }
 
     /// Appends one sample: time `t` (s), the rotor DOF vector, the contact force and its normal
-    /// part (N) and the friction power (W) on each station (`forces`), the massless stators'
-    /// elastic energy (J), the active pairs.
+    /// part on each station (`forces`, N), the friction power on each station (W, the sum of
+    /// the two `power` vectors), the massless stators' elastic energy (J), the active pairs.
     pub(crate) fn sample(
         &mut self,
         t: f64,
         rotor_u: &[f64],
-        forces: &StationForces,
+        (forces, power): (&StationForces, &[Vec<f64>; 2]),
         energy: f64,
         active: usize,
     ) {
-        let (force, force_normal, power) = (&forces.total, &forces.normal, &forces.power);
+        let (force, force_normal) = (&forces.total, &forces.normal);
         let rec = &mut self.rec;
         rec.t.push(t);
         let o = self.observed;
@@ -287,7 +287,7 @@ impl Recorder {
             rec.disp.push([rotor_u[d[0]], rotor_u[d[1]]]);
             rec.force.push(force[s]);
             rec.force_normal.push(force_normal[s]);
-            rec.friction_power.push(power[s]);
+            rec.friction_power.push(power[0][s] + power[1][s]);
         }
         if self.station_dofs.is_empty() {
             let d = self.fallback;

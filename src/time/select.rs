@@ -71,6 +71,8 @@ pub(crate) struct Pairs {
     /// Some candidate is a ring with exact kinematics (its solves re-align normals,
     /// `super::ring`).
     pub(crate) exact_rings: bool,
+    /// Some candidate has Coulomb friction with stick (`super::stick`).
+    pub(crate) any_stick: bool,
 }
 
 impl Pairs {
@@ -111,6 +113,7 @@ impl Pairs {
             .any(|c| case.stators[c.stator].targets[c.target].exact_ring());
         Self {
             exact_rings,
+            any_stick: cands.iter().any(|c| c.stick),
             broad: BroadPhase::new(&indexed, 16),
             cands,
             station_dofs,

@@ -24,6 +24,7 @@ impl Stepper<'_> {
     /// `W_ij = n_i · F_r(s_i, s_j) b_j` (the rotor's flexibility between the pairs' stations,
     /// unless held) `+ n_i · F_s,ij s_j` (the stator's between their targets, when on one
     /// stator; [`PairBlocks`] keeps those while the selection holds).
+    #[inline]
     pub(crate) fn assemble(&mut self, held: Held) {
         let (case, pairs, rotor, stators) = (self.case, &self.pairs, &self.rotor, &self.stators);
         let ws = &mut self.ws;

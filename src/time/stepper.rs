@@ -86,7 +86,7 @@ pub struct Stepper<'a> {
     started: bool,
     /// The next instant to record, a multiple of `plan.record_every` (a counter instead of a
     /// division each step).
-    next_record: usize,
+    pub(crate) next_record: usize,
     /// Index of the next step.
     n: usize,
 }

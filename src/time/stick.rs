@@ -40,7 +40,7 @@ const CONE_TOL: f64 = 1e-10;
 impl Stepper<'_> {
     /// True when some selected pair has stick.
     pub(crate) fn stick_selected(&self) -> bool {
-        self.ws.sel.iter().any(|&ci| self.pairs.cands[ci].stick)
+        self.pairs.any_stick && self.ws.sel.iter().any(|&ci| self.pairs.cands[ci].stick)
     }
 
     /// The normal forces `ws.pvec` of the selected pairs with stick and slip (module docs), and
@@ -158,25 +158,36 @@ impl Stepper<'_> {
 
     /// After a solve: the friction power `t ζ/Δt` of every pair with force (W; `t = μ_e p`,
     /// `ζ` its slip over the step with the solved forces — 0 while it sticks) added to its
-    /// station in the forces `into`. A driven spin's increment is its free one less the
-    /// step's friction torque's share.
+    /// station in the forces `into`, when the instant the solve ends at is recorded (the
+    /// record is its only reader); a driven spin's increment is its free one less the step's
+    /// friction torque's share. Then, when a pair sticks or the next instant is recorded, every
+    /// selected pair's target displacement is kept for the next step's start (`ws.us_end`).
     pub(crate) fn friction_dissipation(&mut self, held: Held, into: ForceSet, n: usize, t: f64) {
-        let (dphi, kappa) = self.spin_step(held, n, t);
-        let dphi = dphi - kappa * self.ws.friction_torque;
-        let dt = self.plan.dt;
-        for i in 0..self.ws.sel.len() {
-            let (ci, p) = (self.ws.sel[i], self.ws.pvec[i]);
-            let mu = self.ws.mu_eff[ci];
-            if p == 0.0 || mu == 0.0 {
-                continue;
+        let instant = match held {
+            Held::No => n + 1,
+            Held::Rotor => n,
+        };
+        if instant == self.next_record {
+            let (dphi, kappa) = self.spin_step(held, n, t);
+            let dphi = dphi - kappa * self.ws.friction_torque;
+            let dt = self.plan.dt;
+            for i in 0..self.ws.sel.len() {
+                let (ci, p) = (self.ws.sel[i], self.ws.pvec[i]);
+                let mu = self.ws.mu_eff[ci];
+                if p == 0.0 || mu == 0.0 {
+                    continue;
+                }
+                let power = mu * p * self.slip(held, (ci, n), self.ws.us[i], dphi) / dt;
+                let station = self.pairs.cands[ci].station;
+                self.ws.power[into as usize][station] += power;
+                self.ws.power_set = true;
             }
-            let power = mu * p * self.slip(held, (ci, n), self.ws.us[i], dphi) / dt;
-            let station = self.pairs.cands[ci].station;
-            self.ws.forces(into).power[station] += power;
         }
-        let ws = &mut self.ws;
-        for (&ci, &u) in ws.sel.iter().zip(&ws.us) {
-            ws.us_end[ci] = (u, n);
+        if self.pairs.any_stick || instant + 1 == self.next_record {
+            let ws = &mut self.ws;
+            for (&ci, &u) in ws.sel.iter().zip(&ws.us) {
+                ws.us_end[ci] = (u, n);
+            }
         }
     }
 

@@ -17,9 +17,6 @@ pub(crate) struct StationForces {
     pub(crate) total: Vec<V2>,
     /// Normal part `−Σ n p`.
     pub(crate) normal: Vec<V2>,
-    /// Friction power dissipated at the station's pairs over the step, `Σ t ζ/Δt` (W; `t` the
-    /// tangential force, `ζ` the pair's slip, `super::stick`).
-    pub(crate) power: Vec<f64>,
 }
 
 impl StationForces {
@@ -27,7 +24,6 @@ impl StationForces {
         Self {
             total: vec![[0.0; 2]; nst],
             normal: vec![[0.0; 2]; nst],
-            power: vec![0.0; nst],
         }
     }
     /// Back to zero.
@@ -36,7 +32,6 @@ impl StationForces {
         for f in self.total.iter_mut().chain(self.normal.iter_mut()) {
             *f = [0.0; 2];
         }
-        self.power.fill(0.0);
     }
     /// `self = a + b`, component by component.
     #[inline]
@@ -47,9 +42,6 @@ impl StationForces {
         for (o, (x, y)) in self.normal.iter_mut().zip(a.normal.iter().zip(&b.normal)) {
             *o = [x[0] + y[0], x[1] + y[1]];
         }
-        for (o, (x, y)) in self.power.iter_mut().zip(a.power.iter().zip(&b.power)) {
-            *o = x + y;
-        }
     }
 }
 
@@ -58,10 +50,10 @@ impl StationForces {
 pub(crate) enum ForceSet {
     /// The forces that enter the next prediction and the record: every pair in the
     /// forward-increment scheme, the massless stators' static forces in the collocated one.
-    Main,
+    Main = 0,
     /// Collocated scheme only: the stators with mass, solved by forward increment within the
     /// step and reported at its end.
-    WithMass,
+    WithMass = 1,
 }
 
 /// Who takes part in a contact solve.
@@ -161,6 +153,12 @@ pub(crate) struct StepWorkspace {
     pub(crate) slip: Vec<i8>,
     /// Pairs that stuck in the last solve.
     pub(crate) sticking: usize,
+    /// Friction power dissipated at each station's pairs (W, `Σ t ζ/Δt`, `super::stick`), by
+    /// [`ForceSet`] (`Main`, `WithMass`): computed for the recorded instants only, added to the
+    /// sample and zeroed when it is recorded.
+    pub(crate) power: [Vec<f64>; 2],
+    /// Some entry of `power` is set (not yet recorded).
+    pub(crate) power_set: bool,
     /// Per candidate: its stator target's displacement after its last solve (m) and that
     /// solve's step (`usize::MAX`: never) — a massless stator's displacement at the start of
     /// the next step without summing its forces again (`super::stick`).
@@ -242,6 +240,8 @@ impl StepWorkspace {
             mu_eff: vec![0.0; nc],
             slip: vec![1; nc],
             sticking: 0,
+            power: [vec![0.0; nst], vec![0.0; nst]],
+            power_set: false,
             us_end: vec![([0.0; 2], usize::MAX); nc],
             stick: StickScratch::default(),
         }

@@ -412,6 +412,9 @@ fn stick_without_friction_or_with_a_dashpot_is_refused_by_key() {
         e.contains("stator.0.contact_damping") && e.contains("stick"),
         "{e}"
     );
+    // A section that cannot roll: no radius.
+    let e = err(&["station.0.radius=0.0"]);
+    assert!(e.contains("station.0.radius"), "{e}");
 }
 
 #[test]
@@ -507,4 +510,73 @@ fn the_scene_s_sweep_crosses_from_dry_whirl_into_dry_whip() {
         order * 2.5
     );
     assert!(out.join("dry_whirl.png").exists());
+}
+
+#[test]
+fn a_rub_that_never_sticks_is_the_permanent_slip_run_bit_for_bit() {
+    // A forward whirl in full contact slips forward at every instant: the law with stick gives
+    // the force n + μa of permanent slip, so the same run to the last bit.
+    let run = |stick: &str| {
+        let (ls, model) = scene_model(&scene(0.3), &["run.dt=1e-3", stick]);
+        let (case, plan) = case_and_plan(&ls, &model, 4.0, Scheme::ForwardIncrement);
+        let r0 = 1.05 * DELTA;
+        let init = Initial {
+            u: [r0, 0.0],
+            v: [0.0, 4.0 * r0],
+        };
+        integrate(&case, Scheme::ForwardIncrement, &plan, init).unwrap()
+    };
+    let (a, sa) = run("station.0.stick=true");
+    let (b, sb) = run("station.0.stick=false");
+    assert_eq!(sa.whole.stick_instants, 0);
+    assert!(sa.contact_steps > 0);
+    assert_eq!(a.disp, b.disp);
+    assert_eq!(a.force, b.force);
+    assert_eq!((sa.steps, sa.pivots), (sb.steps, sb.pivots));
+}
+
+#[test]
+fn a_run_up_leaves_dry_whirl_for_a_whip_locked_near_the_coupled_frequency() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("runup");
+    let scene = common::repo("scenes/stick/whirl_runup.toml");
+    common::cli::ok(
+        tmp.path(),
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    // The strongest line of each window: (Ω/ωn, its frequency / ωn).
+    let text = common::read(&out.join("full_waterfall.csv"));
+    let mut lines = text.lines();
+    let cols: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |name: &str| cols.iter().position(|c| *c == name).unwrap();
+    let strongest: Vec<(f64, f64)> = lines
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|r| r[at("rank")] == "1")
+        .map(|r| {
+            (
+                r[at("speed_ratio")].parse().unwrap(),
+                r[at("freq_nd")].parse().unwrap(),
+            )
+        })
+        .collect();
+    let rolling = -0.05 / 0.0115;
+    let (mut rolled, mut whipped) = (0, 0);
+    for &(nu, f) in &strongest {
+        if nu < 1.9 {
+            // Rolling: the backward line at −RΩ/δ.
+            assert!((f / nu - rolling).abs() < 5e-3, "Ω/ωn {nu}: {f} ωn");
+            rolled += 1;
+        } else if nu > 2.3 {
+            // Whipping: locked near the coupled frequency whatever the speed.
+            assert!((f + 8.8).abs() < 0.15, "Ω/ωn {nu}: {f} ωn");
+            whipped += 1;
+        }
+    }
+    assert!(rolled >= 2 && whipped >= 2, "{strongest:?}");
+    assert!(out.join("full_waterfall.png").exists());
 }

@@ -53,7 +53,12 @@ impl Stepper<'_> {
     pub(super) fn record(&mut self, t: f64, forces: ForceSet, active: usize) {
         let f = self.ws.instant_forces(forces);
         self.recorder
-            .sample(t, &self.rotor.u, f, self.energy, active);
+            .sample(t, &self.rotor.u, (f, &self.ws.power), self.energy, active);
+        if std::mem::take(&mut self.ws.power_set) {
+            for p in self.ws.power.iter_mut().flatten() {
+                *p = 0.0;
+            }
+        }
         if let Spin::Driven(d) = &self.spin {
             let c = d.cur;
             let td = d.drive_torque(t);
