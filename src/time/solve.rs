@@ -14,7 +14,6 @@ use super::frame::PairForce;
 use super::stator::StatorDyn;
 use super::stepper::Stepper;
 use super::workspace::{ForceSet, Held, StepWorkspace};
-use crate::contact::lcp;
 use crate::error::SolveError;
 use crate::math::dot;
 use crate::model::Target;
@@ -152,35 +151,16 @@ impl Stepper<'_> {
         step: usize,
         time: f64,
     ) -> Result<usize, SolveError> {
-        {
-            self.assemble(held);
-            if dashpots {
-                self.dashpot_into_problem(held);
-            }
-            let ws = &mut self.ws;
-            // Warm start: the pairs that carried force when last solved start active.
-            for (i, &ci) in ws.sel.iter().enumerate() {
-                ws.guess[i] = ws.carried[ci];
-            }
-            let pivots = lcp::solve_warm(
-                q,
-                &ws.wmat[..q * q],
-                &ws.gvec[..q],
-                &mut ws.pvec[..q],
-                &mut ws.lcp,
-                &ws.guess,
-            )
-            .map_err(|e| SolveError::Contact {
-                step,
-                time,
-                pairs: q,
-                message: e.to_string(),
-            })?;
-            for (i, &ci) in ws.sel.iter().enumerate() {
-                ws.carried[ci] = ws.pvec[i] > 0.0;
-            }
-            Ok(pivots)
+        self.assemble(held);
+        if dashpots {
+            self.dashpot_into_problem(held);
         }
+        self.ws.solve_lcp().map_err(|e| SolveError::Contact {
+            step,
+            time,
+            pairs: q,
+            message: e.to_string(),
+        })
     }
 
     /// Applies the solved normal forces: `−b p` on the rotor section (a correction along M̃⁻¹, or

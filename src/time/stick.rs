@@ -29,7 +29,6 @@ use super::drive::Spin;
 use super::stator::StatorDyn;
 use super::stepper::Stepper;
 use super::workspace::{ForceSet, Held, StepWorkspace};
-use crate::contact::lcp;
 use crate::error::SolveError;
 use crate::math::{dot, lu_in_place, lu_solve, V2};
 use crate::model::Target;
@@ -333,19 +332,8 @@ impl Stepper<'_> {
                 }
             }
         }
-        for (i, &ci) in ws.sel.iter().enumerate() {
-            ws.guess[i] = ws.carried[ci];
-        }
-        let pivots = lcp::solve_warm(
-            q,
-            &ws.wmat[..q * q],
-            &ws.gvec[..q],
-            &mut ws.pvec[..q],
-            &mut ws.lcp,
-            &ws.guess,
-        )
-        .map_err(|e| fail(e.to_string()))?;
-        let p = &ws.pvec[..q];
+        let pivots = ws.solve_lcp().map_err(|e| fail(e.to_string()))?;
+        let (sk, p) = (&mut ws.stick, &ws.pvec[..q]);
         for k in 0..m {
             let xk = &sk.x[k * (q + 1)..(k + 1) * (q + 1)];
             sk.t[k] = -(xk[q] + xk[..q].iter().zip(p).map(|(x, p)| x * p).sum::<f64>());
@@ -358,9 +346,6 @@ impl Stepper<'_> {
                 + wt.map(|(w, p)| w * p).sum::<f64>()
                 + tt.map(|(w, t)| w * t).sum::<f64>();
             sk.slip[r] = -minus;
-        }
-        for (i, &ci) in ws.sel.iter().enumerate() {
-            ws.carried[ci] = ws.pvec[i] > 0.0;
         }
         Ok(pivots)
     }

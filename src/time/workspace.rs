@@ -2,7 +2,7 @@
 
 use super::blocks::{Block, PairBlocks};
 use super::frame::PairForce;
-use crate::contact::lcp::LcpWorkspace;
+use crate::contact::lcp::{self, LcpWorkspace};
 use crate::contact::PairState;
 use crate::math::V2;
 
@@ -266,6 +266,28 @@ impl StepWorkspace {
             self.rnn.resize(q * q, 0.0);
             self.dn.resize(q, 0.0);
         }
+    }
+
+    /// The warm-started complementarity solve of the assembled problem (`wmat`, `gvec`) into
+    /// `pvec`: the pairs that carried force when last solved start active, and `carried` keeps
+    /// this solve's; returns the principal pivots taken.
+    pub(crate) fn solve_lcp(&mut self) -> Result<usize, lcp::LcpFailure> {
+        let q = self.sel.len();
+        for (i, &ci) in self.sel.iter().enumerate() {
+            self.guess[i] = self.carried[ci];
+        }
+        let pivots = lcp::solve_warm(
+            q,
+            &self.wmat[..q * q],
+            &self.gvec[..q],
+            &mut self.pvec[..q],
+            &mut self.lcp,
+            &self.guess,
+        )?;
+        for (i, &ci) in self.sel.iter().enumerate() {
+            self.carried[ci] = self.pvec[i] > 0.0;
+        }
+        Ok(pivots)
     }
 
     /// The station-force accumulator `which`.

@@ -1,6 +1,6 @@
 //! Fixtures shared by the integration tests: where files are, the scenes (`scenes`), scene text
 //! or file with `--set` overrides → model → one run, the command-line runner (`cli`), FE rotor
-//! helpers (`fe`), structured meshes and the gmsh switch (`meshes`), closed forms checked by several
+//! helpers (`fe`), structured meshes and the gmsh switch (`meshes`), complex numbers (`complex`), closed forms checked by several
 //! files (`oracles`), and the readers of written results (`output`).
 //!
 //! Every test binary compiles this module (`mod common;`) and uses only part of it, hence the
@@ -8,6 +8,7 @@
 #![allow(dead_code)]
 
 pub mod cli;
+pub mod complex;
 pub mod fe;
 pub mod meshes;
 pub mod oracles;

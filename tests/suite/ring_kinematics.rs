@@ -7,29 +7,11 @@
 
 use crate::common;
 
+use common::complex::{abs, add, div, mul, scale, C};
+
 use common::scenes::{paper_with_stator, unit_exact_ring, unit_rotor};
 use common::{case_and_plan, run_speed, scene_model, SHORT_RUN};
 use rubsim::time::{integrate, Initial, Scheme};
-
-/// A complex number `(re, im)`.
-type C = (f64, f64);
-
-fn mul(a: C, b: C) -> C {
-    (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0)
-}
-fn div(a: C, b: C) -> C {
-    let d = b.0 * b.0 + b.1 * b.1;
-    ((a.0 * b.0 + a.1 * b.1) / d, (a.1 * b.0 - a.0 * b.1) / d)
-}
-fn add(a: C, b: C) -> C {
-    (a.0 + b.0, a.1 + b.1)
-}
-fn scale(a: C, s: f64) -> C {
-    (a.0 * s, a.1 * s)
-}
-fn abs(a: C) -> f64 {
-    a.0.hypot(a.1)
-}
 
 /// Synchronous full annular rub of a Jeffcott rotor against a ring on isotropic springs that
 /// takes the whole contact force (docs/ORACLES.md §2a), lengths in units of e = m_u ε/m:

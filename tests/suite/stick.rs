@@ -8,27 +8,12 @@
 
 use crate::common;
 
+use common::complex::{abs, add, div, mul, C};
+
 use common::{case_and_plan, scene_model};
 use rubsim::analysis::dry::DryRub;
 use rubsim::math::loglog_slope;
 use rubsim::time::{integrate, Initial, Record, RunStats, Scheme};
-
-/// A complex number `(re, im)`.
-type C = (f64, f64);
-
-fn mul(a: C, b: C) -> C {
-    (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0)
-}
-fn div(a: C, b: C) -> C {
-    let d = b.0 * b.0 + b.1 * b.1;
-    ((a.0 * b.0 + a.1 * b.1) / d, (a.1 * b.0 - a.0 * b.1) / d)
-}
-fn add(a: C, b: C) -> C {
-    (a.0 + b.0, a.1 + b.1)
-}
-fn abs(a: C) -> f64 {
-    a.0.hypot(a.1)
-}
 
 /// The rig: rotor m = 1 kg, k = 1 N/m, c = 0.1 N·s/m (ξ 0.05, ω_n = 1 rad/s), no unbalance;
 /// section R = 0.05 m; ring m_s = 0.1 kg, k_s = 100 N/m, c_s = 0.5 N·s/m at δ = 0.01 m, so the
