@@ -189,7 +189,9 @@ fn check(m: &Mutant) -> Result<(), String> {
         return Ok(());
     }
     let model = Model::from_scene(&ls).map_err(|e| e.to_string())?;
-    let settings = RunSettings::from_run(&ls.scene.run, &ls.scene.output.component);
+    // As `rubsim check`: the settings of the whole scene (the implicit schemes' ρ∞ defaults to
+    // 0 with a stator with mass).
+    let settings = RunSettings::from_scene(&ls.scene);
     let speed = analysis::single_speed(&ls.scene.run, &model)
         .or_else(|| ls.scene.run.sweep.as_ref().map(|w| w.from))
         .unwrap_or(1.0);

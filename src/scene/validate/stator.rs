@@ -77,7 +77,7 @@ pub(super) fn validate_ring(ls: &LoadedScene, i: usize, r: &RingSpec) -> Result<
     if r.mass == 0.0 && r.damping > 0.0 {
         return Err(ls.invalid(
             &k("damping"),
-            "a massless ring (mass = 0) has no support to damp: for a dashpot that acts while the rotor touches the ring (ROSS's contact damping) use `contact_damping` (N·s/m); for support damping give the ring `mass`",
+            format!("a massless ring (`{}` = 0) has no support to damp: for a dashpot that acts while the rotor touches the ring (ROSS's contact damping) use `contact_damping` (N·s/m); for support damping give the ring `mass`", k("mass")),
         ));
     }
     Ok(())
