@@ -6,8 +6,9 @@
 //! bow of the moment held as a rotating load (`k b e^{iΩt}`, one more unbalance of
 //! `m e = k |b| / Ω²` at the bow's angle). From the chunk's last revolution, sampled at every
 //! step, come the friction power's mean `P` and its first harmonic in the rotor's frame `Q`
-//! (`P = |F_t| Ω R − F_t·v` at the contact point, as a transient's friction power, placed at the
-//! contact normal's angle less the spin angle), and the 1× vector of the station's response
+//! (the friction power the stepper records, `t ζ/Δt` per pair — the tangential force times the
+//! slip of the section's surface over the stator's material point — as a transient's, placed at
+//! the contact normal's angle less the spin angle), and the 1× vector of the station's response
 //! in the rotor's frame `Z`. The heat's state (S, ΔT) is then advanced over the coupling step
 //! `h` exactly, with `Q` extrapolated linearly from the last two steps: fully resolved when `h`
 //! is the chunk's own length (every revolution of the machine time integrated), accelerated

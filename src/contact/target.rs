@@ -45,10 +45,29 @@ impl Target {
     /// for a radially elastic ring, whose friction goes to ground.
     #[inline]
     pub fn stator_direction(&self, n: V2, b: V2) -> V2 {
-        match self {
-            Target::Ring { radial: true, .. } => n,
-            _ => b,
+        if self.friction_to_ground() {
+            n
+        } else {
+            b
         }
+    }
+
+    /// Direction of the force on the stator per unit tangential force `t` along `a` (stick,
+    /// `time::stick`): `a`, or nothing for a radially elastic ring.
+    #[inline]
+    pub fn tangential_direction(&self, a: V2) -> V2 {
+        if self.friction_to_ground() {
+            [0.0; 2]
+        } else {
+            a
+        }
+    }
+
+    /// True for a radially elastic ring: its friction goes to ground, and its material point at
+    /// the contact does not move along the tangent.
+    #[inline]
+    pub fn friction_to_ground(&self) -> bool {
+        matches!(self, Target::Ring { radial: true, .. })
     }
 
     /// True for a ring whose normal follows the solved configuration (exact kinematics).

@@ -15,7 +15,7 @@ use super::stator::StatorDyn;
 use super::stepper::Stepper;
 use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::error::SolveError;
-use crate::math::dot;
+use crate::math::{dot, V2};
 use crate::model::Target;
 
 impl Stepper<'_> {
@@ -55,12 +55,8 @@ impl Stepper<'_> {
         }
         ws.dirs.clear();
         for &ci in &ws.sel {
-            let c = &pairs.cands[ci];
-            let st = &ws.states[ci];
-            let b = st.b(ws.mu_eff[ci]);
-            let tg = &case.stators[c.stator].targets[c.target];
-            ws.dirs
-                .push((st.n, b, tg.stator_direction(st.n, b), c.station));
+            let d = pair_dirs(case, &pairs.cands[ci], &ws.states[ci], ws.mu_eff[ci]);
+            ws.dirs.push(d);
         }
         // The rotor's displacement at each station per unit p_j: F_r(s, s_j) b_j.
         ws.rv.clear();
@@ -300,6 +296,22 @@ impl Stepper<'_> {
             }
         }
     }
+}
+
+/// A pair's directions in a solve (`ws.dirs`): its normal `n`, the force direction on the
+/// rotor section per unit normal force `b = n + μ_e a` (friction coefficient `mu`: the
+/// station's μ, or a pair with stick's `±μ` or `t/p`), the stator's share of it, and its
+/// station.
+#[inline]
+pub(super) fn pair_dirs(
+    case: &crate::model::Case,
+    c: &crate::contact::Candidate,
+    st: &crate::contact::PairState,
+    mu: f64,
+) -> (V2, V2, V2, usize) {
+    let b = st.b(mu);
+    let tg = &case.stators[c.stator].targets[c.target];
+    (st.n, b, tg.stator_direction(st.n, b), c.station)
 }
 
 /// `F v` of a 2 × 2 block.

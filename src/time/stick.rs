@@ -26,12 +26,12 @@
 
 use super::blocks::Block;
 use super::drive::Spin;
+use super::solve::pair_dirs;
 use super::stator::StatorDyn;
 use super::stepper::Stepper;
 use super::workspace::{ForceSet, Held, StepWorkspace};
 use crate::error::SolveError;
 use crate::math::{dot, lu_in_place, lu_solve, V2};
-use crate::model::Target;
 
 /// Relative tolerance of the cone, `|t| ≤ μ p (1 + CONE_TOL)`, and of a reversed slip.
 const CONE_TOL: f64 = 1e-10;
@@ -51,8 +51,8 @@ impl Stepper<'_> {
         step: usize,
         time: f64,
     ) -> Result<usize, SolveError> {
-        self.predicted_slip(held, step, time);
-        let kappa = self.spin_flexibility(held, step, time);
+        let (dphi, kappa) = self.spin_step(held, step, time);
+        self.predicted_slip(held, step, dphi);
         let rows = self.ws.stick.rows.len();
         let cap = 3 * rows + 4;
         let mut pivots = 0;
@@ -97,15 +97,9 @@ impl Stepper<'_> {
         }
     }
 
-    /// The spin's flexibility `κ` of the step (see [`Stepper::spin_step`]).
-    fn spin_flexibility(&self, held: Held, n: usize, t: f64) -> f64 {
-        self.spin_step(held, n, t).1
-    }
-
-    /// The rows of the selected pairs with stick and their slip with no contact force, `ζ̃`
-    /// (module docs), into `ws.stick`.
-    fn predicted_slip(&mut self, held: Held, n: usize, t: f64) {
-        let dphi = self.spin_step(held, n, t).0;
+    /// The rows of the selected pairs with stick and their slip over step `n` with no contact
+    /// force, `ζ̃` (module docs; the spin turning by `dphi`), into `ws.stick`.
+    fn predicted_slip(&mut self, held: Held, n: usize, dphi: f64) {
         self.ws.stick.rows.clear();
         self.ws.stick.zeta.clear();
         for (i, &ci) in self.ws.sel.iter().enumerate() {
@@ -141,7 +135,7 @@ impl Stepper<'_> {
         let tg = &case.stators[c.stator].targets[c.target];
         let (c1, c0) = (pairs.centre(ci, u1), pairs.centre(ci, u0));
         let mut rel = [c1[0] - c0[0], c1[1] - c0[1]];
-        if !matches!(tg, Target::Ring { radial: true, .. }) {
+        if !tg.friction_to_ground() {
             let s0 = match (&self.stators[c.stator], self.ws.us_end[ci]) {
                 (StatorDyn::Massless(_), (u, at)) if at.wrapping_add(1) == n => u,
                 (st, _) => st.target_disp_start(tg.dofs()),
@@ -250,11 +244,10 @@ impl Stepper<'_> {
             let ci = sel[j];
             let c = &pairs.cands[ci];
             let a = states[ci].a;
-            match &case.stators[c.stator].targets[c.target] {
-                // A radially elastic ring's friction goes to ground.
-                Target::Ring { radial: true, .. } => (a, [0.0; 2]),
-                _ => (a, a),
-            }
+            (
+                a,
+                case.stators[c.stator].targets[c.target].tangential_direction(a),
+            )
         };
         for (r, &i) in sk.rows.iter().enumerate() {
             let a = states[sel[i]].a;
@@ -417,12 +410,7 @@ impl Stepper<'_> {
             } else if p <= 0.0 {
                 ws.slip[ci] = 1;
             }
-            let c = &pairs.cands[ci];
-            let st = &ws.states[ci];
-            let b = st.b(ws.mu_eff[ci]);
-            let tg = &case.stators[c.stator].targets[c.target];
-            ws.dirs[i].1 = b;
-            ws.dirs[i].2 = tg.stator_direction(st.n, b);
+            ws.dirs[i] = pair_dirs(case, &pairs.cands[ci], &ws.states[ci], ws.mu_eff[ci]);
         }
     }
 }
