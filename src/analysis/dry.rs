@@ -1,7 +1,8 @@
 //! Dry-friction backward whirl and whip (issue 28; docs/STICK.md §4): a run whose stations
 //! stick (`station.N.stick`) told by its steady window.
 //!
-//! * **Dry whirl** — the section rolls on the stator: full annular contact, the full spectrum's
+//! * **Dry whirl** — the section rolls on the stator: full annular contact (a contact fraction of
+//!   at least [`FULL_CONTACT`], the coexistence check's), the full spectrum's
 //!   strongest line backward, and some pair sticking at least [`ROLLING`] of the contact
 //!   instants. Its whirl is locked to the rolling speed, `ω = −R Ω/δ` for a rigid stator.
 //! * **Dry whip** — the same backward whirl in full contact, but slipping (less than
@@ -11,13 +12,11 @@
 //! A run without stick is not classified: its friction is permanent slip, so it cannot roll,
 //! and its backward whirl (if any) keeps its period label.
 
+use super::coexist::FULL_CONTACT;
 use super::whirl::{WhirlDirection, WhirlLines};
 use crate::model::Case;
 use crate::time::ContactStats;
 use serde::{Deserialize, Serialize};
-
-/// Contact fraction of the steady window from which a run counts as in full annular contact.
-pub const FULL_CONTACT: f64 = 0.95;
 
 /// Fraction of the contact instants in stick from which a backward whirl rolls (dry whirl)
 /// rather than slips (dry whip).
