@@ -158,14 +158,28 @@ pub(super) fn tick_formatter(lo: f64, hi: f64, n: usize) -> impl Fn(&f64) -> Str
     let sci = !(1e-3..1e5).contains(&mag);
     let decimals = (-step.log10().floor()).clamp(0.0, 12.0) as usize;
     let sci_decimals = (mag.log10().floor() - step.log10().floor()).clamp(0.0, 6.0) as usize;
+    // plotters may place ticks on a finer step than the one assumed from `n` (ticks 0.5 apart
+    // where `step` is 1): a value not exact at the step's decimals takes up to two more, so
+    // that 2.5 is not printed "2".
+    let more = move |v: f64, d: usize, scale: f64| {
+        (0..=2)
+            .find(|k| {
+                let f = 10f64.powi((d + k) as i32) / scale;
+                ((v * f).round() - v * f).abs() <= 1e-6 * step * f
+            })
+            .map_or(d + 2, |k| d + k)
+    };
     move |v: &f64| {
         let v = if v.abs() < step * 1e-6 { 0.0 } else { *v };
         if v == 0.0 {
             "0".to_string()
         } else if sci {
-            trim_mantissa(&format!("{v:.sci_decimals$e}"))
+            let scale = 10f64.powf(v.abs().log10().floor());
+            let d = more(v, sci_decimals, scale);
+            trim_mantissa(&format!("{v:.d$e}"))
         } else {
-            format!("{v:.decimals$}")
+            let d = more(v, decimals, 1.0);
+            format!("{v:.d$}")
         }
     }
 }
@@ -248,6 +262,14 @@ mod tests {
         let f = tick_formatter(0.0, 2e-6, 10);
         assert_eq!(f(&1e-6), "1e-6");
         assert_eq!(f(&1.5e-6), "1.5e-6");
+        // Ticks finer than the assumed step keep their digits.
+        let f = tick_formatter(0.4, 3.1, 5);
+        assert_eq!(
+            (f(&2.5), f(&3.0), f(&1.25)),
+            ("2.5".into(), "3".into(), "1.25".into())
+        );
+        let f = tick_formatter(0.0, 2e-6, 5);
+        assert_eq!((f(&5e-7), f(&1.25e-6)), ("5e-7".into(), "1.25e-6".into()));
         assert_eq!(trim_mantissa("5.00e-10"), "5e-10");
         assert_eq!(log_label(1e-5, false), "10⁻⁵");
         assert_eq!(log_label(0.01, true), "0.01");
