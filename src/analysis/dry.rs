@@ -33,6 +33,15 @@ pub enum DryRub {
 }
 
 impl DryRub {
+    /// The class's key in tables (`sweep.csv`, `map.csv`, `full_waterfall.csv`) and JSON:
+    /// "whirl" or "whip".
+    pub fn key(self) -> &'static str {
+        match self {
+            DryRub::Whirl => "whirl",
+            DryRub::Whip => "whip",
+        }
+    }
+
     /// The regime's name: "dry whirl" or "dry whip".
     pub fn label(self) -> &'static str {
         match self {

@@ -71,6 +71,7 @@ pub mod sweep;
 pub mod thermal;
 pub mod transient;
 pub mod verify;
+pub mod waterfall;
 pub mod whirl;
 
 pub use autostep::{choose, StepChoice};

@@ -256,6 +256,11 @@ pub struct TransientResults {
     /// Σ R μ p (N·m); empty for a prescribed profile.
     #[serde(skip)]
     pub torque: Vec<[f64; 2]>,
+    /// Per recorded sample: the pairs carrying force and those of them in stick.
+    #[serde(skip)]
+    pub contact_state: Vec<[u32; 2]>,
+    /// Some station has Coulomb friction with stick (`station.N.stick`).
+    pub stick: bool,
     /// Order-tracking windows, one per revolution.
     #[serde(skip)]
     pub windows: Vec<OrderWindow>,
@@ -468,6 +473,10 @@ pub fn analyse_transient(
         response: rec.observed.clone(),
         contact,
         torque,
+        contact_state: (rec.active.iter().zip(&rec.sticking))
+            .map(|(a, s)| [*a, *s])
+            .collect(),
+        stick: p.case.stations.iter().any(|st| st.stick),
         windows,
         error_estimate: None,
     })

@@ -1,18 +1,17 @@
 //! Whirl direction from the full spectrum of the orbit `z = x + iy`
 //! ([`crate::signal::FullSpectrum`]): the forward and backward 1× lines, the dominant line with
 //! its sign, and the strongest lines a full-spectrum cascade draws — for a run at one speed
-//! ([`whirl_lines`]) and, window by window, for a speed transient ([`full_waterfall`]).
+//! ([`whirl_lines`]) and, window by window, for a speed transient
+//! ([`super::waterfall::full_waterfall`]).
 //!
 //! **Sign convention.** Frequencies are signed: positive is *forward* whirl (the orbit turns
 //! in the sense of the spin Ω, counter-clockwise seen from +z), negative is *backward* whirl
 //! (against the spin — dry whip, rolling). Orders are `f/Ω`; an amplitude is the radius of the
 //! circular component at that frequency.
 
-use super::transient::{interp, TransientResults};
 use crate::math::V2;
 use crate::signal::{FullSpectrum, Line};
 use serde::{Deserialize, Serialize};
-use std::f64::consts::PI;
 
 /// Lines kept per run (or per transient window): the strongest, strongest first.
 pub const WHIRL_LINES: usize = 8;
@@ -21,8 +20,6 @@ pub const LINE_FLOOR: f64 = 1e-3;
 /// The mirror-to-dominant amplitude ratio above which a whirl is [`WhirlDirection::Planar`]:
 /// `(a − b)/(a + b) < 0.05`.
 pub const PLANAR_RATIO: f64 = 0.95 / 1.05;
-/// Samples per revolution of a transient's angle-domain windows ([`full_waterfall`]).
-pub const WATERFALL_PER_REV: usize = 64;
 
 /// The sense of the dominant whirl.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -122,70 +119,10 @@ pub fn signed_orders(s: &FullSpectrum, revolutions: usize, max_order: f64) -> Ve
         .collect()
 }
 
-/// One window of a transient's full-spectrum waterfall ([`full_waterfall`]).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct WaterfallWindow {
-    /// Time at the window's middle angle (s).
-    pub t: f64,
-    /// Ω there (rad/s).
-    pub omega: f64,
-    /// Forward and backward 1× amplitudes (m), exact.
-    pub forward_1x: f64,
-    /// Backward 1× amplitude (m).
-    pub backward_1x: f64,
-    /// The strongest lines: `(signed order f/Ω, amplitude m)`, strongest first.
-    pub lines: Vec<(f64, f64)>,
-}
-
-/// The full-spectrum waterfall of a transient: short-time full spectra of `z = x + iy` over
-/// consecutive windows of `w` whole revolutions of the spin angle φ (the window follows the
-/// local speed: it always spans `w` revolutions), each resampled at
-/// [`WATERFALL_PER_REV`] equal angle steps per revolution (cubic interpolation in φ, as the
-/// order tracking), rectangular window — so every order `k/w` of the local Ω falls on a bin —
-/// the mean removed. Windows start at φ = 0, 2πw, 4πw, …; Ω and t are taken at each window's
-/// middle angle.
-pub fn full_waterfall(r: &TransientResults, w: usize) -> Vec<WaterfallWindow> {
-    let n = r.spin.len().min(r.response.len());
-    if n < 4 || w == 0 {
-        return Vec::new();
-    }
-    let phi: Vec<f64> = r.spin[..n].iter().map(|s| s[2]).collect();
-    let x: Vec<f64> = r.response[..n].iter().map(|u| u[0]).collect();
-    let y: Vec<f64> = r.response[..n].iter().map(|u| u[1]).collect();
-    let revs = (phi[n - 1] / (2.0 * PI)).floor() as usize;
-    let m = w * WATERFALL_PER_REV;
-    let mut out = Vec::new();
-    let mut cur = 0usize;
-    for k in 0..revs / w {
-        let start = 2.0 * PI * (k * w) as f64;
-        let mut z = Vec::with_capacity(m);
-        for j in 0..m {
-            let a = start + 2.0 * PI * j as f64 / WATERFALL_PER_REV as f64;
-            while cur + 2 < n && phi[cur + 1] <= a {
-                cur += 1;
-            }
-            z.push([interp(&phi, &x, cur, a), interp(&phi, &y, cur, a)]);
-        }
-        let (wl, _) = whirl_lines(&z, w);
-        let mid = start + PI * w as f64;
-        let i = phi.partition_point(|p| *p < mid).clamp(1, n - 1);
-        let d = phi[i] - phi[i - 1];
-        let f = if d > 0.0 { (mid - phi[i - 1]) / d } else { 0.0 };
-        let lerp = |a: f64, b: f64| a + f * (b - a);
-        out.push(WaterfallWindow {
-            t: lerp(r.spin[i - 1][0], r.spin[i][0]),
-            omega: lerp(r.spin[i - 1][1], r.spin[i][1]),
-            forward_1x: wl.forward_1x_nd,
-            backward_1x: wl.backward_1x_nd,
-            lines: wl.lines,
-        });
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     #[test]
     fn an_elliptic_orbit_reads_its_split_and_its_sense() {

@@ -89,6 +89,7 @@ fn transient(
     let mut hooks = Hooks::default();
     let t = single::run_transient(outd, (ls, model), t0, &mut hooks)?;
     print_end(&t.results, t.stress.as_ref());
+    print_dry_spans(&t.dry_rub);
     println!("results in {}", t.dir.display());
     Ok(())
 }
@@ -173,6 +174,21 @@ fn print_end(r: &analysis::TransientResults, stress: Option<&TransientStress>) {
         println!(
             "stator `{}`: largest stress {:.4e} Pa at t = {:.4} s, Ω/ωn = {:.3} ({} nodes in contact)",
             p.name, p.stress_pa, p.t_s, p.speed_ratio, p.contacts
+        );
+    }
+}
+
+/// Prints a transient's spans of dry whirl and dry whip, one line each, in time order.
+fn print_dry_spans(spans: &[rubsim::analysis::waterfall::DrySpan]) {
+    for s in spans {
+        println!(
+            "{}: t {:.3} … {:.3} s, Ω/ωn {:.3} … {:.3} ({} window(s))",
+            s.regime.label(),
+            s.t_s[0],
+            s.t_s[1],
+            s.speed_ratio[0],
+            s.speed_ratio[1],
+            s.windows
         );
     }
 }

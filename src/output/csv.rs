@@ -81,16 +81,21 @@ pub fn sweep_row(r: &SpeedResults) -> String {
 /// dry-friction class (`whirl`, `whip`); both empty for a run without stick, the class empty
 /// for one that is not a backward whirl in full contact.
 pub fn stick_columns(r: &SpeedResults) -> String {
+    stick_cells(r.stick_fraction, r.dry_rub)
+}
+
+/// The two cells `stick_fraction,dry_rub` of a steady window or a transient's window: the
+/// fraction to four decimals and the class's key, each empty when `None`.
+pub fn stick_cells(
+    stick_fraction: Option<f64>,
+    dry_rub: Option<crate::analysis::dry::DryRub>,
+) -> String {
     format!(
         "{},{}",
-        r.stick_fraction
+        stick_fraction
             .map(|f| format!("{f:.4}"))
             .unwrap_or_default(),
-        match r.dry_rub {
-            Some(crate::analysis::dry::DryRub::Whirl) => "whirl",
-            Some(crate::analysis::dry::DryRub::Whip) => "whip",
-            None => "",
-        }
+        dry_rub.map_or("", |d| d.key())
     )
 }
 

@@ -174,7 +174,7 @@ pub struct SnapshotsRecord<'a, O> {
 }
 
 /// The full-spectrum waterfall of a transient, counted.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Serialize)]
 pub struct WaterfallRecord {
     /// Windows of the waterfall.
     pub windows: usize,
@@ -182,6 +182,10 @@ pub struct WaterfallRecord {
     pub window_revolutions: usize,
     /// Windows whose dominant line whirls backward.
     pub backward_dominant_windows: usize,
+    /// With stick: the spans of consecutive windows in dry whirl or dry whip, in time order
+    /// (`crate::analysis::waterfall::dry_spans`); left out when there are none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub dry_rub: Vec<crate::analysis::waterfall::DrySpan>,
 }
 
 /// `rubsim convergence`.
@@ -413,6 +417,7 @@ mod tests {
             windows: 3,
             window_revolutions: 8,
             backward_dominant_windows: 1,
+            dry_rub: Vec::new(),
         };
         let typed = Summary {
             base: Base::new(&ls, &model, "run"),

@@ -9,14 +9,16 @@
 //!   `full_cascade/<key>_<value>.png`;
 //! * a speed transient: `full_waterfall.csv` (per window of whole revolutions `t_s,
 //!   omega_rad_s, speed_ratio, fwd_1x_m, bwd_1x_m`, then per line `rank, order, freq_nd,
-//!   amp_m`) and `full_waterfall.png`.
+//!   amp_m`, then the window's `contact_fraction, stick_fraction, dry_rub`) and
+//!   `full_waterfall.png`; with stick, `dry_whirl.png` (the windows' speed, dominant whirl
+//!   frequency, stick and contact fractions against time).
 //!
 //! The cascades are drawn from the lines each case keeps in its results
 //! ([`crate::analysis::whirl::WhirlLines::lines`]), so they are assembled from the case files
 //! alone.
 
 use super::{Drawings, OutDir};
-use crate::analysis::whirl::WaterfallWindow;
+use crate::analysis::waterfall::WaterfallWindow;
 use crate::analysis::SpeedResults;
 use crate::error::Result;
 use crate::plot::{self, WhirlRow};
@@ -124,7 +126,9 @@ pub fn cascade_drawing(
 
 /// Writes a transient's `full_waterfall.csv` and, with `png`, `full_waterfall.png` (the
 /// windows' lines against the speed Ω/ω_n, within ±1.5 × the top speed or the strongest
-/// line of any window, whichever is wider).
+/// line of any window, whichever is wider) and, when a station has stick, `dry_whirl.png`.
+/// Each row ends with its window's contact fraction, stick fraction (empty without stick) and
+/// dry-friction class (`whirl`, `whip`, empty otherwise), as `sweep.csv` does.
 pub fn write_waterfall(
     out: &mut OutDir,
     title: &str,
@@ -132,13 +136,15 @@ pub fn write_waterfall(
     omega_n: f64,
     png: bool,
 ) -> Result<()> {
-    let mut s =
-        String::from("t_s,omega_rad_s,speed_ratio,fwd_1x_m,bwd_1x_m,rank,order,freq_nd,amp_m\n");
+    let mut s = String::from(
+        "t_s,omega_rad_s,speed_ratio,fwd_1x_m,bwd_1x_m,rank,order,freq_nd,amp_m,contact_fraction,stick_fraction,dry_rub\n",
+    );
     for w in windows {
         let nu = w.omega / omega_n;
+        let stick = super::csv::stick_cells(w.stick_fraction, w.dry_rub);
         for (k, (o, a)) in w.lines.iter().enumerate() {
             s.push_str(&format!(
-                "{:.9e},{:.6e},{:.6},{:.6e},{:.6e},{},{:.6},{:.6},{:.6e}\n",
+                "{:.9e},{:.6e},{:.6},{:.6e},{:.6e},{},{:.6},{:.6},{:.6e},{:.4},{stick}\n",
                 w.t,
                 w.omega,
                 nu,
@@ -147,7 +153,8 @@ pub fn write_waterfall(
                 k + 1,
                 o,
                 o * nu,
-                a
+                a,
+                w.contact_fraction,
             ));
         }
     }
@@ -155,6 +162,7 @@ pub fn write_waterfall(
     if !png {
         return Ok(());
     }
+    dry_whirl(out, title, windows, omega_n)?;
     let rows: Vec<WhirlRow> = windows
         .iter()
         .map(|w| {
@@ -183,5 +191,43 @@ pub fn write_waterfall(
         "Ω / ωn",
         fmax,
         "amplitude (m)",
+    )
+}
+
+/// A transient's `dry_whirl.png` when a station has stick (docs/STICK.md §4): per window
+/// against time, the speed Ω/ω_n, the dominant whirl frequency / ω_n (backward below zero: a
+/// roll follows `−RΩ/δ`, a whip stays locked near the coupled natural frequency), the fraction
+/// of the contact samples in stick and the contact fraction.
+fn dry_whirl(
+    out: &mut OutDir,
+    title: &str,
+    windows: &[WaterfallWindow],
+    omega_n: f64,
+) -> Result<()> {
+    if windows.iter().all(|w| w.stick_fraction.is_none()) {
+        return Ok(());
+    }
+    let column = |label: &str, f: &dyn Fn(&WaterfallWindow) -> f64| plot::Series {
+        label: label.into(),
+        t: windows.iter().map(|w| w.t).collect(),
+        y: windows.iter().map(f).collect(),
+    };
+    let series = [
+        column("Ω / ωn", &|w| w.omega / omega_n),
+        column("dominant whirl frequency / ωn (backward < 0)", &|w| {
+            w.lines.first().map_or(0.0, |l| l.0 * w.omega / omega_n)
+        }),
+        column("fraction of contact samples in stick", &|w| {
+            w.stick_fraction.unwrap_or(0.0)
+        }),
+        column("contact fraction", &|w| w.contact_fraction),
+    ];
+    let p = out.stage("dry_whirl.png")?;
+    plot::stacked_series(
+        &p,
+        &format!("{title} — dry whirl (stick) and whip (slip), window by window"),
+        &series,
+        "t (s)",
+        "",
     )
 }

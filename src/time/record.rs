@@ -27,8 +27,11 @@ pub struct Record {
     pub friction_power: Vec<f64>,
     /// Elastic energy stored in massless stators (J) per sample.
     pub stator_energy: Vec<f64>,
-    /// Active pairs per sample.
+    /// Active pairs (carrying force) per sample.
     pub active: Vec<u32>,
+    /// Pairs in stick per sample (`station.N.stick`, docs/STICK.md): 0 without stick, and at
+    /// every instant a pair slips.
+    pub sticking: Vec<u32>,
     /// A driven rotor's spin per sample: `[φ (rad), Ω (rad/s), Ω̇ (rad/s²), drive torque
     /// T_d (N·m), rub friction torque Σ R μ p (N·m)]` (`time::drive`); empty otherwise.
     pub spin: Vec<[f64; 5]>,
@@ -46,6 +49,7 @@ impl Record {
             friction_power: Vec::with_capacity(samples * nstations),
             stator_energy: Vec::with_capacity(samples),
             active: Vec::with_capacity(samples),
+            sticking: Vec::with_capacity(samples),
             spin: Vec::new(),
         }
     }
@@ -265,18 +269,20 @@ impl Recorder {
         rec.friction_power.reserve(more * nst);
         rec.stator_energy.reserve(more);
         rec.active.reserve(more);
+        rec.sticking.reserve(more);
     }
 
     /// Appends one sample: time `t` (s), the rotor DOF vector, the contact force and its normal
     /// part on each station (`forces`, N), the friction power on each station (W, the sum of
-    /// the two `power` vectors), the massless stators' elastic energy (J), the active pairs.
+    /// the two `power` vectors), the massless stators' elastic energy (J), the pairs carrying
+    /// force and those of them in stick.
     pub(crate) fn sample(
         &mut self,
         t: f64,
         rotor_u: &[f64],
         (forces, power): (&StationForces, &[Vec<f64>; 2]),
         energy: f64,
-        active: usize,
+        (active, sticking): (usize, usize),
     ) {
         let (force, force_normal) = (&forces.total, &forces.normal);
         let rec = &mut self.rec;
@@ -298,5 +304,6 @@ impl Recorder {
         }
         rec.stator_energy.push(energy);
         rec.active.push(active as u32);
+        rec.sticking.push(sticking as u32);
     }
 }

@@ -520,12 +520,23 @@ fn a_rub_that_never_sticks_is_the_permanent_slip_run_bit_for_bit() {
     assert_eq!((sa.steps, sa.pivots), (sb.steps, sb.pivots));
 }
 
-#[test]
-fn a_run_up_leaves_dry_whirl_for_a_whip_locked_near_the_coupled_frequency() {
+/// One window of a transient's `full_waterfall.csv`: Ω/ω_n, the strongest line's frequency /
+/// ω_n, the contact and stick fractions and the class (`whirl`, `whip` or empty).
+struct WindowRow {
+    nu: f64,
+    freq: f64,
+    contact: f64,
+    stick: f64,
+    class: String,
+}
+
+/// The windows of a transient run of `scene` (its strongest line each), with the command's
+/// standard output and the run's summary.json.
+fn transient_windows(scene: &str) -> (Vec<WindowRow>, String, serde_json::Value) {
     let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("runup");
-    let scene = common::repo("scenes/stick/whirl_runup.toml");
-    common::cli::ok(
+    let out = tmp.path().join("run");
+    let scene = common::repo(scene);
+    let stdout = common::cli::ok(
         tmp.path(),
         &[
             "run",
@@ -534,34 +545,129 @@ fn a_run_up_leaves_dry_whirl_for_a_whip_locked_near_the_coupled_frequency() {
             out.to_str().unwrap(),
         ],
     );
-    // The strongest line of each window: (Ω/ωn, its frequency / ωn).
     let text = common::read(&out.join("full_waterfall.csv"));
     let mut lines = text.lines();
     let cols: Vec<&str> = lines.next().unwrap().split(',').collect();
     let at = |name: &str| cols.iter().position(|c| *c == name).unwrap();
-    let strongest: Vec<(f64, f64)> = lines
+    let rows = lines
         .map(|l| l.split(',').collect::<Vec<_>>())
         .filter(|r| r[at("rank")] == "1")
-        .map(|r| {
-            (
-                r[at("speed_ratio")].parse().unwrap(),
-                r[at("freq_nd")].parse().unwrap(),
-            )
+        .map(|r| WindowRow {
+            nu: r[at("speed_ratio")].parse().unwrap(),
+            freq: r[at("freq_nd")].parse().unwrap(),
+            contact: r[at("contact_fraction")].parse().unwrap(),
+            stick: r[at("stick_fraction")].parse().unwrap(),
+            class: r[at("dry_rub")].to_string(),
         })
         .collect();
+    for png in ["full_waterfall.png", "dry_whirl.png"] {
+        assert!(out.join(png).exists(), "{png}");
+    }
+    let summary = serde_json::from_str(&common::read(&out.join("summary.json"))).unwrap();
+    (rows, stdout, summary)
+}
+
+/// The spans of summary.json's `full_waterfall.dry_rub`: (class, first and last Ω/ω_n).
+fn spans(summary: &serde_json::Value) -> Vec<(String, f64, f64)> {
+    summary["full_waterfall"]["dry_rub"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| {
+            let nu = &s["speed_ratio"];
+            (
+                s["regime"].as_str().unwrap().to_string(),
+                nu[0].as_f64().unwrap(),
+                nu[1].as_f64().unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// Checks the windows of a run-up or run-down across the roll's end: below `lo` the windows
+/// roll (dry whirl, every contact sample in stick, the backward line at −RΩ/δ), above `hi` they
+/// whip (dry whip, the line locked near the coupled frequency −8.8 ω_n); returns the windows of
+/// each. The first `settle` windows, which hold the start's settling, are not checked.
+fn assert_whirl_below_whip_above(
+    rows: &[WindowRow],
+    (lo, hi): (f64, f64),
+    settle: usize,
+) -> (usize, usize) {
     let rolling = -0.05 / 0.0115;
     let (mut rolled, mut whipped) = (0, 0);
-    for &(nu, f) in &strongest {
-        if nu < 1.9 {
-            // Rolling: the backward line at −RΩ/δ.
-            assert!((f / nu - rolling).abs() < 5e-3, "Ω/ωn {nu}: {f} ωn");
+    for w in rows.iter().skip(settle) {
+        if w.nu < lo {
+            assert!(
+                (w.freq / w.nu - rolling).abs() < 5e-3,
+                "Ω/ωn {}: {} ωn",
+                w.nu,
+                w.freq
+            );
+            assert_eq!(
+                (w.class.as_str(), w.contact, w.stick),
+                ("whirl", 1.0, 1.0),
+                "Ω/ωn {}",
+                w.nu
+            );
             rolled += 1;
-        } else if nu > 2.3 {
-            // Whipping: locked near the coupled frequency whatever the speed.
-            assert!((f + 8.8).abs() < 0.15, "Ω/ωn {nu}: {f} ωn");
+        } else if w.nu > hi {
+            assert!((w.freq + 8.8).abs() < 0.15, "Ω/ωn {}: {} ωn", w.nu, w.freq);
+            assert_eq!(
+                (w.class.as_str(), w.contact),
+                ("whip", 1.0),
+                "Ω/ωn {}",
+                w.nu
+            );
+            assert!(w.stick < 0.5, "Ω/ωn {}: stick {}", w.nu, w.stick);
             whipped += 1;
         }
     }
-    assert!(rolled >= 2 && whipped >= 2, "{strongest:?}");
-    assert!(out.join("full_waterfall.png").exists());
+    (rolled, whipped)
+}
+
+#[test]
+fn a_run_up_leaves_dry_whirl_for_a_whip_locked_near_the_coupled_frequency() {
+    let (rows, stdout, summary) = transient_windows("scenes/stick/whirl_runup.toml");
+    let (rolled, whipped) = assert_whirl_below_whip_above(&rows, (1.9, 2.3), 1);
+    assert!(
+        rolled >= 2 && whipped >= 2,
+        "{rolled} rolled, {whipped} whipped"
+    );
+    // One span of each, whirl first, told on the console too.
+    let s = spans(&summary);
+    assert_eq!(
+        s.iter().map(|s| s.0.as_str()).collect::<Vec<_>>(),
+        ["whirl", "whip"],
+        "{s:?}"
+    );
+    assert!(s[0].2 < 2.2 && s[1].1 > 1.9, "{s:?}");
+    assert!(
+        stdout.contains("dry whirl: t ") && stdout.contains("dry whip: t "),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn a_run_down_drops_from_dry_whip_into_dry_whirl() {
+    // The mirror of the run-up: started slipping in a backward whirl at 3 ωn and run down to
+    // 0.5 ωn, the rotor whips — its whirl locked near the coupled frequency — until the rolling
+    // speed 4.35 Ω falls below it near 2 ωn, and rolls below, windows of 2 revolutions each.
+    // The first two (9 s) hold the whip's settling from its start touching the ring.
+    let (rows, _, summary) = transient_windows("scenes/stick/whirl_rundown.toml");
+    let (rolled, whipped) = assert_whirl_below_whip_above(&rows, (1.8, 2.1), 2);
+    assert!(
+        rolled >= 5 && whipped >= 5,
+        "{rolled} rolled, {whipped} whipped"
+    );
+    let s = spans(&summary);
+    assert_eq!(
+        s.iter().map(|s| s.0.as_str()).collect::<Vec<_>>(),
+        ["whip", "whirl"],
+        "{s:?}"
+    );
+    // The whip ends and the roll starts between the windows either side of 8.8/4.35 = 2.02 ωn.
+    assert!(
+        s[0].2 > 2.02 && s[0].2 < 2.2 && s[1].1 < 2.02 && s[1].1 > 1.85,
+        "{s:?}"
+    );
 }

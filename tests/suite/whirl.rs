@@ -138,7 +138,7 @@ fn a_free_run_up_whirls_forward_through_its_resonance() {
     let spec = ls.scene.run.speed_profile.as_ref().unwrap();
     let prep = analysis::prepare_transient(&model, &settings(&ls), spec).unwrap();
     let r = prep.run(&mut []).unwrap();
-    let wf = analysis::whirl::full_waterfall(&r, prep.window_revolutions);
+    let wf = analysis::waterfall::full_waterfall(&r, prep.window_revolutions);
     assert!(wf.len() > 100, "{} windows", wf.len());
     // After the start's free vibration at ω_n has died out (ξ = 0.2: a few revolutions).
     let late: Vec<_> = wf.iter().filter(|w| w.t > 3.0).collect();

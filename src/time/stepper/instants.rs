@@ -51,9 +51,15 @@ impl Stepper<'_> {
     /// forces (`Main`, or the collocated scheme's sum with the stators with mass).
     #[inline]
     pub(super) fn record(&mut self, t: f64, forces: ForceSet, active: usize) {
+        let sticking = self.sticking(forces);
         let f = self.ws.instant_forces(forces);
-        self.recorder
-            .sample(t, &self.rotor.u, (f, &self.ws.power), self.energy, active);
+        self.recorder.sample(
+            t,
+            &self.rotor.u,
+            (f, &self.ws.power),
+            self.energy,
+            (active, sticking),
+        );
         if std::mem::take(&mut self.ws.power_set) {
             for p in self.ws.power.iter_mut().flatten() {
                 *p = 0.0;
@@ -81,12 +87,19 @@ impl Stepper<'_> {
         let gap = self.instant_gap;
         self.instant_gap = f64::INFINITY;
         self.stats.min_gap = self.stats.min_gap.min(gap);
-        let sticking = match forces {
-            ForceSet::Main => self.ws.sticking,
-            ForceSet::WithMass => self.ws.sticking + self.ws.with_mass_sticking,
-        };
+        let sticking = self.sticking(forces);
         self.segment
             .observe(n, self.plan.dt, force, (active, sticking), gap);
+    }
+
+    /// The pairs in stick at the instant whose forces are `forces`: the step's, or the
+    /// collocated scheme's static ones with the stators with mass's.
+    #[inline]
+    fn sticking(&self, forces: ForceSet) -> usize {
+        match forces {
+            ForceSet::Main => self.ws.sticking,
+            ForceSet::WithMass => self.ws.sticking + self.ws.with_mass_sticking,
+        }
     }
 
     /// The instant that closes the segment opened at instant `from`: the next whole revolution
