@@ -102,6 +102,9 @@ fn print_stators(s: &Scene, case: &Case) {
             scene::StatorSpec::Ring(r) if r.kinematics == "radial" => {
                 "rigid ring on isotropic springs (circle-in-circle contact; kinematics \"radial\": force along the rotor's radius, friction to ground)"
             }
+            scene::StatorSpec::Ring(r) if r.stiffness_y.is_some() || r.damping_y.is_some() => {
+                "rigid ring on anisotropic springs (k_x, k_y; circle-in-circle contact; kinematics \"exact\": the normal follows the ring's whole displacement)"
+            }
             scene::StatorSpec::Ring(_) => {
                 "rigid ring on isotropic springs (circle-in-circle contact; kinematics \"exact\": the normal follows the ring's whole displacement)"
             }

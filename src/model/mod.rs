@@ -30,6 +30,7 @@ pub use events::{ClearanceEvent, Events, UnbalanceEvent};
 pub use reduce::ReducedRotor;
 pub use rotor::{Jeffcott, RotorBody, UnbalanceLoad};
 pub use speed_profile::{SpeedProfile, SpinState};
+pub use stator::ring::RingSupport;
 pub use stator::StatorModel;
 use std::sync::Arc;
 
@@ -747,8 +748,13 @@ impl Model {
             }
             StatorPlan::Ring(r) => {
                 let clearance = clearance(r.clearance)?;
-                let ks = r.stiffness.value(kr);
-                StatorModel::ring(&r.name, si, st.radius, clearance, ks, r.mass, r.damping)
+                let kx = r.stiffness.value(kr);
+                let support = RingSupport {
+                    stiffness: [kx, r.stiffness_y.unwrap_or(kx)],
+                    mass: r.mass,
+                    damping: [r.damping, r.damping_y.unwrap_or(r.damping)],
+                };
+                StatorModel::ring(&r.name, si, st.radius, clearance, support)
                     .with_radial_kinematics(r.radial)
             }
             StatorPlan::Fe(f) => {

@@ -72,7 +72,8 @@ impl RodInput {
     }
 }
 
-/// A rigid ring on isotropic springs (scene `kind = "ring"`).
+/// A rigid ring on springs (scene `kind = "ring"`), isotropic unless `stiffness_y` or
+/// `damping_y` is given.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RingInput {
     /// Stator name.
@@ -81,12 +82,16 @@ pub struct RingInput {
     pub station: usize,
     /// Radial clearance δ.
     pub clearance: Clearance,
-    /// Support stiffness k_s.
+    /// Support stiffness k_s (k_x of an anisotropic ring).
     pub stiffness: RingStiffness,
+    /// Support stiffness along y (N/m) of an anisotropic ring; `None`: k_s.
+    pub stiffness_y: Option<f64>,
     /// Ring mass (kg); 0 for a massless ring.
     pub mass: f64,
-    /// Support damping (N·s/m).
+    /// Support damping (N·s/m; c_x of an anisotropic ring).
     pub damping: f64,
+    /// Support damping along y (N·s/m); `None`: `damping`.
+    pub damping_y: Option<f64>,
     /// Radially elastic stator (`kinematics = "radial"`): the ring's centre moves only along
     /// the contact normal; false (default): the ring takes the whole contact force.
     pub radial: bool,
@@ -238,8 +243,10 @@ fn ring(ls: &LoadedScene, i: usize, station: usize, r: &RingSpec) -> Result<Ring
         station,
         clearance,
         stiffness,
+        stiffness_y: r.stiffness_y,
         mass: r.mass,
         damping: r.damping,
+        damping_y: r.damping_y,
         radial: r.kinematics == "radial",
     })
 }

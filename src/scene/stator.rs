@@ -11,7 +11,8 @@ use serde::{Deserialize, Serialize};
 pub enum StatorSpec {
     /// The paper's elastic rod, meshed with 2-D bar elements, its axis radial.
     Rod(RodSpec),
-    /// Rigid ring on isotropic radial springs around the station (classic rub model).
+    /// Rigid ring on springs around the station (classic rub model): isotropic, or `stiffness_y`
+    /// / `damping_y` along y.
     Ring(RingSpec),
     /// General 2-D finite-element stator given as nodes, elements and fixed DOFs.
     Fe(FeStatorSpec),
@@ -308,11 +309,13 @@ pub struct RodSpec {
     pub contact_damping_mode: String,
 }
 
-/// Rigid ring on isotropic springs k_s: the ring's centre moves by the whole contact force
+/// Rigid ring on springs k_s: the ring's centre moves by the whole contact force
 /// `N(n + μa)/k_s` (friction included) and the rotor touches it when its displacement relative
-/// to the moving centre reaches δ. `kinematics = "radial"` keeps instead the classic radially
-/// elastic stator (Black): force `k_s(R − δ)` along the rotor's radius R, friction reacted by
-/// ground.
+/// to the moving centre reaches δ. The springs are isotropic unless `stiffness_y` (and, for a
+/// ring with mass, `damping_y`) gives the vertical support its own value: the support is then
+/// `diag(k_x, k_y)`, `diag(c_x, c_y)` (a casing held more stiffly one way than the other).
+/// `kinematics = "radial"` keeps instead the classic radially elastic stator (Black): force
+/// `k_s(R − δ)` along the rotor's radius R, friction reacted by ground.
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(extend("allOf" = [
@@ -332,12 +335,18 @@ pub struct RingSpec {
     pub stiffness: Option<f64>,
     /// ε = k_s/k_r.
     pub stiffness_ratio: Option<f64>,
+    /// Support stiffness along y (N/m) when it differs from the one along x (`stiffness` or
+    /// `stiffness_ratio`, then k_x): an anisotropic ring. Left out: isotropic.
+    pub stiffness_y: Option<f64>,
     /// Ring mass (kg); 0 (default) makes it massless.
     #[serde(default)]
     pub mass: f64,
-    /// Support damping (N·s/m), only with mass.
+    /// Support damping (N·s/m), only with mass; c_x when `damping_y` is given.
     #[serde(default)]
     pub damping: f64,
+    /// Support damping along y (N·s/m) when it differs from `damping` (c_x), only with mass.
+    /// Left out: `damping`.
+    pub damping_y: Option<f64>,
     /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
     /// force, a dashpot between the rotor section and ground in parallel with the contact damps
     /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).

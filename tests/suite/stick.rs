@@ -294,6 +294,133 @@ fn rolling_whirl_matches_its_closed_form_in_every_scheme() {
     );
 }
 
+/// The rolling whirl in a ring whose springs and dashpots differ along x and y (`k_x`, `k_y`,
+/// `c_x`, `c_y`; docs/STICK.md §3.3) at spin `omega`: the normal turns uniformly, `n = e^{iωt}`
+/// with `ω = −RΩ/δ` exactly — rolling fixes the relative position's angle, whatever the ring
+/// does —, so the rotor's and the ring's motions are the steady responses of linear equations
+/// to that prescribed relative motion, each component apart: `(D_r + D_s,x) X = δ D_s,x`,
+/// `(D_r + D_s,y) Y = −iδ D_s,y`, `x_r = Re(X e^{iωt})`, `y_r = Re(Y e^{iωt})`, the force on
+/// the ring `f = −D_r (X, Y)`. The normal force `p = f·n` and the friction `t = f·a` are then
+/// a mean and a line at 2ω each. Returns ω, the rotor's and the ring's x and y amplitudes (m),
+/// `[mean, 2ω amplitude]` of `p` and of `t` (N), and the range of `t/p` over a whirl.
+fn rolling_anisotropic(omega: f64, k: [f64; 2], c: [f64; 2]) -> AnisotropicRoll {
+    let w = -R * omega / DELTA;
+    let (dr, _) = stiffness_with(w, MS, CS, CR);
+    let ds = |i: usize| (k[i] - MS * w * w, c[i] * w);
+    let x = div(mul((DELTA, 0.0), ds(0)), add(dr, ds(0)));
+    let y = div(mul((0.0, -DELTA), ds(1)), add(dr, ds(1)));
+    let (fx, fy) = (mul((-1.0, 0.0), mul(dr, x)), mul((-1.0, 0.0), mul(dr, y)));
+    // The ring's amplitudes: z_s = z_r − δ n, n = (cos ωt, sin ωt) = Re((1, −i) e^{iωt}).
+    let (sx, sy) = (add(x, (-DELTA, 0.0)), add(y, (0.0, DELTA)));
+    // Over one whirl: the means and 2ω lines of p and t by their sums, the range of t/p.
+    let n = 3600;
+    let (mut sums, mut tp) = ([(0.0, 0.0); 4], [f64::INFINITY, f64::NEG_INFINITY]);
+    for j in 0..n {
+        let th = std::f64::consts::TAU * j as f64 / n as f64;
+        let e = (th.cos(), th.sin());
+        let f = [mul(fx, e).0, mul(fy, e).0];
+        let pn = f[0] * th.cos() + f[1] * th.sin();
+        let t = -f[0] * th.sin() + f[1] * th.cos();
+        let e2 = ((2.0 * th).cos(), -(2.0 * th).sin());
+        for (k, v) in [pn, t].iter().enumerate() {
+            sums[2 * k] = add(sums[2 * k], (*v, 0.0));
+            sums[2 * k + 1] = add(sums[2 * k + 1], mul((*v, 0.0), e2));
+        }
+        tp = [tp[0].min(t / pn), tp[1].max(t / pn)];
+    }
+    let nf = n as f64;
+    AnisotropicRoll {
+        w,
+        amp: [abs(x), abs(y), abs(sx), abs(sy)],
+        p: [sums[0].0 / nf, 2.0 * abs(sums[1]) / nf],
+        t: [sums[2].0 / nf, 2.0 * abs(sums[3]) / nf],
+        tp,
+    }
+}
+
+/// [`rolling_anisotropic`]'s closed form.
+struct AnisotropicRoll {
+    w: f64,
+    amp: [f64; 4],
+    p: [f64; 2],
+    t: [f64; 2],
+    tp: [f64; 2],
+}
+
+/// The least-squares fit `v ≈ m + a cos ωt + b sin ωt` over the samples `(t, v)`: `[m, |(a, b)|]`.
+fn line_fit(t: &[f64], v: &[f64], w: f64) -> [f64; 2] {
+    // Normal equations of the three columns 1, cos, sin (row-major).
+    let (mut a, mut x, mut piv) = ([0.0; 9], [0.0; 3], [0; 3]);
+    for (ti, vi) in t.iter().zip(v) {
+        let col = [1.0, (w * ti).cos(), (w * ti).sin()];
+        for i in 0..3 {
+            x[i] += col[i] * vi;
+            for j in 0..3 {
+                a[3 * i + j] += col[i] * col[j];
+            }
+        }
+    }
+    assert!(rubsim::math::lu_in_place(&mut a, 3, &mut piv, 1e-14));
+    rubsim::math::lu_solve(&a, 3, &piv, &mut x);
+    [x[0], x[1].hypot(x[2])]
+}
+
+#[test]
+fn an_anisotropic_ring_rolls_as_its_closed_form() {
+    // k_y = 0.6 k_x, c_y = 2 c_x: the orbit is an ellipse, the normal force swings by a quarter
+    // and the friction the roll needs changes sign over each whirl (−0.06 … +0.20 of p), inside
+    // the cone μ = 0.3 throughout.
+    let (omega, k, c) = (1.0, [KS, 60.0], [CS, 1.0]);
+    let want = rolling_anisotropic(omega, k, c);
+    assert!(want.p[0] > want.p[1] && want.tp[0] > -0.3 && want.tp[1] < 0.3);
+    assert!(want.tp[0] < -0.05 && want.tp[1] > 0.15, "{:?}", want.tp);
+    let aniso = ["stator.0.stiffness_y=60.0", "stator.0.damping_y=1.0"];
+    let ga = Scheme::GeneralizedAlpha {
+        rho_inf: rubsim::time::STATOR_WITH_MASS_RHO_INF,
+    };
+    let (rec, stats) = whirl_run_with(0.3, omega, ga, 1e-3, 40, &aniso);
+    assert_eq!(stats.steady.stick_instants, stats.steady.instants);
+    let from = second_half(&rec);
+    let got = whirl_of(&rec, from);
+    let w = want.w;
+    assert!(rel(got.freq, w) < 2e-5, "whirl {} vs {w} rad/s", got.freq);
+    // Per sample: the rotor's and the ring's x and y, the normal force and the signed friction.
+    let mut cols = vec![Vec::new(); 6];
+    for i in from..rec.len() {
+        let (u, f, fnorm) = (rec.disp_at(i, 0), rec.force_at(i, 0), rec.force_normal[i]);
+        let pn = fnorm[0].hypot(fnorm[1]);
+        // The force on the rotor is −(n p + a t), a = ẑ × n.
+        let n = [-fnorm[0] / pn, -fnorm[1] / pn];
+        let t = -((f[0] - fnorm[0]) * -n[1] + (f[1] - fnorm[1]) * n[0]);
+        let ring = [u[0] - DELTA * n[0], u[1] - DELTA * n[1]];
+        for (c, v) in cols.iter_mut().zip([u[0], u[1], ring[0], ring[1], pn, t]) {
+            c.push(v);
+        }
+    }
+    let ts = &rec.t[from..];
+    for (j, name) in ["rotor x", "rotor y", "ring x", "ring y"]
+        .iter()
+        .enumerate()
+    {
+        let fit = line_fit(ts, &cols[j], w);
+        assert!(
+            rel(fit[1], want.amp[j]) < 1e-4,
+            "{name}: {:.6e} vs closed form {:.6e}",
+            fit[1],
+            want.amp[j]
+        );
+    }
+    for (j, name, want) in [(4, "p", want.p), (5, "t", want.t)] {
+        let fit = line_fit(ts, &cols[j], 2.0 * w);
+        for (part, g, v) in [("mean", fit[0], want[0]), ("2ω line", fit[1], want[1])] {
+            assert!(
+                (g - v).abs() < 2e-4 * want[0].abs().max(want[1]),
+                "{name} {part}: {g:.6e} vs closed form {v:.6e}"
+            );
+        }
+    }
+}
+
 /// The ring's damping of the whip tests (N·s/m): the circular whip is then the attractor; at
 /// the rig's 0.5 N·s/m it is modulated, stick and slip alternating (docs/STICK.md §3.3).
 const CS_WHIP: f64 = 2.0;
@@ -377,7 +504,7 @@ fn runs_tell_dry_whirl_from_dry_whip() {
 }
 
 #[test]
-fn stick_without_friction_or_with_a_dashpot_is_refused_by_key() {
+fn stick_without_friction_or_with_a_dashpot_and_a_bad_ring_are_refused_by_key() {
     let text = scene(0.3);
     let err = |sets: &[&str]| -> String {
         let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
@@ -400,6 +527,29 @@ fn stick_without_friction_or_with_a_dashpot_is_refused_by_key() {
     // A section that cannot roll: no radius.
     let e = err(&["station.0.radius=0.0"]);
     assert!(e.contains("station.0.radius"), "{e}");
+    // An anisotropic ring's keys: a support stiffness that is not positive, damping without
+    // mass, and the radially elastic law, which is isotropic.
+    let e = err(&["stator.0.stiffness_y=-5.0"]);
+    assert!(e.contains("stator.0.stiffness_y"), "{e}");
+    let e = err(&[
+        "stator.0.mass=0.0",
+        "stator.0.damping=0.0",
+        "stator.0.damping_y=1.0",
+    ]);
+    assert!(
+        e.contains("stator.0.damping_y") && e.contains("mass"),
+        "{e}"
+    );
+    let e = err(&[
+        "stator.0.mass=0.0",
+        "stator.0.damping=0.0",
+        "stator.0.kinematics=\"radial\"",
+        "stator.0.stiffness_y=50.0",
+    ]);
+    assert!(
+        e.contains("stator.0.stiffness_y") && e.contains("radial"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -1,5 +1,5 @@
-//! A rigid ring on isotropic springs around its station (scene `kind = "ring"`): the classic
-//! rub model, contact circle in circle. The ring's centre takes the whole contact force
+//! A rigid ring on springs around its station (scene `kind = "ring"`): the classic rub model,
+//! contact circle in circle; isotropic, or with the support `diag(k_x, k_y)`, `diag(c_x, c_y)`. The ring's centre takes the whole contact force
 //! `(n + μa)p` and its gap is exact (`time::ring`); `kinematics = "radial"` gives the radially
 //! elastic stator instead (centre along `n` only, friction to ground).
 
@@ -8,19 +8,44 @@ use crate::contact::Target;
 use crate::linalg::Csc;
 use std::sync::Arc;
 
+/// A ring's support: springs and dashpots along x and y to ground, and its mass.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RingSupport {
+    /// `[k_x, k_y]` (N/m), both > 0; equal for an isotropic ring.
+    pub stiffness: [f64; 2],
+    /// Ring mass (kg); 0 for a massless ring.
+    pub mass: f64,
+    /// `[c_x, c_y]` (N·s/m), used only with mass.
+    pub damping: [f64; 2],
+}
+
+impl RingSupport {
+    /// An isotropic support: `stiffness` (N/m), `mass` (kg), `damping` (N·s/m).
+    pub fn isotropic(stiffness: f64, mass: f64, damping: f64) -> Self {
+        Self {
+            stiffness: [stiffness; 2],
+            mass,
+            damping: [damping; 2],
+        }
+    }
+}
+
 impl StatorModel {
-    /// Rigid ring on isotropic springs `stiffness` around a station of radius `radius`, with
-    /// radial clearance `clearance`; `mass` 0 for massless.
+    /// Rigid ring on the springs of `support` around a station of radius `radius`, with radial
+    /// clearance `clearance`; a support without mass makes it massless.
     pub fn ring(
         name: &str,
         station: usize,
         radius: f64,
         clearance: f64,
-        stiffness: f64,
-        mass: f64,
-        damping: f64,
+        support: RingSupport,
     ) -> Self {
-        let d = |v: f64| Csc::from_triplets(2, 2, &[(0, 0, v), (1, 1, v)]);
+        let d = |v: [f64; 2]| Csc::from_triplets(2, 2, &[(0, 0, v[0]), (1, 1, v[1])]);
+        let RingSupport {
+            stiffness,
+            mass,
+            damping,
+        } = support;
         StatorModel {
             name: name.to_string(),
             station,
@@ -29,7 +54,7 @@ impl StatorModel {
             ndof: 2,
             k: Arc::new(d(stiffness)),
             m: Arc::new(if mass > 0.0 {
-                d(mass)
+                d([mass; 2])
             } else {
                 Csc::zeros(2, 2)
             }),
@@ -71,7 +96,7 @@ mod tests {
 
     #[test]
     fn ring_is_isotropic_spring() {
-        let r = StatorModel::ring("g", 0, 0.05, 1e-4, 2e6, 0.0, 0.0);
+        let r = StatorModel::ring("g", 0, 0.05, 1e-4, RingSupport::isotropic(2e6, 0.0, 0.0));
         assert!((r.contact_stiffness_bound() - 2e6).abs() < 1e-6);
     }
 }

@@ -56,8 +56,26 @@ pub(super) fn validate_ring(ls: &LoadedScene, i: usize, r: &RingSpec) -> Result<
     if let Some(v) = r.stiffness_ratio {
         positive(ls, &k("stiffness_ratio"), v)?;
     }
+    if let Some(v) = r.stiffness_y {
+        positive(ls, &k("stiffness_y"), v)?;
+    }
     non_negative(ls, &k("mass"), r.mass)?;
     non_negative(ls, &k("damping"), r.damping)?;
+    if let Some(v) = r.damping_y {
+        non_negative(ls, &k("damping_y"), v)?;
+        if r.mass == 0.0 {
+            return Err(ls.invalid(
+                &k("damping_y"),
+                format!("a massless ring (`{}` = 0) has no support to damp: give the ring `mass` for support damping", k("mass")),
+            ));
+        }
+    }
+    if r.kinematics == "radial" && r.stiffness_y.is_some() {
+        return Err(ls.invalid(
+            &k("stiffness_y"),
+            "`radial` kinematics is the isotropic radially elastic stator (force k_s(R − δ) along the rotor's radius): an anisotropic ring needs `kinematics = \"exact\"`",
+        ));
+    }
     match r.kinematics.as_str() {
         "exact" => {}
         "radial" if r.mass > 0.0 => {
