@@ -43,8 +43,13 @@ fn rolling(omega: f64) -> (f64, f64, f64, f64, f64) {
 
 /// [`rolling`] in a ring of mass `ms` and damping `cs`.
 fn rolling_with(omega: f64, ms: f64, cs: f64) -> (f64, f64, f64, f64, f64) {
+    rolling_damped(omega, ms, cs, CR)
+}
+
+/// [`rolling_with`] with the rotor's damping `cr`.
+fn rolling_damped(omega: f64, ms: f64, cs: f64, cr: f64) -> (f64, f64, f64, f64, f64) {
     let w = -R * omega / DELTA;
-    let (dr, ds) = stiffness_with(w, ms, cs, CR);
+    let (dr, ds) = stiffness_with(w, ms, cs, cr);
     // z_r − z_s = δ with D_r z_r = −f, D_s z_s = f: f = −δ D_r D_s/(D_r + D_s).
     let f = mul((-DELTA, 0.0), div(mul(dr, ds), add(dr, ds)));
     let (zr, zs) = (abs(div(f, dr)), abs(div(f, ds)));
@@ -291,6 +296,109 @@ fn rolling_whirl_matches_its_closed_form_in_every_scheme() {
         &stats,
         want,
         [2e-5, 2e-4, 6e-3],
+    );
+}
+
+#[test]
+fn the_roll_ends_where_the_friction_it_needs_reaches_the_cone() {
+    // With μ = 0.1 the roll's friction t/p (rising with the speed toward the coupled
+    // frequency) reaches the cone at Ω_c = 1.5369 rad/s, before its normal force vanishes:
+    // just below, every instant sticks and the friction sits just inside the cone; just above,
+    // the pair slips at the cone and the rotor whips.
+    let mu = 0.1;
+    let (mut lo, mut hi) = (1.0, 1.7);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if rolling(mid).4 < mu {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    assert!(
+        (lo - 1.5369).abs() < 1e-4 && rolling(lo).3 > 0.0,
+        "Ω_c = {lo}"
+    );
+    let ga = Scheme::GeneralizedAlpha {
+        rho_inf: rubsim::time::STATOR_WITH_MASS_RHO_INF,
+    };
+    // (Near the coupled frequency the radii are ten times as sensitive to the scheme's
+    // (ωΔt)²/6 in the whirl: Δt = 0.5 ms.)
+    let below = 0.98 * lo;
+    let (rec, stats) = whirl_run(mu, below, ga, 5e-4, 40);
+    assert_rolls(
+        "just below the cone",
+        &rec,
+        &stats,
+        rolling(below),
+        [2e-5, 1e-4, 1e-4],
+    );
+    assert!(whirl_of(&rec, second_half(&rec)).friction[1] < mu);
+    let (rec, stats) = whirl_run(mu, 1.02 * lo, ga, 1e-3, 40);
+    let got = whirl_of(&rec, second_half(&rec));
+    assert!(
+        stats.steady.stick_fraction() < 0.5 && rel(got.friction[1], mu) < 1e-9,
+        "just above the cone: stick {}, t/p up to {}",
+        stats.steady.stick_fraction(),
+        got.friction[1]
+    );
+    assert!(
+        got.freq > -5.0 * 1.02 * lo,
+        "slipping backward: whirl {}",
+        got.freq
+    );
+}
+
+#[test]
+fn a_ring_rolls_again_above_its_own_natural_frequency() {
+    // p = Re f > 0 in two windows of the whirl frequency (docs/STICK.md §3.1): between the
+    // rotor's natural frequency and the coupled one (the ring stiffness-controlled), and above
+    // the ring's own √(k_s/m_s) (both bodies mass-controlled: they orbit their common centre of
+    // mass, the contact force the centripetal force, the rotor's radius → δ m_s/(m + m_s)).
+    // A ring of the rotor's mass: windows 1 < |ω| < 7.11 and |ω| > 10 rad/s, a whip between.
+    // Damped more (rotor 0.2, ring 1 N·s/m) than the rig, so that the start's transient dies
+    // out in the first half of the run.
+    let (ms, cs, cr) = (1.0, 1.0, 0.2);
+    let p_at = |omega: f64| rolling_damped(omega, ms, cs, cr).3;
+    assert!(p_at(0.6) > 0.0 && p_at(1.6) < 0.0 && p_at(4.0) > 0.0);
+    let ga = Scheme::GeneralizedAlpha {
+        rho_inf: rubsim::time::STATOR_WITH_MASS_RHO_INF,
+    };
+    let heavy = [
+        "stator.0.mass=1.0",
+        "stator.0.damping=1.0",
+        "rotor.damping=0.2",
+    ];
+    // Above the ring's frequency: ω = −20 rad/s, the rotor at 4.30 mm, the ring at 5.70 mm
+    // (δ = 10 mm apart, on either side of their centre of mass), p = 1.71 N, t/p = 0.047.
+    let want = rolling_damped(4.0, ms, cs, cr);
+    assert!(want.1 < 0.5 * DELTA && want.4.abs() < 0.3);
+    // (The scheme's rolling error is (ωΔt)²/6 in the whirl: 2e-5 at Δt = 0.5 ms.)
+    let (rec, stats) = whirl_run_with(0.3, 4.0, ga, 5e-4, 80, &heavy);
+    // The force ∝ ω² carries the scheme's error twice: 1.4e-4 at this step.
+    assert_rolls(
+        "above the ring's frequency",
+        &rec,
+        &stats,
+        want,
+        [2e-5, 2e-4, 2e-4],
+    );
+    // And in the lower window, as the light ring's.
+    let (rec, stats) = whirl_run_with(0.3, 0.6, ga, 2e-3, 30, &heavy);
+    let want = rolling_damped(0.6, ms, cs, cr);
+    assert_rolls(
+        "below the coupled frequency",
+        &rec,
+        &stats,
+        want,
+        [2e-5, 1e-4, 1e-4],
+    );
+    // Between the windows no roll: the same start slips.
+    let (_, stats) = whirl_run_with(0.3, 1.6, ga, 1e-3, 40, &heavy);
+    assert!(
+        stats.steady.stick_fraction() < 0.5,
+        "stick {} in the gap",
+        stats.steady.stick_fraction()
     );
 }
 
