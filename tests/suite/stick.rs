@@ -350,6 +350,69 @@ fn the_roll_ends_where_the_friction_it_needs_reaches_the_cone() {
 }
 
 #[test]
+fn a_driven_rotor_settles_where_its_drive_balances_the_roll() {
+    // A driven rotor (its spin a DOF, J = 1e-3 kg·m²) with a constant drive T_d and a viscous
+    // drag c_d Ω, rolling in the massless ring: the friction the roll needs brakes the spin by
+    // R t(Ω) (rising with Ω), so the speed settles where T_d = c_d Ω + R t(Ω) — here at
+    // Ω* = 0.6 rad/s, from a roll started at 0.5 rad/s — and the rotor rolls there as the
+    // roll's closed form at that speed says. Collocated scheme (explicit, as a driven spin
+    // needs; second order with a massless ring).
+    let (omega, cd, j) = (0.6, 1e-4, 1e-3);
+    let want = rolling_with(omega, 0.0, 0.0);
+    let td = cd * omega + R * want.3 * want.4;
+    let start = 0.5;
+    let r0 = 1.05 * DELTA;
+    let text = scene(0.3).replace("speed = 1.0\n", "").replace(
+        "[run]\n",
+        &format!(
+            "[run.speed_profile]\nkind = \"driven\"\nunit = \"rad_per_s\"\nspeed = {start}\nduration = 150.0\n\
+             drive_torque = {td}\ndrag_coefficient = {cd}\npolar_inertia = {j}\n\n[run]\n"
+        ),
+    );
+    let sets = [
+        "stator.0.mass=0.0".to_string(),
+        "stator.0.damping=0.0".to_string(),
+        "run.integrator=\"collocated\"".to_string(),
+        "run.dt=1e-3".to_string(),
+        format!("run.initial_displacement=[{r0}, 0.0]"),
+        format!("run.initial_velocity=[0.0, {}]", -R * start / DELTA * r0),
+    ];
+    let (ls, model) = scene_model(&text, &sets);
+    let spec = ls.scene.run.speed_profile.as_ref().unwrap();
+    let r = rubsim::analysis::prepare_transient(&model, &common::settings(&ls), spec)
+        .unwrap()
+        .run(&mut [])
+        .unwrap();
+    // The last fifth of the run: the speed settled, every contact sample in stick, the whirl at
+    // −RΩ*/δ, the rotor's radius the closed form's.
+    let from = 4 * r.spin.len() / 5;
+    let last = &r.spin[from..];
+    let (lo, hi) = last.iter().fold((f64::INFINITY, 0.0_f64), |(a, b), s| {
+        (a.min(s[1]), b.max(s[1]))
+    });
+    assert!(
+        rel(lo, omega) < 2e-4 && rel(hi, omega) < 2e-4,
+        "Ω {lo} … {hi}, balance at {omega}"
+    );
+    assert!(r.contact_state[from..].iter().all(|c| c[0] > 0 && c[1] > 0));
+    let radius = r.response[from..]
+        .iter()
+        .map(|u| u[0].hypot(u[1]))
+        .fold((f64::INFINITY, 0.0_f64), |(a, b), v| (a.min(v), b.max(v)));
+    assert!(
+        rel(radius.0, want.1) < 1e-4 && rel(radius.1, want.1) < 1e-4,
+        "radius {radius:?} vs {}",
+        want.1
+    );
+    // The drive's power goes into the rotor's damper, c ω² |z_r|², none into heat.
+    let heat = r.contact[from..]
+        .iter()
+        .map(|c| c[1].abs())
+        .fold(0.0, f64::max);
+    assert!(heat < 1e-6 * td * omega, "friction power {heat:e} W");
+}
+
+#[test]
 fn a_ring_rolls_again_above_its_own_natural_frequency() {
     // p = Re f > 0 in two windows of the whirl frequency (docs/STICK.md §3.1): between the
     // rotor's natural frequency and the coupled one (the ring stiffness-controlled), and above
