@@ -841,9 +841,10 @@ fn a_rub_that_never_sticks_is_the_permanent_slip_run_bit_for_bit() {
     assert_eq!((sa.steps, sa.pivots), (sb.steps, sb.pivots));
 }
 
-/// One window of a transient's `full_waterfall.csv`: Ω/ω_n, the strongest line's frequency /
-/// ω_n, the contact and stick fractions and the class (`whirl`, `whip` or empty).
+/// One window of a transient's `full_waterfall.csv`: its time, Ω/ω_n, the strongest line's
+/// frequency / ω_n, the contact and stick fractions and the class (`whirl`, `whip` or empty).
 struct WindowRow {
+    t: f64,
     nu: f64,
     freq: f64,
     contact: f64,
@@ -874,6 +875,7 @@ fn transient_windows(scene: &str) -> (Vec<WindowRow>, String, serde_json::Value)
         .map(|l| l.split(',').collect::<Vec<_>>())
         .filter(|r| r[at("rank")] == "1")
         .map(|r| WindowRow {
+            t: r[at("t_s")].parse().unwrap(),
             nu: r[at("speed_ratio")].parse().unwrap(),
             freq: r[at("freq_nd")].parse().unwrap(),
             contact: r[at("contact_fraction")].parse().unwrap(),
@@ -991,4 +993,41 @@ fn a_run_down_drops_from_dry_whip_into_dry_whirl() {
         s[0].2 > 2.02 && s[0].2 < 2.2 && s[1].1 < 2.02 && s[1].1 > 1.85,
         "{s:?}"
     );
+}
+
+#[test]
+fn an_fe_rotor_drops_into_dry_whirl_after_a_blade_off() {
+    // The FE paper rotor at 3 ωn in a casing ring with mass (R/δ = 20): before the blade leaves
+    // at 0.05 s nothing touches; after it the rub slips, then sticks for good, and from 0.19 s
+    // on every window rolls at −RΩ/δ = −20 Ω (the whirl above the ring's own frequency).
+    let (rows, stdout, summary) = transient_windows("scenes/stick/fe_blade_off_whirl.toml");
+    let before: Vec<&WindowRow> = rows.iter().filter(|w| w.t < 0.04).collect();
+    assert!(
+        !before.is_empty()
+            && before
+                .iter()
+                .all(|w| w.contact == 0.0 && w.class.is_empty())
+    );
+    let rolling: Vec<&WindowRow> = rows.iter().filter(|w| w.t > 0.19).collect();
+    assert!(
+        rolling.len() >= 10,
+        "{} windows after 0.19 s",
+        rolling.len()
+    );
+    for w in rolling {
+        assert!(
+            (w.freq / w.nu + 20.0).abs() < 0.05
+                && (w.class.as_str(), w.contact, w.stick) == ("whirl", 1.0, 1.0),
+            "t {}: {} ωn, {} (contact {}, stick {})",
+            w.t,
+            w.freq,
+            w.class,
+            w.contact,
+            w.stick
+        );
+    }
+    let s = spans(&summary);
+    assert_eq!(s.len(), 1, "{s:?}");
+    assert_eq!(s[0].0, "whirl");
+    assert!(stdout.contains("dry whirl: t 0."), "{stdout}");
 }
