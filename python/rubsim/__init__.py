@@ -369,7 +369,11 @@ class Transient:
     numbers), ``t``, ``speed`` (Ω, rad/s), ``angle`` (φ, rad), ``acceleration`` (Ω̇) per
     recorded sample, ``response`` (n × 2: x, y of the analysed node, m), ``contact_force``
     (|F| on station 0, N), ``friction_power`` (W), ``friction_energy`` (J, so far), ``torque``
-    (a driven rotor's drive and friction torques, N·m; empty otherwise)."""
+    (a driven rotor's drive and friction torques, N·m; empty otherwise), and ``windows``: the
+    full-spectrum waterfall's windows (``window_revolutions`` each) as a dict of columns —
+    ``t`` (s), ``omega`` (rad/s), ``frequency`` (the strongest line, rad/s, backward < 0),
+    ``contact_fraction``, ``stick_fraction`` (NaN without stick) and ``dry_rub`` (a list of
+    ``"whirl"``, ``"whip"`` or ``None``), as ``full_waterfall.csv`` has them."""
 
     def __init__(self, d: dict):
         self.summary = json.loads(d["summary"])
@@ -379,6 +383,7 @@ class Transient:
         c = d["contact"]
         self.contact_force, self.friction_power, self.friction_energy = (c[:, k] for k in range(3))
         self.torque = d["torque"]
+        self.windows = d["waterfall"]
         self.warnings = list(d["warnings"])
         self.dir = None if d["dir"] is None else pathlib.Path(d["dir"])
 

@@ -9,6 +9,7 @@ use crate::progress::StepProgress;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use rubsim::analysis::waterfall::{self, WaterfallWindow};
 use rubsim::analysis::{self, Keep, SpeedResults};
 use rubsim::error::Result;
 use rubsim::model::Model;
@@ -152,21 +153,29 @@ pub fn run_transient<'py>(
     })?;
     let mut hooks = StepProgress::new(progress);
     let started = Instant::now();
-    let ran = py.detach(
-        || -> Result<(analysis::TransientResults, Option<PathBuf>)> {
-            if let Some(outd) = out.open()? {
-                let t = single::run_transient(outd, (ls, model), started, &mut hooks)?;
-                return Ok((t.results, Some(t.dir)));
-            }
-            let s = analysis::RunSettings::from_scene(&ls.scene);
-            let prep =
-                analysis::prepare_transient(model, &s, spec)?.with_events(&ls.scene.run.event)?;
-            hooks.plan(prep.plan.steps);
-            let mut sinks: [&mut dyn FrameSink; 1] = [&mut hooks];
-            Ok((prep.run(&mut sinks)?, None))
-        },
+    type Ran = (
+        analysis::TransientResults,
+        Vec<WaterfallWindow>,
+        Option<PathBuf>,
     );
-    let (r, dir) = ran.map_err(|e| hooks.error(e))?;
+    let ran = py.detach(|| -> Result<Ran> {
+        if let Some(outd) = out.open()? {
+            let t = single::run_transient(outd, (ls, model), started, &mut hooks)?;
+            return Ok((t.results, t.waterfall, Some(t.dir)));
+        }
+        let s = analysis::RunSettings::from_scene(&ls.scene);
+        let prep =
+            analysis::prepare_transient(model, &s, spec)?.with_events(&ls.scene.run.event)?;
+        hooks.plan(prep.plan.steps);
+        let mut sinks: [&mut dyn FrameSink; 1] = [&mut hooks];
+        let r = prep.run(&mut sinks)?;
+        let wf = waterfall::full_waterfall(&r, prep.window_revolutions);
+        hooks
+            .warnings
+            .extend(waterfall::roll_warnings(&prep.case, &prep.plan, &wf));
+        Ok((r, wf, None))
+    });
+    let (r, wf, dir) = ran.map_err(|e| hooks.error(e))?;
     let d = PyDict::new(py);
     d.set_item("summary", json(&r)?)?;
     d.set_item(
@@ -177,8 +186,33 @@ pub fn run_transient<'py>(
     let contact = r.contact.iter().flatten().copied().collect();
     d.set_item("contact", array2(py, contact, 3)?)?;
     d.set_item("torque", pairs(py, &r.torque)?)?;
+    d.set_item("waterfall", windows(py, &wf)?)?;
     d.set_item("warnings", std::mem::take(&mut hooks.warnings))?;
     d.set_item("dir", dir)?;
+    Ok(d)
+}
+
+/// A transient's full-spectrum windows as a dict of numpy columns: `t` (s, middle angle),
+/// `omega` (rad/s), `frequency` (the strongest line, rad/s, backward < 0), `contact_fraction`,
+/// `stick_fraction` (NaN without stick) and `dry_rub` (a list: "whirl", "whip" or None).
+fn windows<'py>(py: Python<'py>, wf: &[WaterfallWindow]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let col = |f: &dyn Fn(&WaterfallWindow) -> f64| {
+        PyArray1::from_vec(py, wf.iter().map(f).collect::<Vec<f64>>())
+    };
+    d.set_item("t", col(&|w| w.t))?;
+    d.set_item("omega", col(&|w| w.omega))?;
+    d.set_item(
+        "frequency",
+        col(&|w| w.lines.first().map_or(0.0, |l| l.0 * w.omega)),
+    )?;
+    d.set_item("contact_fraction", col(&|w| w.contact_fraction))?;
+    d.set_item(
+        "stick_fraction",
+        col(&|w| w.stick_fraction.unwrap_or(f64::NAN)),
+    )?;
+    let dry: Vec<Option<&str>> = wf.iter().map(|w| w.dry_rub.map(|c| c.key())).collect();
+    d.set_item("dry_rub", dry)?;
     Ok(d)
 }
 

@@ -11,11 +11,15 @@ regularised model converges to the nonsmooth one as k_c → ∞ and ε → 0; at
 settings' figures in the docs; only the first is run here, ≈ 15 s).
 """
 
+import pathlib
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
 import rubsim
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 M, K, C = 1.0, 1.0, 0.1
 MS, KS, CS = 0.1, 100.0, 0.5
@@ -105,3 +109,18 @@ def test_modulated_whip_matches_a_regularised_integration():
     assert abs(p / p_ref - 1) < 5e-3
     # Stick and slip alternate: neither is the whole window.
     assert 0.0 < res["stick_fraction"] < 0.5
+
+
+def test_a_run_down_tells_its_windows_of_whip_and_whirl():
+    # scenes/stick/whirl_rundown.toml from Python: the windows' classes as the command's
+    # full_waterfall.csv has them — dry whip above ≈ 2 ωn, dry whirl below (every contact
+    # sample in stick once the roll has settled, below 1.8 ωn).
+    t = rubsim.Scene(ROOT / "scenes" / "stick" / "whirl_rundown.toml").transient()
+    w = t.windows
+    nu = w["omega"] / t.omega_n
+    classes = w["dry_rub"]
+    assert len(classes) == len(nu) > 10
+    assert all(c == "whip" for c, v in zip(classes[2:], nu[2:]) if v > 2.1)
+    assert all(c == "whirl" for c, v in zip(classes, nu) if v < 1.8)
+    assert np.all(w["stick_fraction"][nu < 1.8] == 1.0)
+    assert np.allclose(w["frequency"][nu < 1.8] / w["omega"][nu < 1.8], -0.05 / 0.0115, atol=5e-3)

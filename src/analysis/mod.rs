@@ -54,6 +54,7 @@ pub mod cutoff;
 pub mod discrepancy;
 pub mod dry;
 pub mod dynamics;
+pub mod estimate;
 pub mod fanout;
 mod lengthen;
 pub mod notices;

@@ -5,8 +5,8 @@ use super::{Coexistence, SpeedResults, Start, SweepResults};
 
 /// The warnings of a steady run, one message each (the command line prints them on stderr
 /// after `warning: `): an error estimate above the tolerance the pilots
-/// predicted to meet, coexisting responses, a runaway, the run's own warnings or an unproven
-/// steady state (`tolerance`: `run.tolerance`).
+/// predicted to meet, coexisting responses, a roll the step or the record does not resolve, a
+/// runaway, the run's own warnings or an unproven steady state (`tolerance`: `run.tolerance`).
 pub fn run_warnings(r: &SpeedResults, tolerance: f64) -> Vec<String> {
     let mut out = Vec::new();
     if let (Some(e), Some(c)) = (r.error, r.step_choice) {
@@ -26,6 +26,11 @@ pub fn run_warnings(r: &SpeedResults, tolerance: f64) -> Vec<String> {
     if let Some(why) = &r.coexistence_failed {
         out.push(why.clone());
     }
+    out.extend(
+        r.roll_warnings
+            .iter()
+            .map(|w| format!("ω/ωn = {:.3}: {w}", r.speed_ratio)),
+    );
     if let Some(t) = r.dynamics.runaway_at_s {
         out.push(format!(
             "ω/ωn = {:.3}: the response runs away when continued: lengthened past its {}-revolution window for the 0–1 test (`run.classify_revolutions`), the run left the divergence bounds at t = {t:.4e} s; the results are those of the window (regime `diverging`, `steady = false`)",
@@ -78,7 +83,8 @@ pub fn speeds_where(res: &SweepResults, flag: impl Fn(&SpeedResults) -> bool) ->
 
 /// The warnings of a sweep `res`, one message each, `prefix` starting each (a variant's
 /// overrides and `: `, or empty): the speeds whose response runs away, whose steady state was
-/// not proven, whose response depends on the start and whose coexistence check failed.
+/// not proven, whose roll the step or the record does not resolve, whose response depends on
+/// the start and whose coexistence check failed.
 pub fn sweep_warnings(prefix: &str, res: &SweepResults) -> Vec<String> {
     let n = res.speeds.len();
     let mut out = Vec::new();
@@ -110,6 +116,18 @@ pub fn sweep_warnings(prefix: &str, res: &SweepResults) -> Vec<String> {
             } else {
                 "after `run.max_transient_revolutions`"
             }
+        ));
+    }
+    let unresolved = speeds_where(res, |r| !r.roll_warnings.is_empty());
+    if !unresolved.is_empty() {
+        out.push(format!(
+            "{prefix}the roll at {} of {n} speeds (ω/ωn {}) is not resolved by the step or the record (each case's `roll_warnings`; the first: {})",
+            unresolved.len(),
+            unresolved.join(", "),
+            res.speeds
+                .iter()
+                .find_map(|r| r.roll_warnings.first())
+                .map_or("", String::as_str)
         ));
     }
     let coexisting = speeds_where(res, |r| r.coexistence.is_some_and(|c| c.coexisting));

@@ -8,9 +8,11 @@
 //!
 //! Frequencies are signed as in [`super::whirl`]: positive forward, negative backward.
 
-use super::dry::{classify, DryRub};
+use super::dry::{classify, roll_resolution, rolls, DryRub};
 use super::transient::{interp, TransientResults};
 use super::whirl::{whirl_lines, WhirlDirection};
+use crate::model::Case;
+use crate::time::StepPlan;
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -46,9 +48,11 @@ pub struct WaterfallWindow {
 
 /// The full-spectrum waterfall of a transient: short-time full spectra of `z = x + iy` over
 /// consecutive windows of `w` whole revolutions of the spin angle φ (the window follows the
-/// local speed: it always spans `w` revolutions), each resampled at
-/// [`WATERFALL_PER_REV`] equal angle steps per revolution (cubic interpolation in φ, as the
-/// order tracking), rectangular window — so every order `k/w` of the local Ω falls on a bin —
+/// local speed: it always spans `w` revolutions), each resampled at equal angle steps —
+/// [`WATERFALL_PER_REV`] a revolution, or the power of two at or above the samples the record
+/// holds a revolution there when it holds more (a roll's whirl at −R/δ × the speed stays
+/// within the orders resolved) — by cubic interpolation in φ, as the order tracking; rectangular
+/// window — so every order `k/w` of the local Ω falls on a bin —
 /// the mean removed. Windows start at φ = 0, 2πw, 4πw, …; Ω and t are taken at each window's
 /// middle angle. The contact and stick fractions count the recorded samples whose φ lies in
 /// the window (`[start, start + 2πw)`).
@@ -61,7 +65,6 @@ pub fn full_waterfall(r: &TransientResults, w: usize) -> Vec<WaterfallWindow> {
     let x: Vec<f64> = r.response[..n].iter().map(|u| u[0]).collect();
     let y: Vec<f64> = r.response[..n].iter().map(|u| u[1]).collect();
     let revs = (phi[n - 1] / (2.0 * PI)).floor() as usize;
-    let m = w * WATERFALL_PER_REV;
     let mut out = Vec::new();
     let mut cur = 0usize;
     // Time and Ω at angle `a`, linear between the samples that bracket it.
@@ -78,9 +81,14 @@ pub fn full_waterfall(r: &TransientResults, w: usize) -> Vec<WaterfallWindow> {
     for k in 0..revs / w {
         let start = 2.0 * PI * (k * w) as f64;
         let end = start + 2.0 * PI * w as f64;
+        let held = phi.partition_point(|p| *p < end) - phi.partition_point(|p| *p < start);
+        // As many angle steps a revolution as the record holds there, at least
+        // WATERFALL_PER_REV: the orders the samples resolve are kept.
+        let per_rev = WATERFALL_PER_REV.max((held / w).next_power_of_two());
+        let m = w * per_rev;
         let mut z = Vec::with_capacity(m);
         for j in 0..m {
-            let a = start + 2.0 * PI * j as f64 / WATERFALL_PER_REV as f64;
+            let a = start + 2.0 * PI * j as f64 / per_rev as f64;
             while cur + 2 < n && phi[cur + 1] <= a {
                 cur += 1;
             }
@@ -122,6 +130,25 @@ fn contact_state(r: &TransientResults, phi: &[f64], [a0, a1]: [f64; 2]) -> (f64,
         fraction(contact, states.len()),
         r.stick.then(|| fraction(stuck, contact)),
     )
+}
+
+/// What the step `plan` of a transient of `case` or its record does not resolve of a roll
+/// ([`roll_resolution`]), at the fastest of the `windows` that roll ([`rolls`]); empty when
+/// none rolls.
+pub fn roll_warnings(case: &Case, plan: &StepPlan, windows: &[WaterfallWindow]) -> Vec<String> {
+    let fastest = windows
+        .iter()
+        .filter(|w| {
+            w.stick_fraction
+                .is_some_and(|s| rolls(w.contact_fraction, s))
+        })
+        .map(|w| w.omega.abs())
+        .fold(0.0, f64::max);
+    if fastest > 0.0 {
+        roll_resolution(case, fastest, plan)
+    } else {
+        Vec::new()
+    }
 }
 
 /// Consecutive windows of a waterfall in one dry-friction class.

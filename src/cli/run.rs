@@ -89,7 +89,10 @@ fn transient(
     let mut hooks = Hooks::default();
     let t = single::run_transient(outd, (ls, model), t0, &mut hooks)?;
     print_end(&t.results, t.stress.as_ref());
-    print_dry_spans(&t.dry_rub);
+    print_dry_spans(&analysis::waterfall::dry_spans(
+        &t.waterfall,
+        t.results.omega_n,
+    ));
     println!("results in {}", t.dir.display());
     Ok(())
 }

@@ -747,15 +747,7 @@ impl Model {
                 )?
             }
             StatorPlan::Ring(r) => {
-                let clearance = clearance(r.clearance)?;
-                let kx = r.stiffness.value(kr);
-                let support = RingSupport {
-                    stiffness: [kx, r.stiffness_y.unwrap_or(kx)],
-                    mass: r.mass,
-                    damping: [r.damping, r.damping_y.unwrap_or(r.damping)],
-                };
-                StatorModel::ring(&r.name, si, st.radius, clearance, support)
-                    .with_radial_kinematics(r.radial)
+                StatorModel::of_ring(r, si, st.radius, clearance(r.clearance)?, kr)
             }
             StatorPlan::Fe(f) => {
                 let mut m = StatorModel::from_fe(f)?;

@@ -92,8 +92,9 @@ pub struct TransientRun {
     pub stress: Option<TransientStress>,
     /// The speeds of `output.snapshot_speeds` the speed history never passes.
     pub missed_snapshots: Vec<f64>,
-    /// With stick: the spans of the full-spectrum waterfall's windows in dry whirl or dry whip.
-    pub dry_rub: Vec<analysis::waterfall::DrySpan>,
+    /// The full-spectrum waterfall's windows, each with its contact state and dry-friction
+    /// class (`analysis::waterfall`).
+    pub waterfall: Vec<analysis::waterfall::WaterfallWindow>,
     /// The committed output folder.
     pub dir: PathBuf,
 }
@@ -150,11 +151,13 @@ pub fn run_transient(
         transient_out::write_snapshots(&mut outd, title, &snaps, &prep.case, output.png)?;
     }
     let waterfall = analysis::waterfall::full_waterfall(&r, prep.window_revolutions);
+    for w in analysis::waterfall::roll_warnings(&prep.case, &prep.plan, &waterfall) {
+        hooks.warning(&w);
+    }
     whirl_out::write_waterfall(&mut outd, title, &waterfall, r.omega_n, output.png)?;
     if output.png {
         transient_out::write_figures(&mut outd, title, &r, &output.component)?;
     }
-    let dry_rub = analysis::waterfall::dry_spans(&waterfall, r.omega_n);
     let body = TransientBody {
         transient: &r,
         stator_stress: stress.as_ref(),
@@ -170,7 +173,7 @@ pub fn run_transient(
                 .iter()
                 .filter(|w| w.lines.first().is_some_and(|l| l.0 < 0.0))
                 .count(),
-            dry_rub: dry_rub.clone(),
+            dry_rub: analysis::waterfall::dry_spans(&waterfall, r.omega_n),
         },
         wall_s: started.elapsed().as_secs_f64(),
     };
@@ -180,7 +183,7 @@ pub fn run_transient(
         results: r,
         stress,
         missed_snapshots: missed,
-        dry_rub,
+        waterfall,
         dir,
     })
 }

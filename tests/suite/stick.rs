@@ -657,6 +657,14 @@ fn runs_tell_dry_whirl_from_dry_whip() {
     let r = rubsim::analysis::run_speed(&model, &req, Default::default()).unwrap();
     assert_eq!(r.dry_rub, Some(DryRub::Whirl), "Ω = 0.6");
     assert_eq!(r.stick_fraction, Some(1.0));
+    // R/δ = 5 is a whole number: the roll repeats every revolution in theory, but the scheme's
+    // phase error turns its Poincaré points; judged by its extents, it is steady at once.
+    assert!(
+        r.steady && r.transient_revolutions < 50 && r.stationarity.attractor.is_some(),
+        "steady {} after {} revolutions",
+        r.steady,
+        r.transient_revolutions
+    );
     assert_eq!(rubsim::analysis::regime_label(&r), "dry whirl");
     let (ls, model) = scene_model(&text, &start(4.0));
     let req = common::settings(&ls).request(4.0);
@@ -1030,4 +1038,34 @@ fn an_fe_rotor_drops_into_dry_whirl_after_a_blade_off() {
     assert_eq!(s.len(), 1, "{s:?}");
     assert_eq!(s[0].0, "whirl");
     assert!(stdout.contains("dry whirl: t 0."), "{stdout}");
+}
+
+#[test]
+fn a_roll_the_step_or_the_record_does_not_resolve_is_told() {
+    // The blade-off scene at 5e-5 s and 32 samples a revolution: its roll at −20 Ω (9.8e3
+    // rad/s) is taken in 12.8 steps a whirl and lies beyond the ±16 orders of its samples. The
+    // run says both, naming the keys; at the scene's own step and record it says neither.
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::repo("scenes/stick/fe_blade_off_whirl.toml");
+    let run = |sets: &[&str]| {
+        let mut args = vec!["run", scene.to_str().unwrap()];
+        for s in sets {
+            args.extend(["--set", s]);
+        }
+        let out = tmp.path().join("run");
+        args.extend(["--out", out.to_str().unwrap(), "--force"]);
+        let o = common::cli::rubsim(tmp.path(), &args);
+        assert!(o.status.success(), "{}", common::cli::text(&o.stderr));
+        common::cli::text(&o.stderr)
+    };
+    let err = run(&["run.dt=5e-5", "run.samples_per_rev=32"]);
+    assert!(
+        err.contains("station `disk` rolls on stator `casing`")
+            && err.contains("steps a period")
+            && err.contains("`run.dt` ≤")
+            && err.contains("`run.samples_per_rev` ≥ 41"),
+        "{err}"
+    );
+    let err = run(&[]);
+    assert!(!err.contains("rolls on stator"), "{err}");
 }

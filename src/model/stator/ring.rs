@@ -6,6 +6,7 @@
 use super::StatorModel;
 use crate::contact::Target;
 use crate::linalg::Csc;
+use crate::resolve::RingInput;
 use std::sync::Arc;
 
 /// A ring's support: springs and dashpots along x and y to ground, and its mass.
@@ -77,6 +78,18 @@ impl StatorModel {
             dashpot: Default::default(),
             reduced: None,
         }
+    }
+
+    /// The ring of the scene's `r`, facing station `station` of section radius `radius` at
+    /// clearance `clearance` (m), its stiffness ratio (if any) taken of `k_r` (N/m).
+    pub fn of_ring(r: &RingInput, station: usize, radius: f64, clearance: f64, k_r: f64) -> Self {
+        let kx = r.stiffness.value(k_r);
+        let support = RingSupport {
+            stiffness: [kx, r.stiffness_y.unwrap_or(kx)],
+            mass: r.mass,
+            damping: [r.damping, r.damping_y.unwrap_or(r.damping)],
+        };
+        Self::ring(&r.name, station, radius, clearance, support).with_radial_kinematics(r.radial)
     }
 
     /// Sets the ring's contact to the radially elastic law (`radial`, [`Target::Ring`]).
