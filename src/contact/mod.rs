@@ -21,6 +21,7 @@
 //! circle, the normal turns by the ring's own tangential displacement over the clearance, not
 //! over the section radius as for a node.
 
+pub mod coulomb;
 pub mod lcp;
 pub mod ring;
 pub mod search;

@@ -94,6 +94,10 @@ pub struct RunStats {
     pub contact_steps: usize,
     /// Total principal pivots of the complementarity solves.
     pub pivots: usize,
+    /// Contact solves with stick whose friction states the active set did not settle, solved
+    /// instead by nonsmooth Gauss–Seidel sweeps (`contact::coulomb`; docs/STICK.md §2).
+    #[serde(default)]
+    pub friction_sweep_solves: usize,
     /// Entries of the massless stators' compliance `K⁻¹` the loop read (the flexibility blocks
     /// of the pairs entering its contact problems — four entries per 2 × 2 block, one block of
     /// each symmetric pair read, the other its transpose — and the displacements at their

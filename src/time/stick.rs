@@ -22,7 +22,10 @@
 //! problem on the Schur complement; a sticking pair whose `t` leaves the cone then slips in the
 //! direction its `t` pushed, a slipping pair whose slip reversed sticks. All violations switch at
 //! once, then — past as many rounds as there are pairs with stick — the worst alone, which ends
-//! the cycles block switching can make; a problem that still does not settle stops the run.
+//! the cycles block switching can make. A problem that still does not settle (several pairs of
+//! a meshed stator, whose states can cycle), or whose Schur complement is no P-matrix, is
+//! solved by nonsmooth Gauss–Seidel sweeps instead (`contact::coulomb`); one that those do not
+//! settle either stops the run.
 
 use super::blocks::Block;
 use super::drive::Spin;
@@ -30,11 +33,15 @@ use super::solve::pair_dirs;
 use super::stator::StatorDyn;
 use super::stepper::Stepper;
 use super::workspace::{ForceSet, Held, StepWorkspace};
+use crate::contact::coulomb::{solve_nsgs, FrictionProblem};
 use crate::error::SolveError;
 use crate::math::{dot, lu_in_place, lu_solve, V2};
 
 /// Relative tolerance of the cone, `|t| ≤ μ p (1 + CONE_TOL)`, and of a reversed slip.
 const CONE_TOL: f64 = 1e-10;
+
+/// Most nonsmooth Gauss–Seidel sweeps of a step's fallback solve ([`Stepper::friction_by_sweeps`]).
+const NSGS_SWEEPS: usize = 20_000;
 
 impl Stepper<'_> {
     /// True when some selected pair has stick.
@@ -60,20 +67,88 @@ impl Stepper<'_> {
             self.friction_directions();
             self.assemble(held);
             self.assemble_tangential(held, kappa);
-            pivots += self.solve_schur(step, time)?;
+            match self.solve_schur(step, time) {
+                Ok(p) => pivots += p,
+                // A Schur complement that is no P-matrix, a singular tangential block.
+                Err(_) => break,
+            }
             if !self.switch_states(round >= rows + 2) {
                 self.settle_friction();
                 return Ok(pivots);
             }
         }
-        Err(SolveError::Contact {
-            step,
-            time,
-            pairs: self.ws.sel.len(),
-            message: format!(
-                "stick and slip did not settle in {cap} switches of the pairs' friction states"
-            ),
-        })
+        self.friction_by_sweeps(held, kappa, (step, time))?;
+        Ok(pivots)
+    }
+
+    /// The step's frictional contact by nonsmooth Gauss–Seidel (`contact::coulomb`) when the
+    /// active set on the friction states does not settle: every pair with stick's `t` an
+    /// unknown, the sweeps from no force, then each pair's state read off its solution — on
+    /// the cone it slips, inside it sticks — and settled as the active set's are.
+    ///
+    /// # Errors
+    /// [`SolveError::Contact`] when the sweeps do not settle either.
+    fn friction_by_sweeps(
+        &mut self,
+        held: Held,
+        kappa: f64,
+        (step, time): (usize, f64),
+    ) -> Result<(), SolveError> {
+        for r in 0..self.ws.stick.rows.len() {
+            let ci = self.ws.sel[self.ws.stick.rows[r]];
+            self.ws.slip[ci] = 0;
+        }
+        self.friction_directions();
+        self.assemble(held);
+        self.assemble_tangential(held, kappa);
+        let ws = &mut self.ws;
+        let q = ws.sel.len();
+        let sk = &mut ws.stick;
+        let m = sk.rows.len();
+        sk.mu.clear();
+        sk.mu
+            .extend(sk.rows.iter().map(|&i| self.pairs.cands[ws.sel[i]].mu));
+        sk.t.clear();
+        sk.t.resize(m, 0.0);
+        ws.pvec[..q].fill(0.0);
+        let prob = FrictionProblem {
+            q,
+            w_nn: &ws.wmat[..q * q],
+            g: &ws.gvec[..q],
+            w_nt: &sk.wnt,
+            w_tn: &sk.wtn,
+            w_tt: &sk.wtt,
+            zeta: &sk.zeta,
+            rows: &sk.rows,
+            mu: &sk.mu,
+        };
+        solve_nsgs(&prob, &mut ws.pvec[..q], &mut sk.t, NSGS_SWEEPS).map_err(|e| {
+            SolveError::Contact {
+                step,
+                time,
+                pairs: q,
+                message: format!("stick and slip did not settle in the active set on the friction states, and {e}"),
+            }
+        })?;
+        // The states of the solution; the sticking pairs' t kept in row order.
+        let mut kept = 0;
+        for r in 0..m {
+            let (ci, t) = (ws.sel[sk.rows[r]], sk.t[r]);
+            let cone = sk.mu[r] * ws.pvec[sk.rows[r]];
+            if cone > 0.0 && t.abs() >= cone * (1.0 - CONE_TOL) {
+                ws.slip[ci] = if t < 0.0 { -1 } else { 1 };
+            } else {
+                sk.t[kept] = t;
+                kept += 1;
+            }
+        }
+        sk.t.truncate(kept);
+        for (i, &ci) in ws.sel.iter().enumerate() {
+            ws.carried[ci] = ws.pvec[i] > 0.0;
+        }
+        self.stats.friction_sweep_solves += 1;
+        self.settle_friction();
+        Ok(())
     }
 
     /// The spin's increment over the step (rad, `|Δφ|`) and its flexibility to a friction

@@ -195,6 +195,8 @@ pub(crate) struct StickScratch {
     pub(crate) col: Vec<f64>,
     /// Tangential forces of the unknowns (N; on the rotor `−a t`).
     pub(crate) t: Vec<f64>,
+    /// Per row: its pair's friction coefficient (the Gauss–Seidel fallback's).
+    pub(crate) mu: Vec<f64>,
 }
 
 impl StepWorkspace {
