@@ -522,6 +522,8 @@ fn print_reduction(case: &Case, red: &rubsim::model::ReducedRotor) {
 /// stator has elements (a transient then writes its stress history).
 pub(crate) fn listed_outputs(s: &Scene, stress: bool) -> Vec<String> {
     let png = s.output.png;
+    // Runs with stick draw their dry whirl and whip (docs/STICK.md §4).
+    let stick = s.stations.iter().any(|st| st.stick);
     let mut files: Vec<String> = vec!["summary.json".into()];
     let mut add = |csv: &[&str], pngs: &[&str]| {
         files.extend(csv.iter().map(|f| f.to_string()));
@@ -557,6 +559,9 @@ pub(crate) fn listed_outputs(s: &Scene, stress: bool) -> Vec<String> {
         if !s.output.snapshot_speeds.is_empty() {
             add(&["orbit_snapshots.csv"], &["orbit_snapshots.png"]);
         }
+        if stick {
+            add(&[], &["dry_whirl.png"]);
+        }
     } else if let Some(w) = &s.run.sweep {
         files.push("cases/".into());
         let mut per = vec!["sweep.csv".to_string(), "full_cascade.csv".to_string()];
@@ -568,6 +573,9 @@ pub(crate) fn listed_outputs(s: &Scene, stress: bool) -> Vec<String> {
                 per.push("contact_force.png".into());
             }
             per.push("full_cascade.png".into());
+            if stick {
+                per.push("dry_whirl.png".into());
+            }
         }
         let variants = rubsim::study::variants(w.vary.as_ref());
         for v in &variants {

@@ -92,6 +92,22 @@ fn check_lists_the_files_of_sweeps() {
 }
 
 #[test]
+fn check_lists_the_files_of_runs_with_stick() {
+    // A sweep and a transient with stick draw `dry_whirl.png` too.
+    same(
+        "sweep",
+        &[
+            "scenes/stick/dry_whirl.toml",
+            "--set",
+            "run.sweep.from=1.0",
+            "--set",
+            "run.sweep.to=1.0",
+        ],
+    );
+    same("run", &["scenes/stick/whirl_rundown.toml"]);
+}
+
+#[test]
 fn check_lists_the_files_of_a_transient() {
     same("run", &["scenes/transients/paper_runup_coastdown.toml"]);
     same(
