@@ -3,7 +3,8 @@
 //!
 //! A run whose steady window has no period up to [`MAX_PERIOD`] goes on to
 //! `run.classify_revolutions` revolutions so that its Poincaré section has enough points for
-//! the 0–1 test. A response that is bounded over the window may still grow without bound when
+//! the 0–1 test — unless it rolls on its stator (dry whirl, [`super::dry::record_rolls`]),
+//! whose whirl at −RΩ/δ is not locked to the spin. A response that is bounded over the window may still grow without bound when
 //! continued (dry whip building up, a slowly unstable orbit): the lengthened run then meets the
 //! divergence guard ([`SolveError::Diverged`], or a value that is not finite). That is not a
 //! failure of the run the user asked for — its window was integrated without error — but a
@@ -26,6 +27,7 @@
 //! `undetermined` on the longest window.
 
 use super::discrepancy::orbit_span;
+use super::dry::record_rolls;
 use super::dynamics::{dynamics, Regime, K_CHAOTIC, K_REGULAR};
 use super::speed::{window_points, Prepared};
 use super::steady::judge;
@@ -97,7 +99,10 @@ impl Prepared {
         let spr = s.step.samples_per_rev;
         let (w, nrev) = window_points(&self.case, s, &p, st.recorded());
         let (_, _, class) = judge(&w, spr, nrev, s.tolerance, MAX_PERIOD);
-        if class.period > 0 || classify == 0 {
+        // A roll whirls at −RΩ/δ, not locked to the spin: its section is a turning circle and
+        // its class dry whirl whatever a longer section would read (docs/STICK.md §4).
+        let first = p.steady_from / p.record_every.max(1);
+        if class.period > 0 || classify == 0 || record_rolls(&self.case, st.recorded(), first) {
             return Ok((st, None));
         }
         // To `classify` revolutions, then doubling while the 0–1 test is undetermined by a K
