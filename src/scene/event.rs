@@ -187,7 +187,23 @@ fn validate_clearance_event(ls: &LoadedScene, i: usize, e: &EventSpec) -> Result
         )
     })?;
     if !ls.scene.stators.iter().any(|s| s.name() == name) {
-        return Err(ls.invalid(&k("stator"), format!("no `[[stator]]` is named `{name}`")));
+        let names: Vec<String> = ls
+            .scene
+            .stators
+            .iter()
+            .map(|s| format!("`{}`", s.name()))
+            .collect();
+        return Err(ls.invalid(
+            &k("stator"),
+            if names.is_empty() {
+                format!("no stator is named `{name}`: the scene has none (`stator` is empty)")
+            } else {
+                format!(
+                    "no stator is named `{name}`: the scene's stators (`stator`) are {}",
+                    names.join(", ")
+                )
+            },
+        ));
     }
     let c = e.clearance.ok_or_else(|| {
         ls.invalid(

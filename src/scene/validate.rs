@@ -34,7 +34,21 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
         RotorSpec::Fe(f) => validate_fe_rotor(ls, f)?,
     }
     validate_stations(ls)?;
+    let mut names = std::collections::HashSet::new();
     for (i, stator) in s.stators.iter().enumerate() {
+        // Events, outputs and the series name stators: a name says which.
+        if stator.name().trim().is_empty() {
+            return Err(ls.invalid(
+                &format!("stator.{i}.name"),
+                "empty name: events, the outputs and the series refer to a stator by it",
+            ));
+        }
+        if !names.insert(stator.name()) {
+            return Err(ls.invalid(
+                &format!("stator.{i}.name"),
+                format!("duplicate stator name `{}`", stator.name()),
+            ));
+        }
         station_index(ls, i, stator.station())?;
         match stator {
             StatorSpec::Rod(r) => validate_rod(ls, i, r)?,

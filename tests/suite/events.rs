@@ -143,7 +143,7 @@ fn bad_events_name_the_key_and_line() {
         (
             "[[run.event]]\nkind = \"clearance\"\ntime = 0.1\nstator = \"seal\"\nclearance = 1e-4".into(),
             "run.event.0.stator",
-            "no `[[stator]]` is named `seal`",
+            "no stator is named `seal`: the scene's stators (`stator`) are `rod`",
             "stator = ",
         ),
         (

@@ -689,3 +689,34 @@ fn merge_names_two_differing_copies_of_a_case_and_refuses() {
         assert!(err.contains(part), "{part}: {err}");
     }
 }
+
+#[test]
+fn a_stator_needs_a_name_of_its_own() {
+    // Events, the outputs (worn_depth.csv, the series) and the messages name stators: an empty
+    // or repeated name is refused at the name (the mutation test's `stator.0.name = ""` and
+    // duplicated `stator` entry were refused only by the event that could not find them).
+    let text = common::scenes::PAPER;
+    let err = |sets: &[&str]| -> String {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        match rubsim::scene::parse("names.toml".as_ref(), text, &sets) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("{sets:?} accepted"),
+        }
+    };
+    let e = err(&["stator.0.name=\"\""]);
+    assert!(
+        e.contains("`stator.0.name`") && e.contains("empty name"),
+        "{e}"
+    );
+    let e = err(&[
+        "stator.1.kind=\"ring\"",
+        "stator.1.name=\"rod\"",
+        "stator.1.station=\"disk\"",
+        "stator.1.clearance=1e-3",
+        "stator.1.stiffness=1e6",
+    ]);
+    assert!(
+        e.contains("`stator.1.name`") && e.contains("duplicate stator name `rod`"),
+        "{e}"
+    );
+}
