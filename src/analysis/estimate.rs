@@ -1,7 +1,7 @@
 //! The discretisation error of a run at one speed ([`ErrorEstimate`]): companion runs of the
 //! same request at about 2Δt and, at a rub, 4Δt from the start or Δt/2 restarted from the run's
 //! end state, their differences from the run by Richardson extrapolation at the scheme's
-//! nominal order ([`super::richardson`]).
+//! nominal order (`analysis::richardson`).
 
 use super::discrepancy::{extent_scale, orbit_span, Discrepancy, ExtentsScale, Scales};
 use super::richardson::{attractor_error, combine_fine, combine_levels, richardson};
