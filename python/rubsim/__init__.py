@@ -373,7 +373,10 @@ class Transient:
     full-spectrum waterfall's windows (``window_revolutions`` each) as a dict of columns —
     ``t`` (s), ``omega`` (rad/s), ``frequency`` (the strongest line, rad/s, backward < 0),
     ``contact_fraction``, ``stick_fraction`` (NaN without stick) and ``dry_rub`` (a list of
-    ``"whirl"``, ``"whip"`` or ``None``), as ``full_waterfall.csv`` has them."""
+    ``"whirl"``, ``"whip"`` or ``None``), as ``full_waterfall.csv`` has them; ``wear``
+    (``None`` without ``[stator.wear]``): ``history`` (n × 3: t, volume worn m³, largest depth
+    m) and the worn contact nodes' columns ``stator``, ``node``, ``x``, ``y``, ``z``,
+    ``angle_deg``, ``area``, ``depth`` (m), as ``wear.csv`` and ``worn_depth.csv`` have them."""
 
     def __init__(self, d: dict):
         self.summary = json.loads(d["summary"])
@@ -384,6 +387,7 @@ class Transient:
         self.contact_force, self.friction_power, self.friction_energy = (c[:, k] for k in range(3))
         self.torque = d["torque"]
         self.windows = d["waterfall"]
+        self.wear = d["wear"]
         self.warnings = list(d["warnings"])
         self.dir = None if d["dir"] is None else pathlib.Path(d["dir"])
 

@@ -187,6 +187,7 @@ pub fn run_transient<'py>(
     d.set_item("contact", array2(py, contact, 3)?)?;
     d.set_item("torque", pairs(py, &r.torque)?)?;
     d.set_item("waterfall", windows(py, &wf)?)?;
+    d.set_item("wear", wear(py, r.wear.as_ref())?)?;
     d.set_item("warnings", std::mem::take(&mut hooks.warnings))?;
     d.set_item("dir", dir)?;
     Ok(d)
@@ -214,6 +215,35 @@ fn windows<'py>(py: Python<'py>, wf: &[WaterfallWindow]) -> PyResult<Bound<'py, 
     let dry: Vec<Option<&str>> = wf.iter().map(|w| w.dry_rub.map(|c| c.key())).collect();
     d.set_item("dry_rub", dry)?;
     Ok(d)
+}
+
+/// A transient's wear (`[stator.wear]`) as a dict: `history` (n × 3: t s, volume worn m³,
+/// largest depth m), the worn contact nodes' columns `stator` (names), `node`, `x`, `y`, `z`,
+/// `angle_deg`, `area`, `depth`; `None` without wear.
+fn wear<'py>(
+    py: Python<'py>,
+    w: Option<&rubsim::analysis::wear::WearResults>,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let Some(w) = w else {
+        return Ok(None);
+    };
+    let d = PyDict::new(py);
+    let flat = w.history.iter().flatten().copied().collect();
+    d.set_item("history", array2(py, flat, 3)?)?;
+    let col = |f: &dyn Fn(&rubsim::analysis::wear::WornNode) -> f64| {
+        PyArray1::from_vec(py, w.nodes.iter().map(f).collect::<Vec<f64>>())
+    };
+    let names: Vec<&str> = w.nodes.iter().map(|n| n.stator.as_str()).collect();
+    d.set_item("stator", names)?;
+    let nodes: Vec<usize> = w.nodes.iter().map(|n| n.node).collect();
+    d.set_item("node", nodes)?;
+    d.set_item("x", col(&|n| n.x))?;
+    d.set_item("y", col(&|n| n.y))?;
+    d.set_item("z", col(&|n| n.z))?;
+    d.set_item("angle_deg", col(&|n| n.angle_deg))?;
+    d.set_item("area", col(&|n| n.area_m2))?;
+    d.set_item("depth", col(&|n| n.depth_m))?;
+    Ok(Some(d))
 }
 
 /// The damped modes of the rotor alone at Ω = `speed` (rad/s), the `modes` lowest: the JSON of

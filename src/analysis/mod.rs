@@ -73,6 +73,7 @@ pub mod thermal;
 pub mod transient;
 pub mod verify;
 pub mod waterfall;
+pub mod wear;
 pub mod whirl;
 
 pub use autostep::{choose, StepChoice};

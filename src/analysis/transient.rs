@@ -261,6 +261,8 @@ pub struct TransientResults {
     pub contact_state: Vec<[u32; 2]>,
     /// Some station has Coulomb friction with stick (`station.N.stick`).
     pub stick: bool,
+    /// The wear of the stators with `[stator.wear]` (`super::wear`); `None` without wear.
+    pub wear: Option<super::wear::WearResults>,
     /// Order-tracking windows, one per revolution.
     #[serde(skip)]
     pub windows: Vec<OrderWindow>,
@@ -477,6 +479,7 @@ pub fn analyse_transient(
             .map(|(a, s)| [*a, *s])
             .collect(),
         stick: p.case.stations.iter().any(|st| st.stick),
+        wear: super::wear::of_record(&p.case, rec, &phi),
         windows,
         error_estimate: None,
     })

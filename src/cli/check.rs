@@ -137,6 +137,20 @@ fn print_stators(s: &Scene, case: &Case) {
                 m.targets.len()
             );
         }
+        if let Some(w) = &m.wear {
+            let (lo, hi) = w
+                .areas
+                .iter()
+                .fold((f64::INFINITY, 0.0_f64), |(a, b), x| (a.min(*x), b.max(*x)));
+            println!(
+                "  wears (Archard): k = {:.4e} m²/N magnified {} times (`run.wear_acceleration`); {} contact nodes of {:.4e} … {:.4e} m² (their depth grows by k p |ζ| / area a step)",
+                w.rate / w.acceleration,
+                w.acceleration,
+                w.areas.len(),
+                lo,
+                hi
+            );
+        }
         if m.massless() {
             print_massless(m);
         } else if let Some(r) = &m.reduced {
@@ -561,6 +575,12 @@ pub(crate) fn listed_outputs(s: &Scene, stress: bool) -> Vec<String> {
         }
         if stick {
             add(&[], &["dry_whirl.png"]);
+        }
+        if s.stators.iter().any(|st| st.wear().is_some()) {
+            add(
+                &["wear.csv", "worn_depth.csv"],
+                &["wear.png", "worn_depth.png"],
+            );
         }
     } else if let Some(w) = &s.run.sweep {
         files.push("cases/".into());

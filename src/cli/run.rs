@@ -173,6 +173,24 @@ fn print_end(r: &analysis::TransientResults, stress: Option<&TransientStress>) {
         ),
         None => println!("estimated error: none (`run.error_estimate = false`, or no companion step could be planned)"),
     }
+    if let Some(w) = &r.wear {
+        println!(
+            "wear (magnification A = {}, wear time {:.4e} s): {:.4e} m³ worn, largest depth {:.4e} m{}{}",
+            w.acceleration,
+            w.acceleration * r.duration,
+            w.volume_m3,
+            w.max_depth_m,
+            w.deepest.as_ref().map_or(String::new(), |n| format!(
+                " at stator `{}` node {} ({:.1}°, z = {:.4} m)",
+                n.stator, n.node, n.angle_deg, n.z
+            )),
+            if w.free_at_end {
+                "; the rub has worn itself free (no contact over the last revolution)"
+            } else {
+                ""
+            }
+        );
+    }
     for p in stress.iter().flat_map(|s| &s.peaks) {
         println!(
             "stator `{}`: largest stress {:.4e} Pa at t = {:.4} s, Ω/ωn = {:.3} ({} nodes in contact)",

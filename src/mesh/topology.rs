@@ -64,6 +64,37 @@ impl Mesh {
         c
     }
 
+    /// Tributary measure of each node of boundary group `name` (curves of a 2-D mesh: m; surfaces
+    /// of a 3-D mesh: m²), as `(node, measure)` sorted by node: every facet's length (area)
+    /// shared equally by its nodes — the lumped share of a uniform load for linear facets; a
+    /// quadratic facet's nodes take equal shares too, not its consistent ones (which are zero
+    /// at a 6-node triangle's corners).
+    pub fn boundary_measures(&self, name: &str) -> Result<Vec<(usize, f64)>, MeshError> {
+        let g = self.group(name)?;
+        let mut acc: HashMap<usize, f64> = HashMap::new();
+        for b in self.group_blocks(g) {
+            let k = b.kind.corners();
+            for cell in b.cells() {
+                let p: Vec<[f64; 3]> = cell[..k].iter().map(|&n| self.nodes[n]).collect();
+                let measure = match k {
+                    2 => norm3(sub(p[1], p[0])),
+                    3 => 0.5 * norm3(cross(sub(p[1], p[0]), sub(p[2], p[0]))),
+                    4 => {
+                        0.5 * (norm3(cross(sub(p[1], p[0]), sub(p[2], p[0])))
+                            + norm3(cross(sub(p[2], p[0]), sub(p[3], p[0]))))
+                    }
+                    _ => 0.0,
+                };
+                for &node in cell {
+                    *acc.entry(node).or_insert(0.0) += measure / cell.len() as f64;
+                }
+            }
+        }
+        let mut out: Vec<(usize, f64)> = acc.into_iter().collect();
+        out.sort_unstable_by_key(|x| x.0);
+        Ok(out)
+    }
+
     /// Outward unit normals at the nodes of boundary group `name` (curves of a 2-D mesh,
     /// surfaces of a 3-D mesh), as `(node, n)` sorted by node. Each facet's normal is oriented
     /// away from the body cell it bounds; a node's normal is the length- (area-) weighted mean
@@ -221,6 +252,10 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 /// Dot product.
+fn norm3(a: [f64; 3]) -> f64 {
+    dot3(a, a).sqrt()
+}
+
 fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }

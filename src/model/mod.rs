@@ -13,6 +13,7 @@ mod blame;
 pub mod drive;
 pub mod events;
 pub mod fe_rotor;
+mod place;
 pub mod reduce;
 pub mod rotor;
 pub mod speed_profile;
@@ -305,10 +306,6 @@ impl Rotor {
     }
 }
 
-/// Why `contact_damping` is refused on a stator with mass (the key is named by
-/// `blame::stators`).
-const CONTACT_DAMPING_WITH_MASS: &str = "`contact_damping` on a stator with mass is not modelled: its contact with the rotor is rigid (the multipliers hold the relative normal velocity at zero while in contact), so a dashpot in parallel with it does nothing; damp the stator itself (`rayleigh`, or a ring's `damping`) or make it massless";
-
 /// Speed-independent model.
 #[derive(Debug, Clone)]
 pub struct Model {
@@ -325,6 +322,8 @@ pub struct Model {
     /// The rotor's modal reduction for the time loop (`[run.reduction]`): every case is
     /// reduced ([`Case::reduce`]); `None`: the full model.
     pub reduction: Option<crate::resolve::ReductionInput>,
+    /// Each stator's wear (`[stator.wear]`), in scene order; `None` without wear.
+    pub wear: Vec<Option<crate::resolve::WearInput>>,
 }
 
 /// A stator before a speed is chosen: what [`Model::case`] makes a [`StatorModel`] of.
@@ -605,6 +604,7 @@ impl Model {
             dashpots: r.dashpots.clone(),
             observed_node: r.observed_node,
             reduction: r.reduction,
+            wear: r.wear.clone(),
         };
         // An undamped rotor has no |Z0| at ω_n itself: that speed's runs say so; the model is
         // fine.
@@ -660,6 +660,7 @@ impl Model {
                 // A placement that never meets the rotor names the stator's `approach_deg`.
                 self.stator_at(plan, omega, kr, &forced)
                     .and_then(|m| self.with_dashpot(i, m))
+                    .map(|m| self.with_wear(i, m))
                     .map_err(|e| blame::approach(i, e))
             })
             .collect::<Result<Vec<_>, _>>()?;
@@ -686,111 +687,5 @@ impl Model {
             reduced: None,
         }
         .reduced_by(reduction)
-    }
-
-    /// Stator `i` with its contact dashpot; refused on a stator with mass.
-    fn with_dashpot(&self, i: usize, mut m: StatorModel) -> Result<StatorModel, ModelError> {
-        let d = self.dashpots.get(i).copied().unwrap_or_default();
-        if d.active() && !m.massless() {
-            return Err(ModelError::Inconsistent {
-                what: format!("stator `{}`", m.name),
-                message: CONTACT_DAMPING_WITH_MASS.into(),
-            });
-        }
-        m.dashpot = d;
-        Ok(m)
-    }
-
-    /// One stator at speed ω, placed at its clearance, for a rotor of reference stiffness
-    /// `kr` (N/m) whose forced response per node is `forced` ([`Rotor::forced_ellipses`]).
-    fn stator_at(
-        &self,
-        plan: &StatorPlan,
-        omega: f64,
-        kr: f64,
-        forced: &[[f64; 2]],
-    ) -> Result<StatorModel, ModelError> {
-        let si = plan.station();
-        let st = &self.stations[si];
-        let clearance = |c: Clearance| match c {
-            Clearance::Metres(m) => Ok(m),
-            Clearance::TimesZ0(nd) => {
-                let z0 = forced[st.node][0];
-                match self.rotor.z0_trouble(omega, z0) {
-                    None => Ok(nd * z0),
-                    Some((cause, at_this_speed_only)) => Err(ModelError::ClearanceScale {
-                        what: format!("stator `{}`", plan.name()),
-                        omega,
-                        cause,
-                        at_this_speed_only,
-                    }),
-                }
-            }
-        };
-        Ok(match plan {
-            StatorPlan::Rod(r) => {
-                let clearance = clearance(r.clearance)?;
-                let ks = r.stiffness(kr);
-                let e = ks * r.length / r.area;
-                StatorModel::rod(
-                    &r.name,
-                    si,
-                    st.radius,
-                    clearance,
-                    r.length,
-                    ks * r.length,
-                    e,
-                    r.density * r.area,
-                    r.elements,
-                    r.angle_deg,
-                    r.rayleigh,
-                )?
-            }
-            StatorPlan::Ring(r) => {
-                StatorModel::of_ring(r, si, st.radius, clearance(r.clearance)?, kr)
-            }
-            StatorPlan::Fe(f) => {
-                let mut m = StatorModel::from_fe(f)?;
-                m.clearance = m
-                    .targets
-                    .iter()
-                    .map(|t| match t {
-                        Target::Node { x0, .. } => x0[0].hypot(x0[1]) - st.radius,
-                        Target::Ring { inner_radius, .. } => inner_radius - st.radius,
-                    })
-                    .fold(f64::INFINITY, f64::min);
-                if m.clearance < 0.0 {
-                    return Err(ModelError::Inconsistent {
-                        what: format!("stator `{}`", f.name),
-                        message: format!(
-                            "a contact node lies inside the rotor section (clearance {:.3e} m ≤ 0)",
-                            m.clearance
-                        ),
-                    });
-                }
-                m
-            }
-            StatorPlan::Mesh { model, placement } => {
-                let mut m = StatorModel::clone(model);
-                let radii: Vec<f64> = self.stations.iter().map(|s| s.radius).collect();
-                match *placement {
-                    Placement::At {
-                        clearance: c,
-                        approach_deg,
-                    } => stator::mesh::place(&mut m, &radii, clearance(c)?, approach_deg)?,
-                    Placement::AsMeshed => m.clearance = stator::mesh::clearance_of(&m, &radii),
-                }
-                if m.clearance.is_nan() || m.clearance <= 0.0 {
-                    return Err(ModelError::Inconsistent {
-                        what: format!("stator `{}`", m.name),
-                        message: format!(
-                            "a contact node lies inside the rotor section (clearance {:.3e} m ≤ 0): check the geometry's radii against the station radius {} m",
-                            m.clearance, st.radius
-                        ),
-                    });
-                }
-                m
-            }
-        })
     }
 }

@@ -27,6 +27,7 @@ pub mod summary;
 pub mod thermal;
 pub mod transient;
 pub mod transient_stress;
+pub mod wear;
 pub mod whirl;
 
 pub use drawings::Drawings;

@@ -81,6 +81,17 @@ pub struct Resolved {
     pub observed_node: Option<usize>,
     /// The FE rotor's modal reduction (`[run.reduction]`); `None`: the full model.
     pub reduction: Option<ReductionInput>,
+    /// Each stator's wear, in scene order (`[stator.wear]`); `None` without wear.
+    pub wear: Vec<Option<WearInput>>,
+}
+
+/// A stator's Archard wear (`scene::wear`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WearInput {
+    /// k (m²/N): Archard's dimensional wear coefficient.
+    pub coefficient: f64,
+    /// A: the wear magnification `run.wear_acceleration`.
+    pub acceleration: f64,
 }
 
 /// `[run.reduction]` resolved: the cut-off ω_cut (rad/s) is `cutoff` when given, else
@@ -130,6 +141,16 @@ pub fn resolve(ls: &LoadedScene) -> Result<Resolved, Error> {
             })
             .collect(),
         observed_node: s.output.node,
+        wear: s
+            .stators
+            .iter()
+            .map(|spec| {
+                spec.wear().map(|w| WearInput {
+                    coefficient: w.coefficient,
+                    acceleration: s.run.wear_acceleration,
+                })
+            })
+            .collect(),
         reduction: s.run.reduction.map(|r| ReductionInput {
             cutoff: r.cutoff,
             cutoff_factor: r

@@ -4,7 +4,7 @@
 use super::layout::{Layout, RING_POINTS, THETA_Z, U_Z};
 use crate::contact::{pair_state, target_disp};
 use crate::model::stator::StatorElement;
-use crate::model::Case;
+use crate::model::{Case, Target};
 use crate::time::Frame;
 
 /// Strain of an element from its stress (Pa): σ/E for bars and frames (axial), NaN where it is
@@ -66,6 +66,9 @@ pub struct FrameState {
     /// Undeformed position (m) of the contact point of each ring ([`Layout::rings`]) in this
     /// frame's contact direction: `center0 + R n` (see [`RingSlot`](super::RingSlot)); the `.vtu` writes it.
     pub ring_contact: Vec<[f64; 3]>,
+    /// With wear (`[stator.wear]`): the worn depth at every point (m; 0 off the worn contact
+    /// nodes); `None` without wear.
+    pub worn_depth: Option<Vec<f64>>,
 }
 
 impl FrameState {
@@ -105,6 +108,11 @@ impl FrameState {
                 .iter()
                 .map(|r| layout.grid.points[r.contact_point])
                 .collect(),
+            worn_depth: case
+                .stators
+                .iter()
+                .any(|s| s.wear.is_some())
+                .then(|| vec![0.0; np]),
         }
     }
 
@@ -171,6 +179,18 @@ impl FrameState {
             }
             self.station_force[p.station][0] -= p.force[0];
             self.station_force[p.station][1] -= p.force[1];
+        }
+        if let (Some(depth), false) = (self.worn_depth.as_mut(), f.worn.is_empty()) {
+            // The candidates' order: stator by stator, target by target.
+            let mut ci = 0;
+            for (k, s) in case.stators.iter().enumerate() {
+                for tg in &s.targets {
+                    if let (Target::Node { node, .. }, Some(h)) = (tg, f.worn.get(ci)) {
+                        depth[layout.stator_first_point[k] + node] = *h;
+                    }
+                    ci += 1;
+                }
+            }
         }
         for (k, s) in case.stators.iter().enumerate() {
             if s.elements.is_empty() {

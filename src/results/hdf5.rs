@@ -60,6 +60,8 @@ enum PointField {
     Twist,
     /// dθ_z/dt of the rotor points (rad/s), NaN on the stator points.
     TwistRate,
+    /// With wear: the worn depth (m) of the stators' contact nodes, 0 elsewhere.
+    WornDepth,
 }
 
 #[derive(Clone, Copy)]
@@ -205,6 +207,10 @@ impl Hdf5Series {
                 PointField::Twist => data.push(layout.rotor_point_values(&st.rotor_twist))?,
                 PointField::TwistRate => {
                     data.push(layout.rotor_point_values(&st.rotor_twist_rate))?
+                }
+                PointField::WornDepth => {
+                    let depth = st.worn_depth.as_deref().unwrap_or_default();
+                    data.push(depth.iter().copied())?
                 }
             }
             off.push([k * npts])?;
@@ -556,6 +562,7 @@ fn point_columns(
             "rad/s",
             &[],
         ),
+        (layout.wear, "worn_depth", PointField::WornDepth, "m", &[]),
     ] {
         if on {
             point_data.push((

@@ -272,6 +272,8 @@ pub struct Layout {
     pub stator_names: Vec<String>,
     /// Station names.
     pub station_names: Vec<String>,
+    /// Some stator wears (`[stator.wear]`): every frame carries the point field `worn_depth`.
+    pub wear: bool,
 }
 
 impl Layout {
@@ -311,6 +313,7 @@ impl Layout {
             pair_of,
             stator_names: case.stators.iter().map(|s| s.name.clone()).collect(),
             station_names: case.stations.iter().map(|s| s.name.clone()).collect(),
+            wear: case.stators.iter().any(|s| s.wear.is_some()),
         }
     }
 

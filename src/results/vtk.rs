@@ -235,7 +235,8 @@ fn frame_vtk(layout: &Layout, st: &FrameState, fields: &Fields) -> Vtk {
 }
 
 /// A frame's point data as `fields` asks: displacement, velocity and contact force (vectors),
-/// and on a rotor with θ_z its `twist` (rad) and `twist_rate` (rad/s), NaN on the stator points.
+/// and on a rotor with θ_z its `twist` (rad) and `twist_rate` (rad/s), NaN on the stator points;
+/// with wear, always, `worn_depth` (m).
 fn point_data(layout: &Layout, st: &FrameState, fields: &Fields) -> Vec<Attribute> {
     let mut point = Vec::new();
     // Rotors with θ_z: `twist` (rad) and `twist_rate` (rad/s) on the rotor points, NaN on
@@ -257,6 +258,10 @@ fn point_data(layout: &Layout, st: &FrameState, fields: &Fields) -> Vec<Attribut
     }
     if fields.contact_force {
         point.push(vectors("contact_force", flat3(&st.contact_force)));
+    }
+    if let Some(depth) = &st.worn_depth {
+        // With wear, always: the worn depth (m) of the stators' contact nodes.
+        point.push(scalars("worn_depth", IOBuffer::F64(depth.clone())));
     }
     point
 }

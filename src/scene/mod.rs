@@ -24,6 +24,7 @@ pub mod schema;
 mod stator;
 pub mod thermal;
 pub mod validate;
+pub mod wear;
 
 pub use event::{EventKind, EventSpec};
 pub use output::*;

@@ -67,6 +67,11 @@ pub struct RunSpec {
     /// stator's clearance changing.
     #[serde(default)]
     pub event: Vec<super::EventSpec>,
+    /// Wear magnification A (> 0, default 1): stators with `[stator.wear]` wear A times as fast
+    /// as Archard's law says, so a run of machine time t represents a wear time A t
+    /// (`scene::wear`).
+    #[serde(default = "unit_factor")]
+    pub wear_acceleration: f64,
     /// A fixed window (s, > 0): the run integrates exactly this long from its start state
     /// (`initial_displacement`, `initial_velocity` at t = 0) at the given or chosen Δt, and is
     /// never lengthened — not for the steady state, not for the 0–1 test — ROSS's
@@ -312,6 +317,9 @@ fn default_classify_revolutions() -> usize {
 pub const MAX_TRANSIENT_FACTOR: usize = 5;
 fn default_harmonics() -> f64 {
     4.0
+}
+fn unit_factor() -> f64 {
+    1.0
 }
 fn default_spr() -> usize {
     64

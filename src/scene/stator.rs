@@ -67,6 +67,15 @@ impl StatorSpec {
             StatorSpec::Mesh(s) => &s.station,
         }
     }
+    /// Its `[stator.wear]`, if any.
+    pub fn wear(&self) -> Option<&super::wear::WearSpec> {
+        match self {
+            StatorSpec::Rod(s) => s.wear.as_ref(),
+            StatorSpec::Ring(s) => s.wear.as_ref(),
+            StatorSpec::Fe(s) => s.wear.as_ref(),
+            StatorSpec::Mesh(s) => s.wear.as_ref(),
+        }
+    }
 }
 
 /// Stator meshed by gmsh (`kind = "mesh"`).
@@ -166,6 +175,10 @@ pub struct MeshStatorSpec {
     /// 3-D meshes: axial position along the rotor (m) of the mesh's z = 0.
     #[serde(default)]
     pub axial_origin: f64,
+    /// Archard wear of the contact nodes (`[stator.wear]`, `scene::wear`); rods and meshed
+    /// stators only. Absent: no wear.
+    #[serde(default)]
+    pub wear: Option<super::wear::WearSpec>,
     /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
     /// force, a dashpot between the rotor section and ground in parallel with the contact damps
     /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).
@@ -296,6 +309,10 @@ pub struct RodSpec {
     /// Rayleigh damping `[α, β]`, C = α M + β K (only with mass).
     #[serde(default)]
     pub rayleigh: [f64; 2],
+    /// Archard wear of the contact nodes (`[stator.wear]`, `scene::wear`); rods and meshed
+    /// stators only. Absent: no wear.
+    #[serde(default)]
+    pub wear: Option<super::wear::WearSpec>,
     /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
     /// force, a dashpot between the rotor section and ground in parallel with the contact damps
     /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).
@@ -347,6 +364,10 @@ pub struct RingSpec {
     /// Support damping along y (N·s/m) when it differs from `damping` (c_x), only with mass.
     /// Left out: `damping`.
     pub damping_y: Option<f64>,
+    /// Archard wear of the contact nodes (`[stator.wear]`, `scene::wear`); rods and meshed
+    /// stators only. Absent: no wear.
+    #[serde(default)]
+    pub wear: Option<super::wear::WearSpec>,
     /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
     /// force, a dashpot between the rotor section and ground in parallel with the contact damps
     /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).
@@ -395,6 +416,10 @@ pub struct FeStatorSpec {
     /// Lumped point masses `[node, kg]` added to element masses.
     #[serde(default)]
     pub point_masses: Vec<(usize, f64)>,
+    /// Archard wear of the contact nodes (`[stator.wear]`, `scene::wear`); rods and meshed
+    /// stators only. Absent: no wear.
+    #[serde(default)]
+    pub wear: Option<super::wear::WearSpec>,
     /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
     /// force, a dashpot between the rotor section and ground in parallel with the contact damps
     /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).

@@ -57,6 +57,7 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
             StatorSpec::Mesh(m) => validate_mesh_stator(ls, i, m)?,
         }
         validate_contact_damping(ls, i, stator)?;
+        super::wear::validate(ls, i, stator)?;
     }
     validate_run(ls)?;
     output_component(ls)?;

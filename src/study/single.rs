@@ -158,6 +158,9 @@ pub fn run_transient(
     if output.png {
         transient_out::write_figures(&mut outd, title, &r, &output.component)?;
     }
+    if let Some(w) = &r.wear {
+        crate::output::wear::write(&mut outd, title, w, output.png)?;
+    }
     let body = TransientBody {
         transient: &r,
         stator_stress: stress.as_ref(),

@@ -34,6 +34,9 @@ pub struct Frame<'a> {
     /// driven rotor's spin DOF); `None` at constant speed, where φ = Ω t.
     pub spin: Option<crate::model::SpinState>,
     pub(crate) stators: &'a [StatorDyn],
+    /// With wear (`[stator.wear]`): the worn depth of every contact target so far (m), stator
+    /// by stator, target by target; empty otherwise.
+    pub worn: &'a [f64],
 }
 
 impl Frame<'_> {

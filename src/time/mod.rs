@@ -73,6 +73,7 @@ mod spin;
 mod stator;
 mod stepper;
 mod stick;
+mod wear;
 mod workspace;
 
 pub use budget::{estimate, one_at_a_time, Budget};

@@ -35,6 +35,12 @@ pub struct Record {
     /// A driven rotor's spin per sample: `[φ (rad), Ω (rad/s), Ω̇ (rad/s²), drive torque
     /// T_d (N·m), rub friction torque Σ R μ p (N·m)]` (`time::drive`); empty otherwise.
     pub spin: Vec<[f64; 5]>,
+    /// With wear (`[stator.wear]`), per sample: the volume worn so far (m³) and the largest
+    /// worn depth of a target (m); empty otherwise.
+    pub wear: Vec<[f64; 2]>,
+    /// With wear, at the run's end: the worn depth of every candidate pair's target (m), in the
+    /// candidates' order — stator by stator, target by target; empty otherwise.
+    pub worn: Vec<f64>,
 }
 
 impl Record {
@@ -51,6 +57,8 @@ impl Record {
             active: Vec::with_capacity(samples),
             sticking: Vec::with_capacity(samples),
             spin: Vec::new(),
+            wear: Vec::new(),
+            worn: Vec::new(),
         }
     }
     /// Number of samples.

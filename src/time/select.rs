@@ -73,6 +73,13 @@ pub(crate) struct Pairs {
     pub(crate) exact_rings: bool,
     /// Some candidate has Coulomb friction with stick (`super::stick`).
     pub(crate) any_stick: bool,
+    /// Per candidate: its target's wear, `(k A, area)` (m²/N, m², `model::StatorWear`); `(0, 0)`
+    /// for a target that does not wear.
+    pub(crate) wear: Vec<(f64, f64)>,
+    /// Per candidate: its target's worn depth (m), added to its gap (`super::wear`).
+    pub(crate) worn: Vec<f64>,
+    /// Some candidate wears.
+    pub(crate) any_wear: bool,
 }
 
 impl Pairs {
@@ -111,9 +118,23 @@ impl Pairs {
         let exact_rings = cands
             .iter()
             .any(|c| case.stators[c.stator].targets[c.target].exact_ring());
+        let wear: Vec<(f64, f64)> = cands
+            .iter()
+            .map(|c| {
+                case.stators[c.stator]
+                    .wear
+                    .as_ref()
+                    .map_or((0.0, 0.0), |w| {
+                        (w.rate, w.areas.get(c.target).copied().unwrap_or(0.0))
+                    })
+            })
+            .collect();
         Self {
             exact_rings,
             any_stick: cands.iter().any(|c| c.stick),
+            any_wear: wear.iter().any(|w| w.0 > 0.0 && w.1 > 0.0),
+            worn: vec![0.0; cands.len()],
+            wear,
             broad: BroadPhase::new(&indexed, 16),
             cands,
             station_dofs,
@@ -166,7 +187,7 @@ impl Pairs {
         let tg = &case.stators[c.stator].targets[c.target];
         let us = stator.map_or([0.0; 2], |s| s.target_disp(tg.dofs()));
         let mut st = pair_state(tg, c.radius, self.centre(ci, u), us, self.omega);
-        st.g += self.offset[c.stator];
+        st.g += self.offset[c.stator] + self.worn[ci];
         st
     }
 
@@ -307,7 +328,7 @@ impl Pairs {
             }
         }
         let mut st = pair_state(tg, c.radius, uc, us, self.omega);
-        st.g += self.offset[c.stator];
+        st.g += self.offset[c.stator] + self.worn[ci];
         Some(st)
     }
 
@@ -324,7 +345,11 @@ impl Pairs {
         for (&ci, us) in sel.iter().zip(us) {
             let c = &self.cands[ci];
             let tg = &case.stators[c.stator].targets[c.target];
-            min = min.min(exact_gap(tg, c.radius, self.centre(ci, u), *us) + self.offset[c.stator]);
+            min = min.min(
+                exact_gap(tg, c.radius, self.centre(ci, u), *us)
+                    + self.offset[c.stator]
+                    + self.worn[ci],
+            );
         }
         min
     }

@@ -133,6 +133,8 @@ impl Stepper<'_> {
             self.apply_dashpots(held, into);
         }
         self.target_displacements();
+        // Before the dissipation keeps the targets' end for the next step's slip.
+        self.wear_step(held, step, time);
         self.friction_dissipation(held, into, step, time);
         Ok(pivots)
     }

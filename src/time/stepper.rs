@@ -73,6 +73,8 @@ pub struct Stepper<'a> {
     /// Smallest post-correction gap of the pairs solved for the instant the next
     /// [`Stepper::observe`] counts (m; +∞ when none).
     instant_gap: f64,
+    /// Volume worn off the stators so far (m³, `super::wear`).
+    pub(crate) worn_volume: f64,
     /// Contact statistics of the open segment of instants (one revolution of
     /// `plan.steps_per_rev` steps, the last one ending at `plan.steps`); closed into
     /// `segments` at `boundary`.
@@ -228,6 +230,7 @@ impl<'a> Stepper<'a> {
             energy: 0.0,
             active: 0,
             instant_gap: f64::INFINITY,
+            worn_volume: 0.0,
             segment: ContactStats::starting_at(0),
             segments: Vec::with_capacity(plan.steps / plan.steps_per_rev.max(1) + 2),
             boundary: 0,
@@ -426,7 +429,11 @@ impl<'a> Stepper<'a> {
         if stats.min_gap == f64::INFINITY {
             stats.min_gap = f64::NAN;
         }
-        Ok((self.recorder.rec, stats))
+        let mut rec = self.recorder.rec;
+        if self.pairs.any_wear {
+            rec.worn = self.pairs.worn;
+        }
+        Ok((rec, stats))
     }
 
     /// One step of the plan, tₙ → tₙ₊₁; false once the plan is done (the collocated scheme

@@ -153,7 +153,7 @@ impl Stepper<'_> {
 
     /// The spin's increment over the step (rad, `|Δφ|`) and its flexibility to a friction
     /// torque (`κ`, rad/(N·m): a driven rotor's, 0 otherwise).
-    fn spin_step(&self, held: Held, n: usize, t: f64) -> (f64, f64) {
+    pub(super) fn spin_step(&self, held: Held, n: usize, t: f64) -> (f64, f64) {
         let dt = self.plan.dt;
         match (&self.spin, held) {
             (Spin::Constant, _) => (self.case.omega.abs() * dt, 0.0),
@@ -199,7 +199,7 @@ impl Stepper<'_> {
     /// radially elastic ring's material point does not move along the tangent (its friction
     /// goes to ground). A massless stator's start is its displacement after the pair's solve
     /// of step n − 1 when it had one, else the sum over that solve's forces.
-    fn slip(&self, held: Held, (ci, n): (usize, usize), s1: V2, dphi: f64) -> f64 {
+    pub(super) fn slip(&self, held: Held, (ci, n): (usize, usize), s1: V2, dphi: f64) -> f64 {
         let (case, pairs, rotor) = (self.case, &self.pairs, &self.rotor);
         let (u1, u0) = match held {
             Held::No => (&rotor.u_next, &rotor.u),
@@ -251,7 +251,7 @@ impl Stepper<'_> {
                 self.ws.power_set = true;
             }
         }
-        if self.pairs.any_stick || instant + 1 == self.next_record {
+        if self.pairs.any_stick || self.pairs.any_wear || instant + 1 == self.next_record {
             let ws = &mut self.ws;
             for (&ci, &u) in ws.sel.iter().zip(&ws.us) {
                 ws.us_end[ci] = (u, n);

@@ -49,4 +49,5 @@ mod thermal;
 mod transient_scenes;
 mod transients;
 mod verification;
+mod wear;
 mod whirl;

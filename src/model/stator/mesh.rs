@@ -15,7 +15,7 @@
 //! * fixed components from the `fixed*` groups;
 //! * contact targets: the nodes of the contact group, with their outward normals.
 //!
-//! The model is speed independent; [`place`] moves it rigidly to a clearance at each speed.
+//! The model is speed independent; `model::place` moves it rigidly to a clearance at each speed.
 //!
 //! # Conventions
 //!
@@ -132,6 +132,7 @@ pub fn from_mesh(
         dim,
         cells: cells.len(),
         contact_normals: contact.normals,
+        contact_areas: contact.areas,
         target_station: contact.stations,
         node_z: if solid {
             mesh.nodes.iter().map(|p| p[2]).collect()
@@ -162,6 +163,7 @@ pub fn from_mesh(
         mesh: Some(Arc::clone(&data)),
         dashpot: Default::default(),
         reduced: None,
+        wear: None,
     };
     // The contact stiffness bound (every run's step plan asks for it) factors the interior
     // block K_ii: done before K's own factor, so the two factors are never held at once.
@@ -674,6 +676,8 @@ impl Assembly {
 struct Contact {
     targets: Vec<Target>,
     normals: Vec<V2>,
+    /// Tributary area of each target (m²): the boundary's measure times the thickness in 2-D.
+    areas: Vec<f64>,
     stations: Vec<usize>,
 }
 
@@ -688,12 +692,21 @@ fn contact_targets(
 ) -> Result<Contact, Error> {
     let file = &mesh.file;
     let normals = mesh.boundary_normals(&p.contact_group)?;
+    let measures = mesh.boundary_measures(&p.contact_group)?;
+    // 2-D: a boundary length times the stator's thickness (its regions' own are not read).
+    let depth = if solid {
+        1.0
+    } else {
+        p.thickness.unwrap_or(1.0)
+    };
     let mut c = Contact {
         targets: Vec::with_capacity(normals.len()),
         normals: Vec::with_capacity(normals.len()),
+        areas: Vec::with_capacity(normals.len()),
         stations: Vec::with_capacity(normals.len()),
     };
-    for (n, nv) in &normals {
+    for ((n, nv), (_, measure)) in normals.iter().zip(&measures) {
+        c.areas.push(measure * depth);
         if !dofs.used[*n] {
             return Err(bad_group(
                 file,
@@ -733,68 +746,4 @@ fn contact_targets(
         ));
     }
     Ok(c)
-}
-
-/// Clearance of a meshed stator as placed: the smallest distance from the surface of the
-/// station each contact node faces (`radii[station]`, m) to that node (m).
-pub fn clearance_of(model: &StatorModel, radii: &[f64]) -> f64 {
-    model
-        .targets
-        .iter()
-        .enumerate()
-        .filter_map(|(t, tg)| match tg {
-            Target::Node { x0, .. } => Some(x0[0].hypot(x0[1]) - radii[model.target_station(t)]),
-            Target::Ring { .. } => None,
-        })
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Translates the stator rigidly along `approach_deg` so that, coming from far along that
-/// direction, its first contact node meets the circle of radius `r + clearance` of its station
-/// (`r = radii[station]`): the translation is `s d` with
-/// `s = max_i (−x_i·d + √((x_i·d)² − |x_i|² + (r_i+δ)²))` over the contact nodes whose line of
-/// approach meets their circle.
-pub fn place(
-    model: &mut StatorModel,
-    radii: &[f64],
-    clearance: f64,
-    approach_deg: f64,
-) -> Result<(), ModelError> {
-    let t = approach_deg.to_radians();
-    let d = [t.cos(), t.sin()];
-    let s = model
-        .targets
-        .iter()
-        .enumerate()
-        .filter_map(|(i, tg)| match tg {
-            Target::Node { x0, .. } => {
-                let rc = radii[model.target_station(i)] + clearance;
-                let b = x0[0] * d[0] + x0[1] * d[1];
-                let disc = b * b - (x0[0] * x0[0] + x0[1] * x0[1]) + rc * rc;
-                (disc >= 0.0).then(|| -b + disc.sqrt())
-            }
-            Target::Ring { .. } => None,
-        })
-        .fold(f64::NEG_INFINITY, f64::max);
-    if !s.is_finite() {
-        return Err(ModelError::Inconsistent {
-            what: format!("stator `{}`", model.name),
-            message: format!(
-                "moved along approach_deg = {approach_deg}°, no contact node ever meets the rotor section: check approach_deg"
-            ),
-        });
-    }
-    for p in model.nodes.iter_mut() {
-        p[0] += s * d[0];
-        p[1] += s * d[1];
-    }
-    for tg in model.targets.iter_mut() {
-        if let Target::Node { x0, .. } = tg {
-            x0[0] += s * d[0];
-            x0[1] += s * d[1];
-        }
-    }
-    model.clearance = clearance_of(model, radii);
-    model.angle_deg = Some(approach_deg);
-    Ok(())
 }

@@ -116,6 +116,23 @@ pub struct StatorModel {
     /// The Craig–Bampton reduction the time loop integrates instead of the full stator
     /// (`[run.reduction] stators = true`, [`reduce::ReducedStator`]); `None`: the full model.
     pub reduced: Option<Arc<reduce::ReducedStator>>,
+    /// Archard wear of the contact targets (`[stator.wear]`, `time::wear`); `None`: no wear.
+    pub wear: Option<StatorWear>,
+}
+
+/// Archard wear of a stator's contact targets (`scene::wear`): a target with force `p` that
+/// slips by `ζ` over a step recedes by `rate p |ζ| / area` (m).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StatorWear {
+    /// k A (m²/N): Archard's dimensional coefficient `[stator.wear] coefficient` times the wear
+    /// magnification `run.wear_acceleration`.
+    pub rate: f64,
+    /// A: the wear magnification (`run.wear_acceleration`): a run of time t wears as Archard's
+    /// law over A t.
+    pub acceleration: f64,
+    /// Tributary area of each contact target (m², in target order): a rod's cross-section, a
+    /// meshed stator's share of its contact boundary ([`MeshStatorData::contact_areas`]).
+    pub areas: Vec<f64>,
 }
 
 /// What a meshed stator keeps beyond [`StatorModel`]: where its mesh came from and the
@@ -135,6 +152,11 @@ pub struct MeshStatorData {
     /// Outward unit normal of the body at each contact target, projected on the station
     /// plane (same order as `targets`).
     pub contact_normals: Vec<V2>,
+    /// Tributary area of each contact target (m², same order as `targets`): an equal share of
+    /// every boundary facet it belongs to — in 2-D the facet's length times the thickness, in
+    /// 3-D its area ([`crate::mesh::Mesh::boundary_measures`]); what wear divides a worn volume
+    /// by.
+    pub contact_areas: Vec<f64>,
     /// Station each contact target faces (same order as `targets`).
     pub target_station: Vec<usize>,
     /// 3-D stators: axial coordinate z of every node (m, mesh frame); empty in 2-D.
@@ -493,6 +515,7 @@ impl Lumped<'_> {
             mesh: None,
             dashpot: Default::default(),
             reduced: None,
+            wear: None,
         };
         if ndof > 0 {
             Cholesky::new(&model.k).map_err(|e| ModelError::Factorisation {

@@ -77,6 +77,7 @@ impl StatorModel {
             mesh: None,
             dashpot: Default::default(),
             reduced: None,
+            wear: None,
         }
     }
 

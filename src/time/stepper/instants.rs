@@ -65,6 +65,10 @@ impl Stepper<'_> {
                 *p = 0.0;
             }
         }
+        if self.pairs.any_wear {
+            let w = self.wear_state();
+            self.recorder.rec.wear.push(w);
+        }
         if let Spin::Driven(d) = &self.spin {
             let c = d.cur;
             let td = d.drive_torque(t);
@@ -150,6 +154,11 @@ impl Stepper<'_> {
             pairs: &self.ws.frame_pairs,
             spin: self.spin.state(t),
             stators: &self.stators,
+            worn: if self.pairs.any_wear {
+                &self.pairs.worn
+            } else {
+                &[]
+            },
         })
         .map_err(|e| SolveError::FrameOutput {
             step: n,
