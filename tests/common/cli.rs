@@ -152,3 +152,30 @@ pub fn json(p: &Path) -> serde_json::Value {
 pub fn is_png(p: &Path) -> bool {
     std::fs::read(p).is_ok_and(|b| b.len() > 8 && b.starts_with(b"\x89PNG\r\n\x1a\n"))
 }
+
+/// `rubsim run SCENE --out TMP/run` of a scene of the repository (`scenes/…`): the temporary
+/// folder (kept alive by the caller), the output folder and the command's standard output.
+pub fn run_scene(scene: &str) -> (tempfile::TempDir, PathBuf, String) {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("run");
+    let file = super::repo(scene);
+    let stdout = ok(
+        tmp.path(),
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    (tmp, out, stdout)
+}
+
+/// A CSV file as its header and its rows of cells.
+pub fn csv_table(p: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = super::read(p);
+    let mut lines = text.lines();
+    let split = |l: &str| l.split(',').map(str::to_string).collect::<Vec<_>>();
+    let header = lines.next().map(split).unwrap_or_default();
+    (header, lines.map(split).collect())
+}

@@ -863,24 +863,11 @@ struct WindowRow {
 /// The windows of a transient run of `scene` (its strongest line each), with the command's
 /// standard output and the run's summary.json.
 fn transient_windows(scene: &str) -> (Vec<WindowRow>, String, serde_json::Value) {
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("run");
-    let scene = common::repo(scene);
-    let stdout = common::cli::ok(
-        tmp.path(),
-        &[
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ],
-    );
-    let text = common::read(&out.join("full_waterfall.csv"));
-    let mut lines = text.lines();
-    let cols: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let at = |name: &str| cols.iter().position(|c| *c == name).unwrap();
-    let rows = lines
-        .map(|l| l.split(',').collect::<Vec<_>>())
+    let (_tmp, out, stdout) = common::cli::run_scene(scene);
+    let (cols, table) = common::cli::csv_table(&out.join("full_waterfall.csv"));
+    let at = |name: &str| cols.iter().position(|c| c == name).unwrap();
+    let rows = table
+        .iter()
         .filter(|r| r[at("rank")] == "1")
         .map(|r| WindowRow {
             t: r[at("t_s")].parse().unwrap(),

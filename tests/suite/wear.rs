@@ -341,25 +341,11 @@ fn a_labyrinth_seal_wears_during_a_run_up_at_every_tooth_and_all_round() {
     // scenes/wear/seal_runup.toml: through the critical speed the orbit passes the 0.2 mm
     // clearance all round; every tip of the three teeth wears, nearly the same all round (a
     // circular orbit), and past the critical the rotor runs free of the worn seal.
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("seal");
-    let scene = common::repo("scenes/wear/seal_runup.toml");
-    common::cli::ok(
-        tmp.path(),
-        &[
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ],
-    );
-    let table = common::read(&out.join("worn_depth.csv"));
-    let mut lines = table.lines();
-    let cols: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let at = |name: &str| cols.iter().position(|c| *c == name).unwrap();
+    let (_tmp, out, _) = common::cli::run_scene("scenes/wear/seal_runup.toml");
+    let (cols, table) = common::cli::csv_table(&out.join("worn_depth.csv"));
+    let at = |name: &str| cols.iter().position(|c| c == name).unwrap();
     let mut rows: std::collections::BTreeMap<i64, Vec<f64>> = Default::default();
-    for l in lines {
-        let r: Vec<&str> = l.split(',').collect();
+    for r in &table {
         let z: f64 = r[at("z_m")].parse().unwrap();
         let d: f64 = r[at("depth_m")].parse().unwrap();
         rows.entry((z * 1e5).round() as i64).or_default().push(d);
