@@ -59,6 +59,7 @@ __all__ = [
     "Periodic",
     "Branch",
     "Thermal",
+    "ThermalMap",
     "from_ross",
     "import_ross",
     "RubsimError",
@@ -250,14 +251,16 @@ class Scene:
         cases are kept and a later call resumes them (``fresh``: discard another scene's)."""
         return Sweep(self._study("sweep", out, force, fresh, jobs, progress))
 
-    def map(self, **options) -> "Map":
+    def map(self, **options) -> Union["Map", "ThermalMap"]:
         """The 2-D map of ``[run.map]`` (speed × a scene key, or two scene keys); the options of
-        :meth:`sweep`."""
-        return Map(self._study("map", **options))
+        :meth:`sweep`. A scene with ``[thermal]`` gives the thermal spiral's stability map
+        (:class:`ThermalMap`, as ``rubsim map``; its cells run whole: ``fresh`` does not apply)."""
+        d = self._study("map", **options)
+        return ThermalMap(d) if d.get("thermal_map") else Map(d)
 
     def _study(self, kind, out=None, force=False, fresh=False, jobs=None, progress=None) -> dict:
         d = self._native.study(kind, _path(out), force, fresh, jobs, progress)
-        _warn(d["warnings"], stacklevel=4)
+        _warn(d.get("warnings", []), stacklevel=4)
         return d
 
     def modal(self, speed: float = 0.0, *, unit: str = "rad/s", modes: int = 12) -> "Modal":
@@ -406,8 +409,10 @@ class Transient:
 class Thermal:
     """A thermal spiral: per coupling step ``t`` (s) and, as complex numbers in the rotor's
     frame, ``delta_t`` (K), ``bow`` (m), ``one_x`` (the 1× vector, m), ``heat`` (the friction
-    power's first harmonic, W); ``power`` (mean friction power, W), ``contact_fraction``;
-    ``growth_rate`` (1/s) and ``rotation_rate`` (rad/s) of the spiral, ``runaway_at_s``;
+    power's first harmonic, W); ``power`` (mean friction power, W), ``contact_fraction``,
+    ``non_synchronous`` (the orbit's change over a revolution relative to its radius);
+    ``growth_rate`` (1/s) and ``rotation_rate`` (rad/s) of the spiral, ``runaway_at_s``,
+    ``unsynchronous_at_s`` (where the vibration stopped being synchronous and the run stopped);
     ``summary`` (everything)."""
 
     def __init__(self, d: dict):
@@ -418,9 +423,11 @@ class Thermal:
             setattr(self, name, a[:, 0] + 1j * a[:, 1])
         self.power = d["power"]
         self.contact_fraction = d["contact_fraction"]
+        self.non_synchronous = d["non_synchronous"]
         self.growth_rate = self.summary["growth_rate"]
         self.rotation_rate = self.summary["rotation_rate"]
         self.runaway_at_s = self.summary["runaway_at_s"]
+        self.unsynchronous_at_s = self.summary["unsynchronous_at_s"]
         self.dir = None if d["dir"] is None else pathlib.Path(d["dir"])
 
     def __repr__(self) -> str:
@@ -531,6 +538,39 @@ class Map:
 
     def __repr__(self) -> str:
         return f"<rubsim.Map {self.x_key} × {self.y_key}: {len(self.x)} × {len(self.y)}>"
+
+
+class ThermalMap:
+    """The thermal spiral's stability map (``rubsim map`` of a scene with ``[thermal]``):
+    ``x_key``, ``x``, ``y_key``, ``y``; ``table`` (dict of numpy arrays over the cells, x-major:
+    ``x``, ``y``, ``speed_ratio``, ``growth_rate`` (1/s; NaN where not synchronous),
+    ``rotation_rate`` (rad/s), ``delta_t_end`` (K), and ``stability`` — ``stable``,
+    ``growing``, ``runaway`` or ``not_synchronous``); ``classes`` (count per class);
+    :meth:`grid` lays a column out as a 2-D array (rows along y)."""
+
+    def __init__(self, d: dict):
+        self.summary = json.loads(d["summary"])
+        m = self.summary
+        self.x_key, self.y_key = m["keys"]
+        self.x, self.y = np.array(m["values"][0]), np.array(m["values"][1])
+        cells = m["cells"]
+        num = lambda v: np.nan if v is None else float(v)
+        self.table = {
+            "x": np.array([c["at"][0] for c in cells]),
+            "y": np.array([c["at"][1] for c in cells]),
+            "stability": np.array([c["stability"] for c in cells]),
+        }
+        for name in ("speed_ratio", "growth_rate", "rotation_rate", "delta_t_end"):
+            self.table[name] = np.array([num(c[name]) for c in cells])
+        self.classes = dict(zip(("stable", "growing", "runaway", "not_synchronous"), m["classes"]))
+        self.dir = None if d["dir"] is None else pathlib.Path(d["dir"])
+
+    def grid(self, column: str) -> np.ndarray:
+        """``table[column]`` as a ``len(y) × len(x)`` array."""
+        return self.table[column].reshape(len(self.x), len(self.y)).T
+
+    def __repr__(self) -> str:
+        return f"<rubsim.ThermalMap {self.x_key} × {self.y_key}: {self.classes}>"
 
 
 class Modal:

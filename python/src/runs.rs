@@ -329,7 +329,8 @@ pub fn continuation(
 /// The thermal spiral of `[thermal]` at ν = `speed` (default: the scene's), as `rubsim run`
 /// runs it: `summary` (JSON of `analysis::thermal::ThermalResults`), per coupling step `t`
 /// (s), `delta_t` (K), `bow` (m), `one_x` (m), `heat` (W) — n × 2, rotor frame —, `power` (W),
-/// `contact_fraction`, and `dir`.
+/// `contact_fraction`, `non_synchronous` (the orbit's change over a revolution relative to its
+/// radius; the run stops where it passes 0.05), and `dir`.
 pub fn run_thermal<'py>(
     py: Python<'py>,
     (ls, model): (&LoadedScene, &Model),
@@ -372,6 +373,8 @@ pub fn run_thermal<'py>(
     d.set_item("power", PyArray1::from_vec(py, power))?;
     let contact: Vec<f64> = r.samples.iter().map(|s| s.contact_fraction).collect();
     d.set_item("contact_fraction", PyArray1::from_vec(py, contact))?;
+    let change: Vec<f64> = r.samples.iter().map(|s| s.non_synchronous).collect();
+    d.set_item("non_synchronous", PyArray1::from_vec(py, change))?;
     d.set_item("dir", dir)?;
     Ok(d)
 }

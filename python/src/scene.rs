@@ -178,7 +178,7 @@ impl NativeScene {
     }
 
     /// The sweep (`kind = "sweep"`: `[run.sweep]`) or map (`"map"`: `[run.map]`) of the scene;
-    /// see `studies::run`.
+    /// see `studies::run` (a map of a scene with `[thermal]`: `studies::thermal_map`).
     #[pyo3(signature = (kind, out=None, force=false, fresh=false, jobs=None, progress=None))]
     #[allow(clippy::too_many_arguments)]
     fn study<'py>(
@@ -202,6 +202,9 @@ impl NativeScene {
         };
         let model = self.model(py)?;
         let out = Out { dir: out, force };
+        if kind == Kind::Map && self.ls.scene.thermal.is_some() {
+            return crate::studies::thermal_map(py, (&self.ls, model), out);
+        }
         crate::studies::run(py, (&self.ls, model), (kind, fresh, jobs), out, progress)
     }
 

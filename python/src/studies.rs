@@ -176,3 +176,34 @@ pub fn run<'py>(
     d.set_item("dir", ran.dir)?;
     Ok(d)
 }
+
+/// The thermal spiral's stability map of a scene with `[thermal]` and `[run.map]`, as
+/// `rubsim map` runs it ([`rubsim::study::thermal_map`]): with `out` its files and
+/// `summary.json` written there. The dict: `summary` (JSON text of the map's record — keys,
+/// values, every cell, the class counts), `thermal_map` (true), `dir`.
+pub fn thermal_map<'py>(
+    py: Python<'py>,
+    (ls, model): (&LoadedScene, &Model),
+    out: Out,
+) -> PyResult<Bound<'py, PyDict>> {
+    use rubsim::study::thermal_map as tm;
+    let started = Instant::now();
+    let (summary, dir) = py
+        .detach(|| -> Result<(String, Option<PathBuf>)> {
+            let outd = out.open()?;
+            let map = tm::run(ls, model)?;
+            let summary = serde_json::to_string(&tm::MapRecord::of(&map))
+                .map_err(|e| Error::study("thermal map", e))?;
+            let dir = match outd {
+                Some(o) => Some(tm::write_all(o, (ls, model), &map, started)?),
+                None => None,
+            };
+            Ok((summary, dir))
+        })
+        .py_err()?;
+    let d = PyDict::new(py);
+    d.set_item("summary", summary)?;
+    d.set_item("thermal_map", true)?;
+    d.set_item("dir", dir)?;
+    Ok(d)
+}

@@ -310,3 +310,22 @@ def test_the_thermal_spiral_from_python(tmp_path):
     assert np.allclose(np.abs(th.bow), np.abs(th.delta_t) * want["bow_per_kelvin"])
     with pytest.raises(rubsim.StudyError, match="thermal"):
         scene.run()
+
+
+def test_the_thermal_stability_map_from_python(tmp_path):
+    """`Scene.map` of a scene with `[thermal]` is the spiral's stability map, as `rubsim map`
+    writes it: the same cells and classes, and a grid laid out along the axes."""
+    sets = {"run.map.x.step": 0.7}
+    scene = rubsim.Scene(ROOT / "scenes" / "thermal" / "newkirk_map.toml", set=sets)
+    m = scene.map(out=tmp_path / "py")
+    assert isinstance(m, rubsim.ThermalMap)
+    cli("map", ROOT / "scenes" / "thermal" / "newkirk_map.toml", "--set", "run.map.x.step=0.7",
+        "--out", tmp_path / "cli")
+    want = summary(tmp_path / "cli")["thermal_map"]
+    assert without_wall(summary(tmp_path / "py")["thermal_map"]) == without_wall(want)
+    assert sum(m.classes.values()) == len(m.x) * len(m.y) == 12
+    assert m.classes["not_synchronous"] == len(m.x)  # μ 0.3, past the dry whirl at every speed
+    g = m.grid("stability")
+    assert g.shape == (len(m.y), len(m.x)) and set(g[-1]) == {"not_synchronous"}
+    assert np.all(np.isnan(m.grid("growth_rate")[-1])) and np.all(np.isfinite(m.grid("growth_rate")[0]))
+    assert rubsim.Scene(ROOT / "scenes" / "thermal" / "newkirk_map.toml", set=sets).map().dir is None

@@ -19,7 +19,13 @@
 //! ratio of the vibration's settling time to the spiral's.
 //!
 //! **Stops.** At `duration`, or when |ΔT| passes `max_temperature_difference`: a runaway,
-//! reported with the growth rate of its last steps — never a NaN.
+//! reported with the growth rate of its last steps — never a NaN. Or when the vibration is not
+//! the synchronous response the two time scales assume: the station's orbit over a chunk's
+//! last revolution differs from the one before by more than [`MAX_NON_SYNCHRONOUS`] of its
+//! largest radius (a self-excited whirl of the rub — dry friction whirl where μ k_s exceeds the
+//! damping — or a response that does not settle). The heat of a revolution then does not
+//! belong to the bow of the moment; the run stops there and says so
+//! (`ThermalResults::unsynchronous_at_s`), its growth rate not fitted.
 
 use super::periodic::{restarted, run_to_end, stepper};
 use super::speed::{prepare, Prepared};
@@ -133,7 +139,16 @@ pub struct ThermalSample {
     pub power: f64,
     /// Fraction of that revolution's steps in contact.
     pub contact_fraction: f64,
+    /// The station's orbit's change over one revolution, relative to its largest radius over
+    /// that revolution: `max_k |z_k − z_{k−N}| / max_k |z_k|` (N steps a revolution); ≈ 0 for a
+    /// synchronous response (any harmonics of Ω), O(1) for a whirl of its own frequency.
+    pub non_synchronous: f64,
 }
+
+/// The largest [`ThermalSample::non_synchronous`] of a vibration taken as synchronous: beyond
+/// it the run stops ([`ThermalResults::unsynchronous_at_s`]). The bow's change over a chunk
+/// stays well below it (|s| h ≪ 1 of the spiral's own rate).
+pub const MAX_NON_SYNCHRONOUS: f64 = 0.05;
 
 /// A thermal run's results.
 #[derive(Debug, Clone, Serialize)]
@@ -161,6 +176,9 @@ pub struct ThermalResults {
     /// When |ΔT| passed `max_temperature_difference` (s): the spiral ran away and the run
     /// stopped there, `growth_rate` then fitted over its last steps.
     pub runaway_at_s: Option<f64>,
+    /// When the vibration stopped being synchronous (s, [`MAX_NON_SYNCHRONOUS`]): the run
+    /// stopped there, its growth and rotation rates 0 (not fitted).
+    pub unsynchronous_at_s: Option<f64>,
     /// Steps integrated.
     pub steps: u64,
     /// Machine time covered (s).
@@ -187,16 +205,7 @@ pub fn run_thermal(
     let dofs = prep.case.rotor.node_dofs[node];
     let (omega, k) = (prep.omega, prep.case.rotor_stiffness);
     let spr = prep.plan.steps_per_rev.max(1);
-    let chunk = StepPlan {
-        steps: hs.revolutions * spr,
-        steady_from: 0,
-        record_every: 1,
-        ..prep.plan
-    };
-    let settle = StepPlan {
-        steps: hs.settle_revolutions * spr,
-        ..chunk
-    };
+    let (chunk, settle) = chunk_plans(&prep.plan, hs);
     let chunk_time = chunk.steps as f64 * chunk.dt;
     let h = hs.step.unwrap_or(chunk_time);
     let (mut end, mut steps) = first_state(&prep, &settle)?;
@@ -205,7 +214,7 @@ pub fn run_thermal(
     let (mut sf, mut dt) = (hs.initial, hs.initial);
     let mut samples = Vec::new();
     let mut t = 0.0;
-    let mut runaway = None;
+    let (mut runaway, mut unsynchronous) = (None, None);
     let mut integrated = 0usize;
     loop {
         let bow = [hs.bow_per_kelvin * dt[0], hs.bow_per_kelvin * dt[1]];
@@ -221,6 +230,7 @@ pub fn run_thermal(
         integrated += revs;
         end = next;
         let (heat, power, one_x, contact) = harmonics(&prep, &rec, hs.station, spr);
+        let non_synchronous = orbit_change(&rec, hs.station, spr);
         samples.push(ThermalSample {
             t_s: t,
             delta_t: dt,
@@ -230,7 +240,12 @@ pub fn run_thermal(
             heat,
             power,
             contact_fraction: contact,
+            non_synchronous,
         });
+        if non_synchronous > MAX_NON_SYNCHRONOUS {
+            unsynchronous = Some(t);
+            break;
+        }
         if dt[0].hypot(dt[1]) > hs.max_temperature_difference {
             runaway = Some(t);
             break;
@@ -238,19 +253,13 @@ pub fn run_thermal(
         if t + 0.5 * h > hs.duration {
             break;
         }
-        // The heat over the step: the last two steps' heat extrapolated linearly (the first
-        // step holds its own): second order in h.
-        let slope = match samples.len() {
-            0 | 1 => [0.0; 2],
-            n => {
-                let p = samples[n - 2].heat;
-                [(heat[0] - p[0]) / h, (heat[1] - p[1]) / h]
-            }
-        };
-        (sf, dt) = hs.advance_linear((sf, dt), (heat, slope), h);
+        (sf, dt) = hs.advance_linear((sf, dt), (heat, heat_slope(&samples, h)), h);
         t += h;
     }
-    let (growth_rate, rotation_rate) = rates(&samples, runaway.is_some());
+    let (growth_rate, rotation_rate) = match unsynchronous {
+        Some(_) => (0.0, 0.0),
+        None => rates(&samples, runaway.is_some()),
+    };
     Ok(ThermalResults {
         speed_ratio,
         omega,
@@ -263,8 +272,38 @@ pub fn run_thermal(
         growth_rate,
         rotation_rate,
         runaway_at_s: runaway,
+        unsynchronous_at_s: unsynchronous,
         steps,
     })
+}
+
+/// A coupling step's vibration plan (`revolutions` revolutions recorded at every step) and the
+/// settling plan before the first (`settle_revolutions`), from the run's own plan.
+fn chunk_plans(plan: &StepPlan, hs: &HotSpot) -> (StepPlan, StepPlan) {
+    let spr = plan.steps_per_rev.max(1);
+    let chunk = StepPlan {
+        steps: hs.revolutions * spr,
+        steady_from: 0,
+        record_every: 1,
+        ..*plan
+    };
+    let settle = StepPlan {
+        steps: hs.settle_revolutions * spr,
+        ..chunk
+    };
+    (chunk, settle)
+}
+
+/// The heat's slope over the next step (W/s): the last two steps' heat extrapolated linearly
+/// (the first step holds its own) — second order in h.
+fn heat_slope(samples: &[ThermalSample], h: f64) -> V2 {
+    match samples.len() {
+        0 | 1 => [0.0; 2],
+        n => {
+            let (p, q) = (samples[n - 2].heat, samples[n - 1].heat);
+            [(q[0] - p[0]) / h, (q[1] - p[1]) / h]
+        }
+    }
 }
 
 /// The state after the settling revolutions from the scene's start.
@@ -329,6 +368,26 @@ fn one_x(p: &Prepared, rec: &Record, station: usize, (from, count): (usize, usiz
         z[1] += u[1] * c - u[0] * s;
     }
     [z[0] / count as f64, z[1] / count as f64]
+}
+
+/// [`ThermalSample::non_synchronous`] of the record's last revolution (`spr` samples, one a
+/// step) against the one before; 0 with less than two revolutions recorded or no motion.
+fn orbit_change(rec: &Record, station: usize, spr: usize) -> f64 {
+    let n = rec.len();
+    if spr == 0 || n < 2 * spr {
+        return 0.0;
+    }
+    let (mut change, mut radius) = (0.0f64, 0.0f64);
+    for i in n - spr..n {
+        let (u, v) = (rec.disp_at(i, station), rec.disp_at(i - spr, station));
+        change = change.max((u[0] - v[0]).hypot(u[1] - v[1]));
+        radius = radius.max(u[0].hypot(u[1]));
+    }
+    if radius > 0.0 {
+        change / radius
+    } else {
+        0.0
+    }
 }
 
 /// The case's unbalances: the scene's, and the bow as one more of `me` (kg·m) at its angle.

@@ -238,7 +238,18 @@ fn print_run(s: &Scene, st: &analysis::RunSettings, case: &Case, plan: &StepPlan
                     .unwrap_or_default()
             )
         }
-        None => format!("single speed ω/ωn = {:.4}", case.speed_ratio),
+        None => match (&s.run.map, &s.thermal) {
+            (Some(m), Some(t)) => format!(
+                "thermal map (`rubsim map`): {} = {:?} × {} = {:?}, the thermal spiral over {} s of machine time at each cell (below: the cell ω/ωn = {:.4})",
+                m.x.key,
+                m.x.resolved(),
+                m.y.key,
+                m.y.resolved(),
+                t.duration,
+                case.speed_ratio
+            ),
+            _ => format!("single speed ω/ωn = {:.4}", case.speed_ratio),
+        },
     };
     println!("run: {speeds}");
     let length = match s.run.duration {
@@ -545,7 +556,17 @@ pub(crate) fn listed_outputs(s: &Scene, stress: bool) -> Vec<String> {
             files.extend(pngs.iter().map(|f| f.to_string()));
         }
     };
-    if s.run.speed_profile.is_some() {
+    if s.thermal.is_some() {
+        // A thermal run (`rubsim run`) and a thermal map (`rubsim map`, with `[run.map]`).
+        if s.run.map.is_some() {
+            add(
+                &["thermal_map.csv"],
+                &["thermal_stability.png", "growth_rate_map.png"],
+            );
+        } else {
+            add(&["spiral.csv"], &["spiral.png", "thermal.png"]);
+        }
+    } else if s.run.speed_profile.is_some() {
         add(
             &[
                 "speed_history.csv",

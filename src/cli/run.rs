@@ -247,6 +247,15 @@ fn print_thermal(r: &analysis::thermal::ThermalResults) {
             "settling"
         }
     );
+    if let Some(t) = r.unsynchronous_at_s {
+        let change = r.samples.last().map_or(0.0, |s| s.non_synchronous);
+        eprintln!(
+            "warning: ω/ωn = {:.3}: the vibration is not synchronous at t = {t:.4} s: the station's orbit changed by {:.1} % of its radius over a revolution (more than {:.0} %) — a whirl of the rub's own (dry friction whirl where μ k_s exceeds the damping), or a response that does not settle; the hot-spot model's heat does not follow the bow there, so the run stopped and its growth rate is not fitted",
+            r.speed_ratio,
+            100.0 * change,
+            100.0 * analysis::thermal::MAX_NON_SYNCHRONOUS
+        );
+    }
     if let Some(t) = r.runaway_at_s {
         eprintln!(
             "warning: ω/ωn = {:.3}: the thermal spiral runs away: |ΔT| passed `thermal.max_temperature_difference` at t = {t:.4} s, growing at {:.4e} 1/s; the run stopped there",

@@ -77,6 +77,9 @@ impl study::Progress for Printed {
 /// each written to the case store as soon as it is done; unsharded, assembles the results.
 pub fn run(c: &Common, kind: Kind, a: &StudyArgs) -> Result<()> {
     let (ls, model) = load(c)?;
+    if kind == Kind::Map && ls.scene.thermal.is_some() {
+        return thermal_map(c, a, (&ls, &model));
+    }
     let study = Study::of(&ls, Some(model.rotor.natural_frequency()), kind)?;
     let shard = match &a.shard {
         Some(s) => Some(Shard::parse(s)?),
@@ -165,4 +168,33 @@ pub fn merge(dirs: &[PathBuf]) -> Result<()> {
         merged.model.clone(),
         t0,
     )
+}
+
+/// `rubsim map` of a scene with `[thermal]`: the thermal spiral at every cell
+/// ([`rubsim::study::thermal_map`]), its tables, pictures and summary; no shards.
+fn thermal_map(c: &Common, a: &StudyArgs, (ls, model): (&LoadedScene, &Model)) -> Result<()> {
+    use rubsim::study::thermal_map as tm;
+    if a.shard.is_some() {
+        anyhow::bail!(
+            "{}: a thermal map runs whole (its cells are not kept in a case store): leave out --shard",
+            c.scene.display()
+        );
+    }
+    let outd = open_out(&a.out.clone().unwrap_or_else(|| default_out(&c.scene)))?;
+    let t0 = std::time::Instant::now();
+    let map = tm::run(ls, model)?;
+    let classes = tm::MapRecord::of(&map).classes;
+    let dir = tm::write_all(outd, (ls, model), &map, t0)?;
+    println!(
+        "thermal map {} × {}: {} cells — {} stable, {} growing, {} running away, {} whose vibration is not synchronous",
+        map.axes.values[0].len(),
+        map.axes.values[1].len(),
+        map.cells.len(),
+        classes[0],
+        classes[1],
+        classes[2],
+        classes[3]
+    );
+    println!("results in {}", dir.display());
+    Ok(())
 }

@@ -10,8 +10,9 @@ use std::fmt::Write as _;
 
 /// Header of `spiral.csv`: per coupling step the machine time (s), ΔT (K), the bow (m), the
 /// 1× vector (m) — all in the rotor's frame —, its amplitude (m) and angle (degrees), the heat's
-/// first harmonic (W, rotor frame), the mean friction power (W) and the contact fraction.
-pub const SPIRAL_HEADER: &str = "t_s,delta_t_x_k,delta_t_y_k,bow_x_m,bow_y_m,one_x_re_m,one_x_im_m,one_x_amp_m,one_x_deg,heat_x_w,heat_y_w,power_w,contact_fraction";
+/// first harmonic (W, rotor frame), the mean friction power (W), the contact fraction and the
+/// orbit's change over a revolution relative to its radius (`ThermalSample::non_synchronous`).
+pub const SPIRAL_HEADER: &str = "t_s,delta_t_x_k,delta_t_y_k,bow_x_m,bow_y_m,one_x_re_m,one_x_im_m,one_x_amp_m,one_x_deg,heat_x_w,heat_y_w,power_w,contact_fraction,non_synchronous";
 
 /// Marks on the spiral: about this many along the run.
 const MARKS: usize = 10;
@@ -26,7 +27,7 @@ pub fn write_thermal(out: &mut OutDir, title: &str, r: &ThermalResults, png: boo
         let z = s.one_x;
         let _ = writeln!(
             csv,
-            "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}",
+            "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e}",
             s.t_s,
             s.delta_t[0],
             s.delta_t[1],
@@ -39,7 +40,8 @@ pub fn write_thermal(out: &mut OutDir, title: &str, r: &ThermalResults, png: boo
             s.heat[0],
             s.heat[1],
             s.power,
-            s.contact_fraction
+            s.contact_fraction,
+            s.non_synchronous
         );
     }
     out.write("spiral.csv", csv.as_bytes())?;

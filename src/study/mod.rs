@@ -27,6 +27,7 @@ pub mod shard;
 pub mod single;
 pub mod store;
 pub mod summary;
+pub mod thermal_map;
 pub mod variant;
 
 pub use case::{cases, CaseId, CaseSpec};

@@ -142,3 +142,35 @@ fn check_states_the_step_choice_once() {
     let all = common::cli::text(&o.stdout) + &common::cli::text(&o.stderr);
     assert_eq!(all.matches("step for run.tolerance = ").count(), 1, "{all}");
 }
+
+#[test]
+fn check_lists_the_files_of_a_thermal_run_and_a_thermal_map() {
+    same(
+        "run",
+        &[
+            "scenes/thermal/newkirk_ring.toml",
+            "--set",
+            "thermal.duration=2",
+        ],
+    );
+    same(
+        "map",
+        &[
+            "scenes/thermal/newkirk_map.toml",
+            "--set",
+            "run.map.x.step=0.7",
+            "--set",
+            "run.map.y.values=[0.1]",
+        ],
+    );
+    same(
+        "map",
+        &[
+            "scenes/thermal/newkirk_map.toml",
+            "--set",
+            "run.map.y.values=[0.1]",
+            "--set",
+            "output.png=false",
+        ],
+    );
+}

@@ -46,6 +46,7 @@ mod steady;
 mod step_refinement;
 mod stick;
 mod thermal;
+mod thermal_map;
 mod transient_scenes;
 mod transients;
 mod verification;
