@@ -58,6 +58,7 @@ __all__ = [
     "Modal",
     "Periodic",
     "Branch",
+    "Diagram",
     "Thermal",
     "ThermalMap",
     "from_ross",
@@ -293,13 +294,19 @@ class Scene:
         period: Optional[int] = None,
         arclength: bool = False,
         max_points: int = 200,
-    ) -> "Branch":
+        switch: bool = False,
+        max_period: int = 8,
+    ) -> Union["Branch", "Diagram"]:
         """The periodic orbit continued over speed from ``from_`` to ``to`` by ``step``
         (default: the scene's ``[run.sweep]``), as ``rubsim continue``: in ν alone, or by
-        pseudo-arclength around folds (``arclength``, at most ``max_points`` points)."""
+        pseudo-arclength around folds (``arclength``, at most ``max_points`` points). With
+        ``switch``: a :class:`Diagram` — the branch and those switched onto at its period
+        doublings and theirs, up to period ``max_period`` (``rubsim continue --switch``)."""
         r = [self._ratio(v, unit) for v in (from_, to, step)]
         n = int(max_points) if arclength else None
-        return Branch(json.loads(self._native.continuation(*r, period, n)))
+        m = int(max_period) if switch else None
+        d = json.loads(self._native.continuation(*r, period, n, m))
+        return Diagram(d) if switch else Branch(d)
 
     def __repr__(self) -> str:
         extra = f", set={self.overrides!r}" if self.overrides else ""
@@ -644,6 +651,24 @@ class Branch:
 
     def __repr__(self) -> str:
         return f"<rubsim.Branch period {self.period}: {len(self.table['speed_ratio'])} points, {len(self.bifurcations)} bifurcation(s)>"
+
+
+class Diagram:
+    """Branches of periodic orbits switched at period doublings (``rubsim continue
+    --switch``): ``branches`` (each a :class:`Branch`, the first the one asked for),
+    ``switched`` (per switched branch a dict: ``branch``, ``parent``, ``bifurcation``,
+    ``at_speed_ratio``, ``found_at_speed_ratio``, ``supercritical``, ``offset``, ``distance``),
+    ``not_switched`` (the doublings not followed, and why)."""
+
+    def __init__(self, d: dict):
+        self.summary = d
+        self.branches = [Branch(b) for b in d["branches"]]
+        self.switched = d["switched"]
+        self.not_switched = d["not_switched"]
+
+    def __repr__(self) -> str:
+        periods = [b.period for b in self.branches]
+        return f"<rubsim.Diagram {len(self.branches)} branches, periods {periods}>"
 
 
 def import_ross(path: PathLike, *, run: Union[None, Mapping, Sequence[str]] = None) -> Scene:

@@ -301,9 +301,19 @@ pub fn continuation(
     (ls, model): (&LoadedScene, &Model),
     range: [Option<f64>; 3],
     period: Option<usize>,
-    arclength: Option<usize>,
+    (arclength, switch): (Option<usize>, Option<usize>),
 ) -> PyResult<String> {
     check_period(period)?;
+    if switch.is_some() && arclength.is_some() {
+        return Err(StudyError::new_err(
+            "switch= continues in speed alone: leave out arclength=",
+        ));
+    }
+    if switch.is_some_and(|m| m < 2) {
+        return Err(StudyError::new_err(
+            "max_period must be at least 2 (a switched branch doubles the period)",
+        ));
+    }
     let sweep = ls.scene.run.sweep.as_ref();
     let scene = sweep.map(|s| [s.from, s.to, s.step]);
     let mut abh = [0.0; 3];
@@ -316,12 +326,20 @@ pub fn continuation(
         })?;
     }
     let [a, b, h] = abh;
+    let speeds = analysis::continuation::speeds(a, b, h).py_err()?;
+    let s = py
+        .detach(|| rubsim::study::run_settings(ls, model, &speeds))
+        .py_err()?;
+    if let Some(max_period) = switch {
+        let d = py
+            .detach(|| {
+                analysis::continuation::continue_switching(model, &s, (a, b, h), period, max_period)
+            })
+            .py_err()?;
+        return json(&d);
+    }
     let branch = py
-        .detach(|| {
-            let speeds = analysis::continuation::speeds(a, b, h)?;
-            let s = rubsim::study::run_settings(ls, model, &speeds)?;
-            analysis::continuation::continue_branch(model, &s, (a, b, h), period, arclength)
-        })
+        .detach(|| analysis::continuation::continue_branch(model, &s, (a, b, h), period, arclength))
         .py_err()?;
     json(&branch)
 }

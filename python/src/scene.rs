@@ -220,8 +220,10 @@ impl NativeScene {
         runs::periodic(py, (&self.ls, model), speed, period)
     }
 
-    /// A periodic orbit continued over speed (JSON text); see `runs::continuation`.
-    #[pyo3(signature = (from_=None, to=None, step=None, period=None, arclength=None))]
+    /// A periodic orbit continued over speed (JSON text); see `runs::continuation`. With
+    /// `switch = Some(max_period)`: the diagram of `rubsim continue --switch` (JSON text).
+    #[pyo3(signature = (from_=None, to=None, step=None, period=None, arclength=None, switch=None))]
+    #[allow(clippy::too_many_arguments)]
     fn continuation(
         &self,
         py: Python<'_>,
@@ -230,9 +232,16 @@ impl NativeScene {
         step: Option<f64>,
         period: Option<usize>,
         arclength: Option<usize>,
+        switch: Option<usize>,
     ) -> PyResult<String> {
         let model = self.model(py)?;
-        runs::continuation(py, (&self.ls, model), [from_, to, step], period, arclength)
+        runs::continuation(
+            py,
+            (&self.ls, model),
+            [from_, to, step],
+            period,
+            (arclength, switch),
+        )
     }
 
     /// The damped modes of the rotor alone at Ω = `speed` rad/s (JSON text).

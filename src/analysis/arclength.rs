@@ -74,11 +74,8 @@ pub fn continue_arclength(
     let first = periodic::shoot(&prepare(model, &request(s, from))?, period)?;
     let k = first.period;
     let mut branch = Branch {
-        period: k,
-        points: Vec::new(),
-        bifurcations: Vec::new(),
-        ended: None,
         steps: first.steps,
+        ..Branch::empty(k)
     };
     if !first.converged {
         branch.ended = Some(format!(

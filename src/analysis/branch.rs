@@ -81,6 +81,37 @@ pub struct Branch {
     pub ended: Option<String>,
     /// Steps integrated in all.
     pub steps: u64,
+    /// The orbits on either side of each located period doubling, for branch switching
+    /// ([`super::switch`]); not serialised.
+    #[serde(skip)]
+    pub(crate) doublings: Vec<Doubling>,
+}
+
+/// The two converged grid orbits around a located period doubling, and the speeds beyond each
+/// (in the order a branch from there would be continued).
+#[derive(Debug, Clone)]
+pub(crate) struct Doubling {
+    /// Index of the bifurcation in [`Branch::bifurcations`].
+    pub bifurcation: usize,
+    /// The orbit on the side where the branch is unstable, and the speeds beyond it (away from
+    /// the doubling).
+    pub unstable: (PeriodicOrbit, Vec<f64>),
+    /// The orbit on the stable side, and the speeds beyond it.
+    pub stable: (PeriodicOrbit, Vec<f64>),
+}
+
+impl Branch {
+    /// A branch of period `period` with no point yet.
+    pub(crate) fn empty(period: usize) -> Self {
+        Self {
+            period,
+            points: Vec::new(),
+            bifurcations: Vec::new(),
+            ended: None,
+            steps: 0,
+            doublings: Vec::new(),
+        }
+    }
 }
 
 impl BranchPoint {
@@ -112,74 +143,164 @@ pub fn continue_in_speed(
     speeds: &[f64],
     period: Option<usize>,
 ) -> Result<Branch> {
-    let Some((&first, rest)) = speeds.split_first() else {
-        return Ok(Branch {
-            period: period.unwrap_or(1),
-            points: Vec::new(),
-            bifurcations: Vec::new(),
-            ended: None,
-            steps: 0,
-        });
+    let Some((&first, _)) = speeds.split_first() else {
+        return Ok(Branch::empty(period.unwrap_or(1)));
     };
     let top = speeds.iter().fold(first, |m, v| m.max(*v));
     let pinned = pinned_reduction(model, s, top)?;
     let s = &pinned;
     let start = periodic::shoot(&prepare(model, &request(s, first))?, period)?;
+    Ok(follow(model, s, start, speeds, None))
+}
+
+/// The branch from the orbit `start` (at `speeds[0]`) over the rest of `speeds` with the
+/// settings `s` (a reduced model's cut-off already pinned): Newton at each next speed, a step
+/// halved where it fails, changes of stability located; the orbits around each period
+/// doubling kept for switching. A run error ends the branch (`ended`). A branch switched from
+/// a period-`parent` branch (`Some(parent)`, [`super::switch`]) also ends where its orbit
+/// repeats after `parent` revolutions already: it has merged back into its parent (a period
+/// halving), and Newton would follow the parent from there as a fixed point of the longer map.
+pub fn follow(
+    model: &Model,
+    s: &RunSettings,
+    start: PeriodicOrbit,
+    speeds: &[f64],
+    parent: Option<usize>,
+) -> Branch {
     let k = start.period;
     let mut steps = start.steps;
-    let mut branch = Branch {
-        period: k,
-        points: Vec::new(),
-        bifurcations: Vec::new(),
-        ended: None,
-        steps: 0,
-    };
+    let mut branch = Branch::empty(k);
     if !start.converged {
         branch.ended = Some(format!(
-            "no periodic orbit of {k} revolution(s) at ω/ωn = {first:.4} (residual {:.2e})",
-            start.residual
+            "no periodic orbit of {k} revolution(s) at ω/ωn = {:.4} (residual {:.2e})",
+            start.speed_ratio, start.residual
         ));
         branch.steps = steps;
-        return Ok(branch);
+        return branch;
     }
     let mut prev = start;
     branch.points.push(BranchPoint::of(&prev));
     // Speeds still to reach, the next last; a step whose Newton fails is halved (up to
     // [`MAX_SUBSTEPS`] times) by reaching its midpoint first.
-    let mut todo: Vec<(f64, usize)> = rest.iter().rev().map(|&v| (v, 0)).collect();
+    let mut todo: Vec<(f64, usize)> = speeds.iter().skip(1).rev().map(|&v| (v, 0)).collect();
     while let Some((v, depth)) = todo.pop() {
-        let next = match at_speed(model, s, v, &prev) {
-            Ok(o) if o.converged => o,
-            Ok(o) if depth < MAX_SUBSTEPS => {
-                steps += o.steps;
+        let next = match advance(model, s, &prev, v, parent) {
+            (Advance::Point(o), st) => {
+                steps += st;
+                o
+            }
+            (Advance::Failed(_), st) if depth < MAX_SUBSTEPS => {
+                steps += st;
                 todo.push((v, depth + 1));
                 todo.push((0.5 * (prev.speed_ratio + v), depth + 1));
                 continue;
             }
-            Ok(o) => {
-                steps += o.steps;
-                branch.ended = Some(format!(
-                    "Newton did not converge at ω/ωn = {v:.4} from the orbit at {:.4} (residual {:.2e}, the step halved {MAX_SUBSTEPS} times): a fold, or the period-{k} orbit ends there",
-                    prev.speed_ratio, o.residual
-                ));
-                break;
-            }
-            Err(e) => {
-                branch.ended = Some(format!("ω/ωn = {v:.4}: {e}"));
+            (Advance::Failed(why) | Advance::Error(why), st) => {
+                steps += st;
+                branch.ended = Some(why);
                 break;
             }
         };
-        steps += next.steps;
         if next.stable != prev.stable {
             let (b, st) = locate(model, s, &prev, &next);
             steps += st;
-            branch.bifurcations.extend(b);
+            if let Some(b) = b {
+                if b.kind == "period_doubling" {
+                    keep_doubling(&mut branch, (&prev, &next), &todo);
+                }
+                branch.bifurcations.push(b);
+            }
         }
         branch.points.push(BranchPoint::of(&next));
         prev = next;
     }
     branch.steps = steps;
-    Ok(branch)
+    branch
+}
+
+/// What one continuation step gave.
+enum Advance {
+    /// A converged orbit that belongs to the branch.
+    Point(PeriodicOrbit),
+    /// Newton did not converge, or (a switched branch) converged onto its parent: the step may
+    /// be halved; the sentence if it is not.
+    Failed(String),
+    /// A run error: the branch ends.
+    Error(String),
+}
+
+/// The branch's orbit at ν = `v` by Newton from `prev` (module docs of [`follow`]), and the
+/// steps it took.
+fn advance(
+    model: &Model,
+    s: &RunSettings,
+    prev: &PeriodicOrbit,
+    v: f64,
+    parent: Option<usize>,
+) -> (Advance, u64) {
+    let k = prev.period;
+    let o = match at_speed(model, s, v, prev) {
+        Ok(o) => o,
+        Err(e) => return (Advance::Error(format!("ω/ωn = {v:.4}: {e}")), 0),
+    };
+    let steps = o.steps;
+    if !o.converged {
+        let why = format!(
+            "Newton did not converge at ω/ωn = {v:.4} from the orbit at {:.4} (residual {:.2e}, the step halved {MAX_SUBSTEPS} times): a fold, or the period-{k} orbit ends there",
+            prev.speed_ratio, o.residual
+        );
+        return (Advance::Failed(why), steps);
+    }
+    match merged(model, s, &o, parent) {
+        Ok((false, st)) => (Advance::Point(o), steps + st),
+        Ok((true, st)) => {
+            let p = parent.unwrap_or(k);
+            let why = format!(
+                "the period-{k} orbit merges back into the period-{p} branch between ω/ωn {:.4} and {v:.4} (Newton from {:.4} reaches an orbit that repeats after {p} revolutions, the step halved {MAX_SUBSTEPS} times)",
+                prev.speed_ratio, prev.speed_ratio
+            );
+            (Advance::Failed(why), steps + st)
+        }
+        Err(e) => (Advance::Error(format!("ω/ωn = {v:.4}: {e}")), steps),
+    }
+}
+
+/// Whether the orbit `o` repeats after `parent` revolutions (its `parent`-map residual within
+/// [`periodic::DISTINCT`]), and the steps that took; `false` without a parent.
+fn merged(
+    model: &Model,
+    s: &RunSettings,
+    o: &PeriodicOrbit,
+    parent: Option<usize>,
+) -> Result<(bool, u64)> {
+    let Some(p) = parent else {
+        return Ok((false, 0));
+    };
+    let prep = prepare(model, &request(s, o.speed_ratio))?;
+    let (r, steps) = periodic::residual_after(&prep, o, p)?;
+    Ok((r <= periodic::DISTINCT, steps))
+}
+
+/// Keeps the grid orbits `prev`, `next` around the period doubling about to be pushed as
+/// [`Branch::bifurcations`]' next entry: each with the speeds beyond it — after `next` the
+/// speeds still to do (`todo`, the next last), before `prev` the converged speeds back to the
+/// branch's start.
+fn keep_doubling(
+    branch: &mut Branch,
+    (prev, next): (&PeriodicOrbit, &PeriodicOrbit),
+    todo: &[(f64, usize)],
+) {
+    let ahead: Vec<f64> = todo.iter().rev().map(|t| t.0).collect();
+    let mut behind: Vec<f64> = branch.points.iter().map(|p| p.speed_ratio).collect();
+    behind.pop(); // prev itself
+    behind.reverse();
+    let (a, b) = ((prev.clone(), behind), (next.clone(), ahead));
+    let (unstable, stable) = if next.stable { (a, b) } else { (b, a) };
+    branch.doublings.push(Doubling {
+        bifurcation: branch.bifurcations.len(),
+        unstable,
+        stable,
+    });
 }
 
 /// The settings `s` with a reduced model's cut-off pinned for the whole branch: a default

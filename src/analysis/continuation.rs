@@ -3,6 +3,7 @@
 //! line and the Python package alike.
 
 use super::branch::Branch;
+use super::switch::Diagram;
 use super::RunSettings;
 use crate::error::Result;
 use crate::model::Model;
@@ -52,4 +53,25 @@ pub fn continue_branch(
         Some(n) => super::arclength::continue_arclength(model, s, (from, to, step), period, n),
         None => super::branch::continue_in_speed(model, s, &speeds, period),
     }
+}
+
+/// `rubsim continue --switch`: the period-`period` branch from `from` to `to` by `step` (in ν
+/// alone), then the branches switched from its period doublings and theirs, up to period
+/// `max_period` ([`super::switch::switch_all`]).
+///
+/// # Errors
+/// As [`speeds`]; the first speed's shooting errors.
+pub fn continue_switching(
+    model: &Model,
+    s: &RunSettings,
+    (from, to, step): (f64, f64, f64),
+    period: Option<usize>,
+    max_period: usize,
+) -> Result<Diagram> {
+    let speeds = speeds(from, to, step)?;
+    let pinned = super::branch::pinned_reduction(model, s, from.max(to))?;
+    let prep = super::speed::prepare(model, &super::branch::request(&pinned, speeds[0]))?;
+    let start = super::periodic::shoot(&prep, period)?;
+    let first = super::branch::follow(model, &pinned, start, &speeds, None);
+    Ok(super::switch::switch_all(model, &pinned, first, max_period))
 }

@@ -69,6 +69,7 @@ pub mod speed;
 pub mod steady;
 pub mod stress;
 pub mod sweep;
+pub mod switch;
 pub mod thermal;
 pub mod transient;
 pub mod verify;

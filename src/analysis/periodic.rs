@@ -47,6 +47,10 @@ pub const MAX_HALVINGS: usize = 6;
 /// before it starts rather than left to run for hours (a reduced model or the variational
 /// equations of issue 29's later parts are the way there).
 pub const MAX_STATE: usize = 400;
+/// Relative distance (of max |x|) above which two fixed points are distinct orbits: a switched
+/// period-2k orbit from its parent's fixed point, and its k-map residual from an orbit that
+/// repeats after k revolutions already (`super::switch`, `super::branch::follow`).
+pub const DISTINCT: f64 = 1e-6;
 /// Relative central-difference step of the Jacobian (of `max |x|`).
 const FD_STEP: f64 = 1e-5;
 
@@ -140,7 +144,7 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
             ),
         ));
     }
-    let mut o = solve(prep, k, &plan, end, x0)?;
+    let mut o = solve(prep, k, &plan, end, (x0, None))?;
     o.steps += steps;
     Ok(o)
 }
@@ -162,17 +166,84 @@ pub fn shoot_from(prep: &Prepared, from: &PeriodicOrbit) -> Result<PeriodicOrbit
     let x0 = start.state_vector().ok_or_else(|| {
         Error::study("run", "the orbit's state does not fit this run".to_string())
     })?;
-    solve(prep, from.period, &prep.plan, start, x0)
+    solve(prep, from.period, &prep.plan, start, (x0, None))
+}
+
+/// The monodromy `∂P/∂x` of the orbit `o` found on `prep` (its own speed and step) at its
+/// fixed point, its fixed point `x`, and the steps the differences took.
+///
+/// # Errors
+/// The map's run errors.
+pub(super) fn monodromy(
+    prep: &Prepared,
+    o: &PeriodicOrbit,
+) -> Result<(DMatrix<f64>, Vec<f64>, u64)> {
+    let (x, end) = &o.fixed_point;
+    let map = Map {
+        prep,
+        plan: StepPlan {
+            steps: o.period * prep.plan.steps_per_rev.max(1),
+            steady_from: 0,
+            ..prep.plan
+        },
+        end: end.clone(),
+    };
+    let (m, steps) = map.jacobian(x)?;
+    Ok((m, x.clone(), steps))
+}
+
+/// Newton on the `k`-revolution map of `prep` from `x0`, laid out as the orbit `like`'s fixed
+/// point (found on `prep`), with that fixed point deflated: Newton on
+/// `D(x) (P(x) − x)`, `D(x) = 1/‖x − x_like‖² + 1` (norms scaled by max |x_like|), whose
+/// roots are those of `P(x) − x` but `x_like` — so that a start near `x_like` is pushed off
+/// it, to another fixed point of the map (Farrell, Birkisson & Funke, SIAM J. Sci. Comput.
+/// 2015: deflated Newton). Each step is the Newton step of `P − I` scaled by
+/// `1/(1 − ∇D·δ/D)`.
+///
+/// # Errors
+/// As [`shoot`].
+pub(super) fn solve_deflated(
+    prep: &Prepared,
+    k: usize,
+    like: &PeriodicOrbit,
+    x0: Vec<f64>,
+) -> Result<PeriodicOrbit> {
+    let root = like.fixed_point.0.clone();
+    solve(
+        prep,
+        k,
+        &prep.plan,
+        like.fixed_point.1.clone(),
+        (x0, Some(&root)),
+    )
+}
+
+/// `max |Pᵏ(x) − x| / max |x|` of the `k`-revolution map of `prep` at the fixed point of `o`
+/// (found on `prep`), and the steps it took: whether `o` repeats after `k` revolutions already.
+///
+/// # Errors
+/// The map's run errors.
+pub(super) fn residual_after(prep: &Prepared, o: &PeriodicOrbit, k: usize) -> Result<(f64, u64)> {
+    let (x, end) = &o.fixed_point;
+    let plan = StepPlan {
+        steps: k * prep.plan.steps_per_rev.max(1),
+        steady_from: 0,
+        ..prep.plan
+    };
+    let start = end.with_state_vector(x).ok_or_else(not_restarted)?;
+    let px = end_after(prep, &plan, &start)?;
+    Ok((residual(x, &px), plan.steps as u64))
 }
 
 /// Newton from `x0` (laid out as `end`) on the `k`-revolution map of `prep` at the step of
-/// `plan`, the multipliers at the last iterate and its orbit.
+/// `plan` — with a root deflated when given ([`solve_deflated`]) —, the multipliers at the last
+/// iterate and its orbit.
 fn solve(
     prep: &Prepared,
     k: usize,
     plan: &StepPlan,
     end: EndState,
-    x0: Vec<f64>,
+    (x0, deflated): (Vec<f64>, Option<&[f64]>),
 ) -> Result<PeriodicOrbit> {
     let map = Map {
         prep,
@@ -184,7 +255,7 @@ fn solve(
         end,
     };
     let mut steps = 0;
-    let (x, newton) = map.newton(x0)?;
+    let (x, newton) = map.newton(x0, deflated)?;
     steps += newton.steps;
     let (multipliers, jsteps) = map.multipliers(&x)?;
     steps += jsteps;
@@ -246,12 +317,15 @@ impl Map<'_> {
     }
 
     /// Newton on `P(x) − x` from `x` (module docs).
-    fn newton(&self, mut x: Vec<f64>) -> Result<(Vec<f64>, Newton)> {
+    fn newton(&self, mut x: Vec<f64>, deflated: Option<&[f64]>) -> Result<(Vec<f64>, Newton)> {
         let per_map = self.plan.steps as u64;
         let mut steps = 0u64;
         let mut px = self.apply(&x)?;
         steps += per_map;
         let mut res = residual(&x, &px);
+        // The deflated residual D(x)·res a step must lower (D = 1 without deflation).
+        let weight = |x: &[f64]| deflated.map_or(1.0, |r| deflation(x, r).0);
+        let mut merit = weight(&x) * res;
         let mut iterations = 0;
         while res > SHOOT_TOLERANCE && iterations < MAX_NEWTON {
             iterations += 1;
@@ -263,7 +337,14 @@ impl Map<'_> {
             let Some(dx) = a.lu().solve(&f) else {
                 break; // M − I singular: a multiplier at +1 (a fold); reported as not converged
             };
-            let mut scale = 1.0;
+            let mut scale = deflated.map_or(1.0, |r| {
+                let (d, grad) = deflation(&x, r);
+                let g: f64 = grad.iter().zip(dx.iter()).map(|(g, d)| g * d).sum();
+                1.0 / (1.0 - g / d)
+            });
+            if !scale.is_finite() {
+                break;
+            }
             let mut accepted = false;
             for _ in 0..=MAX_HALVINGS {
                 let trial: Vec<f64> = x
@@ -274,8 +355,9 @@ impl Map<'_> {
                 let pt = self.apply(&trial)?;
                 steps += per_map;
                 let rt = residual(&trial, &pt);
-                if rt.is_finite() && rt < res {
-                    (x, px, res, accepted) = (trial, pt, rt, true);
+                let mt = weight(&trial) * rt;
+                if rt.is_finite() && mt < merit {
+                    (x, px, res, merit, accepted) = (trial, pt, rt, mt, true);
                     break;
                 }
                 scale *= 0.5;
@@ -409,6 +491,24 @@ pub(super) fn floquet(m: &DMatrix<f64>) -> Vec<[f64; 2]> {
         .collect();
     rho.sort_by(|a, b| b[0].hypot(b[1]).total_cmp(&a[0].hypot(a[1])));
     rho
+}
+
+/// The deflation `D(x) = 1/d² + 1`, `d = ‖x − r‖₂ / max |r|`, and its gradient ∇D (for
+/// [`solve_deflated`]).
+fn deflation(x: &[f64], r: &[f64]) -> (f64, Vec<f64>) {
+    let scale = r.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
+    let d2 = x
+        .iter()
+        .zip(r)
+        .map(|(a, b)| ((a - b) / scale).powi(2))
+        .sum::<f64>()
+        .max(1e-300);
+    let grad = x
+        .iter()
+        .zip(r)
+        .map(|(a, b)| -2.0 * (a - b) / (scale * scale * d2 * d2))
+        .collect();
+    (1.0 / d2 + 1.0, grad)
 }
 
 /// `max |P(x) − x| / max |x|` (∞ for a non-finite map).

@@ -13,6 +13,10 @@ use std::path::PathBuf;
 struct ContinueBody<'a> {
     /// The branch: its points, bifurcations and where it ended.
     branch: &'a Branch,
+    /// With `--switch`: every branch (the first is `branch`), where each switched one came
+    /// from, the doublings not followed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    switched: Option<&'a analysis::switch::Diagram>,
     /// Wall time of the command (s).
     wall_s: f64,
 }
@@ -44,6 +48,14 @@ pub struct ContinueArgs {
     /// Most points of a pseudo-arclength branch.
     #[arg(long, default_value_t = 200)]
     pub max_points: usize,
+    /// Branch switching: from every period doubling located, the period-2k orbit that branches
+    /// off it, continued over the speeds beyond (and from its own doublings, up to
+    /// `--max-period`); branches.csv, switches.csv, every branch in branch.png.
+    #[arg(long, conflicts_with = "arclength")]
+    pub switch: bool,
+    /// Largest period (revolutions) a switched branch may have.
+    #[arg(long, default_value_t = 8)]
+    pub max_period: usize,
     /// Output directory (default: out/<scene name>/continue).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -62,6 +74,8 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
         period,
         arclength,
         max_points,
+        switch,
+        max_period,
         out,
     } = args.clone();
     let arclength = arclength.then_some(max_points);
@@ -93,11 +107,44 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("continue")))?;
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &speeds)?;
-    let branch = analysis::continuation::continue_branch(&model, &s, (a, b, h), period, arclength)?;
-    report(&branch);
-    rubsim::output::branch::write_branch(&mut outd, &ls.scene.title, &branch, ls.scene.output.png)?;
+    let (title, png) = (&ls.scene.title, ls.scene.output.png);
+    let diagram = if switch {
+        if max_period < 2 {
+            anyhow::bail!("--max-period must be at least 2 (a switched branch doubles the period), got {max_period}");
+        }
+        let d =
+            analysis::continuation::continue_switching(&model, &s, (a, b, h), period, max_period)?;
+        rubsim::output::branch::write_diagram(&mut outd, title, &d, png)?;
+        d
+    } else {
+        let branch =
+            analysis::continuation::continue_branch(&model, &s, (a, b, h), period, arclength)?;
+        rubsim::output::branch::write_branch(&mut outd, title, &branch, png)?;
+        analysis::switch::Diagram::of(branch)
+    };
+    for (i, b) in diagram.branches.iter().enumerate() {
+        if i > 0 {
+            let r = &diagram.switched[i - 1];
+            println!(
+                "switched at the period doubling of branch {} at ω/ωn {:.4} (found at {:.4}, {}):",
+                r.parent,
+                r.at_speed_ratio,
+                r.found_at_speed_ratio,
+                if r.supercritical {
+                    "supercritical"
+                } else {
+                    "subcritical"
+                }
+            );
+        }
+        report(b);
+    }
+    for why in &diagram.not_switched {
+        eprintln!("warning: not switched: {why}");
+    }
     let body = ContinueBody {
-        branch: &branch,
+        branch: &diagram.branches[0],
+        switched: switch.then_some(&diagram),
         wall_s: t0.elapsed().as_secs_f64(),
     };
     finish(

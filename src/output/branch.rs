@@ -4,6 +4,7 @@
 
 use super::OutDir;
 use crate::analysis::branch::Branch;
+use crate::analysis::switch::Diagram;
 use crate::error::Result;
 use crate::plot::{self, Curve};
 use std::fmt::Write as _;
@@ -12,38 +13,29 @@ use std::fmt::Write as _;
 /// the multiplier of largest modulus; `instability` empty when stable).
 pub const BRANCH_HEADER: &str = "speed_ratio,stable,largest_modulus,rho1_re,rho1_im,instability,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,contact_fraction,newton_iterations,residual";
 
+/// Header of `branches.csv` (`rubsim continue --switch`): [`BRANCH_HEADER`]'s columns after
+/// the branch's index (0: the one asked for; the switched ones in the order found) and period.
+pub const BRANCHES_HEADER: &str = "branch,period,speed_ratio,stable,largest_modulus,rho1_re,rho1_im,instability,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,contact_fraction,newton_iterations,residual";
+
+/// Header of `switches.csv`: one row per switched branch — its index, its parent's, the
+/// doubling's index in the parent's bifurcations and speed, where the new orbit was found, on
+/// which side, from which offset, and how far from the parent's fixed point.
+pub const SWITCHES_HEADER: &str = "branch,period,parent,bifurcation,at_speed_ratio,found_at_speed_ratio,supercritical,offset,distance";
+
 /// Header of `bifurcations.csv`: one row per located change of stability.
 pub const BIFURCATIONS_HEADER: &str =
     "kind,speed_ratio,from,to,rho_stable_re,rho_stable_im,rho_unstable_re,rho_unstable_im";
 
 /// Writes `branch.csv`, `bifurcations.csv` and (`png`) `branch.png` — the orbit's largest
-/// |x| or |y| (/|Z0|) against ω/ωn, the stable stretches and the unstable ones as separate
-/// curves — into `out`.
+/// |x| or |y| (/|Z0|) against ω/ωn, the stable stretches solid and the unstable ones dashed —
+/// and `branch_multipliers.png` into `out`.
 ///
 /// # Errors
 /// I/O and drawing errors, naming the file.
 pub fn write_branch(out: &mut OutDir, title: &str, branch: &Branch, png: bool) -> Result<()> {
     let mut csv = format!("{BRANCH_HEADER}\n");
     for p in &branch.points {
-        let e = p.extents_nd;
-        let _ = writeln!(
-            csv,
-            "{},{},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e}",
-            p.speed_ratio,
-            p.stable,
-            p.largest_modulus,
-            p.rho1[0],
-            p.rho1[1],
-            p.instability.unwrap_or(""),
-            e[0],
-            e[1],
-            e[2],
-            e[3],
-            p.amp_1x_nd,
-            p.contact_fraction,
-            p.iterations,
-            p.residual
-        );
+        csv.push_str(&point_row(p));
     }
     out.write("branch.csv", csv.as_bytes())?;
     let mut bif = format!("{BIFURCATIONS_HEADER}\n");
@@ -64,19 +56,115 @@ pub fn write_branch(out: &mut OutDir, title: &str, branch: &Branch, png: bool) -
     out.write("bifurcations.csv", bif.as_bytes())?;
     if png {
         write_branch_multipliers(out, title, branch)?;
-        let p = out.stage("branch.png")?;
-        plot::lines(
-            &p,
+        branch_png(
+            out,
             &format!(
                 "{title} — period-{} orbit continued in speed",
                 branch.period
             ),
-            &curves(branch),
-            "ω/ωn",
-            "largest |x|, |y| over the orbit / |Z0|",
+            std::slice::from_ref(branch),
         )?;
     }
     Ok(())
+}
+
+/// A point's row of `branch.csv` (with its newline).
+fn point_row(p: &crate::analysis::branch::BranchPoint) -> String {
+    let e = p.extents_nd;
+    format!(
+        "{},{},{:e},{:e},{:e},{},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e}\n",
+        p.speed_ratio,
+        p.stable,
+        p.largest_modulus,
+        p.rho1[0],
+        p.rho1[1],
+        p.instability.unwrap_or(""),
+        e[0],
+        e[1],
+        e[2],
+        e[3],
+        p.amp_1x_nd,
+        p.contact_fraction,
+        p.iterations,
+        p.residual
+    )
+}
+
+/// Writes `rubsim continue --switch`'s files into `out`: the first branch's as
+/// [`write_branch`] (its `branch.png` then drawing every branch),
+/// `branches.csv` (every branch's points) and `switches.csv` (where each switched branch came
+/// from).
+///
+/// # Errors
+/// I/O and drawing errors, naming the file.
+pub fn write_diagram(out: &mut OutDir, title: &str, d: &Diagram, png: bool) -> Result<()> {
+    let Some(first) = d.branches.first() else {
+        return Ok(());
+    };
+    write_branch(out, title, first, false)?;
+    let mut csv = format!("{BRANCHES_HEADER}\n");
+    for (i, b) in d.branches.iter().enumerate() {
+        for p in &b.points {
+            csv.push_str(&format!("{i},{},{}", b.period, point_row(p)));
+        }
+    }
+    out.write("branches.csv", csv.as_bytes())?;
+    let mut sw = format!("{SWITCHES_HEADER}\n");
+    for r in &d.switched {
+        let _ = writeln!(
+            sw,
+            "{},{},{},{},{},{},{},{:e},{:e}",
+            r.branch,
+            d.branches[r.branch].period,
+            r.parent,
+            r.bifurcation,
+            r.at_speed_ratio,
+            r.found_at_speed_ratio,
+            r.supercritical,
+            r.offset,
+            r.distance
+        );
+    }
+    out.write("switches.csv", sw.as_bytes())?;
+    if png {
+        write_branch_multipliers(out, title, first)?;
+        branch_png(
+            out,
+            &format!("{title} — periodic orbits continued in speed, switched at period doublings"),
+            &d.branches,
+        )?;
+    }
+    Ok(())
+}
+
+/// `branch.png`: every branch of `branches` — its largest |x| or |y| (/|Z0|) against ω/ωn in
+/// its own colour, stable stretches solid, unstable ones dashed.
+fn branch_png(out: &mut OutDir, title: &str, branches: &[Branch]) -> Result<()> {
+    let mut lines = Vec::new();
+    for (i, b) in branches.iter().enumerate() {
+        let from = b.points.first().map_or(0.0, |p| p.speed_ratio);
+        for c in curves(b) {
+            let stable = c.label == "stable";
+            lines.push(plot::BranchLine {
+                label: match (stable, i) {
+                    (false, _) => String::new(),
+                    (true, 0) => format!("period {}", b.period),
+                    (true, _) => format!("period {}, from ω/ωn {from:.3}", b.period),
+                },
+                points: c.points,
+                dashed: !stable,
+                colour: i,
+            });
+        }
+    }
+    let p = out.stage("branch.png")?;
+    plot::branch_diagram(
+        &p,
+        &format!("{title} (dashed: unstable)"),
+        &lines,
+        &[],
+        "largest |x|, |y| over the orbit / |Z0|",
+    )
 }
 
 /// The diagram's curves: the orbit's largest |x| or |y| (/|Z0|), split into its stable and
@@ -89,12 +177,15 @@ fn curves(branch: &Branch) -> Vec<Curve> {
             points: branch
                 .points
                 .iter()
-                .map(|p| {
+                .enumerate()
+                .map(|(i, p)| {
                     let reach = p.extents_nd.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-                    (
-                        p.speed_ratio,
-                        if p.stable == stable { reach } else { f64::NAN },
-                    )
+                    // The segment across a change of stability belongs to the unstable side,
+                    // so that the line is not broken there.
+                    let near = |j: usize| branch.points.get(j).is_some_and(|q| !q.stable);
+                    let unstable_near = near(i) || near(i + 1) || (i > 0 && near(i - 1));
+                    let on = if stable { p.stable } else { unstable_near };
+                    (p.speed_ratio, if on { reach } else { f64::NAN })
                 })
                 .collect(),
         })

@@ -47,6 +47,12 @@ pub(super) fn padded_log(range: Option<(f64, f64)>) -> (f64, f64) {
     }
 }
 
+/// [`finite_segments`] of a curve's `(x, y)` points.
+pub(super) fn point_segments(points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
+    let (x, y): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
+    finite_segments(&x, &y)
+}
+
 /// Splits the paired samples into runs of finite points.
 pub(super) fn finite_segments(x: &[f64], y: &[f64]) -> Vec<Vec<(f64, f64)>> {
     let mut out: Vec<Vec<(f64, f64)>> = Vec::new();

@@ -20,6 +20,7 @@
 
 mod cascade;
 mod chart;
+mod diagram;
 mod geom;
 mod map;
 mod mesh_field;
@@ -32,6 +33,7 @@ mod whirl;
 mod xy;
 
 pub use cascade::{cascade, CascadeLine};
+pub use diagram::{branch_diagram, BranchLine};
 pub use map::{category_map, field_map, MapGrid};
 pub use mesh_field::mesh_field;
 pub use mode_shape::{mode_shape_2d, mode_shape_3d, Shape3d, ShapeLine};

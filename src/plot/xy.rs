@@ -7,7 +7,7 @@ use plotters::prelude::*;
 
 use super::chart::{draw_legend, draw_no_data, draw_segments, no_data_figure, render_titled};
 use super::chart::{thick_brush, Axes, Frame};
-use super::geom::{densify, equal_aspect_ranges, finite_range, finite_segments};
+use super::geom::{densify, equal_aspect_ranges, finite_range, finite_segments, point_segments};
 use super::geom::{legend_corner, marker_shape};
 use super::geom::{padded, padded_log};
 use super::style::{fitting_font, log_formatter, tick_formatter, FIG_H, FIG_W, PALETTE, TICK_SIZE};
@@ -34,7 +34,7 @@ pub struct Curve {
 }
 
 /// Frame of the log–log and line plots.
-const CURVES_FRAME: Frame = Frame {
+pub(super) const CURVES_FRAME: Frame = Frame {
     top: 20,
     right: 36,
     bottom: 20,
@@ -280,13 +280,8 @@ fn curves_plot(
     (x_label, y_label): (&str, &str),
     aspect: bool,
 ) -> Result<()> {
-    let segs: Vec<Vec<Vec<(f64, f64)>>> = curves
-        .iter()
-        .map(|c| {
-            let (x, y): (Vec<f64>, Vec<f64>) = c.points.iter().copied().unzip();
-            finite_segments(&x, &y)
-        })
-        .collect();
+    let segs: Vec<Vec<Vec<(f64, f64)>>> =
+        curves.iter().map(|c| point_segments(&c.points)).collect();
     let all = || segs.iter().flatten().flatten();
     let has_data = all().next().is_some();
     render_titled(path, (FIG_W, FIG_H), title, |body| {

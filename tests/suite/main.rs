@@ -45,6 +45,7 @@ mod schema;
 mod steady;
 mod step_refinement;
 mod stick;
+mod switch;
 mod thermal;
 mod thermal_map;
 mod transient_scenes;

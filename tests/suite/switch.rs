@@ -1,0 +1,165 @@
+//! Branch switching at period doublings (issue 29, `analysis::switch`, `rubsim continue
+//! --switch`): on the paper case the period-1 branch doubles at ν 2.2414; the period-2 orbit
+//! switched onto there is the one shot from its own settled run, its doublings are where the
+//! independently started period-2 branch has them, and from its first doubling a period-4
+//! bubble is found that merges back where the period-2 branch regains stability — the period 4
+//! the sweep shows at ν 2.4–2.5 (docs/VALIDATION.md §3, §19.1).
+
+use crate::common::{self, cli};
+use rubsim::analysis::branch::{continue_in_speed, Branch};
+use rubsim::analysis::continuation::continue_switching;
+use rubsim::analysis::switch::Diagram;
+
+const PAPER: &str = "scenes/paper/partial_rub.toml";
+const NO_SETS: &[&str] = &[];
+
+fn diagram(range: (f64, f64, f64), max_period: usize) -> Diagram {
+    let (ls, m) = common::file_model(&common::repo(PAPER), NO_SETS);
+    continue_switching(&m, &common::settings(&ls), range, Some(1), max_period).expect("switch")
+}
+
+fn doublings(b: &Branch) -> Vec<f64> {
+    b.bifurcations
+        .iter()
+        .filter(|x| x.kind == "period_doubling")
+        .map(|x| x.speed_ratio)
+        .collect()
+}
+
+/// The cascade from ν 2.0 to 2.6 by 0.1, switched up to period 8.
+#[test]
+fn switching_follows_the_paper_cases_period_doubling_cascade() {
+    let d = diagram((2.0, 2.6, 0.1), 8);
+    let periods: Vec<usize> = d.branches.iter().map(|b| b.period).collect();
+    eprintln!(
+        "periods {periods:?}; switched {:#?}; not switched {:?}",
+        d.switched, d.not_switched
+    );
+    let pd1 = doublings(&d.branches[0]);
+    assert_eq!(pd1.len(), 1);
+    assert!((pd1[0] - 2.2414).abs() < 2e-3, "{pd1:?}");
+    // The period-2 branch: switched from the period-1 doubling on its unstable side.
+    let r = &d.switched[0];
+    assert_eq!((r.branch, r.parent, d.branches[1].period), (1, 0, 2));
+    assert!(r.supercritical && (r.found_at_speed_ratio - 2.3).abs() < 1e-12);
+    assert!(r.distance > 1e-2, "{}", r.distance);
+    // … the orbit shot from its own settled run at 2.3, and the same branch's doublings.
+    let (ls, m) = common::file_model(&common::repo(PAPER), NO_SETS);
+    let own =
+        continue_in_speed(&m, &common::settings(&ls), &[2.3, 2.4, 2.5, 2.6], Some(2)).unwrap();
+    let (a, b) = (&d.branches[1].points[0], &own.points[0]);
+    for (x, y) in a.extents_nd.iter().zip(&b.extents_nd) {
+        assert!(
+            (x - y).abs() < 1e-6,
+            "{:?} against {:?}",
+            a.extents_nd,
+            b.extents_nd
+        );
+    }
+    let (pd2, pd_own) = (doublings(&d.branches[1]), doublings(&own));
+    eprintln!("period-2 doublings: switched {pd2:?}, own {pd_own:?}");
+    assert_eq!(pd2.len(), pd_own.len());
+    for (x, y) in pd2.iter().zip(&pd_own) {
+        assert!((x - y).abs() < 5e-3, "{pd2:?} against {pd_own:?}");
+    }
+    // The period-4 bubble: born at the period-2 branch's first doubling, stable at 2.4 (the
+    // sweep's period 4), merging back near its second (where period 2 is stable again).
+    let four = d
+        .switched
+        .iter()
+        .find(|r| d.branches[r.branch].period == 4)
+        .expect("a period-4 branch");
+    let b4 = &d.branches[four.branch];
+    assert!((four.at_speed_ratio - pd2[0]).abs() < 1e-12);
+    assert!(b4.points[0].stable && (b4.points[0].speed_ratio - 2.4).abs() < 1e-12);
+    let end = b4.points.last().unwrap().speed_ratio;
+    assert!(
+        (end - pd2[1]).abs() < 0.01,
+        "ends at {end}, the doubling at {}",
+        pd2[1]
+    );
+    assert!(
+        b4.ended
+            .as_deref()
+            .is_some_and(|w| w.contains("merges back")),
+        "{:?}",
+        b4.ended
+    );
+    // Its own doubling to period 8, switched too, and every switched orbit a new one.
+    assert!(periods.contains(&8), "{periods:?}");
+    assert!(d.switched.iter().all(|r| r.distance > 1e-3));
+}
+
+/// The doublings located on the switched branches do not depend on the continuation step:
+/// steps 0.1 and 0.05 put each of the first three (periods 1, 2 and 4 losing stability)
+/// within 0.005 of each other.
+#[test]
+fn the_switched_doublings_do_not_depend_on_the_step() {
+    let first = |d: &Diagram, period: usize| {
+        let b = d.branches.iter().find(|b| b.period == period).unwrap();
+        doublings(b)[0]
+    };
+    let (coarse, fine) = (diagram((2.0, 2.6, 0.1), 4), diagram((2.0, 2.6, 0.05), 4));
+    for period in [1, 2, 4] {
+        let (a, b) = (first(&coarse, period), first(&fine, period));
+        eprintln!("period {period}: doubling at {a:.5} (step 0.1), {b:.5} (0.05)");
+        assert!((a - b).abs() < 5e-3, "period {period}: {a} against {b}");
+    }
+    // Period 8 is above --max-period 4: told, not switched.
+    assert!(coarse
+        .not_switched
+        .iter()
+        .any(|w| w.contains("period 8 is above")));
+}
+
+/// `rubsim continue --switch` writes branches.csv (every branch's points) and switches.csv
+/// besides the first branch's files, and says where each branch came from; `--switch` with
+/// `--arclength` and a `--max-period` below 2 are refused.
+#[test]
+fn the_continue_command_switches_and_refuses_what_it_cannot() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("s");
+    let o = out.to_str().unwrap();
+    let base = [
+        "continue", PAPER, "--from", "2.0", "--to", "2.6", "--step", "0.1",
+    ];
+    let mut args = base.to_vec();
+    args.extend(["--period", "1", "--switch", "--max-period", "4", "--out", o]);
+    let stdout = cli::ok(&common::repo(""), &args);
+    assert!(
+        stdout.contains("switched at the period doubling of branch 0 at ω/ωn 2.24"),
+        "{stdout}"
+    );
+    let (head, rows) = cli::csv_table(&out.join("branches.csv"));
+    assert_eq!(head.join(","), rubsim::output::branch::BRANCHES_HEADER);
+    let periods: std::collections::BTreeSet<&str> = rows.iter().map(|r| r[1].as_str()).collect();
+    assert_eq!(periods.into_iter().collect::<Vec<_>>(), ["1", "2", "4"]);
+    let (head, rows) = cli::csv_table(&out.join("switches.csv"));
+    assert_eq!(head.join(","), rubsim::output::branch::SWITCHES_HEADER);
+    assert_eq!(rows.len(), 2);
+    for f in [
+        "branch.csv",
+        "bifurcations.csv",
+        "branch.png",
+        "branch_multipliers.png",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let s = cli::json(&out.join("summary.json"));
+    assert_eq!(s["switched"]["branches"].as_array().unwrap().len(), 3);
+    for extra in [
+        &["--switch", "--arclength"][..],
+        &["--switch", "--max-period", "1"][..],
+    ] {
+        let bad = tmp.path().join("bad");
+        let mut a = base.to_vec();
+        a.extend_from_slice(extra);
+        a.extend(["--out", bad.to_str().unwrap()]);
+        let err = cli::fails(&common::repo(""), &a);
+        assert!(
+            err.contains("--arclength") || err.contains("--max-period"),
+            "{err}"
+        );
+        assert!(!bad.exists());
+    }
+}
