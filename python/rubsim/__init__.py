@@ -629,7 +629,8 @@ class Periodic:
 class Branch:
     """A continued branch of periodic orbits: ``table`` (numpy columns over its points:
     ``speed_ratio``, ``stable``, ``largest_modulus``, ``rho1`` (complex), ``amp_1x_nd``,
-    ``contact_fraction``, ``x_min_nd`` … ``y_max_nd``), ``bifurcations`` (each a dict: ``kind``,
+    ``contact_fraction``, ``x_min_nd`` … ``y_max_nd``), ``poincare`` (per point its k section
+    points, a k × 2 array / |Z0|), ``bifurcations`` (each a dict: ``kind``,
     ``speed_ratio``, ``between``, ``rho``), ``ended`` (why it stopped early, or None)."""
 
     def __init__(self, d: dict):
@@ -646,6 +647,8 @@ class Branch:
         }
         for k, name in enumerate(("x_min_nd", "x_max_nd", "y_min_nd", "y_max_nd")):
             self.table[name] = np.array([p["extents_nd"][k] for p in pts])
+        # Each point's k Poincaré section points [x, y] / |Z0| (a k × 2 array).
+        self.poincare = [np.array(p["poincare_nd"], dtype=float).reshape(-1, 2) for p in pts]
         self.bifurcations = d["bifurcations"]
         self.ended = d["ended"]
 

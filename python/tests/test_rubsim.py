@@ -297,6 +297,7 @@ def test_periodic_orbits_and_their_branch(tmp_path):
     # Branch switching: the period-2 branch from the doubling at 2.24, as `rubsim continue --switch`.
     d = scene.continuation(2.0, 2.6, 0.1, period=1, switch=True, max_period=4)
     assert [b.period for b in d.branches] == [1, 2, 4]
+    assert all(len(p) == b.period for b in d.branches for p in b.poincare)
     assert d.switched[0]["parent"] == 0 and abs(d.switched[0]["at_speed_ratio"] - 2.2414) < 0.002
     cli("continue", PAPER, "--from", "2.0", "--to", "2.6", "--step", "0.1", "--period", "1",
         "--switch", "--max-period", "4", "--out", tmp_path / "sw")

@@ -340,6 +340,7 @@ impl Arc<'_> {
             extents_nd: orbit.extents_nd,
             amp_1x_nd: orbit.amp_1x_nd,
             contact_fraction: orbit.contact_fraction,
+            poincare_nd: super::branch::section(&orbit, self.k),
             iterations,
             residual: 0.0,
         })

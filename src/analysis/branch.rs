@@ -49,6 +49,9 @@ pub struct BranchPoint {
     pub amp_1x_nd: f64,
     /// Fraction of the period in contact.
     pub contact_fraction: f64,
+    /// The orbit's points on the Poincaré section once per revolution, `[x, y]` / |Z0|: its
+    /// `period` distinct ones, from the fixed point on.
+    pub poincare_nd: Vec<[f64; 2]>,
     /// Newton iterations from the predicted state.
     pub iterations: usize,
     /// Newton's final relative residual.
@@ -125,10 +128,16 @@ impl BranchPoint {
             extents_nd: o.orbit.extents_nd,
             amp_1x_nd: o.orbit.amp_1x_nd,
             contact_fraction: o.orbit.contact_fraction,
+            poincare_nd: section(&o.orbit, o.period),
             iterations: o.iterations,
             residual: o.residual,
         }
     }
+}
+
+/// The first `k` Poincaré points of an orbit's run (its distinct ones when it has period `k`).
+pub(crate) fn section(orbit: &super::SpeedResults, k: usize) -> Vec<[f64; 2]> {
+    orbit.poincare_nd.iter().take(k).copied().collect()
 }
 
 /// Continues the period-`period` orbit (`None`: the first speed's settled period) over

@@ -56,6 +56,10 @@ pub struct ContinueArgs {
     /// Largest period (revolutions) a switched branch may have.
     #[arg(long, default_value_t = 8)]
     pub max_period: usize,
+    /// The output folder of `rubsim sweep` of the same scene: its Poincaré points drawn under
+    /// the branches in branch.png.
+    #[arg(long)]
+    pub sweep: Option<PathBuf>,
     /// Output directory (default: out/<scene name>/continue).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -76,6 +80,7 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
         max_points,
         switch,
         max_period,
+        sweep: sweep_dir,
         out,
     } = args.clone();
     let arclength = arclength.then_some(max_points);
@@ -102,16 +107,34 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
     if arclength.is_some_and(|n| n < 2) {
         anyhow::bail!("--max-points must be at least 2, got {max_points}");
     }
+    if switch && max_period < 2 {
+        anyhow::bail!(
+            "--max-period must be at least 2 (a switched branch doubles the period), got {max_period}"
+        );
+    }
     let speeds = analysis::continuation::speeds(a, b, h)
         .with_context(|| format!("--from {a}, --to {b}, --step {h}"))?;
+    let component = ls.scene.output.component.as_str();
+    let dots = match &sweep_dir {
+        Some(d) => {
+            rubsim::study::overlay::sweep_poincare(&ls, &model, d, usize::from(component == "y"))
+                .context("--sweep")?
+        }
+        None => Vec::new(),
+    };
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("continue")))?;
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &speeds)?;
-    let (title, png) = (&ls.scene.title, ls.scene.output.png);
+    let title = &ls.scene.title;
+    let png = ls
+        .scene
+        .output
+        .png
+        .then_some(rubsim::output::branch::DiagramView {
+            component,
+            sweep: &dots,
+        });
     let diagram = if switch {
-        if max_period < 2 {
-            anyhow::bail!("--max-period must be at least 2 (a switched branch doubles the period), got {max_period}");
-        }
         let d =
             analysis::continuation::continue_switching(&model, &s, (a, b, h), period, max_period)?;
         rubsim::output::branch::write_diagram(&mut outd, title, &d, png)?;
@@ -122,9 +145,27 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
         rubsim::output::branch::write_branch(&mut outd, title, &branch, png)?;
         analysis::switch::Diagram::of(branch)
     };
-    for (i, b) in diagram.branches.iter().enumerate() {
-        if i > 0 {
-            let r = &diagram.switched[i - 1];
+    report_diagram(&diagram);
+    let body = ContinueBody {
+        branch: &diagram.branches[0],
+        switched: switch.then_some(&diagram),
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    finish(
+        outd,
+        &Summary {
+            base: Base::new(&ls, &model, "continue"),
+            body,
+        },
+    )?;
+    Ok(())
+}
+
+/// Prints every branch of `d` ([`report`]), where each switched one came from, and the
+/// doublings not switched.
+fn report_diagram(d: &analysis::switch::Diagram) {
+    for (i, b) in d.branches.iter().enumerate() {
+        if let Some(r) = i.checked_sub(1).and_then(|k| d.switched.get(k)) {
             println!(
                 "switched at the period doubling of branch {} at ω/ωn {:.4} (found at {:.4}, {}):",
                 r.parent,
@@ -139,22 +180,9 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
         }
         report(b);
     }
-    for why in &diagram.not_switched {
+    for why in &d.not_switched {
         eprintln!("warning: not switched: {why}");
     }
-    let body = ContinueBody {
-        branch: &diagram.branches[0],
-        switched: switch.then_some(&diagram),
-        wall_s: t0.elapsed().as_secs_f64(),
-    };
-    finish(
-        outd,
-        &Summary {
-            base: Base::new(&ls, &model, "continue"),
-            body,
-        },
-    )?;
-    Ok(())
 }
 
 /// Prints the branch's stretches of stability, its bifurcations and where it ended.

@@ -26,13 +26,18 @@ pub const SWITCHES_HEADER: &str = "branch,period,parent,bifurcation,at_speed_rat
 pub const BIFURCATIONS_HEADER: &str =
     "kind,speed_ratio,from,to,rho_stable_re,rho_stable_im,rho_unstable_re,rho_unstable_im";
 
-/// Writes `branch.csv`, `bifurcations.csv` and (`png`) `branch.png` — the orbit's largest
-/// |x| or |y| (/|Z0|) against ω/ωn, the stable stretches solid and the unstable ones dashed —
-/// and `branch_multipliers.png` into `out`.
+/// Writes `branch.csv`, `bifurcations.csv` and (with `png`, the pictures' view) `branch.png` —
+/// the orbit's Poincaré points against ω/ωn, stable stretches solid and unstable ones dashed,
+/// over a sweep's points — and `branch_multipliers.png` into `out`.
 ///
 /// # Errors
 /// I/O and drawing errors, naming the file.
-pub fn write_branch(out: &mut OutDir, title: &str, branch: &Branch, png: bool) -> Result<()> {
+pub fn write_branch(
+    out: &mut OutDir,
+    title: &str,
+    branch: &Branch,
+    png: Option<DiagramView<'_>>,
+) -> Result<()> {
     let mut csv = format!("{BRANCH_HEADER}\n");
     for p in &branch.points {
         csv.push_str(&point_row(p));
@@ -54,7 +59,7 @@ pub fn write_branch(out: &mut OutDir, title: &str, branch: &Branch, png: bool) -
         );
     }
     out.write("bifurcations.csv", bif.as_bytes())?;
-    if png {
+    if let Some(view) = png {
         write_branch_multipliers(out, title, branch)?;
         branch_png(
             out,
@@ -63,6 +68,7 @@ pub fn write_branch(out: &mut OutDir, title: &str, branch: &Branch, png: bool) -
                 branch.period
             ),
             std::slice::from_ref(branch),
+            view,
         )?;
     }
     Ok(())
@@ -97,11 +103,16 @@ fn point_row(p: &crate::analysis::branch::BranchPoint) -> String {
 ///
 /// # Errors
 /// I/O and drawing errors, naming the file.
-pub fn write_diagram(out: &mut OutDir, title: &str, d: &Diagram, png: bool) -> Result<()> {
+pub fn write_diagram(
+    out: &mut OutDir,
+    title: &str,
+    d: &Diagram,
+    png: Option<DiagramView<'_>>,
+) -> Result<()> {
     let Some(first) = d.branches.first() else {
         return Ok(());
     };
-    write_branch(out, title, first, false)?;
+    write_branch(out, title, first, None)?;
     let mut csv = format!("{BRANCHES_HEADER}\n");
     for (i, b) in d.branches.iter().enumerate() {
         for p in &b.points {
@@ -126,70 +137,95 @@ pub fn write_diagram(out: &mut OutDir, title: &str, d: &Diagram, png: bool) -> R
         );
     }
     out.write("switches.csv", sw.as_bytes())?;
-    if png {
+    if let Some(view) = png {
         write_branch_multipliers(out, title, first)?;
         branch_png(
             out,
             &format!("{title} — periodic orbits continued in speed, switched at period doublings"),
             &d.branches,
+            view,
         )?;
     }
     Ok(())
 }
 
-/// `branch.png`: every branch of `branches` — its largest |x| or |y| (/|Z0|) against ω/ωn in
-/// its own colour, stable stretches solid, unstable ones dashed.
-fn branch_png(out: &mut OutDir, title: &str, branches: &[Branch]) -> Result<()> {
+/// What `branch.png` draws besides the branches: the Poincaré section's component (`"x"` or
+/// `"y"`, the scene's `output.component`) and a sweep's Poincaré points `(ν, value / |Z0|)` to
+/// draw under them (empty: none).
+#[derive(Debug, Clone, Copy)]
+pub struct DiagramView<'a> {
+    /// `"x"` or `"y"`.
+    pub component: &'a str,
+    /// The sweep's points, grey.
+    pub sweep: &'a [(f64, f64)],
+}
+
+/// `branch.png`: every branch of `branches` on the Poincaré section once per revolution — the
+/// `component` of each of its orbits' `k` section points against ω/ωn, one line per point, in
+/// the branch's colour, stable stretches solid and unstable ones dashed — over the sweep's
+/// points.
+fn branch_png(
+    out: &mut OutDir,
+    title: &str,
+    branches: &[Branch],
+    view: DiagramView<'_>,
+) -> Result<()> {
+    let c = usize::from(view.component == "y");
     let mut lines = Vec::new();
     for (i, b) in branches.iter().enumerate() {
         let from = b.points.first().map_or(0.0, |p| p.speed_ratio);
-        for c in curves(b) {
-            let stable = c.label == "stable";
-            lines.push(plot::BranchLine {
-                label: match (stable, i) {
-                    (false, _) => String::new(),
-                    (true, 0) => format!("period {}", b.period),
-                    (true, _) => format!("period {}, from ω/ωn {from:.3}", b.period),
-                },
-                points: c.points,
-                dashed: !stable,
-                colour: i,
-            });
+        for j in 0..b.period {
+            for (stable, points) in curves(b, &|p| p.poincare_nd.get(j).map_or(f64::NAN, |q| q[c]))
+            {
+                lines.push(plot::BranchLine {
+                    label: match (stable && j == 0, i) {
+                        (false, _) => String::new(),
+                        (true, 0) => format!("period {}", b.period),
+                        (true, _) => format!("period {}, from ω/ωn {from:.3}", b.period),
+                    },
+                    points,
+                    dashed: !stable,
+                    colour: i,
+                });
+            }
         }
     }
     let p = out.stage("branch.png")?;
+    let sweep = if view.sweep.is_empty() {
+        ""
+    } else {
+        "; grey: the sweep's Poincaré points"
+    };
     plot::branch_diagram(
         &p,
-        &format!("{title} (dashed: unstable)"),
+        &format!("{title} (dashed: unstable{sweep})"),
         &lines,
-        &[],
-        "largest |x|, |y| over the orbit / |Z0|",
+        view.sweep,
+        &format!("{}/|Z0| at ωt = 2πk", view.component),
     )
 }
 
-/// The diagram's curves: the orbit's largest |x| or |y| (/|Z0|), split into its stable and
-/// unstable stretches (a non-finite value breaks a line where the other holds).
-fn curves(branch: &Branch) -> Vec<Curve> {
-    [(true, "stable"), (false, "unstable")]
-        .into_iter()
-        .map(|(stable, how)| Curve {
-            label: how.to_string(),
-            points: branch
-                .points
-                .iter()
-                .enumerate()
-                .map(|(i, p)| {
-                    let reach = p.extents_nd.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-                    // The segment across a change of stability belongs to the unstable side,
-                    // so that the line is not broken there.
-                    let near = |j: usize| branch.points.get(j).is_some_and(|q| !q.stable);
-                    let unstable_near = near(i) || near(i + 1) || (i > 0 && near(i - 1));
-                    let on = if stable { p.stable } else { unstable_near };
-                    (p.speed_ratio, if on { reach } else { f64::NAN })
-                })
-                .collect(),
-        })
-        .collect()
+/// A branch's values `value(point)` against ω/ωn, as its stable and its unstable stretches
+/// (`(stable, points)`; a NaN breaks a line where the other holds; the segment across a change
+/// of stability belongs to the unstable side, so that the line is not broken there).
+fn curves(
+    branch: &Branch,
+    value: &dyn Fn(&crate::analysis::branch::BranchPoint) -> f64,
+) -> [(bool, Vec<(f64, f64)>); 2] {
+    let near = |j: usize| branch.points.get(j).is_some_and(|q| !q.stable);
+    [true, false].map(|stable| {
+        let points = branch
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let unstable_near = near(i) || near(i + 1) || (i > 0 && near(i - 1));
+                let on = if stable { p.stable } else { unstable_near };
+                (p.speed_ratio, if on { value(p) } else { f64::NAN })
+            })
+            .collect();
+        (stable, points)
+    })
 }
 
 /// The unit circle |ρ| = 1 as a closed curve.

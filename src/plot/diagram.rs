@@ -58,11 +58,11 @@ pub fn branch_diagram(
             draw_no_data(chart.plotting_area())?;
             return Ok(());
         }
-        let grey = RGBColor(150, 150, 150);
+        let grey = RGBColor(110, 110, 110);
         chart.draw_series(
             dots.iter()
                 .filter(finite)
-                .map(|p| Circle::new(*p, 1, grey.filled())),
+                .map(|p| Circle::new(*p, 2, grey.filled())),
         )?;
         let mut labelled = false;
         for (line, cs) in lines.iter().zip(&segs) {

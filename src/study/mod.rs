@@ -20,6 +20,7 @@
 pub mod assemble;
 pub mod case;
 pub mod merge;
+pub mod overlay;
 pub mod packed;
 pub mod run;
 pub mod series;

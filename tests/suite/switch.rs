@@ -163,3 +163,78 @@ fn the_continue_command_switches_and_refuses_what_it_cannot() {
         assert!(!bad.exists());
     }
 }
+
+/// The stable orbits of the branches are the sweep's responses: at every speed of the paper
+/// case's sweep (ν 0.5 … 6.0) where a branch of the sweep's period is stable, the sweep's
+/// Poincaré points (its long runs from the scene's start) lie on that orbit's section points
+/// within 1e-4 |Z0|. `rubsim continue --sweep DIR` draws them under the branches; a sweep of
+/// other overrides is refused before anything is written.
+#[test]
+fn the_stable_branches_are_the_sweeps_responses() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sw = tmp.path().join("sweep");
+    cli::ok(
+        &common::repo(""),
+        &["sweep", PAPER, "--out", sw.to_str().unwrap()],
+    );
+    let (ls, m) = common::file_model(&common::repo(PAPER), NO_SETS);
+    let dots = rubsim::study::overlay::sweep_poincare(&ls, &m, &sw, 1).unwrap();
+    let d = continue_switching(&m, &common::settings(&ls), (0.5, 6.0, 0.1), Some(1), 4).unwrap();
+    let mut compared = 0;
+    let mut worst: f64 = 0.0;
+    for b in &d.branches {
+        for p in b.points.iter().filter(|p| p.stable) {
+            let at: Vec<f64> = dots
+                .iter()
+                .filter(|q| (q.0 - p.speed_ratio).abs() < 1e-9)
+                .map(|q| q.1)
+                .collect();
+            // The sweep's response there has this period when its points are the orbit's k.
+            let near = |y: f64| {
+                p.poincare_nd
+                    .iter()
+                    .map(|s| (s[1] - y).abs())
+                    .fold(f64::INFINITY, f64::min)
+            };
+            if at.is_empty() || at.iter().any(|&y| near(y) > 1e-2) {
+                continue; // another response (a coexisting one, or another period)
+            }
+            compared += 1;
+            worst = at.iter().map(|&y| near(y)).fold(worst, f64::max);
+        }
+    }
+    eprintln!(
+        "{compared} stable branch points against the sweep: largest distance {worst:.2e} |Z0|"
+    );
+    assert!(compared >= 30, "{compared}");
+    assert!(worst < 1e-4, "{worst}");
+    let out = tmp.path().join("c");
+    let args = [
+        "continue", PAPER, "--period", "1", "--from", "2.0", "--to", "2.6", "--step", "0.1",
+    ];
+    let mut a = args.to_vec();
+    a.extend([
+        "--sweep",
+        sw.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    cli::ok(&common::repo(""), &a);
+    assert!(cli::is_png(&out.join("branch.png")));
+    let bad = tmp.path().join("bad");
+    let mut a = args.to_vec();
+    a.extend([
+        "--set",
+        "stator.0.clearance_nd=0.5",
+        "--sweep",
+        sw.to_str().unwrap(),
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
+    let err = cli::fails(&common::repo(""), &a);
+    assert!(
+        err.contains("--sweep") && err.contains("overrides"),
+        "{err}"
+    );
+    assert!(!bad.exists());
+}
