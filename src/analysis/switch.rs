@@ -110,8 +110,9 @@ pub fn switch_all(model: &Model, s: &RunSettings, first: Branch, max_period: usi
             }
             match doubled(model, s, &dbl) {
                 Ok((Some(found), steps)) => {
-                    d.steps += steps;
                     let (orbit, beyond, record) = found;
+                    // The found orbit's own steps are the new branch's first (`follow`).
+                    d.steps += steps.saturating_sub(orbit.steps);
                     let mut speeds = vec![orbit.speed_ratio];
                     speeds.extend(beyond);
                     let b = follow(model, s, orbit, &speeds, Some(k));
