@@ -16,7 +16,7 @@
 //! `neimark_sacker` (a complex pair).
 
 use super::periodic::{self, PeriodicOrbit};
-use super::speed::prepare;
+use super::speed::{prepare, Prepared};
 use super::RunSettings;
 use crate::error::Result;
 use crate::model::Model;
@@ -248,8 +248,10 @@ fn advance(
     parent: Option<usize>,
 ) -> (Advance, u64) {
     let k = prev.period;
-    let o = match at_speed(model, s, v, prev) {
-        Ok(o) => o,
+    let shot = prepare(model, &request(s, v))
+        .and_then(|prep| periodic::shoot_from(&prep, prev).map(|o| (prep, o)));
+    let (prep, o) = match shot {
+        Ok(x) => x,
         Err(e) => return (Advance::Error(format!("ω/ωn = {v:.4}: {e}")), 0),
     };
     let steps = o.steps;
@@ -260,7 +262,7 @@ fn advance(
         );
         return (Advance::Failed(why), steps);
     }
-    match merged(model, s, &o, parent) {
+    match merged(&prep, &o, parent) {
         Ok((false, st)) => (Advance::Point(o), steps + st),
         Ok((true, st)) => {
             let p = parent.unwrap_or(k);
@@ -274,19 +276,13 @@ fn advance(
     }
 }
 
-/// Whether the orbit `o` repeats after `parent` revolutions (its `parent`-map residual within
-/// [`periodic::DISTINCT`]), and the steps that took; `false` without a parent.
-fn merged(
-    model: &Model,
-    s: &RunSettings,
-    o: &PeriodicOrbit,
-    parent: Option<usize>,
-) -> Result<(bool, u64)> {
+/// Whether the orbit `o` found on `prep` repeats after `parent` revolutions (its `parent`-map
+/// residual within [`periodic::DISTINCT`]), and the steps that took; `false` without a parent.
+fn merged(prep: &Prepared, o: &PeriodicOrbit, parent: Option<usize>) -> Result<(bool, u64)> {
     let Some(p) = parent else {
         return Ok((false, 0));
     };
-    let prep = prepare(model, &request(s, o.speed_ratio))?;
-    let (r, steps) = periodic::residual_after(&prep, o, p)?;
+    let (r, steps) = periodic::residual_after(prep, o, p)?;
     Ok((r <= periodic::DISTINCT, steps))
 }
 

@@ -179,16 +179,7 @@ pub(super) fn monodromy(
     o: &PeriodicOrbit,
 ) -> Result<(DMatrix<f64>, Vec<f64>, u64)> {
     let (x, end) = &o.fixed_point;
-    let map = Map {
-        prep,
-        plan: StepPlan {
-            steps: o.period * prep.plan.steps_per_rev.max(1),
-            steady_from: 0,
-            ..prep.plan
-        },
-        end: end.clone(),
-    };
-    let (m, steps) = map.jacobian(x)?;
+    let (m, steps) = Map::new(prep, o.period, &prep.plan, end.clone()).jacobian(x)?;
     Ok((m, x.clone(), steps))
 }
 
@@ -225,14 +216,9 @@ pub(super) fn solve_deflated(
 /// The map's run errors.
 pub(super) fn residual_after(prep: &Prepared, o: &PeriodicOrbit, k: usize) -> Result<(f64, u64)> {
     let (x, end) = &o.fixed_point;
-    let plan = StepPlan {
-        steps: k * prep.plan.steps_per_rev.max(1),
-        steady_from: 0,
-        ..prep.plan
-    };
-    let start = end.with_state_vector(x).ok_or_else(not_restarted)?;
-    let px = end_after(prep, &plan, &start)?;
-    Ok((residual(x, &px), plan.steps as u64))
+    let map = Map::new(prep, k, &prep.plan, end.clone());
+    let px = map.apply(x)?;
+    Ok((residual(x, &px), map.plan.steps as u64))
 }
 
 /// Newton from `x0` (laid out as `end`) on the `k`-revolution map of `prep` at the step of
@@ -245,15 +231,7 @@ fn solve(
     end: EndState,
     (x0, deflated): (Vec<f64>, Option<&[f64]>),
 ) -> Result<PeriodicOrbit> {
-    let map = Map {
-        prep,
-        plan: StepPlan {
-            steps: k * plan.steps_per_rev.max(1),
-            steady_from: 0,
-            ..*plan
-        },
-        end,
-    };
+    let map = Map::new(prep, k, plan, end);
     let mut steps = 0;
     let (x, newton) = map.newton(x0, deflated)?;
     steps += newton.steps;
@@ -309,7 +287,21 @@ struct Map<'a> {
     end: EndState,
 }
 
-impl Map<'_> {
+impl<'a> Map<'a> {
+    /// The `k`-revolution map of `prep` at the step of `plan` (nothing cut), its vectors laid
+    /// out as `end`.
+    fn new(prep: &'a Prepared, k: usize, plan: &StepPlan, end: EndState) -> Self {
+        Self {
+            prep,
+            plan: StepPlan {
+                steps: k * plan.steps_per_rev.max(1),
+                steady_from: 0,
+                ..*plan
+            },
+            end,
+        }
+    }
+
     /// `P(x)`: the state after the map's `k N` steps from `x`.
     fn apply(&self, x: &[f64]) -> Result<Vec<f64>> {
         let start = self.end.with_state_vector(x).ok_or_else(not_restarted)?;
@@ -511,8 +503,9 @@ fn deflation(x: &[f64], r: &[f64]) -> (f64, Vec<f64>) {
     (1.0 / d2 + 1.0, grad)
 }
 
-/// `max |P(x) − x| / max |x|` (∞ for a non-finite map).
-fn residual(x: &[f64], px: &[f64]) -> f64 {
+/// `max |P(x) − x| / max |x|` (∞ for a non-finite map): also the distance of a state `px`
+/// from `x` relative to `x`'s size.
+pub(super) fn residual(x: &[f64], px: &[f64]) -> f64 {
     let scale = x.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
     let d = x
         .iter()

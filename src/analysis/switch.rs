@@ -185,13 +185,7 @@ fn doubled(model: &Model, s: &RunSettings, dbl: &Doubling) -> Result<(Option<Fou
             if !o.converged {
                 continue;
             }
-            let distance = o
-                .fixed_point
-                .0
-                .iter()
-                .zip(&x)
-                .fold(0.0_f64, |a, (p, q)| a.max((p - q).abs()))
-                / scale;
+            let distance = periodic::residual(&x, &o.fixed_point.0);
             let (half, st) = periodic::residual_after(&prep, &o, orbit.period)?;
             steps += st;
             if distance > DISTINCT && half > DISTINCT {
