@@ -8,7 +8,6 @@
 
 use super::variant::{map_variants, MapAxes};
 use crate::analysis::thermal::{run_thermal, HotSpot, ThermalResults};
-use crate::analysis::RunSettings;
 use crate::error::{Error, Result, SolveError};
 use crate::model::Model;
 use crate::scene::LoadedScene;
@@ -185,31 +184,43 @@ pub fn run(ls: &LoadedScene, model: &Model) -> Result<ThermalMap> {
     }
     let (variants, speeds, axes) = map_variants(ls, Some(model.rotor.natural_frequency()))?;
     let ns = speeds.len();
+    let at = |v: usize, speed: Option<f64>, e: Error| {
+        let speed = speed.map_or(String::new(), |x| format!(" at ω/ωn = {x}"));
+        Error::study(
+            ls.file.display(),
+            format!("map cell {}{speed}: {e}", variants[v].label()),
+        )
+    };
+    // Each variant's scene (from the scene's own text, as a sweep's variants), model and
+    // settings, once. The settings are the scene's own step rule: a cell does not choose its
+    // step from `run.tolerance` by pilots as `rubsim run` does (per cell that costs 12 × the
+    // map, over the map's speeds 40 ×, for rates within 1 % of these: docs/VALIDATION.md §21.1).
+    let scenes: Vec<(LoadedScene, Model, crate::analysis::RunSettings)> = variants
+        .iter()
+        .enumerate()
+        .map(|(v, var)| {
+            let mut sets = ls.overrides.clone();
+            sets.extend(var.overrides.iter().cloned());
+            let lv = crate::scene::parse(&ls.file, &ls.source, &sets)
+                .map_err(|e| at(v, None, e.into()))?;
+            let m = Model::from_scene(&lv).map_err(|e| at(v, None, e))?;
+            let settings = crate::analysis::RunSettings::from_scene(&lv.scene);
+            Ok((lv, m, settings))
+        })
+        .collect::<Result<_>>()?;
     let cases: Vec<(usize, usize)> = (0..variants.len())
         .flat_map(|v| (0..ns).map(move |s| (v, s)))
         .collect();
     let results: Vec<Result<(usize, ThermalCell)>> = cases
         .par_iter()
         .map(|&(v, s)| {
-            let mut sets = ls.overrides.clone();
-            sets.extend(variants[v].overrides.iter().cloned());
-            let at = |e: Error| {
-                Error::study(
-                    ls.file.display(),
-                    format!(
-                        "map cell {} at ω/ωn = {}: {e}",
-                        variants[v].label(),
-                        speeds[s]
-                    ),
-                )
-            };
-            let lv = crate::scene::load(&ls.file, &sets).map_err(|e| at(e.into()))?;
-            let m = Model::from_scene(&lv).map_err(at)?;
-            let hs = HotSpot::of_scene(&lv)
+            let (lv, m, settings) = &scenes[v];
+            let at = |e: Error| at(v, Some(speeds[s]), e);
+            let hs = HotSpot::of_scene(lv)
                 .ok_or_else(|| at(Error::study(ls.file.display(), "no [thermal]")))?;
             let (ix, iy) = axes.cell(v * ns + s, ns);
             let at_xy = [axes.values[0][ix], axes.values[1][iy]];
-            let cell = match run_thermal(&m, &RunSettings::from_scene(&lv.scene), speeds[s], &hs) {
+            let cell = match run_thermal(m, settings, speeds[s], &hs) {
                 Ok(r) => ThermalCell::of(at_xy, speeds[s], &r),
                 Err(e) => ThermalCell::diverged(
                     at_xy,
