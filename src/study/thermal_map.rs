@@ -193,8 +193,9 @@ pub fn run(ls: &LoadedScene, model: &Model) -> Result<ThermalMap> {
     };
     // Each variant's scene (from the scene's own text, as a sweep's variants), model and
     // settings, once. The settings are the scene's own step rule: a cell does not choose its
-    // step from `run.tolerance` by pilots as `rubsim run` does (per cell that costs 12 × the
-    // map, over the map's speeds 40 ×, for rates within 1 % of these: docs/VALIDATION.md §21.1).
+    // step from `run.tolerance` by pilots as `rubsim run` does (per cell that cost 12 × the
+    // time, over the map's speeds 40 ×, and moved the tests' agreement with the theory by less
+    // than 2 % of its bound: docs/VALIDATION.md §21.1).
     let scenes: Vec<(LoadedScene, Model, crate::analysis::RunSettings)> = variants
         .iter()
         .enumerate()
