@@ -141,6 +141,7 @@ impl Model {
                 rate: w.coefficient * w.acceleration,
                 acceleration: w.acceleration,
                 areas,
+                layer: w.layer,
             });
         }
         m

@@ -92,6 +92,37 @@ pub struct WearInput {
     pub coefficient: f64,
     /// A: the wear magnification `run.wear_acceleration`.
     pub acceleration: f64,
+    /// The elasto-plastic abradable coating (`[stator.abradable]`, `scene::abradable`); `None`
+    /// without. A stator with a coating and no `[stator.wear]` has `coefficient` 0.
+    pub layer: Option<AbradableLayer>,
+}
+
+/// A stator's elasto-plastic abradable coating (`scene::abradable`), the same for each of its
+/// contact nodes but for the node's tributary area `A` (m²).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AbradableLayer {
+    /// Thickness h (m).
+    pub thickness: f64,
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Yield stress σ_y (Pa).
+    pub yield_stress: f64,
+    /// Linear hardening modulus H (Pa, ≥ 0).
+    pub hardening_modulus: f64,
+}
+
+impl AbradableLayer {
+    /// A node's coating of tributary area `area` (m²): `[k_a, f_0, k_h]` — the elastic
+    /// stiffness `k_a = E A / h` (N/m), the initial yield force `f_0 = A σ_y` (N) and the
+    /// hardening stiffness `k_h = H A / h` (N/m), so that the yield force after a plastic
+    /// shortening `d_p` is `f_y = f_0 + k_h d_p`.
+    pub fn at(&self, area: f64) -> [f64; 3] {
+        [
+            self.youngs_modulus * area / self.thickness,
+            self.yield_stress * area,
+            self.hardening_modulus * area / self.thickness,
+        ]
+    }
 }
 
 /// `[run.reduction]` resolved: the cut-off ω_cut (rad/s) is `cutoff` when given, else
@@ -145,9 +176,16 @@ pub fn resolve(ls: &LoadedScene) -> Result<Resolved, Error> {
             .stators
             .iter()
             .map(|spec| {
-                spec.wear().map(|w| WearInput {
-                    coefficient: w.coefficient,
+                let layer = spec.abradable().map(|a| AbradableLayer {
+                    thickness: a.thickness,
+                    youngs_modulus: a.youngs_modulus,
+                    yield_stress: a.yield_stress,
+                    hardening_modulus: a.hardening_modulus,
+                });
+                (spec.wear().is_some() || layer.is_some()).then(|| WearInput {
+                    coefficient: spec.wear().map_or(0.0, |w| w.coefficient),
                     acceleration: s.run.wear_acceleration,
+                    layer,
                 })
             })
             .collect(),

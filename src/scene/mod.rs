@@ -13,6 +13,7 @@
 //! [`load`] reads a file, applies `--set key=value` overrides, deserialises and validates. Errors
 //! name the file, the dotted key and the line ([`crate::error::SceneError`]).
 
+pub mod abradable;
 pub mod event;
 mod output;
 mod overrides;

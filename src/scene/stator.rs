@@ -67,6 +67,15 @@ impl StatorSpec {
             StatorSpec::Mesh(s) => &s.station,
         }
     }
+    /// Its `[stator.abradable]`, if any.
+    pub fn abradable(&self) -> Option<&super::abradable::AbradableSpec> {
+        match self {
+            StatorSpec::Rod(s) => s.abradable.as_ref(),
+            StatorSpec::Ring(s) => s.abradable.as_ref(),
+            StatorSpec::Fe(s) => s.abradable.as_ref(),
+            StatorSpec::Mesh(s) => s.abradable.as_ref(),
+        }
+    }
     /// Its `[stator.wear]`, if any.
     pub fn wear(&self) -> Option<&super::wear::WearSpec> {
         match self {
@@ -179,6 +188,10 @@ pub struct MeshStatorSpec {
     /// stators only. Absent: no wear.
     #[serde(default)]
     pub wear: Option<super::wear::WearSpec>,
+    /// An elasto-plastic abradable coating on the contact nodes (`[stator.abradable]`,
+    /// `scene::abradable`); rods and meshed stators only. Absent: no coating.
+    #[serde(default)]
+    pub abradable: Option<super::abradable::AbradableSpec>,
     /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
     /// force, a dashpot between the rotor section and ground in parallel with the contact damps
     /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).
@@ -313,6 +326,10 @@ pub struct RodSpec {
     /// stators only. Absent: no wear.
     #[serde(default)]
     pub wear: Option<super::wear::WearSpec>,
+    /// An elasto-plastic abradable coating on the contact nodes (`[stator.abradable]`,
+    /// `scene::abradable`); rods and meshed stators only. Absent: no coating.
+    #[serde(default)]
+    pub abradable: Option<super::abradable::AbradableSpec>,
     /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
     /// force, a dashpot between the rotor section and ground in parallel with the contact damps
     /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).
@@ -368,6 +385,10 @@ pub struct RingSpec {
     /// stators only. Absent: no wear.
     #[serde(default)]
     pub wear: Option<super::wear::WearSpec>,
+    /// An elasto-plastic abradable coating on the contact nodes (`[stator.abradable]`,
+    /// `scene::abradable`); rods and meshed stators only. Absent: no coating.
+    #[serde(default)]
+    pub abradable: Option<super::abradable::AbradableSpec>,
     /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
     /// force, a dashpot between the rotor section and ground in parallel with the contact damps
     /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).
@@ -420,6 +441,10 @@ pub struct FeStatorSpec {
     /// stators only. Absent: no wear.
     #[serde(default)]
     pub wear: Option<super::wear::WearSpec>,
+    /// An elasto-plastic abradable coating on the contact nodes (`[stator.abradable]`,
+    /// `scene::abradable`); rods and meshed stators only. Absent: no coating.
+    #[serde(default)]
+    pub abradable: Option<super::abradable::AbradableSpec>,
     /// Contact dashpot c_d (N·s/m), massless stators only: while a pair of this stator carries
     /// force, a dashpot between the rotor section and ground in parallel with the contact damps
     /// the rate of the stator's deflection at the contact point (docs/IMPLICIT.md §6).

@@ -58,6 +58,7 @@ pub fn validate(ls: &LoadedScene) -> Result<(), SceneError> {
         }
         validate_contact_damping(ls, i, stator)?;
         super::wear::validate(ls, i, stator)?;
+        super::abradable::validate(ls, i, stator)?;
     }
     validate_run(ls)?;
     output_component(ls)?;

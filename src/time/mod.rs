@@ -53,6 +53,7 @@
 //! correction for a varying speed), [`compliance`] (massless stators), `select` (which pairs enter a contact problem), `solve` (the contact
 //! solve), `ring` (exact ring kinematics in a solve), `workspace` (buffers), `stepper` (the step), [`frame`] (frames for sinks).
 
+mod abradable;
 mod blocks;
 mod body;
 pub mod budget;

@@ -35,12 +35,20 @@ pub struct Record {
     /// A driven rotor's spin per sample: `[φ (rad), Ω (rad/s), Ω̇ (rad/s²), drive torque
     /// T_d (N·m), rub friction torque Σ R μ p (N·m)]` (`time::drive`); empty otherwise.
     pub spin: Vec<[f64; 5]>,
-    /// With wear (`[stator.wear]`), per sample: the volume worn so far (m³) and the largest
-    /// worn depth of a target (m); empty otherwise.
+    /// With wear (`[stator.wear]`) or an abradable coating (`[stator.abradable]`), per sample:
+    /// the volume removed so far — worn and cut off the coatings — (m³) and the largest depth a
+    /// target receded (m); empty otherwise.
     pub wear: Vec<[f64; 2]>,
-    /// With wear, at the run's end: the worn depth of every candidate pair's target (m), in the
-    /// candidates' order — stator by stator, target by target; empty otherwise.
+    /// With wear or a coating, at the run's end: the depth every candidate pair's target
+    /// receded (m, worn and abraded), in the candidates' order — stator by stator, target by
+    /// target; empty otherwise.
     pub worn: Vec<f64>,
+    /// With a coating, at the run's end: the plastic shortening `d_p` of every candidate pair's
+    /// coating (m, in the candidates' order; part of `worn`); empty otherwise.
+    pub abraded: Vec<f64>,
+    /// With a coating, at the run's end: the volume cut off the coatings (m³) and the plastic
+    /// work done on them (J, `Σ p Δd_p`); zeros otherwise.
+    pub abradable: [f64; 2],
 }
 
 impl Record {
@@ -59,6 +67,8 @@ impl Record {
             spin: Vec::new(),
             wear: Vec::new(),
             worn: Vec::new(),
+            abraded: Vec::new(),
+            abradable: [0.0; 2],
         }
     }
     /// Number of samples.

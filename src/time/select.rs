@@ -78,8 +78,18 @@ pub(crate) struct Pairs {
     pub(crate) wear: Vec<(f64, f64)>,
     /// Per candidate: its target's worn depth (m), added to its gap (`super::wear`).
     pub(crate) worn: Vec<f64>,
-    /// Some candidate wears.
+    /// Some candidate wears or carries an abradable coating (its target recedes).
     pub(crate) any_wear: bool,
+    /// Per candidate: its target's abradable coating `[k_a, f_0, k_h]` (N/m, N, N/m,
+    /// `resolve::AbradableLayer::at`); `k_a = 0` without one (`super::abradable`).
+    pub(crate) layer: Vec<[f64; 3]>,
+    /// Per candidate: its coating's plastic shortening `d_p` so far (m), part of `worn`.
+    pub(crate) abraded: Vec<f64>,
+    /// Per candidate: its coating was at its yield force in its last solve (the warm start of
+    /// the bounded problem, `super::abradable`).
+    pub(crate) capped: Vec<bool>,
+    /// Some candidate has a coating.
+    pub(crate) any_layer: bool,
 }
 
 impl Pairs {
@@ -129,10 +139,25 @@ impl Pairs {
                     })
             })
             .collect();
+        let layer: Vec<[f64; 3]> = cands
+            .iter()
+            .map(|c| {
+                let s = &case.stators[c.stator];
+                match (s.wear.as_ref().and_then(|w| w.layer), &s.wear) {
+                    (Some(l), Some(w)) => l.at(w.areas.get(c.target).copied().unwrap_or(0.0)),
+                    _ => [0.0; 3],
+                }
+            })
+            .collect();
+        let any_layer = layer.iter().any(|l| l[0] > 0.0);
         Self {
+            any_layer,
+            abraded: vec![0.0; cands.len()],
+            capped: vec![false; cands.len()],
+            layer,
             exact_rings,
             any_stick: cands.iter().any(|c| c.stick),
-            any_wear: wear.iter().any(|w| w.0 > 0.0 && w.1 > 0.0),
+            any_wear: any_layer || wear.iter().any(|w| w.0 > 0.0 && w.1 > 0.0),
             worn: vec![0.0; cands.len()],
             wear,
             broad: BroadPhase::new(&indexed, 16),

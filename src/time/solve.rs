@@ -135,6 +135,7 @@ impl Stepper<'_> {
         self.target_displacements();
         // Before the dissipation keeps the targets' end for the next step's slip.
         self.wear_step(held, step, time);
+        self.abrade_step();
         self.friction_dissipation(held, into, step, time);
         Ok(pivots)
     }
@@ -153,12 +154,18 @@ impl Stepper<'_> {
         if dashpots {
             self.dashpot_into_problem(held);
         }
-        self.ws.solve_lcp().map_err(|e| SolveError::Contact {
+        let contact = |message: String| SolveError::Contact {
             step,
             time,
             pairs: q,
-            message: e.to_string(),
-        })
+            message,
+        };
+        // Abradable coatings (the scene keeps them from dashpots and stick): their compliance
+        // in W and the force bounded by their yield force.
+        if self.pairs.any_layer && super::abradable::add_compliance(&mut self.ws, &self.pairs) {
+            return super::abradable::solve_bounded(&mut self.ws, &mut self.pairs).map_err(contact);
+        }
+        self.ws.solve_lcp().map_err(|e| contact(e.to_string()))
     }
 
     /// Applies the solved normal forces: `−b p` on the rotor section (a correction along M̃⁻¹, or

@@ -75,6 +75,9 @@ pub struct Stepper<'a> {
     instant_gap: f64,
     /// Volume worn off the stators so far (m³, `super::wear`).
     pub(crate) worn_volume: f64,
+    /// The abradable coatings so far (`super::abradable`): the volume cut off them (m³) and the
+    /// plastic work done on them (J, `Σ p Δ`).
+    pub(crate) abradable: [f64; 2],
     /// Contact statistics of the open segment of instants (one revolution of
     /// `plan.steps_per_rev` steps, the last one ending at `plan.steps`); closed into
     /// `segments` at `boundary`.
@@ -231,6 +234,7 @@ impl<'a> Stepper<'a> {
             active: 0,
             instant_gap: f64::INFINITY,
             worn_volume: 0.0,
+            abradable: [0.0; 2],
             segment: ContactStats::starting_at(0),
             segments: Vec::with_capacity(plan.steps / plan.steps_per_rev.max(1) + 2),
             boundary: 0,
@@ -432,6 +436,10 @@ impl<'a> Stepper<'a> {
         let mut rec = self.recorder.rec;
         if self.pairs.any_wear {
             rec.worn = self.pairs.worn;
+        }
+        if self.pairs.any_layer {
+            rec.abraded = self.pairs.abraded;
+            rec.abradable = self.abradable;
         }
         Ok((rec, stats))
     }

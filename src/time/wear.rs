@@ -36,9 +36,10 @@ impl Stepper<'_> {
         }
     }
 
-    /// The run's worn volume (m³) and the largest worn depth of a target (m) so far.
+    /// The run's removed volume — worn by Archard's law and cut off abradable coatings — (m³)
+    /// and the largest depth a target receded (m) so far.
     pub(crate) fn wear_state(&self) -> [f64; 2] {
         let deepest = self.pairs.worn.iter().fold(0.0_f64, |m, h| m.max(*h));
-        [self.worn_volume, deepest]
+        [self.worn_volume + self.abradable[0], deepest]
     }
 }

@@ -165,6 +165,8 @@ pub(crate) struct StepWorkspace {
     pub(crate) us_end: Vec<(V2, usize)>,
     /// The tangential part of a problem with stick (`super::stick`).
     pub(crate) stick: StickScratch,
+    /// The bounded problem of abradable coatings (`super::abradable`).
+    pub(crate) abr: AbradableScratch,
 }
 
 /// Buffers of the tangential rows of a contact problem with stick (`super::stick`), grown only
@@ -246,6 +248,7 @@ impl StepWorkspace {
             power_set: false,
             us_end: vec![([0.0; 2], usize::MAX); nc],
             stick: StickScratch::default(),
+            abr: Default::default(),
         }
     }
 
@@ -318,5 +321,49 @@ impl StepWorkspace {
             .iter()
             .filter(|p| **p > 0.0)
             .count()
+    }
+}
+
+/// Buffers of the bounded problem of abradable coatings (`super::abradable`), per selected pair
+/// or unknown; grown only when a problem is larger than every earlier one.
+#[derive(Debug, Default)]
+pub(crate) struct AbradableScratch {
+    /// Per selected pair: at its yield force in the current round.
+    pub(crate) capped: Vec<bool>,
+    /// Per selected pair: its yield force `f_y(d_p)` at the start of the solve (N; +∞ without
+    /// a coating).
+    pub(crate) fy: Vec<f64>,
+    /// Per selected pair: its hardening stiffness `k_h` (N/m).
+    pub(crate) kh: Vec<f64>,
+    /// Per selected pair: its gap with the round's forces, `w = g + W p` (m).
+    pub(crate) w_gap: Vec<f64>,
+    /// The selected pair of each unknown of the round's LCP.
+    pub(crate) unk: Vec<usize>,
+    /// The round's LCP: operator (row-major), gaps, solution, warm start.
+    pub(crate) w: Vec<f64>,
+    pub(crate) g: Vec<f64>,
+    pub(crate) x: Vec<f64>,
+    pub(crate) guess: Vec<bool>,
+    /// Per selected pair: the plastic increment `Δ` of the last bounded solve (m).
+    pub(crate) plastic: Vec<f64>,
+    /// Pairs of the last bounded solve whose increments `Stepper::abrade_step` has not yet
+    /// applied (0: none).
+    pub(crate) pending: usize,
+}
+
+impl AbradableScratch {
+    pub(crate) fn grow(&mut self, q: usize) {
+        if self.capped.len() < q {
+            self.capped.resize(q, false);
+            self.fy.resize(q, 0.0);
+            self.kh.resize(q, 0.0);
+            self.w_gap.resize(q, 0.0);
+            self.unk.reserve(q);
+            self.w.resize(q * q, 0.0);
+            self.g.resize(q, 0.0);
+            self.x.resize(q, 0.0);
+            self.guess.resize(q, false);
+            self.plastic.resize(q, 0.0);
+        }
     }
 }

@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod abradable;
 mod architecture;
 mod autostep;
 mod campbell;

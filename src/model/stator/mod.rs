@@ -120,12 +120,13 @@ pub struct StatorModel {
     pub wear: Option<StatorWear>,
 }
 
-/// Archard wear of a stator's contact targets (`scene::wear`): a target with force `p` that
-/// slips by `ζ` over a step recedes by `rate p |ζ| / area` (m).
+/// How a stator's contact targets recede: Archard wear (`scene::wear`) — a target with force
+/// `p` that slips by `ζ` over a step recedes by `rate p |ζ| / area` (m) — and the plastic
+/// shortening of an abradable coating (`scene::abradable`, `time::abradable`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StatorWear {
     /// k A (m²/N): Archard's dimensional coefficient `[stator.wear] coefficient` times the wear
-    /// magnification `run.wear_acceleration`.
+    /// magnification `run.wear_acceleration`; 0 for a coating without `[stator.wear]`.
     pub rate: f64,
     /// A: the wear magnification (`run.wear_acceleration`): a run of time t wears as Archard's
     /// law over A t.
@@ -133,6 +134,9 @@ pub struct StatorWear {
     /// Tributary area of each contact target (m², in target order): a rod's cross-section, a
     /// meshed stator's share of its contact boundary ([`MeshStatorData::contact_areas`]).
     pub areas: Vec<f64>,
+    /// The elasto-plastic abradable coating on every contact target (`[stator.abradable]`);
+    /// `None` without. Never magnified by `run.wear_acceleration`.
+    pub layer: Option<crate::resolve::AbradableLayer>,
 }
 
 /// What a meshed stator keeps beyond [`StatorModel`]: where its mesh came from and the
