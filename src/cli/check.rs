@@ -142,7 +142,9 @@ fn print_stators(s: &Scene, case: &Case) {
                 .areas
                 .iter()
                 .fold((f64::INFINITY, 0.0_f64), |(a, b), x| (a.min(*x), b.max(*x)));
-            println!(
+            // A coating alone (`rate` 0) is no Archard wear.
+            if w.rate > 0.0 {
+                println!(
                 "  wears (Archard): k = {:.4e} m²/N magnified {} times (`run.wear_acceleration`); {} contact nodes of {:.4e} … {:.4e} m² (their depth grows by k p |ζ| / area a step)",
                 w.rate / w.acceleration,
                 w.acceleration,
@@ -150,6 +152,13 @@ fn print_stators(s: &Scene, case: &Case) {
                 lo,
                 hi
             );
+            }
+            if let Some(l) = &w.layer {
+                println!(
+                    "  abradable coating: h = {:.4e} m, E = {:.4e} Pa, σ_y = {:.4e} Pa, H = {:.4e} Pa (each node a radial rod E A / h in series, its force at most A (σ_y + H d_p / h))",
+                    l.thickness, l.youngs_modulus, l.yield_stress, l.hardening_modulus
+                );
+            }
         }
         if m.massless() {
             print_massless(m);
@@ -597,7 +606,10 @@ pub(crate) fn listed_outputs(s: &Scene, stress: bool) -> Vec<String> {
         if stick {
             add(&[], &["dry_whirl.png"]);
         }
-        if s.stators.iter().any(|st| st.wear().is_some()) {
+        if s.stators
+            .iter()
+            .any(|st| st.wear().is_some() || st.abradable().is_some())
+        {
             add(
                 &["wear.csv", "worn_depth.csv"],
                 &["wear.png", "worn_depth.png"],

@@ -190,6 +190,18 @@ fn print_end(r: &analysis::TransientResults, stress: Option<&TransientStress>) {
                 ""
             }
         );
+        if let Some(a) = &w.abradable {
+            println!(
+                "abradable coating: {:.4e} m³ cut off (plastic work {:.4e} J), deepest cut {:.4e} m{}",
+                a.volume_m3,
+                a.plastic_work_j,
+                a.max_depth_m,
+                a.deepest.as_ref().map_or(String::new(), |n| format!(
+                    " at stator `{}` node {} ({:.1}°, z = {:.4} m)",
+                    n.stator, n.node, n.angle_deg, n.z
+                )),
+            );
+        }
     }
     for p in stress.iter().flat_map(|s| &s.peaks) {
         println!(

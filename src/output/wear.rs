@@ -25,12 +25,24 @@ pub fn write(out: &mut OutDir, title: &str, w: &WearResults, png: bool) -> Resul
         ));
     }
     out.write("wear.csv", s.as_bytes())?;
-    let mut s = String::from("stator,node,x_m,y_m,z_m,angle_deg,area_m2,depth_m\n");
+    // With an abradable coating, the column `abraded_m` (its plastic shortening, part of the
+    // depth) before the depth, which stays the last column.
+    let coated = w.abradable.is_some();
+    let mut s = String::from("stator,node,x_m,y_m,z_m,angle_deg,area_m2,");
+    s.push_str(if coated {
+        "abraded_m,depth_m\n"
+    } else {
+        "depth_m\n"
+    });
     for n in &w.nodes {
         s.push_str(&format!(
-            "{},{},{:.9e},{:.9e},{:.9e},{:.4},{:.6e},{:.6e}\n",
-            n.stator, n.node, n.x, n.y, n.z, n.angle_deg, n.area_m2, n.depth_m
+            "{},{},{:.9e},{:.9e},{:.9e},{:.4},{:.6e},",
+            n.stator, n.node, n.x, n.y, n.z, n.angle_deg, n.area_m2
         ));
+        if coated {
+            s.push_str(&format!("{:.6e},", n.abraded_m));
+        }
+        s.push_str(&format!("{:.6e}\n", n.depth_m));
     }
     out.write("worn_depth.csv", s.as_bytes())?;
     if !png {
