@@ -56,6 +56,7 @@ pub mod dry;
 pub mod dynamics;
 pub mod estimate;
 pub mod fanout;
+pub mod floquet;
 mod lengthen;
 pub mod notices;
 pub mod periodic;

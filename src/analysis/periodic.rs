@@ -102,10 +102,19 @@ pub fn shoot_at(
     speed_ratio: f64,
     period: Option<usize>,
 ) -> Result<PeriodicOrbit> {
+    shoot(
+        &super::prepare(model, &shooting_request(s, speed_ratio))?,
+        period,
+    )
+}
+
+/// The request of a run shot at ν = `speed_ratio`: the settings' own, without the
+/// coexistence check and the step refinement, which shooting does not use.
+pub(super) fn shooting_request(s: &super::RunSettings, speed_ratio: f64) -> super::RunRequest {
     let mut request = s.request_at(0, speed_ratio);
     request.follow_ups.coexistence = false;
     request.follow_ups.refine_step = false;
-    shoot(&super::prepare(model, &request)?, period)
+    request
 }
 
 /// Runs `prep` to its settled state and shoots the periodic response of period `period`
@@ -156,17 +165,31 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
 /// # Errors
 /// As [`shoot`].
 pub fn shoot_from(prep: &Prepared, from: &PeriodicOrbit) -> Result<PeriodicOrbit> {
+    shoot_at_step(prep, from, &prep.plan)
+}
+
+/// The period-`from.period` orbit of `prep` at the step of `plan` (`prep`'s own, or another:
+/// the multipliers' refinement shoots at half of it) by Newton from the fixed point of `from`
+/// carried to that step (`EndState::retimed`).
+///
+/// # Errors
+/// As [`shoot`].
+pub(super) fn shoot_at_step(
+    prep: &Prepared,
+    from: &PeriodicOrbit,
+    plan: &StepPlan,
+) -> Result<PeriodicOrbit> {
     let (x, end) = &from.fixed_point;
     let start = end
         .with_state_vector(x)
-        .map(|e| e.retimed(prep.plan.dt))
+        .map(|e| e.retimed(plan.dt))
         .ok_or_else(|| {
             Error::study("run", "the orbit's state does not fit this run".to_string())
         })?;
     let x0 = start.state_vector().ok_or_else(|| {
         Error::study("run", "the orbit's state does not fit this run".to_string())
     })?;
-    solve(prep, from.period, &prep.plan, start, (x0, None))
+    solve(prep, from.period, plan, start, (x0, None))
 }
 
 /// The monodromy `∂P/∂x` of the orbit `o` found on `prep` (its own speed and step) at its
@@ -207,6 +230,25 @@ pub(super) fn solve_deflated(
         like.fixed_point.1.clone(),
         (x0, Some(&root)),
     )
+}
+
+/// The Floquet multipliers of the orbit `o` found on `prep` at the step of `plan`, from the
+/// monodromy's central differences of relative step `rel` (of max |x|; [`FD_STEP`] when
+/// shooting). A larger step removes round-off where the map is affine — an orbit that keeps
+/// clear of every contact with its perturbations (the multipliers' refinement) —, and the steps
+/// it took.
+///
+/// # Errors
+/// The map's run errors.
+pub(super) fn multipliers_at(
+    prep: &Prepared,
+    o: &PeriodicOrbit,
+    plan: &StepPlan,
+    rel: f64,
+) -> Result<(Vec<[f64; 2]>, u64)> {
+    let (x, end) = &o.fixed_point;
+    let (m, steps) = Map::new(prep, o.period, plan, end.clone()).jacobian_at(x, rel)?;
+    Ok((floquet(&m), steps))
 }
 
 /// `max |Pᵏ(x) − x| / max |x|` of the `k`-revolution map of `prep` at the fixed point of `o`
@@ -374,8 +416,13 @@ impl<'a> Map<'a> {
     /// `|x|`) divided by `h` bounds the entries' error: ≈ 1e-8, where forward differences at a
     /// step small enough for their truncation would give 1e-6.
     fn jacobian(&self, x: &[f64]) -> Result<(DMatrix<f64>, u64)> {
+        self.jacobian_at(x, FD_STEP)
+    }
+
+    /// [`Map::jacobian`] with the relative step `rel` of `max |x|` in place of [`FD_STEP`].
+    fn jacobian_at(&self, x: &[f64], rel: f64) -> Result<(DMatrix<f64>, u64)> {
         let n = x.len();
-        let h = FD_STEP * x.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
+        let h = rel * x.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
         let mut m = DMatrix::<f64>::zeros(n, n);
         for j in 0..n {
             let mut xp = x.to_vec();

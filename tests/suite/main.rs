@@ -23,6 +23,7 @@ mod dynamics;
 mod error_bound;
 mod events;
 mod fe_rotor;
+mod floquet;
 mod fuzz_corpus;
 mod gmsh_guard;
 mod hardening;
