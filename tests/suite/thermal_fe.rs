@@ -199,7 +199,12 @@ fn fe_theory(ls: &LoadedScene, model: &Model, omega: f64, ks: f64) -> (C64, C64)
 
 /// The spiral of `FE_SPIRAL` with overrides, and its theory (Λ, s).
 fn run_fe(sets: &[&str]) -> (ThermalResults, C64, C64) {
-    let (ls, model) = common::scene_model(FE_SPIRAL, sets);
+    run_text(FE_SPIRAL, sets)
+}
+
+/// The spiral of a scene text with overrides, and its theory (Λ, s).
+fn run_text(text: &str, sets: &[&str]) -> (ThermalResults, C64, C64) {
+    let (ls, model) = common::scene_model(text, sets);
     let v = ls.scene.run.speed_ratio.unwrap();
     let hs = HotSpot::of_scene(&ls).unwrap();
     let r = run_thermal(&model, &common::settings(&ls), v, &hs).unwrap();
@@ -212,6 +217,8 @@ fn run_fe(sets: &[&str]) -> (ThermalResults, C64, C64) {
 /// threshold. Each run kept to its linear regime.
 #[test]
 fn the_fe_spiral_follows_the_linear_theory_against_speed() {
+    // Measured |Δs|/|s|: 2.3 %, 2.7 %, 0.6 %, 0.1 % (the Jeffcott rotor's 3–5 % below the
+    // critical speed, where the growth is a difference of nearly equal terms).
     for (nu, duration, tol) in [
         (0.8, 30.0, 0.05),
         (1.0, 12.0, 0.05),
@@ -241,13 +248,14 @@ fn the_fe_spiral_follows_the_linear_theory_against_speed() {
 
 /// The reduced rotor (`[run.reduction]`: 4 modes and the seal's 2 static columns) takes the
 /// curvature load through its basis (`Tᵀ F_b`) and spirals as the full rotor does: ΔT over
-/// 6 s of machine time within 1e-3 of the full model's (measured 2.5e-5; 8e-5 over 30 s),
+/// 6 s of machine time within 1e-3 of the full model's (measured 3.5e-5; 8e-5 over 30 s),
 /// at 1/37 of the steps (the full model's Δt is the explicit limit of its stiff bearings).
 #[test]
 fn the_reduced_fe_rotor_spirals_as_the_full_one() {
     let short = ["thermal.duration=6"];
     let (reduced, ..) = run_fe(&short);
-    let (full, ..) = run_fe(&["thermal.duration=6", "run.reduction.rotor=false"]);
+    let whole = FE_SPIRAL.replace("[run.reduction]\nrotor = true\n", "");
+    let (full, ..) = run_text(&whole, &short);
     assert_eq!(reduced.samples.len(), full.samples.len());
     let worst = (reduced.samples.iter().zip(&full.samples))
         .map(|(a, b)| {
@@ -288,7 +296,8 @@ fn the_generator_scene_spirals_as_the_linear_theory_says() {
     assert!(r.unsynchronous_at_s.is_none() && r.runaway_at_s.is_none());
     assert!(want.re > 0.0 && got.re > 0.0);
     assert!(
-        (got - want).norm() < 0.1 * want.norm(),
+        // Measured 1.2 % (the accelerated coupling's h = 5 s against the spiral's 530 s).
+        (got - want).norm() < 0.05 * want.norm(),
         "{got} against {want}"
     );
     assert_eq!(r.bow_shape.len(), 17);

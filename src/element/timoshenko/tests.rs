@@ -564,6 +564,7 @@ fn rotary_inertia_switch_leaves_the_gyroscopic_matrix() {
 /// `w = κ z²/2`, `φ = κ z` (with shear: Φ = 84 and 0.008, and Euler–Bernoulli), in both planes
 /// with their signs (y–z: `θ_x = −∂u_y/∂z`). Two halves add up to the whole.
 #[test]
+#[allow(clippy::needless_range_loop)]
 fn a_thermal_curvature_load_bends_the_element_into_its_free_curvature() {
     for (length, shear) in [(0.01, true), (1.0, true), (0.3, false)] {
         let mut s = sec(shear);
