@@ -563,6 +563,11 @@ pub(crate) fn listed_outputs(s: &Scene, stress: bool) -> Vec<String> {
                 &["thermal_map.csv"],
                 &["thermal_stability.png", "growth_rate_map.png"],
             );
+        } else if matches!(s.rotor, scene::RotorSpec::Fe(_)) {
+            add(
+                &["spiral.csv", "bow_shape.csv"],
+                &["spiral.png", "thermal.png"],
+            );
         } else {
             add(&["spiral.csv"], &["spiral.png", "thermal.png"]);
         }

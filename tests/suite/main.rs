@@ -48,6 +48,7 @@ mod step_refinement;
 mod stick;
 mod switch;
 mod thermal;
+mod thermal_fe;
 mod thermal_map;
 mod transient_scenes;
 mod transients;
