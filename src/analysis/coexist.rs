@@ -35,6 +35,12 @@
 //! beside another partial rub found only from a neighbouring speed's state), responses whose
 //! basins both starts miss, and a run in full contact whose linear orbit does not fit the
 //! clearance.
+//!
+//! At a flagged speed the two responses are then shot as periodic orbits from their settled
+//! end states ([`super::coexist_orbits`]: period, extents, contact fraction, stability, largest
+//! Floquet multiplier, whether they are two orbits): [`Coexistence::orbits`]. The run keeps its
+//! end state for that whenever the check follows it (with or without an error estimate); the
+//! companion joins it only when the run kept it for its error estimate.
 
 use super::discrepancy::{max_diff, orbit_span, Discrepancy, ExtentsScale, Scales};
 use super::RunRequest;
@@ -88,7 +94,7 @@ impl Start {
 }
 
 /// The companion of the check and how it compares with the run.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Coexistence {
     /// Where the companion started.
     pub start: Start,
@@ -117,6 +123,11 @@ pub struct Coexistence {
     /// and `lines_rel` hold the relative state gap it joined at.
     #[serde(default)]
     pub joined: bool,
+    /// At a flagged speed (`coexisting`): the two responses — the run's and the companion's —
+    /// shot as periodic orbits from their settled end states, or why not
+    /// ([`super::coexist_orbits`]); `None` at a speed not flagged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orbits: Option<super::coexist_orbits::CoexistOrbits>,
 }
 
 /// The companion stops when, at a whole revolution of its settling, its state is within this
@@ -129,8 +140,12 @@ pub const JOIN_FRACTION: f64 = 0.01;
 
 /// The companion's run: stopped when it joins the run's state, or integrated whole.
 enum Companion {
-    Joined { revolutions: usize, gap: f64 },
-    Ran(Box<SpeedResults>),
+    Joined {
+        revolutions: usize,
+        gap: f64,
+    },
+    /// Its results and its end state (for shooting its orbit at a flagged speed).
+    Ran(Box<SpeedResults>, Option<EndState>),
 }
 
 /// Integrates the companion `cs` over `plan` as [`Prepared::execute`] does, probing its state
@@ -158,15 +173,13 @@ fn run_companion(
             }
         }
     }
-    let (rec, stats, plan, ..) = prep.drive_from(st, plan, cs, None)?;
-    Ok(Companion::Ran(Box::new(super::analyse(
-        &prep.case,
-        cs,
-        &plan,
-        &rec,
-        stats,
-        Keep::default(),
-    ))))
+    // Its end state is kept (the error estimate's bookkeeping: the last steps in two chunks,
+    // the same steps) for shooting its orbit when the speed is flagged.
+    let mut keep = *cs;
+    keep.follow_ups.error_estimate = true;
+    let (rec, stats, plan, end, _) = prep.drive_from(st, plan, &keep, None)?;
+    let res = super::analyse(&prep.case, cs, &plan, &rec, stats, Keep::default());
+    Ok(Companion::Ran(Box::new(res), end))
 }
 
 /// The no-contact linear response at station 0's node at t = 0, `[u, v]`: u = Re X,
@@ -262,7 +275,10 @@ pub fn check(
         steady_from: settle * spr,
         ..res.plan
     };
-    let end = end.filter(|_| res.steady && res.period > 0);
+    let run_end = end;
+    // The companion may join the run's state when the run kept it for its error estimate (a
+    // run without one keeps it for the orbits only: its companion is integrated whole).
+    let end = end.filter(|_| res.steady && res.period > 0 && s.follow_ups.error_estimate);
     let companion = run_companion(prep, &cs, &plan, end, s.tolerance).map_err(|e| {
         format!(
             "ω/ωn = {:.3}: the coexistence check's companion from the {} start failed ({e}); whether the response depends on the start is not known at this speed (`coexistence_failed`)",
@@ -271,7 +287,14 @@ pub fn check(
         )
     })?;
     Ok(Some(match companion {
-        Companion::Ran(c) => compare(start, res, &c, s.tolerance),
+        Companion::Ran(c, comp_end) => {
+            let mut x = compare(start, res, &c, s.tolerance);
+            if x.coexisting {
+                let both = ((res, run_end), (&*c, comp_end.as_ref()));
+                x.orbits = Some(super::coexist_orbits::shoot_both(prep, both.0, both.1));
+            }
+            x
+        }
         Companion::Joined { revolutions, gap } => Coexistence {
             start,
             coexisting: false,
@@ -284,6 +307,7 @@ pub fn check(
             transient_revolutions: revolutions,
             steps: revolutions * spr,
             joined: true,
+            orbits: None,
         },
     }))
 }
@@ -314,5 +338,6 @@ pub fn compare(start: Start, res: &SpeedResults, c: &SpeedResults, tolerance: f6
         transient_revolutions: c.transient_revolutions,
         steps: c.stats.steps,
         joined: false,
+        orbits: None,
     }
 }
