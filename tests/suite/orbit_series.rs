@@ -256,22 +256,35 @@ fn the_ring_inside_its_loop_gets_a_stable_free_orbit_and_a_stable_full_rub_orbit
     assert!((b / z0 - 1.0).abs() <= 2e-3, "{b} against {z0}");
 }
 
-/// The ring at ν 3.5, past the rub's Neimark–Sacker point (3.07 – 3.26, §19): the run from the
-/// rub is not periodic (a torus), so its orbit is not shot and the report says why; the
-/// companion's no-contact orbit is shot (stable), and `coexisting_stable` counts that one.
+/// The ring at ν 3.5, past the rub's Neimark–Sacker point (3.07 – 3.26, §19): the run started
+/// on the no-contact linear response stays on it (its orbit 1.08 e reaches past half the
+/// clearance, so the check starts the companion in full contact), the companion settles on the
+/// rub's torus (contact fraction 0.82, not periodic). The run's orbit is shot (stable, no
+/// contact); the companion's is not, and the report says why; `coexisting_stable` counts one.
 #[test]
-fn a_response_that_is_not_periodic_is_reported_not_shot() {
-    let r = run_speed(&read(&repo(RING)), &["run.check_coexistence=true"], 3.5);
+fn a_companion_that_is_not_periodic_is_reported_not_shot() {
+    let nu: f64 = 3.5;
+    // X = e ν² / (1 − ν² + 2iξν): u = Re X, v = Re(iωX) at t = 0 (ω = ν rad/s, ω_n = 1).
+    let den = (1.0 - nu * nu, 2.0 * XI * nu);
+    let m = den.0 * den.0 + den.1 * den.1;
+    let x = (E * nu * nu * den.0 / m, -E * nu * nu * den.1 / m);
+    let sets = [
+        "run.check_coexistence=true".to_string(),
+        format!("run.initial_displacement=[{:e},{:e}]", x.0, x.1),
+        format!("run.initial_velocity=[{:e},{:e}]", -nu * x.1, nu * x.0),
+    ];
+    let r = run_speed(&read(&repo(RING)), &sets, nu);
+    assert_eq!(r.contact_fraction, 0.0);
     let o = orbits(&r);
     eprintln!("{}", o.describe());
     let [run, comp] = [&o.orbits[0], &o.orbits[1]];
-    assert_eq!(run.period, 0, "{o:?}");
-    let why = run.not_shot.as_deref().expect("not shot");
-    assert!(why.contains("not periodic"), "{why}");
     assert!(
-        comp.converged && comp.stable && comp.contact_fraction == 0.0,
+        run.converged && run.stable && run.contact_fraction == 0.0,
         "{o:?}"
     );
+    assert_eq!(comp.period, 0, "{o:?}");
+    let why = comp.not_shot.as_deref().expect("not shot");
+    assert!(why.contains("not periodic"), "{why}");
     assert_eq!((o.distinct, o.coexisting_stable), (None, 1));
     assert!(o.describe().contains("not shot: not periodic"));
 }
