@@ -127,7 +127,7 @@ pub struct Coexistence {
     /// shot as periodic orbits from their settled end states, or why not
     /// ([`super::coexist_orbits`]); `None` at a speed not flagged.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub orbits: Option<super::coexist_orbits::CoexistOrbits>,
+    pub orbits: Option<CoexistOrbits>,
 }
 
 /// The companion stops when, at a whole revolution of its settling, its state is within this
@@ -251,6 +251,23 @@ pub fn check(
     res: &SpeedResults,
     end: Option<&EndState>,
 ) -> Result<Option<Coexistence>, String> {
+    Ok(check_with_companion(prep, res, end)?.map(|(c, _)| c))
+}
+
+/// The companion's results and its end state (kept for shooting its orbit).
+pub type CompanionRun = (Box<SpeedResults>, Option<EndState>);
+
+/// [`check`], and the companion's results and end state when it was integrated whole (not when
+/// it joined the run's state): what `super::coexist_orbits::shoot_both` shoots at a flagged
+/// speed (`Prepared::run` calls both).
+///
+/// # Errors
+/// As [`check`].
+pub fn check_with_companion(
+    prep: &Prepared,
+    res: &SpeedResults,
+    end: Option<&EndState>,
+) -> Result<Option<(Coexistence, Option<CompanionRun>)>, String> {
     let Some((start, init)) = prep
         .linear_start
         .and_then(|linear| start_for(res, &prep.case, linear))
@@ -275,7 +292,6 @@ pub fn check(
         steady_from: settle * spr,
         ..res.plan
     };
-    let run_end = end;
     // The companion may join the run's state when the run kept it for its error estimate (a
     // run without one keeps it for the orbits only: its companion is integrated whole).
     let end = end.filter(|_| res.steady && res.period > 0 && s.follow_ups.error_estimate);
@@ -287,28 +303,24 @@ pub fn check(
         )
     })?;
     Ok(Some(match companion {
-        Companion::Ran(c, comp_end) => {
-            let mut x = compare(start, res, &c, s.tolerance);
-            if x.coexisting {
-                let both = ((res, run_end), (&*c, comp_end.as_ref()));
-                x.orbits = Some(super::coexist_orbits::shoot_both(prep, both.0, both.1));
-            }
-            x
-        }
-        Companion::Joined { revolutions, gap } => Coexistence {
-            start,
-            coexisting: false,
-            contact_fraction: res.contact_fraction,
-            period: res.period,
-            steady: true,
-            extents_nd: res.extents_nd,
-            extents_rel: gap,
-            lines_rel: gap,
-            transient_revolutions: revolutions,
-            steps: revolutions * spr,
-            joined: true,
-            orbits: None,
-        },
+        Companion::Ran(c, comp_end) => (compare(start, res, &c, s.tolerance), Some((c, comp_end))),
+        Companion::Joined { revolutions, gap } => (
+            Coexistence {
+                start,
+                coexisting: false,
+                contact_fraction: res.contact_fraction,
+                period: res.period,
+                steady: true,
+                extents_nd: res.extents_nd,
+                extents_rel: gap,
+                lines_rel: gap,
+                transient_revolutions: revolutions,
+                steps: revolutions * spr,
+                joined: true,
+                orbits: None,
+            },
+            None,
+        ),
     }))
 }
 
@@ -340,4 +352,64 @@ pub fn compare(start: Start, res: &SpeedResults, c: &SpeedResults, tolerance: f6
         joined: false,
         orbits: None,
     }
+}
+
+/// Hausdorff distance of two orbits' Poincaré sections, relative to the run's orbit size
+/// (`orbit_span` of its extents), above which they are distinct orbits. Two shots of one
+/// orbit meet to the shooting tolerance (1e-9 of the state, measured ≤ 1e-8 of the span);
+/// coexisting orbits of the paper's case lie 0.1–1 of the span apart.
+pub const DISTINCT_SECTION: f64 = 1e-4;
+
+/// One response of a flagged speed as a periodic orbit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CoexistOrbit {
+    /// Whose response: `run` or `companion`.
+    pub response: String,
+    /// The period it was shot with (revolutions): the period its run read (0: none).
+    pub period: usize,
+    /// Why it was not shot (not periodic, state too large, no end state, a failed run), or
+    /// `None` when it was.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub not_shot: Option<String>,
+    /// Newton converged ([`super::periodic::SHOOT_TOLERANCE`]).
+    #[serde(default)]
+    pub converged: bool,
+    /// Newton's final relative residual (NaN when not shot).
+    #[serde(default)]
+    pub residual: f64,
+    /// Converged and every `|ρ| < 1`.
+    #[serde(default)]
+    pub stable: bool,
+    /// The largest `|ρ|` (NaN when not shot).
+    #[serde(default)]
+    pub largest_modulus: f64,
+    /// How it is unstable (`period_doubling`, `fold`, `neimark_sacker`), when it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instability: Option<String>,
+    /// The orbit's `[x_min, x_max, y_min, y_max]` / |Z0| (its run's when not shot).
+    pub extents_nd: [f64; 4],
+    /// The orbit's contact fraction (its run's when not shot).
+    pub contact_fraction: f64,
+    /// The orbit's Poincaré section: its `period` points once per revolution, `[x, y]` / |Z0|.
+    #[serde(default)]
+    pub section_nd: Vec<[f64; 2]>,
+}
+
+/// The two responses of a flagged speed as periodic orbits ([`Coexistence::orbits`],
+/// [`super::coexist_orbits`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CoexistOrbits {
+    /// The run's response, then the companion's.
+    pub orbits: Vec<CoexistOrbit>,
+    /// The Hausdorff distance of the two converged orbits' sections over the run's orbit size
+    /// (`None` unless both converged).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distance: Option<f64>,
+    /// Both converged and more than [`DISTINCT_SECTION`] apart (`None` unless both converged).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distinct: Option<bool>,
+    /// The number of stable periodic responses found (distinct orbits counted once each).
+    pub coexisting_stable: usize,
+    /// Steps the shots took.
+    pub steps: u64,
 }

@@ -19,71 +19,10 @@
 //! `2 n` maps of `k` revolutions for a state of `n` components (the paper's Jeffcott rotor
 //! with its massless rod: n = 4).
 
+pub use super::coexist::{CoexistOrbit, CoexistOrbits, DISTINCT_SECTION};
 use super::periodic::{self, PeriodicOrbit};
 use super::{Prepared, SpeedResults};
 use crate::time::EndState;
-use serde::{Deserialize, Serialize};
-
-/// Hausdorff distance of two orbits' Poincaré sections, relative to the run's orbit size
-/// (`orbit_span` of its extents), above which they are distinct orbits. Two shots of one
-/// orbit meet to the shooting tolerance (1e-9 of the state, measured ≤ 1e-8 of the span);
-/// coexisting orbits of the paper's case lie 0.1–1 of the span apart.
-pub const DISTINCT_SECTION: f64 = 1e-4;
-
-/// One response of a flagged speed as a periodic orbit.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct CoexistOrbit {
-    /// Whose response: `run` or `companion`.
-    pub response: String,
-    /// The period it was shot with (revolutions): the period its run read (0: none).
-    pub period: usize,
-    /// Why it was not shot (not periodic, state too large, no end state, a failed run), or
-    /// `None` when it was.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub not_shot: Option<String>,
-    /// Newton converged ([`periodic::SHOOT_TOLERANCE`]).
-    #[serde(default)]
-    pub converged: bool,
-    /// Newton's final relative residual (NaN when not shot).
-    #[serde(default)]
-    pub residual: f64,
-    /// Converged and every `|ρ| < 1`.
-    #[serde(default)]
-    pub stable: bool,
-    /// The largest `|ρ|` (NaN when not shot).
-    #[serde(default)]
-    pub largest_modulus: f64,
-    /// How it is unstable (`period_doubling`, `fold`, `neimark_sacker`), when it is.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub instability: Option<String>,
-    /// The orbit's `[x_min, x_max, y_min, y_max]` / |Z0| (its run's when not shot).
-    pub extents_nd: [f64; 4],
-    /// The orbit's contact fraction (its run's when not shot).
-    pub contact_fraction: f64,
-    /// The orbit's Poincaré section: its `period` points once per revolution, `[x, y]` / |Z0|.
-    #[serde(default)]
-    pub section_nd: Vec<[f64; 2]>,
-}
-
-/// The two responses of a flagged speed as periodic orbits ([`Coexistence::orbits`]).
-///
-/// [`Coexistence::orbits`]: super::Coexistence::orbits
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct CoexistOrbits {
-    /// The run's response, then the companion's.
-    pub orbits: Vec<CoexistOrbit>,
-    /// The Hausdorff distance of the two converged orbits' sections over the run's orbit size
-    /// (`None` unless both converged).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub distance: Option<f64>,
-    /// Both converged and more than [`DISTINCT_SECTION`] apart (`None` unless both converged).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub distinct: Option<bool>,
-    /// The number of stable periodic responses found (distinct orbits counted once each).
-    pub coexisting_stable: usize,
-    /// Steps the shots took.
-    pub steps: u64,
-}
 
 impl CoexistOrbits {
     /// One sentence for the console: each orbit, and whether they are two.
