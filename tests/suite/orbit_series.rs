@@ -43,7 +43,7 @@ fn rotor_in_frame(path: &Path) -> [f64; 2] {
 /// The period-2 orbit of the paper case at ν 4.1 (the response its run settles on) written by
 /// `results::Series::orbit` as VTK and HDF5: `2N/every + 1` frames at times 2T … 4T, the first
 /// on the fixed point and the last on it again, each to the shooting tolerance (measured: first
-/// 1.5e-13, last 2.9e-13 of the orbit's size; asserted 1e-9, `periodic::SHOOT_TOLERANCE`).
+/// 2.55e-13, last 2.98e-13 of the orbit's size; asserted 1e-9, `periodic::SHOOT_TOLERANCE`).
 #[test]
 fn the_orbit_series_starts_on_the_fixed_point_and_closes_after_one_period() {
     let (ls, m) = file_model(
@@ -100,7 +100,7 @@ fn the_orbit_series_starts_on_the_fixed_point_and_closes_after_one_period() {
 /// nearest one (Newton iterates), at a grid point it is that point's (no iteration), a value
 /// outside the branch is reported; each orbit's series under `orbits/branch<i>_<ν>/`, listed in
 /// summary.json with its files; the orbit at 4.1 has the extents of `rubsim periodic`'s period-2
-/// orbit there (measured 2e-13 |Z0|); `rubsim check` lists the orbit series.
+/// orbit there (measured 8.3e-11 |Z0|); `rubsim check` lists the orbit series.
 #[test]
 fn continue_writes_the_orbits_asked_for_and_check_lists_them() {
     let tmp = tempfile::tempdir().unwrap();
@@ -194,8 +194,8 @@ fn orbits(r: &SpeedResults) -> CoexistOrbits {
 /// The paper case at ν 4.1 (docs/VALIDATION.md §19: the period-2 and period-3 branches both
 /// stable there): the run settles on period 2, the companion from full contact on period 3; both
 /// shot as stable orbits, distinct, `coexisting_stable` 2; their extents equal the period-2 orbit
-/// `rubsim periodic` shoots there (measured 1.5e-12 |Z0|) and the period-3 branch continued down
-/// to 4.1 from 4.2 (measured 6.2e-12 |Z0|); asserted 1e-6.
+/// `rubsim periodic` shoots there (measured 0: the same run and start) and the period-3 branch continued down
+/// to 4.1 from 4.2 (measured 3.8e-11 |Z0|); asserted 1e-6.
 #[test]
 fn the_paper_case_at_4_1_gets_stable_period_2_and_period_3_orbits() {
     let text_ = read(&repo(PAPER));
@@ -227,8 +227,9 @@ fn the_paper_case_at_4_1_gets_stable_period_2_and_period_3_orbits() {
 
 /// The ring of `ring_hysteresis.toml` at ν 2.8, inside its hysteresis loop: the run (started on
 /// the rub) in synchronous full annular rub, the companion on the no-contact orbit; both shot as
-/// stable period-1 orbits — the rub's radius against the closed form (ORACLES §2: 2.4003 e;
-/// measured within the sampling's 1.2e-3), the free orbit's against |Z0| (contact fraction 0).
+/// stable period-1 orbits — the rub's radius against the closed form (ORACLES §2: 2.40026 e;
+/// measured 2.40019 e), the free orbit's against |Z0| (1.13055 e against 1.13114 e; contact
+/// fraction 0). Asserted 2e-3: 64 samples a revolution read a circle up to 1.2e-3 low.
 #[test]
 fn the_ring_inside_its_loop_gets_a_stable_free_orbit_and_a_stable_full_rub_orbit() {
     let nu = 2.8;
@@ -259,7 +260,7 @@ fn the_ring_inside_its_loop_gets_a_stable_free_orbit_and_a_stable_full_rub_orbit
 /// The ring at ν 3.5, past the rub's Neimark–Sacker point (3.07 – 3.26, §19): the run started
 /// on the no-contact linear response stays on it (its orbit 1.08 e reaches past half the
 /// clearance, so the check starts the companion in full contact), the companion settles on the
-/// rub's torus (contact fraction 0.82, not periodic). The run's orbit is shot (stable, no
+/// rub's torus (contact fraction 0.82, no period: regime undetermined). The run's orbit is shot (stable, no
 /// contact); the companion's is not, and the report says why; `coexisting_stable` counts one.
 #[test]
 fn a_companion_that_is_not_periodic_is_reported_not_shot() {
