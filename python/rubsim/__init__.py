@@ -474,6 +474,13 @@ _COLUMNS = {
     "fwd_1x_nd": lambda r: r["whirl"]["forward_1x_nd"],
     "bwd_1x_nd": lambda r: r["whirl"]["backward_1x_nd"],
     "coexisting": lambda r: bool(r.get("coexistence") and r["coexistence"]["coexisting"]),
+    # A flagged speed's stable periodic responses (its two responses shot as orbits); NaN at
+    # a speed not flagged.
+    "coexisting_stable": lambda r: (
+        r["coexistence"]["orbits"]["coexisting_stable"]
+        if r.get("coexistence") and r["coexistence"].get("orbits")
+        else np.nan
+    ),
 }
 
 

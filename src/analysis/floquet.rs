@@ -94,7 +94,7 @@ pub fn shoot_refined(
     period: Option<usize>,
     refine: bool,
 ) -> Result<(PeriodicOrbit, Option<StepRefinement>)> {
-    let prep = super::prepare(model, &periodic::shooting_request(s, speed_ratio))?;
+    let prep = super::prepare(model, &periodic::request_at(s, speed_ratio))?;
     let orbit = periodic::shoot(&prep, period)?;
     let refined = if refine {
         Some(self::refine(&prep, &orbit)?)

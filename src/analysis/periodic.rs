@@ -32,7 +32,7 @@
 use super::speed::{analyse, Prepared, SpeedResults};
 use super::Keep;
 use crate::error::{Error, Result};
-use crate::time::{EndState, StepPlan, Stepper};
+use crate::time::{EndState, Record, RunStats, Sink, StepPlan, Stepper};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -102,15 +102,12 @@ pub fn shoot_at(
     speed_ratio: f64,
     period: Option<usize>,
 ) -> Result<PeriodicOrbit> {
-    shoot(
-        &super::prepare(model, &shooting_request(s, speed_ratio))?,
-        period,
-    )
+    shoot(&super::prepare(model, &request_at(s, speed_ratio))?, period)
 }
 
-/// The request of a run shot at ν = `speed_ratio`: the settings' own, without the
-/// coexistence check and the step refinement, which shooting does not use.
-pub(super) fn shooting_request(s: &super::RunSettings, speed_ratio: f64) -> super::RunRequest {
+/// The request [`shoot_at`] prepares: the run at ν = `speed_ratio` with the settings `s`,
+/// without the coexistence check and the step refinement.
+pub fn request_at(s: &super::RunSettings, speed_ratio: f64) -> super::RunRequest {
     let mut request = s.request_at(0, speed_ratio);
     request.follow_ups.coexistence = false;
     request.follow_ups.refine_step = false;
@@ -138,6 +135,20 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
         )
     })?;
     let k = period.unwrap_or(settled.period).max(1);
+    let mut o = shoot_state(prep, k, end)?;
+    o.steps += steps;
+    Ok(o)
+}
+
+/// The period-`k` orbit of `prep` by Newton from `end`, a settled state of a run of `prep`
+/// (its step) taken at a whole revolution: [`shoot`] without the settling run (the coexistence
+/// check's two responses, `super::coexist_orbits`).
+///
+/// # Errors
+/// [`Error::Study`] for an implicit scheme's state or a state larger than [`MAX_STATE`]; the
+/// map's run errors.
+pub fn shoot_state(prep: &Prepared, k: usize, end: EndState) -> Result<PeriodicOrbit> {
+    let k = k.max(1);
     let x0 = end.state_vector().ok_or_else(|| {
         Error::study(
             "run.integrator",
@@ -153,9 +164,7 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
             ),
         ));
     }
-    let mut o = solve(prep, k, &plan, end, (x0, None))?;
-    o.steps += steps;
-    Ok(o)
+    solve(prep, k, &prep.plan, end, (x0, None))
 }
 
 /// The period-`from.period` orbit of `prep` by Newton from the orbit `from` found at a
@@ -190,6 +199,66 @@ pub(super) fn shoot_at_step(
         Error::study("run", "the orbit's state does not fit this run".to_string())
     })?;
     solve(prep, from.period, plan, start, (x0, None))
+}
+
+/// The period-`k` orbit of `prep` by Newton from the state `start` (an orbit's fixed point at a
+/// neighbouring speed: [`PeriodicOrbit::start_state`]), carried to this speed's step
+/// (`EndState::retimed`), without a settling run: `rubsim continue --orbits-at` at a value
+/// between the branch's points.
+///
+/// # Errors
+/// As [`shoot`]; a state that does not fit this run.
+pub fn shoot_from_state(prep: &Prepared, k: usize, start: &EndState) -> Result<PeriodicOrbit> {
+    let start = start.retimed(prep.plan.dt);
+    let x0 = start.state_vector().ok_or_else(|| {
+        Error::study("run", "the orbit's state does not fit this run".to_string())
+    })?;
+    solve(prep, k.max(1), &prep.plan, start, (x0, None))
+}
+
+impl PeriodicOrbit {
+    /// The fixed point as a state a run restarts from (`Stepper::restart` at the orbit's own
+    /// step then starts exactly on it), `None` when its vector does not fit its layout.
+    pub fn start_state(&self) -> Option<EndState> {
+        self.fixed_point.1.with_state_vector(&self.fixed_point.0)
+    }
+
+    /// The fixed point `x` ([`EndState::state_vector`]'s layout: per body of central
+    /// differences, the rotor first, its uᴺ then uᴺ⁻¹, m and rad; the rotor's uᴺ are its DOFs
+    /// in the model's order, `[u_x, u_y]` for a Jeffcott rotor).
+    pub fn fixed_state(&self) -> &[f64] {
+        &self.fixed_point.0
+    }
+}
+
+/// The step plan of an orbit's time series ([`integrate_orbit`]) of period `k` at `plan`'s
+/// step: `2 k N` steps from the fixed point, nothing cut. The first `k` revolutions lead in —
+/// a restart carries the bodies' displacements only, not the contact forces solved at the
+/// fixed point's instant nor a massless stator's deformation from them, which the first step
+/// recomputes —, the second `k` (steps `k N … 2 k N`) are written: the orbit once, its first
+/// frame on the fixed point `P(x*) = x*` and its last on `P²(x*)`, each to the shooting
+/// tolerance.
+pub fn series_plan(plan: &StepPlan, k: usize) -> StepPlan {
+    StepPlan {
+        steps: 2 * k.max(1) * plan.steps_per_rev.max(1),
+        steady_from: 0,
+        ..*plan
+    }
+}
+
+/// Integrates the orbit `o` (found on `prep`: its speed and step) from its fixed point over
+/// `plan` ([`series_plan`]), handing its frames to `sink`; the record and counters.
+///
+/// # Errors
+/// A state that does not restart the run's scheme; the run's errors.
+pub fn integrate_orbit(
+    prep: &Prepared,
+    o: &PeriodicOrbit,
+    plan: &StepPlan,
+    sink: Sink<'_>,
+) -> Result<(Record, RunStats)> {
+    let start = o.start_state().ok_or_else(not_restarted)?;
+    Ok(restarted(prep, plan, &start)?.run(sink)?)
 }
 
 /// The monodromy `∂P/∂x` of the orbit `o` found on `prep` (its own speed and step) at its

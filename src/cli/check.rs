@@ -496,6 +496,9 @@ fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
     for line in rubsim::results::describe(&s.output, plan, s.run.sweep.is_some()) {
         println!("  {line}");
     }
+    for line in rubsim::results::describe_orbit(&s.output, plan) {
+        println!("  {line}");
+    }
 }
 
 /// The reduced rotor of `[run.reduction]` at the case's speed: cut-off, modes, static columns,

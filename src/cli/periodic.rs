@@ -18,6 +18,9 @@ struct PeriodicBody<'a> {
     /// and (an orbit without contact) their extrapolation to Δt → 0.
     #[serde(skip_serializing_if = "Option::is_none")]
     refined: Option<&'a StepRefinement>,
+    /// The orbit's VTK/HDF5 time series (`orbit/`), when the scene asks for one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    orbit_series: Option<OrbitSeries>,
     /// Wall time of the command (s).
     wall_s: f64,
 }
@@ -77,8 +80,15 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("periodic")))?;
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &[v])?;
-    let (orbit, refined) = analysis::floquet::shoot_refined(&model, &s, v, period, refine)?;
+    let prep = analysis::prepare(&model, &analysis::periodic::request_at(&s, v))?;
+    let orbit = analysis::periodic::shoot(&prep, period)?;
+    let refined = if refine {
+        Some(analysis::floquet::refine(&prep, &orbit)?)
+    } else {
+        None
+    };
     report(&orbit);
+    let orbit_series = write_series(&mut outd, (&ls, &model), &prep, &orbit, ORBIT_FOLDER)?;
     outd.write("multipliers.csv", multipliers_csv(&orbit).as_bytes())?;
     if let Some(r) = &refined {
         report_refined(r);
@@ -90,11 +100,74 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
     let body = PeriodicBody {
         periodic: &orbit,
         refined: refined.as_ref(),
+        orbit_series,
         wall_s: t0.elapsed().as_secs_f64(),
     };
     let base = Base::new(&ls, &model, "periodic");
     finish(outd, &Summary { base, body })?;
     Ok(())
+}
+
+/// The folder of `rubsim periodic`'s orbit series in its output directory.
+pub const ORBIT_FOLDER: &str = "orbit/";
+
+/// An orbit's VTK/HDF5 time series as summary.json lists it.
+#[derive(Debug, Serialize)]
+pub struct OrbitSeries {
+    /// Its folder in the output directory (`orbit/`, `orbits/<branch>_<value>/`).
+    pub folder: String,
+    /// Steps of the written period (`k N`) and Δt (s): the frames lie at steps `k N … 2 k N`
+    /// of the integration from the fixed point (the first period a lead-in), times
+    /// `k T … 2 k T`.
+    pub period_steps: usize,
+    /// Δt (s).
+    pub dt: f64,
+    /// The files written, relative to the output directory.
+    pub files: Vec<String>,
+}
+
+/// Writes the converged orbit `o` of `prep` as the time series the scene asks for below
+/// `folder` (`rubsim::results::Series::orbit`) and adopts the files; `None` when the scene
+/// asks for none. An orbit that did not converge is not written (its series would not close):
+/// a warning says so.
+pub fn write_series(
+    outd: &mut rubsim::output::OutDir,
+    (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
+    prep: &analysis::Prepared,
+    o: &PeriodicOrbit,
+    folder: &str,
+) -> Result<Option<OrbitSeries>> {
+    if !rubsim::results::wanted(&ls.scene.output) {
+        return Ok(None);
+    }
+    if !o.converged {
+        eprintln!(
+            "warning: ω/ωn = {:.4}: no periodic orbit of {} revolution(s) converged; its time series ({folder}) is not written",
+            o.speed_ratio, o.period
+        );
+        return Ok(None);
+    }
+    let scene_json = serde_json::to_string(&ls.scene)?;
+    let series = rubsim::results::Series {
+        output: &ls.scene.output,
+        scene_json: &scene_json,
+        staging: outd.staging_dir(),
+    };
+    let files = series.orbit(model, prep, o, folder)?;
+    for f in &files {
+        outd.adopt(f)?;
+    }
+    println!(
+        "  orbit series: {folder} ({} file(s), one period of {} revolution(s))",
+        files.len(),
+        o.period
+    );
+    Ok(Some(OrbitSeries {
+        folder: folder.to_string(),
+        period_steps: o.period * prep.plan.steps_per_rev,
+        dt: prep.plan.dt,
+        files,
+    }))
 }
 
 /// Refuses `--period 0` (an orbit repeats after a whole number ≥ 1 of revolutions); also

@@ -33,6 +33,7 @@ mod io;
 mod large_stator;
 mod mesh;
 mod mutation;
+mod orbit_series;
 mod orbit_snapshots;
 mod outdir;
 mod periodic;
