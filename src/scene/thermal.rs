@@ -185,6 +185,9 @@ fn validate_fe(ls: &LoadedScene, t: &ThermalSpec, f: &FeRotorSpec) -> Result<(),
         None => (ls.scene.stations.first(), "station.0.node"),
     };
     let node = st.map_or(0, |s| s.node);
+    let node_key = st
+        .and_then(|s| ls.scene.stations.iter().position(|o| std::ptr::eq(o, s)))
+        .map_or_else(|| "station.0.node".to_string(), |i| format!("station.{i}.node"));
     let z = node_positions(f);
     let Some(&zc) = z.get(node) else {
         return Err(ls.invalid(
@@ -201,7 +204,7 @@ fn validate_fe(ls: &LoadedScene, t: &ThermalSpec, f: &FeRotorSpec) -> Result<(),
         return Err(ls.invalid(
             "thermal.heated_length",
             format!(
-                "the heated length {} m centred at the station's node {node} (z = {zc} m) runs past the shaft's ends (0 … {end} m)",
+                "the heated length {} m centred at the station's node {node} (`{node_key}`, z = {zc} m) runs past the shaft's ends (0 … {end} m)",
                 t.heated_length
             ),
         ));
