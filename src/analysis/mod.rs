@@ -58,6 +58,7 @@ pub mod estimate;
 pub mod fanout;
 mod lengthen;
 pub mod notices;
+pub mod parameter;
 pub mod periodic;
 mod pilot;
 pub mod refine;
