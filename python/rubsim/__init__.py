@@ -277,12 +277,20 @@ class Scene:
         return Modal(json.loads(self._native.modal(omega, int(modes))))
 
     def periodic(
-        self, speed: Optional[float] = None, *, unit: str = "ratio", period: Optional[int] = None
+        self,
+        speed: Optional[float] = None,
+        *,
+        unit: str = "ratio",
+        period: Optional[int] = None,
+        refine: bool = False,
     ) -> "Periodic":
         """The periodic orbit of ``period`` revolutions (default: the settled run's) at
         ``speed`` (default: the scene's) by shooting, as ``rubsim periodic``: its Floquet
-        multipliers and stability."""
-        return Periodic(json.loads(self._native.periodic(self._ratio(speed, unit), period)))
+        multipliers and stability. With ``refine`` (``rubsim periodic --refine``) the orbit is
+        shot again at half the step: ``refined`` holds the multipliers there, their error
+        estimates and, for an orbit without contact, their extrapolation to Δt → 0."""
+        d = self._native.periodic(self._ratio(speed, unit), period, bool(refine))
+        return Periodic(json.loads(d))
 
     def continuation(
         self,
@@ -478,6 +486,13 @@ _COLUMNS = {
     "fwd_1x_nd": lambda r: r["whirl"]["forward_1x_nd"],
     "bwd_1x_nd": lambda r: r["whirl"]["backward_1x_nd"],
     "coexisting": lambda r: bool(r.get("coexistence") and r["coexistence"]["coexisting"]),
+    # A flagged speed's stable periodic responses (its two responses shot as orbits); NaN at
+    # a speed not flagged.
+    "coexisting_stable": lambda r: (
+        r["coexistence"]["orbits"]["coexisting_stable"]
+        if r.get("coexistence") and r["coexistence"].get("orbits")
+        else np.nan
+    ),
 }
 
 
@@ -619,10 +634,20 @@ class Periodic:
     """A periodic orbit found by shooting: ``multipliers`` (complex numpy array, largest modulus
     first), ``stable``, ``instability`` (``period_doubling``, ``fold``, ``neimark_sacker`` or
     None), ``converged``, ``period`` (revolutions), ``orbit`` (the orbit's results, as a run's
-    ``result``), ``summary`` (everything)."""
+    ``result``), ``summary`` (everything); with ``refine=True`` ``refined`` (a dict:
+    ``half_step``, ``error_estimate``, ``extrapolated`` — complex numpy arrays or None —,
+    ``order``, ``stable``, ``verdict_changes``, ``dt``), else None."""
 
     def __init__(self, d: dict):
         self.summary = d
+        self.refined = None
+        r = d.get("refined")
+        if r is not None:
+            self.refined = dict(r)
+            self.refined["half_step"] = _complex(r["half_step"])
+            self.refined["error_estimate"] = np.array(r["error_estimate"])
+            if r["extrapolated"] is not None:
+                self.refined["extrapolated"] = _complex(r["extrapolated"])
         self.speed_ratio = d["speed_ratio"]
         self.period = d["period"]
         self.converged = d["converged"]

@@ -275,22 +275,34 @@ fn check_period(period: Option<usize>) -> PyResult<()> {
 
 /// The periodic orbit of `period` revolutions (default: the settled run's) at ν = `speed`
 /// (default: the scene's) by shooting, as `rubsim periodic`: the JSON of
-/// `analysis::periodic::PeriodicOrbit` (multipliers, stability, the orbit's results).
+/// `analysis::periodic::PeriodicOrbit` (multipliers, stability, the orbit's results) and, with
+/// `refine` (`rubsim periodic --refine`), its `refined` member: the
+/// `analysis::floquet::StepRefinement` of the multipliers at half the step.
 pub fn periodic(
     py: Python<'_>,
     (ls, model): (&LoadedScene, &Model),
     speed: Option<f64>,
     period: Option<usize>,
+    refine: bool,
 ) -> PyResult<String> {
     check_period(period)?;
     let v = speed_of(ls, model, speed)?;
-    let orbit = py
+    let (orbit, refined) = py
         .detach(|| {
             let s = rubsim::study::run_settings(ls, model, &[v])?;
-            analysis::periodic::shoot_at(model, &s, v, period)
+            analysis::floquet::shoot_refined(model, &s, v, period, refine)
         })
         .py_err()?;
-    json(&orbit)
+    #[derive(serde::Serialize)]
+    struct WithRefined<'a> {
+        #[serde(flatten)]
+        orbit: &'a analysis::periodic::PeriodicOrbit,
+        refined: Option<&'a analysis::floquet::StepRefinement>,
+    }
+    json(&WithRefined {
+        orbit: &orbit,
+        refined: refined.as_ref(),
+    })
 }
 
 /// The period-`period` orbit continued over ν `from … to` by `step` (default: the scene's

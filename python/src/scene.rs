@@ -209,15 +209,16 @@ impl NativeScene {
     }
 
     /// The periodic orbit at ν = `speed` by shooting (JSON text); see `runs::periodic`.
-    #[pyo3(signature = (speed=None, period=None))]
+    #[pyo3(signature = (speed=None, period=None, refine=false))]
     fn periodic(
         &self,
         py: Python<'_>,
         speed: Option<f64>,
         period: Option<usize>,
+        refine: bool,
     ) -> PyResult<String> {
         let model = self.model(py)?;
-        runs::periodic(py, (&self.ls, model), speed, period)
+        runs::periodic(py, (&self.ls, model), speed, period, refine)
     }
 
     /// A periodic orbit continued over speed (JSON text); see `runs::continuation`. With

@@ -357,6 +357,7 @@ impl Arc<'_> {
             poincare_nd: super::branch::section(&orbit, self.k),
             iterations,
             residual: 0.0,
+            start: Some(start),
         })
     }
 }

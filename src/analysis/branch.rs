@@ -63,6 +63,10 @@ pub struct BranchPoint {
     pub iterations: usize,
     /// Newton's final relative residual.
     pub residual: f64,
+    /// The fixed point as a restart state (`rubsim continue --orbits-at`: Newton from the
+    /// nearest point, [`super::orbits_at`]); not serialised.
+    #[serde(skip)]
+    pub(crate) start: Option<crate::time::EndState>,
 }
 
 /// A change of stability located between two speeds.
@@ -158,6 +162,7 @@ impl BranchPoint {
             poincare_nd: section(&o.orbit, o.period),
             iterations: o.iterations,
             residual: o.residual,
+            start: o.start_state(),
         }
     }
 }

@@ -18,8 +18,21 @@ pub(super) struct ContinueBody<'a> {
     /// from, the doublings not followed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) switched: Option<&'a analysis::switch::Diagram>,
+    /// With `--orbits-at`: each orbit shot there and its time series.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) orbits: Vec<OrbitEntry>,
     /// Wall time of the command (s).
     pub(super) wall_s: f64,
+}
+
+/// An orbit of `--orbits-at` as summary.json lists it: where it was shot from, its Newton and
+/// stability, its series.
+#[derive(Debug, Serialize)]
+pub(super) struct OrbitEntry {
+    #[serde(flatten)]
+    orbit: analysis::orbits_at::OrbitAtRecord,
+    /// Its VTK/HDF5 series, when the scene asks for one and Newton converged.
+    series: Option<super::periodic::OrbitSeries>,
 }
 
 /// Options of `rubsim continue`.
@@ -72,6 +85,12 @@ pub struct ContinueArgs {
     /// the branches in branch.png.
     #[arg(long)]
     pub sweep: Option<PathBuf>,
+    /// Values of the branch parameter (speeds, in `--unit`, comma-separated) at which each
+    /// branch spanning them writes its periodic orbit as the scene's VTK/HDF5 series, under
+    /// `orbits/branch<i>_<ν>/`: Newton at exactly that value from the branch's nearest
+    /// converged point.
+    #[arg(long, value_delimiter = ',')]
+    pub orbits_at: Vec<f64>,
     /// Output directory (default: out/<scene name>/continue).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -93,6 +112,7 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
         switch,
         max_period,
         sweep: sweep_dir,
+        orbits_at,
         out,
         ..
     } = args.clone();
@@ -159,19 +179,70 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
         analysis::switch::Diagram::of(branch)
     };
     report_diagram(&diagram);
+    let values: Vec<f64> = orbits_at.iter().map(|v| unit.ratio(*v, wn)).collect();
+    let folds = switch || arclength.is_some();
+    let orbits = write_orbits(
+        &mut outd,
+        (&ls, &model),
+        &s,
+        (&diagram, (a, b, h), folds),
+        &values,
+    )?;
     let body = ContinueBody {
         branch: &diagram.branches[0],
         switched: switch.then_some(&diagram),
+        orbits,
         wall_s: t0.elapsed().as_secs_f64(),
     };
-    finish(
-        outd,
-        &Summary {
-            base: Base::new(&ls, &model, "continue"),
-            body,
-        },
-    )?;
+    let base = Base::new(&ls, &model, "continue");
+    finish(outd, &Summary { base, body })?;
     Ok(())
+}
+
+/// The orbits of `--orbits-at` (`values`, ν) on the branches of `d` (continued over
+/// `range` with the settings `s`, `around_folds` by pseudo-arclength or switching), each
+/// written as the scene's time series under `orbits/branch<i>_<ν>/`; the warnings printed.
+fn write_orbits(
+    outd: &mut rubsim::output::OutDir,
+    (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
+    s: &analysis::RunSettings,
+    (d, range, around_folds): (&analysis::switch::Diagram, (f64, f64, f64), bool),
+    values: &[f64],
+) -> Result<Vec<OrbitEntry>> {
+    if values.is_empty() {
+        return Ok(Vec::new());
+    }
+    if let Some(v) = values.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        anyhow::bail!("--orbits-at: every value must be a positive speed, got {v}");
+    }
+    if !rubsim::results::wanted(&ls.scene.output) {
+        eprintln!("warning: --orbits-at: the scene asks for no time series (`output.vtk`, `output.hdf5`; e.g. `--set 'output.vtk={{}}'`): the orbits are shot and listed in summary.json, no series written");
+    }
+    let pinned = analysis::orbits_at::branch_settings(model, s, range, around_folds)?;
+    let (found, notes) = analysis::orbits_at::orbits_at(model, &pinned, &d.branches, values);
+    for n in &notes {
+        eprintln!("warning: {n}");
+    }
+    let mut entries = Vec::with_capacity(found.len());
+    for o in &found {
+        let r = o.record();
+        println!(
+            "orbit at ω/ωn = {} on branch {} (period {}), Newton from {:.4}: {} in {} iteration(s), residual {:.2e}, {} (largest |ρ| {:.4})",
+            r.speed_ratio,
+            r.branch,
+            r.period,
+            r.from_speed_ratio,
+            if r.converged { "converged" } else { "did NOT converge" },
+            r.iterations,
+            r.residual,
+            if r.stable { "stable" } else { "unstable" },
+            r.largest_modulus
+        );
+        let folder = format!("orbits/branch{}_{}/", o.branch, o.speed_ratio);
+        let series = super::periodic::write_series(outd, (ls, model), &o.prep, &o.orbit, &folder)?;
+        entries.push(OrbitEntry { orbit: r, series });
+    }
+    Ok(entries)
 }
 
 /// Prints every branch of `d` ([`report`]), where each switched one came from, and the

@@ -21,6 +21,11 @@ pub fn continuation_in_key(args: &ContinueArgs) -> Result<()> {
             "--sweep draws a sweep's points over speed: not with --key (the branch is drawn over `{key}`)"
         );
     }
+    if !a.orbits_at.is_empty() {
+        anyhow::bail!(
+            "--orbits-at picks orbits by speed on a branch in speed: not with --key (this branch is at one speed; shoot an orbit of it with `rubsim periodic --set {key}=VALUE`)"
+        );
+    }
     if a.speed.is_none() && a.unit != UnitArg::Ratio {
         anyhow::bail!(
             "--unit applies to --speed only (the key's values are in its own units): give --speed in that unit, or leave --unit out"
@@ -91,6 +96,7 @@ pub fn continuation_in_key(args: &ContinueArgs) -> Result<()> {
     let body = ContinueBody {
         branch: &d.branches[0],
         switched: a.switch.then_some(&d),
+        orbits: Vec::new(),
         wall_s: t0.elapsed().as_secs_f64(),
     };
     finish(
