@@ -304,15 +304,27 @@ class Scene:
         max_points: int = 200,
         switch: bool = False,
         max_period: int = 8,
+        key: Optional[str] = None,
+        speed: Optional[float] = None,
     ) -> Union["Branch", "Diagram"]:
         """The periodic orbit continued over speed from ``from_`` to ``to`` by ``step``
         (default: the scene's ``[run.sweep]``), as ``rubsim continue``: in ν alone, or by
         pseudo-arclength around folds (``arclength``, at most ``max_points`` points). With
         ``switch``: a :class:`Diagram` — the branch and those switched onto at its period
-        doublings and theirs, up to period ``max_period`` (``rubsim continue --switch``)."""
-        r = [self._ratio(v, unit) for v in (from_, to, step)]
+        doublings and theirs, up to period ``max_period`` (``rubsim continue --switch``).
+        With ``key`` (a dotted scene key, ``"station.0.friction"``): continued over that key
+        from ``from_`` to ``to`` by ``step`` in the key's own units at the fixed ``speed`` (in
+        ``unit``; default the scene's), as ``rubsim continue --key``."""
         n = int(max_points) if arclength else None
         m = int(max_period) if switch else None
+        if key is not None:
+            r = [None if v is None else float(v) for v in (from_, to, step)]
+            nu = self._ratio(speed, unit)
+            d = json.loads(self._native.continuation_key(str(key), nu, *r, period, n, m))
+            return Diagram(d) if switch else Branch(d["branches"][0])
+        if speed is not None:
+            raise ValueError("speed= is the fixed speed of a branch in a key: give key= too")
+        r = [self._ratio(v, unit) for v in (from_, to, step)]
         d = json.loads(self._native.continuation(*r, period, n, m))
         return Diagram(d) if switch else Branch(d)
 
@@ -652,8 +664,9 @@ class Periodic:
 
 
 class Branch:
-    """A continued branch of periodic orbits: ``table`` (numpy columns over its points:
-    ``speed_ratio``, ``stable``, ``largest_modulus``, ``rho1`` (complex), ``amp_1x_nd``,
+    """A continued branch of periodic orbits: ``parameter`` (``"speed_ratio"``, or the scene
+    key of ``continuation(key=...)``), ``table`` (numpy columns over its points: ``parameter``
+    (ν, or the key's values), ``speed_ratio``, ``stable``, ``largest_modulus``, ``rho1`` (complex), ``amp_1x_nd``,
     ``contact_fraction``, ``x_min_nd`` … ``y_max_nd``), ``poincare`` (per point its k section
     points, a k × 2 array / |Z0|), ``bifurcations`` (each a dict: ``kind``,
     ``speed_ratio``, ``between``, ``rho``), ``ended`` (why it stopped early, or None)."""
@@ -662,7 +675,11 @@ class Branch:
         self.summary = d
         self.period = d["period"]
         pts = d["points"]
+        # The continued parameter: "speed_ratio", or the scene key (then "parameter" holds
+        # its values and "speed_ratio" the fixed speed).
+        self.parameter = d.get("parameter", "speed_ratio")
         self.table = {
+            "parameter": np.array([p.get("parameter", p["speed_ratio"]) for p in pts]),
             "speed_ratio": np.array([p["speed_ratio"] for p in pts]),
             "stable": np.array([p["stable"] for p in pts], dtype=bool),
             "largest_modulus": np.array([p["largest_modulus"] for p in pts]),

@@ -356,6 +356,41 @@ pub fn continuation(
     json(&branch)
 }
 
+/// The period-`period` orbit at ν = `speed` (default: the scene's single speed) continued over
+/// the scene key `key` from `from` to `to` by `step` (the key's units), as `rubsim continue
+/// --key`: the JSON of `analysis::switch::Diagram` (its one branch without `switch`).
+pub fn continuation_key(
+    py: Python<'_>,
+    (ls, model): (&LoadedScene, &Model),
+    (key, speed): (&str, Option<f64>),
+    range: [Option<f64>; 3],
+    period: Option<usize>,
+    (arclength, switch): (Option<usize>, Option<usize>),
+) -> PyResult<String> {
+    check_period(period)?;
+    let v = speed_of(ls, model, speed)?;
+    let [Some(a), Some(b), Some(h)] = range else {
+        return Err(StudyError::new_err(format!(
+            "key={key} needs from_=, to= and step=, in the key's own units"
+        )));
+    };
+    let branch = analysis::continuation::KeyBranch {
+        key,
+        speed_ratio: v,
+        range: (a, b, h),
+        period,
+        arclength,
+        switch,
+    };
+    let d = py
+        .detach(|| {
+            let s = rubsim::study::run_settings(ls, model, &[v])?;
+            analysis::continuation::continue_key(ls, &s, &branch)
+        })
+        .py_err()?;
+    json(&d)
+}
+
 /// The thermal spiral of `[thermal]` at ν = `speed` (default: the scene's), as `rubsim run`
 /// runs it: `summary` (JSON of `analysis::thermal::ThermalResults`), per coupling step `t`
 /// (s), `delta_t` (K), `bow` (m), `one_x` (m), `heat` (W) — n × 2, rotor frame —, `power` (W),

@@ -245,6 +245,33 @@ impl NativeScene {
         )
     }
 
+    /// A periodic orbit continued over a scene key at one speed (JSON text of the diagram);
+    /// see `runs::continuation_key`.
+    #[pyo3(signature = (key, speed=None, from_=None, to=None, step=None, period=None, arclength=None, switch=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn continuation_key(
+        &self,
+        py: Python<'_>,
+        key: &str,
+        speed: Option<f64>,
+        from_: Option<f64>,
+        to: Option<f64>,
+        step: Option<f64>,
+        period: Option<usize>,
+        arclength: Option<usize>,
+        switch: Option<usize>,
+    ) -> PyResult<String> {
+        let model = self.model(py)?;
+        runs::continuation_key(
+            py,
+            (&self.ls, model),
+            (key, speed),
+            [from_, to, step],
+            period,
+            (arclength, switch),
+        )
+    }
+
     /// The damped modes of the rotor alone at Ω = `speed` rad/s (JSON text).
     #[pyo3(signature = (speed=0.0, modes=12))]
     fn modal(&self, py: Python<'_>, speed: f64, modes: usize) -> PyResult<String> {

@@ -61,6 +61,7 @@ pub mod floquet;
 mod lengthen;
 pub mod notices;
 pub mod orbits_at;
+pub mod parameter;
 pub mod periodic;
 mod pilot;
 pub mod refine;

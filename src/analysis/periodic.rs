@@ -59,6 +59,11 @@ const FD_STEP: f64 = 1e-5;
 pub struct PeriodicOrbit {
     /// ν = ω/ω_n.
     pub speed_ratio: f64,
+    /// The value of the parameter a continuation found it at
+    /// ([`super::parameter::Continued`]): ν for a branch in speed, the scene key's value for a
+    /// branch in a key; ν when shot alone.
+    #[serde(skip)]
+    pub(crate) parameter: f64,
     /// Period in revolutions `k` (the orbit repeats after `k T`).
     pub period: usize,
     /// Whether Newton met [`SHOOT_TOLERANCE`].
@@ -354,6 +359,7 @@ fn solve(
     let instability = (largest >= 1.0).then(|| crossing(multipliers[0], largest));
     Ok(PeriodicOrbit {
         speed_ratio: prep.speed_ratio,
+        parameter: prep.speed_ratio,
         period: k,
         converged: newton.converged,
         iterations: newton.iterations,
@@ -519,6 +525,24 @@ impl<'a> Map<'a> {
         let steps = orbit.stats.steps as u64;
         Ok((orbit, steps))
     }
+}
+
+/// The components of the state vector of `p`'s runs ([`EndState::state_vector`]: the rotor's
+/// and each stator's with mass), taken from two steps of its scheme; `None` for an implicit
+/// scheme.
+///
+/// # Errors
+/// The two steps' run errors.
+pub(super) fn state_size(p: &Prepared) -> Result<Option<usize>> {
+    let plan = StepPlan {
+        steps: 2,
+        steady_from: 0,
+        ..p.plan
+    };
+    let mut st = stepper(p, &plan)?;
+    Ok(run_to_end(&mut st, 2)?
+        .and_then(|e| e.state_vector())
+        .map(|x| x.len()))
 }
 
 /// The error of a state that does not restart the run's scheme at its own step.

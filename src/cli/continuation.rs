@@ -1,5 +1,6 @@
 //! `rubsim continue`: a periodic orbit continued over speed (`analysis::branch`): branch.csv,
-//! bifurcations.csv, branch.png and summary.json.
+//! bifurcations.csv, branch.png and summary.json; with `--key`, over a scene key's values at a
+//! fixed speed (`super::continue_key`).
 
 use super::{chosen_settings, default_out, load, Common, UnitArg};
 use anyhow::{Context, Result};
@@ -10,24 +11,24 @@ use std::path::PathBuf;
 
 /// The body of `summary.json` of `rubsim continue`.
 #[derive(Debug, Serialize)]
-struct ContinueBody<'a> {
+pub(super) struct ContinueBody<'a> {
     /// The branch: its points, bifurcations and where it ended.
-    branch: &'a Branch,
+    pub(super) branch: &'a Branch,
     /// With `--switch`: every branch (the first is `branch`), where each switched one came
     /// from, the doublings not followed.
     #[serde(skip_serializing_if = "Option::is_none")]
-    switched: Option<&'a analysis::switch::Diagram>,
+    pub(super) switched: Option<&'a analysis::switch::Diagram>,
     /// With `--orbits-at`: each orbit shot there and its time series.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    orbits: Vec<OrbitEntry>,
+    pub(super) orbits: Vec<OrbitEntry>,
     /// Wall time of the command (s).
-    wall_s: f64,
+    pub(super) wall_s: f64,
 }
 
 /// An orbit of `--orbits-at` as summary.json lists it: where it was shot from, its Newton and
 /// stability, its series.
 #[derive(Debug, Serialize)]
-struct OrbitEntry {
+pub(super) struct OrbitEntry {
     #[serde(flatten)]
     orbit: analysis::orbits_at::OrbitAtRecord,
     /// Its VTK/HDF5 series, when the scene asks for one and Newton converged.
@@ -39,16 +40,27 @@ struct OrbitEntry {
 pub struct ContinueArgs {
     #[command(flatten)]
     pub c: Common,
-    /// First speed, in `--unit` (default: the scene's `[run.sweep]`).
-    #[arg(long)]
+    /// First speed, in `--unit` (default: the scene's `[run.sweep]`); with `--key`, the key's
+    /// first value in its own units.
+    #[arg(long, allow_negative_numbers = true)]
     pub from: Option<f64>,
-    /// Last speed, in `--unit` (below `--from`: continued downwards).
-    #[arg(long)]
+    /// Last speed, in `--unit` (below `--from`: continued downwards); with `--key`, the key's
+    /// last value.
+    #[arg(long, allow_negative_numbers = true)]
     pub to: Option<f64>,
-    /// Speed step, in `--unit`.
-    #[arg(long)]
+    /// Speed step, in `--unit`; with `--key`, the key's step in its own units.
+    #[arg(long, allow_negative_numbers = true)]
     pub step: Option<f64>,
-    /// Unit of the speeds: ratio (ω/ω_n), rad/s or rpm.
+    /// Continue in this numeric scene key instead of the speed (the dotted keys of `--set`:
+    /// `station.0.friction`, `stator.0.stiffness_ratio`, `stator.0.clearance`, …), at the fixed
+    /// speed `--speed`, from `--from` to `--to` by `--step` in the key's units.
+    #[arg(long)]
+    pub key: Option<String>,
+    /// With `--key`: the fixed speed, in `--unit` (default: the scene's `run.speed_ratio` or
+    /// `run.speed`).
+    #[arg(long, requires = "key")]
+    pub speed: Option<f64>,
+    /// Unit of the speeds (with `--key`: of `--speed` only): ratio (ω/ω_n), rad/s or rpm.
     #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
     pub unit: UnitArg,
     /// Period of the orbit in revolutions (default: the first speed's settled period).
@@ -102,6 +114,7 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
         sweep: sweep_dir,
         orbits_at,
         out,
+        ..
     } = args.clone();
     let arclength = arclength.then_some(max_points);
     let (ls, model) = load(&c)?;
@@ -234,14 +247,15 @@ fn write_orbits(
 
 /// Prints every branch of `d` ([`report`]), where each switched one came from, and the
 /// doublings not switched.
-fn report_diagram(d: &analysis::switch::Diagram) {
+pub(super) fn report_diagram(d: &analysis::switch::Diagram) {
     for (i, b) in d.branches.iter().enumerate() {
         if let Some(r) = i.checked_sub(1).and_then(|k| d.switched.get(k)) {
             println!(
-                "switched at the period doubling of branch {} at ω/ωn {:.4} (found at {:.4}, {}):",
+                "switched at the period doubling of branch {} at {} {:.4} (found at {:.4}, {}):",
                 r.parent,
-                r.at_speed_ratio,
-                r.found_at_speed_ratio,
+                parameter_label(b),
+                r.at,
+                r.found_at,
                 if r.supercritical {
                     "supercritical"
                 } else {
@@ -265,11 +279,12 @@ fn report(b: &Branch) {
         }
         return;
     };
+    let on = parameter_label(b);
     println!(
-        "period-{} orbit continued over ω/ωn {:.4} … {:.4}: {} points, {} steps",
+        "period-{} orbit continued over {on} {:.4} … {:.4}: {} points, {} steps",
         b.period,
-        first.speed_ratio,
-        last.speed_ratio,
+        first.parameter,
+        last.parameter,
         b.points.len(),
         b.steps
     );
@@ -277,23 +292,23 @@ fn report(b: &Branch) {
     for i in 1..=b.points.len() {
         if i == b.points.len() || b.points[i].stable != b.points[start].stable {
             println!(
-                "  {:>8}  ω/ωn {:.4} – {:.4}",
+                "  {:>8}  {on} {:.4} – {:.4}",
                 if b.points[start].stable {
                     "stable"
                 } else {
                     "unstable"
                 },
-                b.points[start].speed_ratio,
-                b.points[i - 1].speed_ratio
+                b.points[start].parameter,
+                b.points[i - 1].parameter
             );
             start = i;
         }
     }
     for x in &b.bifurcations {
         println!(
-            "  {} at ω/ωn {:.4} (between {:.4} and {:.4}; ρ {:+.4}{:+.4}i → {:+.4}{:+.4}i)",
+            "  {} at {on} {:.4} (between {:.4} and {:.4}; ρ {:+.4}{:+.4}i → {:+.4}{:+.4}i)",
             x.kind,
-            x.speed_ratio,
+            x.parameter,
             x.between[0],
             x.between[1],
             x.rho[0][0],
@@ -304,5 +319,14 @@ fn report(b: &Branch) {
     }
     if let Some(why) = &b.ended {
         eprintln!("warning: the branch ends before the last speed: {why}");
+    }
+}
+
+/// The branch's parameter in messages: `ω/ωn`, or its scene key.
+fn parameter_label(b: &Branch) -> &str {
+    if b.at_speed_ratio.is_some() {
+        &b.parameter
+    } else {
+        "ω/ωn"
     }
 }

@@ -15,6 +15,7 @@ mod cli;
 mod coexistence;
 mod contact;
 mod contact_damping;
+mod continue_key;
 mod convergence;
 mod critical_map;
 mod driven;
