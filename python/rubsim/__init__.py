@@ -277,12 +277,20 @@ class Scene:
         return Modal(json.loads(self._native.modal(omega, int(modes))))
 
     def periodic(
-        self, speed: Optional[float] = None, *, unit: str = "ratio", period: Optional[int] = None
+        self,
+        speed: Optional[float] = None,
+        *,
+        unit: str = "ratio",
+        period: Optional[int] = None,
+        refine: bool = False,
     ) -> "Periodic":
         """The periodic orbit of ``period`` revolutions (default: the settled run's) at
         ``speed`` (default: the scene's) by shooting, as ``rubsim periodic``: its Floquet
-        multipliers and stability."""
-        return Periodic(json.loads(self._native.periodic(self._ratio(speed, unit), period)))
+        multipliers and stability. With ``refine`` (``rubsim periodic --refine``) the orbit is
+        shot again at half the step: ``refined`` holds the multipliers there, their error
+        estimates and, for an orbit without contact, their extrapolation to Δt → 0."""
+        d = self._native.periodic(self._ratio(speed, unit), period, bool(refine))
+        return Periodic(json.loads(d))
 
     def continuation(
         self,
@@ -296,15 +304,27 @@ class Scene:
         max_points: int = 200,
         switch: bool = False,
         max_period: int = 8,
+        key: Optional[str] = None,
+        speed: Optional[float] = None,
     ) -> Union["Branch", "Diagram"]:
         """The periodic orbit continued over speed from ``from_`` to ``to`` by ``step``
         (default: the scene's ``[run.sweep]``), as ``rubsim continue``: in ν alone, or by
         pseudo-arclength around folds (``arclength``, at most ``max_points`` points). With
         ``switch``: a :class:`Diagram` — the branch and those switched onto at its period
-        doublings and theirs, up to period ``max_period`` (``rubsim continue --switch``)."""
-        r = [self._ratio(v, unit) for v in (from_, to, step)]
+        doublings and theirs, up to period ``max_period`` (``rubsim continue --switch``).
+        With ``key`` (a dotted scene key, ``"station.0.friction"``): continued over that key
+        from ``from_`` to ``to`` by ``step`` in the key's own units at the fixed ``speed`` (in
+        ``unit``; default the scene's), as ``rubsim continue --key``."""
         n = int(max_points) if arclength else None
         m = int(max_period) if switch else None
+        if key is not None:
+            r = [None if v is None else float(v) for v in (from_, to, step)]
+            nu = self._ratio(speed, unit)
+            d = json.loads(self._native.continuation_key(str(key), nu, *r, period, n, m))
+            return Diagram(d) if switch else Branch(d["branches"][0])
+        if speed is not None:
+            raise ValueError("speed= is the fixed speed of a branch in a key: give key= too")
+        r = [self._ratio(v, unit) for v in (from_, to, step)]
         d = json.loads(self._native.continuation(*r, period, n, m))
         return Diagram(d) if switch else Branch(d)
 
@@ -466,6 +486,13 @@ _COLUMNS = {
     "fwd_1x_nd": lambda r: r["whirl"]["forward_1x_nd"],
     "bwd_1x_nd": lambda r: r["whirl"]["backward_1x_nd"],
     "coexisting": lambda r: bool(r.get("coexistence") and r["coexistence"]["coexisting"]),
+    # A flagged speed's stable periodic responses (its two responses shot as orbits); NaN at
+    # a speed not flagged.
+    "coexisting_stable": lambda r: (
+        r["coexistence"]["orbits"]["coexisting_stable"]
+        if r.get("coexistence") and r["coexistence"].get("orbits")
+        else np.nan
+    ),
 }
 
 
@@ -607,10 +634,20 @@ class Periodic:
     """A periodic orbit found by shooting: ``multipliers`` (complex numpy array, largest modulus
     first), ``stable``, ``instability`` (``period_doubling``, ``fold``, ``neimark_sacker`` or
     None), ``converged``, ``period`` (revolutions), ``orbit`` (the orbit's results, as a run's
-    ``result``), ``summary`` (everything)."""
+    ``result``), ``summary`` (everything); with ``refine=True`` ``refined`` (a dict:
+    ``half_step``, ``error_estimate``, ``extrapolated`` — complex numpy arrays or None —,
+    ``order``, ``stable``, ``verdict_changes``, ``dt``), else None."""
 
     def __init__(self, d: dict):
         self.summary = d
+        self.refined = None
+        r = d.get("refined")
+        if r is not None:
+            self.refined = dict(r)
+            self.refined["half_step"] = _complex(r["half_step"])
+            self.refined["error_estimate"] = np.array(r["error_estimate"])
+            if r["extrapolated"] is not None:
+                self.refined["extrapolated"] = _complex(r["extrapolated"])
         self.speed_ratio = d["speed_ratio"]
         self.period = d["period"]
         self.converged = d["converged"]
@@ -627,8 +664,9 @@ class Periodic:
 
 
 class Branch:
-    """A continued branch of periodic orbits: ``table`` (numpy columns over its points:
-    ``speed_ratio``, ``stable``, ``largest_modulus``, ``rho1`` (complex), ``amp_1x_nd``,
+    """A continued branch of periodic orbits: ``parameter`` (``"speed_ratio"``, or the scene
+    key of ``continuation(key=...)``), ``table`` (numpy columns over its points: ``parameter``
+    (ν, or the key's values), ``speed_ratio``, ``stable``, ``largest_modulus``, ``rho1`` (complex), ``amp_1x_nd``,
     ``contact_fraction``, ``x_min_nd`` … ``y_max_nd``), ``poincare`` (per point its k section
     points, a k × 2 array / |Z0|), ``bifurcations`` (each a dict: ``kind``,
     ``speed_ratio``, ``between``, ``rho``), ``ended`` (why it stopped early, or None)."""
@@ -637,7 +675,11 @@ class Branch:
         self.summary = d
         self.period = d["period"]
         pts = d["points"]
+        # The continued parameter: "speed_ratio", or the scene key (then "parameter" holds
+        # its values and "speed_ratio" the fixed speed).
+        self.parameter = d.get("parameter", "speed_ratio")
         self.table = {
+            "parameter": np.array([p.get("parameter", p["speed_ratio"]) for p in pts]),
             "speed_ratio": np.array([p["speed_ratio"] for p in pts]),
             "stable": np.array([p["stable"] for p in pts], dtype=bool),
             "largest_modulus": np.array([p["largest_modulus"] for p in pts]),

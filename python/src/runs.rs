@@ -275,22 +275,34 @@ fn check_period(period: Option<usize>) -> PyResult<()> {
 
 /// The periodic orbit of `period` revolutions (default: the settled run's) at ν = `speed`
 /// (default: the scene's) by shooting, as `rubsim periodic`: the JSON of
-/// `analysis::periodic::PeriodicOrbit` (multipliers, stability, the orbit's results).
+/// `analysis::periodic::PeriodicOrbit` (multipliers, stability, the orbit's results) and, with
+/// `refine` (`rubsim periodic --refine`), its `refined` member: the
+/// `analysis::floquet::StepRefinement` of the multipliers at half the step.
 pub fn periodic(
     py: Python<'_>,
     (ls, model): (&LoadedScene, &Model),
     speed: Option<f64>,
     period: Option<usize>,
+    refine: bool,
 ) -> PyResult<String> {
     check_period(period)?;
     let v = speed_of(ls, model, speed)?;
-    let orbit = py
+    let (orbit, refined) = py
         .detach(|| {
             let s = rubsim::study::run_settings(ls, model, &[v])?;
-            analysis::periodic::shoot_at(model, &s, v, period)
+            analysis::floquet::shoot_refined(model, &s, v, period, refine)
         })
         .py_err()?;
-    json(&orbit)
+    #[derive(serde::Serialize)]
+    struct WithRefined<'a> {
+        #[serde(flatten)]
+        orbit: &'a analysis::periodic::PeriodicOrbit,
+        refined: Option<&'a analysis::floquet::StepRefinement>,
+    }
+    json(&WithRefined {
+        orbit: &orbit,
+        refined: refined.as_ref(),
+    })
 }
 
 /// The period-`period` orbit continued over ν `from … to` by `step` (default: the scene's
@@ -342,6 +354,41 @@ pub fn continuation(
         .detach(|| analysis::continuation::continue_branch(model, &s, (a, b, h), period, arclength))
         .py_err()?;
     json(&branch)
+}
+
+/// The period-`period` orbit at ν = `speed` (default: the scene's single speed) continued over
+/// the scene key `key` from `from` to `to` by `step` (the key's units), as `rubsim continue
+/// --key`: the JSON of `analysis::switch::Diagram` (its one branch without `switch`).
+pub fn continuation_key(
+    py: Python<'_>,
+    (ls, model): (&LoadedScene, &Model),
+    (key, speed): (&str, Option<f64>),
+    range: [Option<f64>; 3],
+    period: Option<usize>,
+    (arclength, switch): (Option<usize>, Option<usize>),
+) -> PyResult<String> {
+    check_period(period)?;
+    let v = speed_of(ls, model, speed)?;
+    let [Some(a), Some(b), Some(h)] = range else {
+        return Err(StudyError::new_err(format!(
+            "key={key} needs from_=, to= and step=, in the key's own units"
+        )));
+    };
+    let branch = analysis::continuation::KeyBranch {
+        key,
+        speed_ratio: v,
+        range: (a, b, h),
+        period,
+        arclength,
+        switch,
+    };
+    let d = py
+        .detach(|| {
+            let s = rubsim::study::run_settings(ls, model, &[v])?;
+            analysis::continuation::continue_key(ls, &s, &branch)
+        })
+        .py_err()?;
+    json(&d)
 }
 
 /// The thermal spiral of `[thermal]` at ν = `speed` (default: the scene's), as `rubsim run`

@@ -209,15 +209,16 @@ impl NativeScene {
     }
 
     /// The periodic orbit at ν = `speed` by shooting (JSON text); see `runs::periodic`.
-    #[pyo3(signature = (speed=None, period=None))]
+    #[pyo3(signature = (speed=None, period=None, refine=false))]
     fn periodic(
         &self,
         py: Python<'_>,
         speed: Option<f64>,
         period: Option<usize>,
+        refine: bool,
     ) -> PyResult<String> {
         let model = self.model(py)?;
-        runs::periodic(py, (&self.ls, model), speed, period)
+        runs::periodic(py, (&self.ls, model), speed, period, refine)
     }
 
     /// A periodic orbit continued over speed (JSON text); see `runs::continuation`. With
@@ -238,6 +239,33 @@ impl NativeScene {
         runs::continuation(
             py,
             (&self.ls, model),
+            [from_, to, step],
+            period,
+            (arclength, switch),
+        )
+    }
+
+    /// A periodic orbit continued over a scene key at one speed (JSON text of the diagram);
+    /// see `runs::continuation_key`.
+    #[pyo3(signature = (key, speed=None, from_=None, to=None, step=None, period=None, arclength=None, switch=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn continuation_key(
+        &self,
+        py: Python<'_>,
+        key: &str,
+        speed: Option<f64>,
+        from_: Option<f64>,
+        to: Option<f64>,
+        step: Option<f64>,
+        period: Option<usize>,
+        arclength: Option<usize>,
+        switch: Option<usize>,
+    ) -> PyResult<String> {
+        let model = self.model(py)?;
+        runs::continuation_key(
+            py,
+            (&self.ls, model),
+            (key, speed),
             [from_, to, step],
             period,
             (arclength, switch),

@@ -290,6 +290,13 @@ def test_periodic_orbits_and_their_branch(tmp_path):
     pd = b.bifurcations[kinds.index("period_doubling")]
     assert abs(pd["speed_ratio"] - 2.2414) < 0.02
     assert b.table["stable"][0] and not b.table["stable"][-1]
+    assert p.refined is None
+    # --refine: the multipliers at Δt/2 as the command writes them; in contact, no extrapolation.
+    r = scene.periodic(1.7, refine=True).refined
+    cli("periodic", PAPER, "--speed", "1.7", "--refine", "--out", tmp_path / "r")
+    want = summary(tmp_path / "r")["refined"]
+    assert np.array_equal(r["half_step"], np.array([complex(*m) for m in want["half_step"]]))
+    assert r["order"] == 1 and r["extrapolated"] is None and r["stable"]
     with pytest.raises(rubsim.RubsimError, match="period"):
         scene.periodic(1.7, period=0)
     with pytest.raises(rubsim.RubsimError, match="step"):

@@ -1,5 +1,7 @@
 //! Pseudo-arclength continuation of a periodic orbit in speed (issue 29): the branch followed
-//! around folds, where continuation in ν alone ([`super::branch`]) stops.
+//! around folds, where continuation in ν alone ([`super::branch`]) stops. Written for the
+//! speed; a branch in a scene key ([`Continued`]) is the same with the key's value for ν (its
+//! one `N` steps a revolution is the key's branch's own).
 //!
 //! **The map in ν.** Along the branch every point uses the same `N` steps a revolution
 //! (`Δt = 2π/(Ω N)`, `N` the finer of the plans at the range's two ends), so the discrete map
@@ -22,9 +24,10 @@
 //! fold (a multiplier through −1 or a complex pair) is reported with the interval of its two
 //! points.
 
-use super::branch::{request, Bifurcation, Branch, BranchPoint};
+use super::branch::{Bifurcation, Branch, BranchPoint};
+use super::parameter::Continued;
 use super::periodic;
-use super::speed::{prepare, Prepared};
+use super::speed::Prepared;
 use super::RunSettings;
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -40,11 +43,11 @@ const TOLERANCE: f64 = 1e-9;
 /// Relative central-difference step of the Jacobians.
 const FD_STEP: f64 = 1e-5;
 
-/// The branch's map: the model, settings, period and fixed steps a revolution, and the state
-/// layout (an end state of the run, the sizes of its central bodies).
+/// The branch's map: the parameter (its runs at one fixed `N` steps a revolution), period and
+/// fixed steps a revolution, and the state layout (an end state of the run, the sizes of its
+/// central bodies).
 struct Arc<'a> {
-    model: &'a Model,
-    s: &'a RunSettings,
+    c: &'a Continued<'a>,
     k: usize,
     n_rev: usize,
     template: EndState,
@@ -68,25 +71,38 @@ pub fn continue_arclength(
     period: Option<usize>,
     max_points: usize,
 ) -> Result<Branch> {
+    let c = Continued::of_speed(model, s, from.max(to))?;
+    arclength_in(c, (from, to, h), period, max_points)
+}
+
+/// [`continue_arclength`] in the parameter `c`: from its value `from` towards `to` with the
+/// first step `h` (in the parameter), within `[from, to]`, at most `max_points` points.
+///
+/// # Errors
+/// As [`continue_arclength`].
+pub fn arclength_in(
+    c: Continued<'_>,
+    (from, to, h): (f64, f64, f64),
+    period: Option<usize>,
+    max_points: usize,
+) -> Result<Branch> {
     let (lo, hi) = (from.min(to), from.max(to));
-    let pinned = super::branch::pinned_reduction(model, s, hi)?;
-    let s = &pinned;
-    let first = periodic::shoot(&prepare(model, &request(s, from))?, period)?;
+    let first = c.shoot(from, period)?;
     let k = first.period;
     let mut branch = Branch {
         steps: first.steps,
-        ..Branch::empty(k)
+        ..Branch::empty(k, &c)
     };
     if !first.converged {
         branch.ended = Some(format!(
-            "no periodic orbit of {k} revolution(s) at ω/ωn = {from:.4} (residual {:.2e})",
+            "no periodic orbit of {k} revolution(s) at {} = {from:.4} (residual {:.2e})",
+            c.label(),
             first.residual
         ));
         return Ok(branch);
     }
-    let plan_at = |v: f64| -> Result<StepPlan> { Ok(prepare(model, &request(s, v))?.plan) };
-    let (pa, pb) = (plan_at(lo)?, plan_at(hi)?);
-    let n_rev = pa.steps_per_rev.max(pb.steps_per_rev);
+    let c = c.with_fixed_steps((lo, hi))?;
+    let n_rev = c.steps_per_rev().unwrap_or(1);
     let (x, end) = (&first.fixed_point.0, &first.fixed_point.1);
     let sizes = end.central_sizes().ok_or_else(|| {
         Error::study(
@@ -97,8 +113,7 @@ pub fn continue_arclength(
     let dt0 = end.dt;
     let y0 = to_uv(x, &sizes, dt0);
     let mut arc = Arc {
-        model,
-        s,
+        c: &c,
         k,
         n_rev,
         template: end.clone(),
@@ -152,7 +167,8 @@ fn follow(
         }
         let Some((w, iters)) = next else {
             branch.ended = Some(format!(
-                "the corrector did not converge past ω/ωn = {:.4} with the step halved {MAX_STEP_HALVINGS} times",
+                "the corrector did not converge past {} = {:.4} with the step halved {MAX_STEP_HALVINGS} times",
+                arc.c.label(),
                 ws[n - 1].last().copied().unwrap_or(f64::NAN)
             ));
             break;
@@ -167,12 +183,12 @@ fn follow(
         match arc.point(&y, v, iters) {
             Ok(p) => branch.points.push(p),
             Err(e) => {
-                branch.ended = Some(format!("ω/ωn = {v:.4}: {e}"));
+                branch.ended = Some(format!("{} = {v:.4}: {e}", arc.c.label()));
                 break;
             }
         }
         ws.push(w);
-        fold_between(&ws, &branch.points, &mut branch.bifurcations);
+        fold_between(arc.c, &ws, &branch.points, &mut branch.bifurcations);
         if !(lo..=hi).contains(&v) {
             break;
         }
@@ -180,15 +196,11 @@ fn follow(
 }
 
 impl Arc<'_> {
-    /// The prepared run at ν with the branch's `N` steps a revolution.
+    /// The prepared run at the parameter's value `v` with the branch's `N` steps a revolution,
+    /// `k` revolutions.
     fn prep(&self, v: f64) -> Result<Prepared> {
-        let mut p = prepare(self.model, &request(self.s, v))?;
-        let spr = p.request.step.samples_per_rev.max(1);
-        let dt = 2.0 * std::f64::consts::PI / (p.omega * self.n_rev as f64);
+        let mut p = self.c.prepare(v)?;
         p.plan = StepPlan {
-            dt,
-            steps_per_rev: self.n_rev,
-            record_every: (self.n_rev / spr).max(1),
             steps: self.k * self.n_rev,
             steady_from: 0,
             ..p.plan
@@ -249,8 +261,9 @@ impl Arc<'_> {
         Err(Error::study(
             "run",
             format!(
-                "no periodic orbit of {} revolution(s) at ω/ωn = {v:.4} on the branch's step",
-                self.k
+                "no periodic orbit of {} revolution(s) at {} = {v:.4} on the branch's step",
+                self.k,
+                self.c.label()
             ),
         ))
     }
@@ -332,7 +345,8 @@ impl Arc<'_> {
         let orbit = periodic::orbit_from(&p, &p.plan, &start, self.k)?;
         self.steps += orbit.stats.steps as u64;
         Ok(BranchPoint {
-            speed_ratio: v,
+            speed_ratio: self.c.speed_ratio(v),
+            parameter: v,
             stable: largest < 1.0,
             largest_modulus: largest,
             rho1: rho.first().copied().unwrap_or_default(),
@@ -343,6 +357,7 @@ impl Arc<'_> {
             poincare_nd: super::branch::section(&orbit, self.k),
             iterations,
             residual: 0.0,
+            start: Some(start),
         })
     }
 }
@@ -404,7 +419,12 @@ fn unit(a: &[f64]) -> Vec<f64> {
 
 /// A fold between the last points: ν's direction along the branch turns; its speed is the
 /// vertex of the parabola ν(σ) through the last three points.
-fn fold_between(ws: &[Vec<f64>], points: &[BranchPoint], out: &mut Vec<Bifurcation>) {
+fn fold_between(
+    param: &Continued<'_>,
+    ws: &[Vec<f64>],
+    points: &[BranchPoint],
+    out: &mut Vec<Bifurcation>,
+) {
     let n = ws.len();
     if n < 3 {
         return;
@@ -430,8 +450,9 @@ fn fold_between(ws: &[Vec<f64>], points: &[BranchPoint], out: &mut Vec<Bifurcati
     let rho = |p: &BranchPoint| p.rho1;
     out.push(Bifurcation {
         kind: "fold",
-        between: [a.min(c), a.max(c).max(b)],
-        speed_ratio: vertex,
+        between: [a.min(b).min(c), a.max(b).max(c)],
+        parameter: vertex,
+        speed_ratio: param.speed_ratio(vertex),
         rho: [rho(&points[m - 2]), rho(&points[m - 1])],
     });
 }
@@ -445,10 +466,7 @@ fn stability_changes(b: &mut Branch) {
         if p.stable == q.stable {
             continue;
         }
-        let (lo, hi) = (
-            p.speed_ratio.min(q.speed_ratio),
-            p.speed_ratio.max(q.speed_ratio),
-        );
+        let (lo, hi) = (p.parameter.min(q.parameter), p.parameter.max(q.parameter));
         let unstable = if p.stable { q } else { p };
         let stable = if p.stable { p } else { q };
         if unstable.instability == Some("fold") {
@@ -457,7 +475,8 @@ fn stability_changes(b: &mut Branch) {
         found.push(Bifurcation {
             kind: unstable.instability.unwrap_or("unknown"),
             between: [lo, hi],
-            speed_ratio: 0.5 * (lo + hi),
+            parameter: 0.5 * (lo + hi),
+            speed_ratio: 0.5 * (p.speed_ratio + q.speed_ratio),
             rho: [stable.rho1, unstable.rho1],
         });
     }

@@ -1,6 +1,8 @@
-//! A periodic orbit continued in speed, its stability along the branch and where it changes
-//! (issue 29, second part: natural-parameter continuation; pseudo-arclength, which follows a
-//! branch around a fold, is not built yet).
+//! A periodic orbit continued in a parameter — the speed, or a scene key at a fixed speed
+//! ([`Continued`]) —, its stability along the branch and where it changes (issue 29:
+//! natural-parameter continuation; pseudo-arclength, which follows a branch around a fold, is
+//! [`super::arclength`]). Written for the speed below; a key's branch is the same with its
+//! values for the speeds (one step plan for all of them: [`super::parameter`]).
 //!
 //! The orbit of period `k` revolutions is shot at the first speed from its settled run
 //! ([`super::periodic::shoot`]); at each next speed Newton starts from the previous fixed point,
@@ -15,8 +17,10 @@
 //! the unstable side: `period_doubling` (ρ through −1), `fold` (through +1) or
 //! `neimark_sacker` (a complex pair).
 
+pub use super::parameter::pinned_reduction;
+use super::parameter::Continued;
 use super::periodic::{self, PeriodicOrbit};
-use super::speed::{prepare, Prepared};
+use super::speed::Prepared;
 use super::RunSettings;
 use crate::error::Result;
 use crate::model::Model;
@@ -33,8 +37,11 @@ pub const LOCATE_STEPS: usize = 6;
 /// One converged point of the branch.
 #[derive(Debug, Clone, Serialize)]
 pub struct BranchPoint {
-    /// ν = ω/ω_n.
+    /// ν = ω/ω_n of the orbit (a key's branch: its fixed speed).
     pub speed_ratio: f64,
+    /// The continued parameter's value: ν for a branch in speed, the key's value (in the key's
+    /// own units) for a branch in a key.
+    pub parameter: f64,
     /// Every `|ρ| < 1`.
     pub stable: bool,
     /// Largest `|ρ|`.
@@ -56,6 +63,10 @@ pub struct BranchPoint {
     pub iterations: usize,
     /// Newton's final relative residual.
     pub residual: f64,
+    /// The fixed point as a restart state (`rubsim continue --orbits-at`: Newton from the
+    /// nearest point, [`super::orbits_at`]); not serialised.
+    #[serde(skip)]
+    pub(crate) start: Option<crate::time::EndState>,
 }
 
 /// A change of stability located between two speeds.
@@ -63,9 +74,12 @@ pub struct BranchPoint {
 pub struct Bifurcation {
     /// `period_doubling`, `fold` or `neimark_sacker`: the unstable side's crossing multiplier.
     pub kind: &'static str,
-    /// The located interval `[ν_a, ν_b]`: stable at one end, unstable at the other.
+    /// The located interval of the parameter `[ν_a, ν_b]` (a key's branch: of the key's
+    /// values): stable at one end, unstable at the other.
     pub between: [f64; 2],
-    /// Its midpoint, the reported location.
+    /// Its midpoint, the reported location, in the parameter.
+    pub parameter: f64,
+    /// ν there: the location for a branch in speed, the fixed speed of a key's branch.
     pub speed_ratio: f64,
     /// The crossing multiplier on the stable and on the unstable side.
     pub rho: [[f64; 2]; 2],
@@ -74,6 +88,11 @@ pub struct Bifurcation {
 /// A branch of period-`k` orbits over speed.
 #[derive(Debug, Clone, Serialize)]
 pub struct Branch {
+    /// The continued parameter: `speed_ratio` (ν), or the scene key.
+    pub parameter: String,
+    /// The fixed ν of a branch in a scene key (`None` for a branch in speed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub at_speed_ratio: Option<f64>,
     /// Period in revolutions.
     pub period: usize,
     /// The converged points, in the order continued.
@@ -90,8 +109,8 @@ pub struct Branch {
     pub(crate) doublings: Vec<Doubling>,
 }
 
-/// The two converged grid orbits around a located period doubling, and the speeds beyond each
-/// (in the order a branch from there would be continued).
+/// The two converged grid orbits around a located period doubling, and the parameter's values
+/// beyond each (in the order a branch from there would be continued).
 #[derive(Debug, Clone)]
 pub(crate) struct Doubling {
     /// Index of the bifurcation in [`Branch::bifurcations`].
@@ -104,9 +123,20 @@ pub(crate) struct Doubling {
 }
 
 impl Branch {
-    /// A branch of period `period` with no point yet.
-    pub(crate) fn empty(period: usize) -> Self {
+    /// A branch of period `period` in the parameter `c` with no point yet.
+    pub(crate) fn empty(period: usize, c: &Continued<'_>) -> Self {
         Self {
+            parameter: c.name().to_string(),
+            at_speed_ratio: c.key().map(|_| c.speed_ratio(0.0)),
+            ..Self::in_speed(period)
+        }
+    }
+
+    /// A branch of period `period` in speed with no point yet.
+    fn in_speed(period: usize) -> Self {
+        Self {
+            parameter: "speed_ratio".to_string(),
+            at_speed_ratio: None,
             period,
             points: Vec::new(),
             bifurcations: Vec::new(),
@@ -121,6 +151,7 @@ impl BranchPoint {
     fn of(o: &PeriodicOrbit) -> Self {
         Self {
             speed_ratio: o.speed_ratio,
+            parameter: o.parameter,
             stable: o.stable,
             largest_modulus: o.largest_modulus,
             rho1: o.multipliers.first().copied().unwrap_or_default(),
@@ -131,6 +162,7 @@ impl BranchPoint {
             poincare_nd: section(&o.orbit, o.period),
             iterations: o.iterations,
             residual: o.residual,
+            start: o.start_state(),
         }
     }
 }
@@ -152,37 +184,48 @@ pub fn continue_in_speed(
     speeds: &[f64],
     period: Option<usize>,
 ) -> Result<Branch> {
-    let Some((&first, _)) = speeds.split_first() else {
-        return Ok(Branch::empty(period.unwrap_or(1)));
+    let Some(top) = speeds.iter().copied().reduce(f64::max) else {
+        return Ok(Branch::in_speed(period.unwrap_or(1)));
     };
-    let top = speeds.iter().fold(first, |m, v| m.max(*v));
-    let pinned = pinned_reduction(model, s, top)?;
-    let s = &pinned;
-    let start = periodic::shoot(&prepare(model, &request(s, first))?, period)?;
-    Ok(follow(model, s, start, speeds, None))
+    let c = Continued::of_speed(model, s, top)?;
+    continue_in(&c, speeds, period)
 }
 
-/// The branch from the orbit `start` (at `speeds[0]`) over the rest of `speeds` with the
-/// settings `s` (a reduced model's cut-off already pinned): Newton at each next speed, a step
+/// Continues the period-`period` orbit (`None`: the first value's settled period) over the
+/// parameter's `values` (in the order given): [`continue_in_speed`] for any parameter.
+///
+/// # Errors
+/// The first value's shooting errors; later ones end the branch (`ended`).
+pub fn continue_in(c: &Continued<'_>, values: &[f64], period: Option<usize>) -> Result<Branch> {
+    let Some((&first, _)) = values.split_first() else {
+        return Ok(Branch::empty(period.unwrap_or(1), c));
+    };
+    let start = c.shoot(first, period)?;
+    Ok(follow(c, start, values, None))
+}
+
+/// The branch from the orbit `start` (at `speeds[0]`) over the rest of `speeds`, values of the
+/// parameter `c`: Newton at each next speed, a step
 /// halved where it fails, changes of stability located; the orbits around each period
 /// doubling kept for switching. A run error ends the branch (`ended`). A branch switched from
 /// a period-`parent` branch (`Some(parent)`, [`super::switch`]) also ends where its orbit
 /// repeats after `parent` revolutions already: it has merged back into its parent (a period
 /// halving), and Newton would follow the parent from there as a fixed point of the longer map.
 pub fn follow(
-    model: &Model,
-    s: &RunSettings,
+    c: &Continued<'_>,
     start: PeriodicOrbit,
     speeds: &[f64],
     parent: Option<usize>,
 ) -> Branch {
     let k = start.period;
     let mut steps = start.steps;
-    let mut branch = Branch::empty(k);
+    let mut branch = Branch::empty(k, c);
     if !start.converged {
         branch.ended = Some(format!(
-            "no periodic orbit of {k} revolution(s) at ω/ωn = {:.4} (residual {:.2e})",
-            start.speed_ratio, start.residual
+            "no periodic orbit of {k} revolution(s) at {} = {:.4} (residual {:.2e})",
+            c.label(),
+            start.parameter,
+            start.residual
         ));
         branch.steps = steps;
         return branch;
@@ -193,7 +236,7 @@ pub fn follow(
     // [`MAX_SUBSTEPS`] times) by reaching its midpoint first.
     let mut todo: Vec<(f64, usize)> = speeds.iter().skip(1).rev().map(|&v| (v, 0)).collect();
     while let Some((v, depth)) = todo.pop() {
-        let next = match advance(model, s, &prev, v, parent) {
+        let next = match advance(c, &prev, v, parent) {
             (Advance::Point(o), st) => {
                 steps += st;
                 o
@@ -201,7 +244,7 @@ pub fn follow(
             (Advance::Failed(_), st) if depth < MAX_SUBSTEPS => {
                 steps += st;
                 todo.push((v, depth + 1));
-                todo.push((0.5 * (prev.speed_ratio + v), depth + 1));
+                todo.push((0.5 * (prev.parameter + v), depth + 1));
                 continue;
             }
             (Advance::Failed(why) | Advance::Error(why), st) => {
@@ -211,7 +254,7 @@ pub fn follow(
             }
         };
         if next.stable != prev.stable {
-            let (b, st) = locate(model, s, &prev, &next);
+            let (b, st) = locate(c, &prev, &next);
             steps += st;
             if let Some(b) = b {
                 if b.kind == "period_doubling" {
@@ -238,27 +281,25 @@ enum Advance {
     Error(String),
 }
 
-/// The branch's orbit at ν = `v` by Newton from `prev` (module docs of [`follow`]), and the
-/// steps it took.
+/// The branch's orbit at the parameter's value `v` by Newton from `prev` (module docs of
+/// [`follow`]), and the steps it took.
 fn advance(
-    model: &Model,
-    s: &RunSettings,
+    c: &Continued<'_>,
     prev: &PeriodicOrbit,
     v: f64,
     parent: Option<usize>,
 ) -> (Advance, u64) {
     let k = prev.period;
-    let shot = prepare(model, &request(s, v))
-        .and_then(|prep| periodic::shoot_from(&prep, prev).map(|o| (prep, o)));
-    let (prep, o) = match shot {
+    let at = c.label();
+    let (prep, o) = match c.shoot_from(v, prev) {
         Ok(x) => x,
-        Err(e) => return (Advance::Error(format!("ω/ωn = {v:.4}: {e}")), 0),
+        Err(e) => return (Advance::Error(format!("{at} = {v:.4}: {e}")), 0),
     };
     let steps = o.steps;
     if !o.converged {
         let why = format!(
-            "Newton did not converge at ω/ωn = {v:.4} from the orbit at {:.4} (residual {:.2e}, the step halved {MAX_SUBSTEPS} times): a fold, or the period-{k} orbit ends there",
-            prev.speed_ratio, o.residual
+            "Newton did not converge at {at} = {v:.4} from the orbit at {:.4} (residual {:.2e}, the step halved {MAX_SUBSTEPS} times): a fold, or the period-{k} orbit ends there",
+            prev.parameter, o.residual
         );
         return (Advance::Failed(why), steps);
     }
@@ -267,12 +308,12 @@ fn advance(
         Ok((true, st)) => {
             let p = parent.unwrap_or(k);
             let why = format!(
-                "the period-{k} orbit merges back into the period-{p} branch between ω/ωn {:.4} and {v:.4} (Newton from {:.4} reaches an orbit that repeats after {p} revolutions, the step halved {MAX_SUBSTEPS} times)",
-                prev.speed_ratio, prev.speed_ratio
+                "the period-{k} orbit merges back into the period-{p} branch between {at} {:.4} and {v:.4} (Newton from {:.4} reaches an orbit that repeats after {p} revolutions, the step halved {MAX_SUBSTEPS} times)",
+                prev.parameter, prev.parameter
             );
             (Advance::Failed(why), steps + st)
         }
-        Err(e) => (Advance::Error(format!("ω/ωn = {v:.4}: {e}")), steps),
+        Err(e) => (Advance::Error(format!("{at} = {v:.4}: {e}")), steps),
     }
 }
 
@@ -296,7 +337,7 @@ fn keep_doubling(
     todo: &[(f64, usize)],
 ) {
     let ahead: Vec<f64> = todo.iter().rev().map(|t| t.0).collect();
-    let mut behind: Vec<f64> = branch.points.iter().map(|p| p.speed_ratio).collect();
+    let mut behind: Vec<f64> = branch.points.iter().map(|p| p.parameter).collect();
     behind.pop(); // prev itself
     behind.reverse();
     let (a, b) = ((prev.clone(), behind), (next.clone(), ahead));
@@ -308,62 +349,16 @@ fn keep_doubling(
     });
 }
 
-/// The settings `s` with a reduced model's cut-off pinned for the whole branch: a default
-/// cut-off `cutoff_factor × max(harmonics × ω, ω_c)` follows the speed, and with it the
-/// reduced basis — a state at one speed would mean another thing at the next. Pinned at the
-/// branch's highest speed `top_ratio` (ν), every point keeps the modes its own speed would ask
-/// for and one basis. Unchanged without a reduction or with a fixed `cutoff`.
-///
-/// # Errors
-/// The case at the top speed.
-pub fn pinned_reduction(model: &Model, s: &RunSettings, top_ratio: f64) -> Result<RunSettings> {
-    let Some(r) = s.reduction_of(model).copied() else {
-        return Ok(*s);
-    };
-    if r.cutoff.is_some() {
-        return Ok(*s);
-    }
-    let top = top_ratio * model.rotor.natural_frequency();
-    let cf = model.case_with(top, None)?.contact_frequency();
-    let cut = r.cutoff_factor * (r.harmonics * top).max(cf);
-    Ok(RunSettings {
-        reduction: Some(crate::resolve::ReductionInput {
-            cutoff: Some(cut),
-            ..r
-        }),
-        ..*s
-    })
-}
-
-/// The run request of the continuation at ν: the scene's settings, no follow-ups (also
-/// [`super::arclength`]'s).
-pub(super) fn request(s: &RunSettings, v: f64) -> super::RunRequest {
-    let mut r = s.request(v);
-    r.follow_ups = super::FollowUps::default();
-    r
-}
-
-/// The period-`k` orbit at ν = `v` by Newton from the orbit `from` at a neighbouring speed.
-fn at_speed(model: &Model, s: &RunSettings, v: f64, from: &PeriodicOrbit) -> Result<PeriodicOrbit> {
-    let prep = prepare(model, &request(s, v))?;
-    periodic::shoot_from(&prep, from)
-}
-
 /// Bisects the interval between `a` and `b` (stable on one side only) [`LOCATE_STEPS`] times;
 /// the bifurcation found (none when a midpoint's Newton fails, which ends the location at the
 /// interval reached) and the steps it took.
-fn locate(
-    model: &Model,
-    s: &RunSettings,
-    a: &PeriodicOrbit,
-    b: &PeriodicOrbit,
-) -> (Option<Bifurcation>, u64) {
+fn locate(c: &Continued<'_>, a: &PeriodicOrbit, b: &PeriodicOrbit) -> (Option<Bifurcation>, u64) {
     let (mut lo, mut hi) = (a.clone(), b.clone());
     let mut steps = 0;
     for _ in 0..LOCATE_STEPS {
-        let mid = 0.5 * (lo.speed_ratio + hi.speed_ratio);
-        match at_speed(model, s, mid, &lo) {
-            Ok(m) if m.converged => {
+        let mid = 0.5 * (lo.parameter + hi.parameter);
+        match c.shoot_from(mid, &lo) {
+            Ok((_, m)) if m.converged => {
                 steps += m.steps;
                 if m.stable == lo.stable {
                     lo = m;
@@ -376,10 +371,12 @@ fn locate(
     }
     let (stable, unstable) = if lo.stable { (&lo, &hi) } else { (&hi, &lo) };
     let rho = |o: &PeriodicOrbit| o.multipliers.first().copied().unwrap_or_default();
+    let at = 0.5 * (lo.parameter + hi.parameter);
     let bif = unstable.instability.map(|kind| Bifurcation {
         kind,
-        between: [lo.speed_ratio, hi.speed_ratio],
-        speed_ratio: 0.5 * (lo.speed_ratio + hi.speed_ratio),
+        between: [lo.parameter, hi.parameter],
+        parameter: at,
+        speed_ratio: c.speed_ratio(at),
         rho: [rho(stable), rho(unstable)],
     });
     (bif, steps)

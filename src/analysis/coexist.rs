@@ -35,6 +35,12 @@
 //! beside another partial rub found only from a neighbouring speed's state), responses whose
 //! basins both starts miss, and a run in full contact whose linear orbit does not fit the
 //! clearance.
+//!
+//! At a flagged speed the two responses are then shot as periodic orbits from their settled
+//! end states ([`super::coexist_orbits`]: period, extents, contact fraction, stability, largest
+//! Floquet multiplier, whether they are two orbits): [`Coexistence::orbits`]. The run keeps its
+//! end state for that whenever the check follows it (with or without an error estimate); the
+//! companion joins it only when the run kept it for its error estimate.
 
 use super::discrepancy::{max_diff, orbit_span, Discrepancy, ExtentsScale, Scales};
 use super::RunRequest;
@@ -88,7 +94,7 @@ impl Start {
 }
 
 /// The companion of the check and how it compares with the run.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Coexistence {
     /// Where the companion started.
     pub start: Start,
@@ -117,6 +123,11 @@ pub struct Coexistence {
     /// and `lines_rel` hold the relative state gap it joined at.
     #[serde(default)]
     pub joined: bool,
+    /// At a flagged speed (`coexisting`): the two responses — the run's and the companion's —
+    /// shot as periodic orbits from their settled end states, or why not
+    /// ([`super::coexist_orbits`]); `None` at a speed not flagged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orbits: Option<CoexistOrbits>,
 }
 
 /// The companion stops when, at a whole revolution of its settling, its state is within this
@@ -129,8 +140,12 @@ pub const JOIN_FRACTION: f64 = 0.01;
 
 /// The companion's run: stopped when it joins the run's state, or integrated whole.
 enum Companion {
-    Joined { revolutions: usize, gap: f64 },
-    Ran(Box<SpeedResults>),
+    Joined {
+        revolutions: usize,
+        gap: f64,
+    },
+    /// Its results and its end state (for shooting its orbit at a flagged speed).
+    Ran(Box<SpeedResults>, Option<EndState>),
 }
 
 /// Integrates the companion `cs` over `plan` as [`Prepared::execute`] does, probing its state
@@ -158,15 +173,13 @@ fn run_companion(
             }
         }
     }
-    let (rec, stats, plan, ..) = prep.drive_from(st, plan, cs, None)?;
-    Ok(Companion::Ran(Box::new(super::analyse(
-        &prep.case,
-        cs,
-        &plan,
-        &rec,
-        stats,
-        Keep::default(),
-    ))))
+    // Its end state is kept (the error estimate's bookkeeping: the last steps in two chunks,
+    // the same steps) for shooting its orbit when the speed is flagged.
+    let mut keep = *cs;
+    keep.follow_ups.error_estimate = true;
+    let (rec, stats, plan, end, _) = prep.drive_from(st, plan, &keep, None)?;
+    let res = super::analyse(&prep.case, cs, &plan, &rec, stats, Keep::default());
+    Ok(Companion::Ran(Box::new(res), end))
 }
 
 /// The no-contact linear response at station 0's node at t = 0, `[u, v]`: u = Re X,
@@ -238,6 +251,23 @@ pub fn check(
     res: &SpeedResults,
     end: Option<&EndState>,
 ) -> Result<Option<Coexistence>, String> {
+    Ok(check_with_companion(prep, res, end)?.map(|(c, _)| c))
+}
+
+/// The companion's results and its end state (kept for shooting its orbit).
+pub type CompanionRun = (Box<SpeedResults>, Option<EndState>);
+
+/// [`check`], and the companion's results and end state when it was integrated whole (not when
+/// it joined the run's state): what `super::coexist_orbits::shoot_both` shoots at a flagged
+/// speed (`Prepared::run` calls both).
+///
+/// # Errors
+/// As [`check`].
+pub fn check_with_companion(
+    prep: &Prepared,
+    res: &SpeedResults,
+    end: Option<&EndState>,
+) -> Result<Option<(Coexistence, Option<CompanionRun>)>, String> {
     let Some((start, init)) = prep
         .linear_start
         .and_then(|linear| start_for(res, &prep.case, linear))
@@ -262,7 +292,9 @@ pub fn check(
         steady_from: settle * spr,
         ..res.plan
     };
-    let end = end.filter(|_| res.steady && res.period > 0);
+    // The companion may join the run's state when the run kept it for its error estimate (a
+    // run without one keeps it for the orbits only: its companion is integrated whole).
+    let end = end.filter(|_| res.steady && res.period > 0 && s.follow_ups.error_estimate);
     let companion = run_companion(prep, &cs, &plan, end, s.tolerance).map_err(|e| {
         format!(
             "ω/ωn = {:.3}: the coexistence check's companion from the {} start failed ({e}); whether the response depends on the start is not known at this speed (`coexistence_failed`)",
@@ -271,20 +303,24 @@ pub fn check(
         )
     })?;
     Ok(Some(match companion {
-        Companion::Ran(c) => compare(start, res, &c, s.tolerance),
-        Companion::Joined { revolutions, gap } => Coexistence {
-            start,
-            coexisting: false,
-            contact_fraction: res.contact_fraction,
-            period: res.period,
-            steady: true,
-            extents_nd: res.extents_nd,
-            extents_rel: gap,
-            lines_rel: gap,
-            transient_revolutions: revolutions,
-            steps: revolutions * spr,
-            joined: true,
-        },
+        Companion::Ran(c, comp_end) => (compare(start, res, &c, s.tolerance), Some((c, comp_end))),
+        Companion::Joined { revolutions, gap } => (
+            Coexistence {
+                start,
+                coexisting: false,
+                contact_fraction: res.contact_fraction,
+                period: res.period,
+                steady: true,
+                extents_nd: res.extents_nd,
+                extents_rel: gap,
+                lines_rel: gap,
+                transient_revolutions: revolutions,
+                steps: revolutions * spr,
+                joined: true,
+                orbits: None,
+            },
+            None,
+        ),
     }))
 }
 
@@ -314,5 +350,66 @@ pub fn compare(start: Start, res: &SpeedResults, c: &SpeedResults, tolerance: f6
         transient_revolutions: c.transient_revolutions,
         steps: c.stats.steps,
         joined: false,
+        orbits: None,
     }
+}
+
+/// Hausdorff distance of two orbits' Poincaré sections, relative to the run's orbit size
+/// (`orbit_span` of its extents), above which they are distinct orbits. Two shots of one
+/// orbit meet to the shooting tolerance (1e-9 of the state, measured ≤ 1e-8 of the span);
+/// coexisting orbits of the paper's case lie 0.1–1 of the span apart.
+pub const DISTINCT_SECTION: f64 = 1e-4;
+
+/// One response of a flagged speed as a periodic orbit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CoexistOrbit {
+    /// Whose response: `run` or `companion`.
+    pub response: String,
+    /// The period it was shot with (revolutions): the period its run read (0: none).
+    pub period: usize,
+    /// Why it was not shot (not periodic, state too large, no end state, a failed run), or
+    /// `None` when it was.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub not_shot: Option<String>,
+    /// Newton converged ([`super::periodic::SHOOT_TOLERANCE`]).
+    #[serde(default)]
+    pub converged: bool,
+    /// Newton's final relative residual (NaN when not shot).
+    #[serde(default)]
+    pub residual: f64,
+    /// Converged and every `|ρ| < 1`.
+    #[serde(default)]
+    pub stable: bool,
+    /// The largest `|ρ|` (NaN when not shot).
+    #[serde(default)]
+    pub largest_modulus: f64,
+    /// How it is unstable (`period_doubling`, `fold`, `neimark_sacker`), when it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instability: Option<String>,
+    /// The orbit's `[x_min, x_max, y_min, y_max]` / |Z0| (its run's when not shot).
+    pub extents_nd: [f64; 4],
+    /// The orbit's contact fraction (its run's when not shot).
+    pub contact_fraction: f64,
+    /// The orbit's Poincaré section: its `period` points once per revolution, `[x, y]` / |Z0|.
+    #[serde(default)]
+    pub section_nd: Vec<[f64; 2]>,
+}
+
+/// The two responses of a flagged speed as periodic orbits ([`Coexistence::orbits`],
+/// [`super::coexist_orbits`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CoexistOrbits {
+    /// The run's response, then the companion's.
+    pub orbits: Vec<CoexistOrbit>,
+    /// The Hausdorff distance of the two converged orbits' sections over the run's orbit size
+    /// (`None` unless both converged).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distance: Option<f64>,
+    /// Both converged and more than [`DISTINCT_SECTION`] apart (`None` unless both converged).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distinct: Option<bool>,
+    /// The number of stable periodic responses found (distinct orbits counted once each).
+    pub coexisting_stable: usize,
+    /// Steps the shots took.
+    pub steps: u64,
 }

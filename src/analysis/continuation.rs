@@ -1,12 +1,15 @@
 //! `rubsim continue`'s entry: the speeds of a branch and the continuation it asks for — in ν
 //! alone ([`super::branch`]) or by pseudo-arclength ([`super::arclength`]) —, for the command
-//! line and the Python package alike.
+//! line and the Python package alike; the same in a scene key at a fixed speed
+//! ([`continue_key`], [`super::parameter`]).
 
 use super::branch::Branch;
+use super::parameter::Continued;
 use super::switch::Diagram;
 use super::RunSettings;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::Model;
+use crate::scene::LoadedScene;
 
 /// The speeds of a branch from `from` to `to` (ω/ω_n) by `step`, in the order continued:
 /// downwards when `to < from`.
@@ -69,9 +72,128 @@ pub fn continue_switching(
     max_period: usize,
 ) -> Result<Diagram> {
     let speeds = speeds(from, to, step)?;
-    let pinned = super::branch::pinned_reduction(model, s, from.max(to))?;
-    let prep = super::speed::prepare(model, &super::branch::request(&pinned, speeds[0]))?;
-    let start = super::periodic::shoot(&prep, period)?;
-    let first = super::branch::follow(model, &pinned, start, &speeds, None);
-    Ok(super::switch::switch_all(model, &pinned, first, max_period))
+    let c = Continued::of_speed(model, s, from.max(to))?;
+    switching(&c, &speeds, period, max_period)
+}
+
+/// The branch of period `period` over `values` of the parameter `c`, then the branches
+/// switched from its period doublings up to period `max_period` ([`continue_switching`] for
+/// any parameter).
+///
+/// # Errors
+/// The first value's shooting errors.
+pub fn switching(
+    c: &Continued<'_>,
+    values: &[f64],
+    period: Option<usize>,
+    max_period: usize,
+) -> Result<Diagram> {
+    let Some(&first) = values.first() else {
+        return Err(crate::error::Error::study(
+            "",
+            "a branch needs a first value",
+        ));
+    };
+    let start = c.shoot(first, period)?;
+    let branch = super::branch::follow(c, start, values, None);
+    Ok(super::switch::switch_all(c, branch, max_period))
+}
+
+/// The values of a branch in a key from `from` to `to` by `step` (the key's units), in the
+/// order continued: downwards when `to < from`; `from + i·step` exactly, not rounded.
+///
+/// # Errors
+/// [`Error::Study`] for a value that is not finite, a step that is not positive, or more than
+/// a million values.
+pub fn values(from: f64, to: f64, step: f64) -> Result<Vec<f64>> {
+    for (name, v) in [("from", from), ("to", to), ("step", step)] {
+        if !v.is_finite() {
+            return Err(Error::study(
+                "",
+                format!("the branch's `{name}` must be a finite number, got {v}"),
+            ));
+        }
+    }
+    if step <= 0.0 {
+        return Err(Error::study(
+            "",
+            format!("the branch's `step` must be positive, got {step}"),
+        ));
+    }
+    let n = ((to - from).abs() / step + 1e-9).floor();
+    if n > 1e6 {
+        return Err(Error::study(
+            "",
+            format!("{n} steps from {from} to {to} by {step}: at most a million"),
+        ));
+    }
+    let dir = if to < from { -1.0 } else { 1.0 };
+    Ok((0..=n as usize)
+        .map(|i| from + dir * step * i as f64)
+        .collect())
+}
+
+/// What `rubsim continue --key` continues: the key, the fixed speed, the values and the kind of
+/// continuation.
+#[derive(Debug, Clone)]
+pub struct KeyBranch<'k> {
+    /// The dotted scene key (`station.0.friction`).
+    pub key: &'k str,
+    /// The fixed ν = ω/ω_n.
+    pub speed_ratio: f64,
+    /// `(from, to, step)` in the key's units.
+    pub range: (f64, f64, f64),
+    /// Period of the orbit (`None`: the first value's settled period).
+    pub period: Option<usize>,
+    /// Pseudo-arclength with at most this many points.
+    pub arclength: Option<usize>,
+    /// Branch switching up to this largest period.
+    pub switch: Option<usize>,
+}
+
+/// `rubsim continue --key`: the period-`period` orbit of `scene` at the fixed speed continued
+/// over the key's values with the settings `s` — in the key alone, by pseudo-arclength, or with
+/// switching at period doublings ([`super::parameter`] for how each value's model is built and
+/// what is refused before anything runs). A branch without switching is the diagram's only one.
+///
+/// # Errors
+/// As [`values`]; [`Error::Study`] for both `arclength` and `switch`, fewer than 2 points; the
+/// key's refusals ([`Continued::of_key`]); the first value's shooting errors.
+pub fn continue_key(scene: &LoadedScene, s: &RunSettings, b: &KeyBranch<'_>) -> Result<Diagram> {
+    let (from, to, step) = b.range;
+    let values = values(from, to, step)?;
+    if !(b.speed_ratio.is_finite() && b.speed_ratio > 0.0) {
+        return Err(Error::study(
+            "",
+            format!("the branch's speed must be positive, got {}", b.speed_ratio),
+        ));
+    }
+    let at = (b.key, b.speed_ratio);
+    match (b.arclength, b.switch) {
+        (Some(_), Some(_)) => Err(Error::study(
+            "",
+            "switching continues in the parameter alone: not with pseudo-arclength",
+        )),
+        (Some(n), None) if n < 2 => Err(Error::study(
+            "",
+            format!("a pseudo-arclength branch needs at least 2 points, got {n}"),
+        )),
+        (Some(n), None) => {
+            let c = Continued::of_key(scene, s, at, &[from, to])?;
+            let branch = super::arclength::arclength_in(c, (from, to, step), b.period, n)?;
+            Ok(Diagram::of(branch))
+        }
+        (None, Some(m)) => switching(
+            &Continued::of_key(scene, s, at, &values)?,
+            &values,
+            b.period,
+            m,
+        ),
+        (None, None) => {
+            let c = Continued::of_key(scene, s, at, &values)?;
+            Ok(Diagram::of(super::branch::continue_in(
+                &c, &values, b.period,
+            )?))
+        }
+    }
 }

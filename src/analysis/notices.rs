@@ -20,8 +20,8 @@ pub fn run_warnings(r: &SpeedResults, tolerance: f64) -> Vec<String> {
             ));
         }
     }
-    if let Some(c) = r.coexistence.filter(|c| c.coexisting) {
-        out.push(coexist_warning(r, &c));
+    if let Some(c) = r.coexistence.as_ref().filter(|c| c.coexisting) {
+        out.push(coexist_warning(r, c));
     }
     if let Some(why) = &r.coexistence_failed {
         out.push(why.clone());
@@ -54,8 +54,13 @@ pub fn run_warnings(r: &SpeedResults, tolerance: f64) -> Vec<String> {
 /// (`analysis::coexist`): what the companion from the other start found, and that the error
 /// estimate covers the time step only.
 pub fn coexist_warning(r: &SpeedResults, c: &Coexistence) -> String {
+    let orbits = c
+        .orbits
+        .as_ref()
+        .map(|o| format!("; as periodic orbits: {}", o.describe()))
+        .unwrap_or_default();
     format!(
-        "ω/ωn = {:.3}: the response depends on the start: from {} the same scheme and Δt settle on another response (contact fraction {:.2} against the run's {:.2}, period {} against {}, extents {:.1e} of the largest extent apart); the run's estimated error ({}) covers the time step only, not which response is taken (summary.json: `coexistence`; `run.check_coexistence`)",
+        "ω/ωn = {:.3}: the response depends on the start: from {} the same scheme and Δt settle on another response (contact fraction {:.2} against the run's {:.2}, period {} against {}, extents {:.1e} of the largest extent apart); the run's estimated error ({}) covers the time step only, not which response is taken (summary.json: `coexistence`; `run.check_coexistence`){orbits}",
         r.speed_ratio,
         match c.start {
             Start::Free => "the no-contact linear response",
@@ -130,7 +135,9 @@ pub fn sweep_warnings(prefix: &str, res: &SweepResults) -> Vec<String> {
                 .map_or("", String::as_str)
         ));
     }
-    let coexisting = speeds_where(res, |r| r.coexistence.is_some_and(|c| c.coexisting));
+    let coexisting = speeds_where(res, |r| {
+        r.coexistence.as_ref().is_some_and(|c| c.coexisting)
+    });
     if !coexisting.is_empty() {
         out.push(format!(
             "{prefix}the response depends on the start at {} of {n} speeds (ω/ωn {}): a companion at the same scheme and Δt from another start settled on another response (contact fraction, period or extents; `coexisting` and the `coexist_*` columns of sweep.csv); their estimated error covers the time step only",

@@ -32,7 +32,7 @@
 use super::speed::{analyse, Prepared, SpeedResults};
 use super::Keep;
 use crate::error::{Error, Result};
-use crate::time::{EndState, StepPlan, Stepper};
+use crate::time::{EndState, Record, RunStats, Sink, StepPlan, Stepper};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -59,6 +59,11 @@ const FD_STEP: f64 = 1e-5;
 pub struct PeriodicOrbit {
     /// ν = ω/ω_n.
     pub speed_ratio: f64,
+    /// The value of the parameter a continuation found it at
+    /// ([`super::parameter::Continued`]): ν for a branch in speed, the scene key's value for a
+    /// branch in a key; ν when shot alone.
+    #[serde(skip)]
+    pub(crate) parameter: f64,
     /// Period in revolutions `k` (the orbit repeats after `k T`).
     pub period: usize,
     /// Whether Newton met [`SHOOT_TOLERANCE`].
@@ -102,10 +107,16 @@ pub fn shoot_at(
     speed_ratio: f64,
     period: Option<usize>,
 ) -> Result<PeriodicOrbit> {
+    shoot(&super::prepare(model, &request_at(s, speed_ratio))?, period)
+}
+
+/// The request [`shoot_at`] prepares: the run at ν = `speed_ratio` with the settings `s`,
+/// without the coexistence check and the step refinement.
+pub fn request_at(s: &super::RunSettings, speed_ratio: f64) -> super::RunRequest {
     let mut request = s.request_at(0, speed_ratio);
     request.follow_ups.coexistence = false;
     request.follow_ups.refine_step = false;
-    shoot(&super::prepare(model, &request)?, period)
+    request
 }
 
 /// Runs `prep` to its settled state and shoots the periodic response of period `period`
@@ -129,6 +140,20 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
         )
     })?;
     let k = period.unwrap_or(settled.period).max(1);
+    let mut o = shoot_state(prep, k, end)?;
+    o.steps += steps;
+    Ok(o)
+}
+
+/// The period-`k` orbit of `prep` by Newton from `end`, a settled state of a run of `prep`
+/// (its step) taken at a whole revolution: [`shoot`] without the settling run (the coexistence
+/// check's two responses, `super::coexist_orbits`).
+///
+/// # Errors
+/// [`Error::Study`] for an implicit scheme's state or a state larger than [`MAX_STATE`]; the
+/// map's run errors.
+pub fn shoot_state(prep: &Prepared, k: usize, end: EndState) -> Result<PeriodicOrbit> {
+    let k = k.max(1);
     let x0 = end.state_vector().ok_or_else(|| {
         Error::study(
             "run.integrator",
@@ -144,9 +169,7 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
             ),
         ));
     }
-    let mut o = solve(prep, k, &plan, end, (x0, None))?;
-    o.steps += steps;
-    Ok(o)
+    solve(prep, k, &prep.plan, end, (x0, None))
 }
 
 /// The period-`from.period` orbit of `prep` by Newton from the orbit `from` found at a
@@ -156,17 +179,91 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
 /// # Errors
 /// As [`shoot`].
 pub fn shoot_from(prep: &Prepared, from: &PeriodicOrbit) -> Result<PeriodicOrbit> {
+    shoot_at_step(prep, from, &prep.plan)
+}
+
+/// The period-`from.period` orbit of `prep` at the step of `plan` (`prep`'s own, or another:
+/// the multipliers' refinement shoots at half of it) by Newton from the fixed point of `from`
+/// carried to that step (`EndState::retimed`).
+///
+/// # Errors
+/// As [`shoot`].
+pub(super) fn shoot_at_step(
+    prep: &Prepared,
+    from: &PeriodicOrbit,
+    plan: &StepPlan,
+) -> Result<PeriodicOrbit> {
     let (x, end) = &from.fixed_point;
     let start = end
         .with_state_vector(x)
-        .map(|e| e.retimed(prep.plan.dt))
+        .map(|e| e.retimed(plan.dt))
         .ok_or_else(|| {
             Error::study("run", "the orbit's state does not fit this run".to_string())
         })?;
     let x0 = start.state_vector().ok_or_else(|| {
         Error::study("run", "the orbit's state does not fit this run".to_string())
     })?;
-    solve(prep, from.period, &prep.plan, start, (x0, None))
+    solve(prep, from.period, plan, start, (x0, None))
+}
+
+/// The period-`k` orbit of `prep` by Newton from the state `start` (an orbit's fixed point at a
+/// neighbouring speed: [`PeriodicOrbit::start_state`]), carried to this speed's step
+/// (`EndState::retimed`), without a settling run: `rubsim continue --orbits-at` at a value
+/// between the branch's points.
+///
+/// # Errors
+/// As [`shoot`]; a state that does not fit this run.
+pub fn shoot_from_state(prep: &Prepared, k: usize, start: &EndState) -> Result<PeriodicOrbit> {
+    let start = start.retimed(prep.plan.dt);
+    let x0 = start.state_vector().ok_or_else(|| {
+        Error::study("run", "the orbit's state does not fit this run".to_string())
+    })?;
+    solve(prep, k.max(1), &prep.plan, start, (x0, None))
+}
+
+impl PeriodicOrbit {
+    /// The fixed point as a state a run restarts from (`Stepper::restart` at the orbit's own
+    /// step then starts exactly on it), `None` when its vector does not fit its layout.
+    pub fn start_state(&self) -> Option<EndState> {
+        self.fixed_point.1.with_state_vector(&self.fixed_point.0)
+    }
+
+    /// The fixed point `x` ([`EndState::state_vector`]'s layout: per body of central
+    /// differences, the rotor first, its uᴺ then uᴺ⁻¹, m and rad; the rotor's uᴺ are its DOFs
+    /// in the model's order, `[u_x, u_y]` for a Jeffcott rotor).
+    pub fn fixed_state(&self) -> &[f64] {
+        &self.fixed_point.0
+    }
+}
+
+/// The step plan of an orbit's time series ([`integrate_orbit`]) of period `k` at `plan`'s
+/// step: `2 k N` steps from the fixed point, nothing cut. The first `k` revolutions lead in —
+/// a restart carries the bodies' displacements only, not the contact forces solved at the
+/// fixed point's instant nor a massless stator's deformation from them, which the first step
+/// recomputes —, the second `k` (steps `k N … 2 k N`) are written: the orbit once, its first
+/// frame on the fixed point `P(x*) = x*` and its last on `P²(x*)`, each to the shooting
+/// tolerance.
+pub fn series_plan(plan: &StepPlan, k: usize) -> StepPlan {
+    StepPlan {
+        steps: 2 * k.max(1) * plan.steps_per_rev.max(1),
+        steady_from: 0,
+        ..*plan
+    }
+}
+
+/// Integrates the orbit `o` (found on `prep`: its speed and step) from its fixed point over
+/// `plan` ([`series_plan`]), handing its frames to `sink`; the record and counters.
+///
+/// # Errors
+/// A state that does not restart the run's scheme; the run's errors.
+pub fn integrate_orbit(
+    prep: &Prepared,
+    o: &PeriodicOrbit,
+    plan: &StepPlan,
+    sink: Sink<'_>,
+) -> Result<(Record, RunStats)> {
+    let start = o.start_state().ok_or_else(not_restarted)?;
+    Ok(restarted(prep, plan, &start)?.run(sink)?)
 }
 
 /// The monodromy `∂P/∂x` of the orbit `o` found on `prep` (its own speed and step) at its
@@ -209,6 +306,25 @@ pub(super) fn solve_deflated(
     )
 }
 
+/// The Floquet multipliers of the orbit `o` found on `prep` at the step of `plan`, from the
+/// monodromy's central differences of relative step `rel` (of max |x|; [`FD_STEP`] when
+/// shooting). A larger step removes round-off where the map is affine — an orbit that keeps
+/// clear of every contact with its perturbations (the multipliers' refinement) —, and the steps
+/// it took.
+///
+/// # Errors
+/// The map's run errors.
+pub(super) fn multipliers_at(
+    prep: &Prepared,
+    o: &PeriodicOrbit,
+    plan: &StepPlan,
+    rel: f64,
+) -> Result<(Vec<[f64; 2]>, u64)> {
+    let (x, end) = &o.fixed_point;
+    let (m, steps) = Map::new(prep, o.period, plan, end.clone()).jacobian_at(x, rel)?;
+    Ok((floquet(&m), steps))
+}
+
 /// `max |Pᵏ(x) − x| / max |x|` of the `k`-revolution map of `prep` at the fixed point of `o`
 /// (found on `prep`), and the steps it took: whether `o` repeats after `k` revolutions already.
 ///
@@ -243,6 +359,7 @@ fn solve(
     let instability = (largest >= 1.0).then(|| crossing(multipliers[0], largest));
     Ok(PeriodicOrbit {
         speed_ratio: prep.speed_ratio,
+        parameter: prep.speed_ratio,
         period: k,
         converged: newton.converged,
         iterations: newton.iterations,
@@ -374,8 +491,13 @@ impl<'a> Map<'a> {
     /// `|x|`) divided by `h` bounds the entries' error: ≈ 1e-8, where forward differences at a
     /// step small enough for their truncation would give 1e-6.
     fn jacobian(&self, x: &[f64]) -> Result<(DMatrix<f64>, u64)> {
+        self.jacobian_at(x, FD_STEP)
+    }
+
+    /// [`Map::jacobian`] with the relative step `rel` of `max |x|` in place of [`FD_STEP`].
+    fn jacobian_at(&self, x: &[f64], rel: f64) -> Result<(DMatrix<f64>, u64)> {
         let n = x.len();
-        let h = FD_STEP * x.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
+        let h = rel * x.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
         let mut m = DMatrix::<f64>::zeros(n, n);
         for j in 0..n {
             let mut xp = x.to_vec();
@@ -403,6 +525,24 @@ impl<'a> Map<'a> {
         let steps = orbit.stats.steps as u64;
         Ok((orbit, steps))
     }
+}
+
+/// The components of the state vector of `p`'s runs ([`EndState::state_vector`]: the rotor's
+/// and each stator's with mass), taken from two steps of its scheme; `None` for an implicit
+/// scheme.
+///
+/// # Errors
+/// The two steps' run errors.
+pub(super) fn state_size(p: &Prepared) -> Result<Option<usize>> {
+    let plan = StepPlan {
+        steps: 2,
+        steady_from: 0,
+        ..p.plan
+    };
+    let mut st = stepper(p, &plan)?;
+    Ok(run_to_end(&mut st, 2)?
+        .and_then(|e| e.state_vector())
+        .map(|x| x.len()))
 }
 
 /// The error of a state that does not restart the run's scheme at its own step.

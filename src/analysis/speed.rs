@@ -252,8 +252,9 @@ impl Prepared {
     /// rule of [`analyse`]) is lengthened to `classify` revolutions within `run.max_steps`,
     /// for [`super::dynamics`]. A [`Window::Fixed`] run (a pilot, a companion,
     /// `run.duration`) takes its plan and no more. Returns the record, the counters, the plan
-    /// as it ended and, for a settling run with an error estimate to follow, the bodies' end
-    /// state (the finer companion of the error estimate restarts from it).
+    /// as it ended and, for a settling run with an error estimate or a coexistence check to
+    /// follow, the bodies' end state (the finer companion of the error estimate restarts from
+    /// it; the coexistence check shoots the run's periodic orbit from it).
     pub(super) fn drive_with(
         &self,
         plan: &StepPlan,
@@ -283,7 +284,10 @@ impl Prepared {
             } => Some((max_transient, classify)),
             Window::Fixed => None,
         };
-        let keep_end = settle.is_some() && s.follow_ups.error_estimate;
+        // The end state: the error estimate's finer companion restarts from it, the
+        // coexistence check's companion may join it and its orbit is shot from it.
+        let keep_end =
+            settle.is_some() && (s.follow_ups.error_estimate || s.follow_ups.coexistence);
         let mut older = None;
         loop {
             let p = *st.plan();

@@ -15,13 +15,14 @@
 //! `2k` map, as `x` itself is: a start too close to `x` falls back onto it, which is why the
 //! offsets grow. The new branch is then continued as any other ([`super::branch::follow`]) from
 //! that speed over the speeds beyond it, in the parent's direction away from the doubling.
+//!
+//! Written for the speed; a branch in a scene key ([`Continued`]) switches the same way over
+//! the key's values, the records' `at`/`found_at` then in the key.
 
 use super::branch::{follow, Branch, Doubling};
+use super::parameter::Continued;
 use super::periodic::{self, PeriodicOrbit};
-use super::speed::prepare;
-use super::RunSettings;
 use crate::error::Result;
-use crate::model::Model;
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -39,10 +40,14 @@ pub struct SwitchRecord {
     pub parent: usize,
     /// Index of the period doubling in the parent's `bifurcations`.
     pub bifurcation: usize,
-    /// ν of the doubling (the parent's located midpoint).
+    /// ν of the doubling (the parent's located midpoint; a key's branch: its fixed speed).
     pub at_speed_ratio: f64,
     /// ν at which the new orbit was first found (a grid orbit of the parent's).
     pub found_at_speed_ratio: f64,
+    /// The parameter's value at the doubling (ν, or the key's value).
+    pub at: f64,
+    /// The parameter's value where the new orbit was first found.
+    pub found_at: f64,
     /// Whether it was found on the parent's unstable side (a supercritical doubling).
     pub supercritical: bool,
     /// The offset ε / max |x| of the start that converged.
@@ -77,10 +82,10 @@ impl Diagram {
     }
 }
 
-/// Switches from every period doubling of `first` (continued with the settings `s`, its
-/// reduced cut-off already pinned) and of the branches found from it, while the new period is
-/// at most `max_period` revolutions (module docs).
-pub fn switch_all(model: &Model, s: &RunSettings, first: Branch, max_period: usize) -> Diagram {
+/// Switches from every period doubling of `first` (continued in the parameter `c`) and of the
+/// branches found from it, while the new period is at most `max_period` revolutions (module
+/// docs).
+pub fn switch_all(c: &Continued<'_>, first: Branch, max_period: usize) -> Diagram {
     let mut d = Diagram {
         steps: first.steps,
         branches: vec![first],
@@ -93,35 +98,37 @@ pub fn switch_all(model: &Model, s: &RunSettings, first: Branch, max_period: usi
         next += 1;
         let k = d.branches[parent].period;
         for dbl in d.branches[parent].doublings.clone() {
-            let at = d.branches[parent].bifurcations[dbl.bifurcation].speed_ratio;
+            let at = d.branches[parent].bifurcations[dbl.bifurcation].parameter;
+            let on = c.label();
             if 2 * k > max_period {
                 d.not_switched.push(format!(
-                    "the period doubling of the period-{k} branch at ω/ωn {at:.4}: period {} is above --max-period {max_period}",
+                    "the period doubling of the period-{k} branch at {on} {at:.4}: period {} is above --max-period {max_period}",
                     2 * k
                 ));
                 continue;
             }
             if let Some(j) = reached(&d, parent, 2 * k, &dbl) {
                 d.not_switched.push(format!(
-                    "the period doubling of the period-{k} branch at ω/ωn {at:.4}: branch {j} (period {}) already ends there",
+                    "the period doubling of the period-{k} branch at {on} {at:.4}: branch {j} (period {}) already ends there",
                     2 * k
                 ));
                 continue;
             }
-            match doubled(model, s, &dbl) {
+            match doubled(c, &dbl) {
                 Ok((Some(found), steps)) => {
                     let (orbit, beyond, record) = found;
                     // The found orbit's own steps are the new branch's first (`follow`).
                     d.steps += steps.saturating_sub(orbit.steps);
-                    let mut speeds = vec![orbit.speed_ratio];
-                    speeds.extend(beyond);
-                    let b = follow(model, s, orbit, &speeds, Some(k));
+                    let mut values = vec![orbit.parameter];
+                    values.extend(beyond);
+                    let b = follow(c, orbit, &values, Some(k));
                     d.steps += b.steps;
                     d.switched.push(SwitchRecord {
                         branch: d.branches.len(),
                         parent,
                         bifurcation: dbl.bifurcation,
-                        at_speed_ratio: at,
+                        at_speed_ratio: c.speed_ratio(at),
+                        at,
                         ..record
                     });
                     d.branches.push(b);
@@ -129,12 +136,12 @@ pub fn switch_all(model: &Model, s: &RunSettings, first: Branch, max_period: usi
                 Ok((None, steps)) => {
                     d.steps += steps;
                     d.not_switched.push(format!(
-                        "the period doubling of the period-{k} branch at ω/ωn {at:.4}: no period-{} orbit found from x + ε v (ε/max|x| = {OFFSETS:?}) on either side",
+                        "the period doubling of the period-{k} branch at {on} {at:.4}: no period-{} orbit found from x + ε v (ε/max|x| = {OFFSETS:?}) on either side",
                         2 * k
                     ));
                 }
                 Err(e) => d.not_switched.push(format!(
-                    "the period doubling of the period-{k} branch at ω/ωn {at:.4}: {e}"
+                    "the period doubling of the period-{k} branch at {on} {at:.4}: {e}"
                 )),
             }
         }
@@ -146,7 +153,7 @@ pub fn switch_all(model: &Model, s: &RunSettings, first: Branch, max_period: usi
 /// grid step of the doubling `dbl` (the distance between its two grid orbits): the same
 /// orbit's bubble reached from its other end, not switched twice.
 fn reached(d: &Diagram, parent: usize, period: usize, dbl: &Doubling) -> Option<usize> {
-    let (a, b) = (dbl.unstable.0.speed_ratio, dbl.stable.0.speed_ratio);
+    let (a, b) = (dbl.unstable.0.parameter, dbl.stable.0.parameter);
     let (lo, hi) = (a.min(b), a.max(b));
     let h = hi - lo;
     d.switched
@@ -157,7 +164,7 @@ fn reached(d: &Diagram, parent: usize, period: usize, dbl: &Doubling) -> Option<
             [pts.first(), pts.last()]
                 .into_iter()
                 .flatten()
-                .any(|p| p.speed_ratio >= lo - h && p.speed_ratio <= hi + h)
+                .any(|p| p.parameter >= lo - h && p.parameter <= hi + h)
         })
         .map(|r| r.branch)
 }
@@ -167,20 +174,21 @@ type Found = (PeriodicOrbit, Vec<f64>, SwitchRecord);
 
 /// The period-2k orbit branching off at the doubling `dbl`: tried on its unstable side, then
 /// on its stable side; `None` when neither start converges to a new orbit. And the steps.
-fn doubled(model: &Model, s: &RunSettings, dbl: &Doubling) -> Result<(Option<Found>, u64)> {
+fn doubled(c: &Continued<'_>, dbl: &Doubling) -> Result<(Option<Found>, u64)> {
     let mut steps = 0;
     for (side, supercritical) in [(&dbl.unstable, true), (&dbl.stable, false)] {
         let (orbit, beyond) = side;
-        let prep = prepare(model, &super::branch::request(s, orbit.speed_ratio))?;
+        let prep = c.prepare(orbit.parameter)?;
         let (m, x, st) = periodic::monodromy(&prep, orbit)?;
         steps += st;
         let v = doubling_vector(&m, orbit);
         let scale = x.iter().fold(0.0_f64, |a, b| a.max(b.abs())).max(1e-300);
         for eps in OFFSETS {
             let x0: Vec<f64> = x.iter().zip(&v).map(|(a, b)| a + eps * scale * b).collect();
-            let Ok(o) = periodic::solve_deflated(&prep, 2 * orbit.period, orbit, x0) else {
+            let Ok(mut o) = periodic::solve_deflated(&prep, 2 * orbit.period, orbit, x0) else {
                 continue;
             };
+            o.parameter = orbit.parameter;
             steps += o.steps;
             if !o.converged {
                 continue;
@@ -195,6 +203,8 @@ fn doubled(model: &Model, s: &RunSettings, dbl: &Doubling) -> Result<(Option<Fou
                     bifurcation: 0,
                     at_speed_ratio: f64::NAN,
                     found_at_speed_ratio: orbit.speed_ratio,
+                    at: f64::NAN,
+                    found_at: orbit.parameter,
                     supercritical,
                     offset: eps,
                     distance,

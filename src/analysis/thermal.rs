@@ -3,8 +3,9 @@
 //!
 //! **Coupling.** The vibration runs in chunks of `revolutions` revolutions of the run's own
 //! scheme and Δt, each restarted from the end of the one before (`Stepper::restart`) with the
-//! bow of the moment held as a rotating load (`k b e^{iΩt}`, one more unbalance of
-//! `m e = k |b| / Ω²` at the bow's angle). From the chunk's last revolution, sampled at every
+//! bow of the moment held as a load fixed in the rotor's frame ([`crate::model::bow`]: on a
+//! Jeffcott rotor `k b e^{iΩt}` at the disk, on an FE rotor the thermal-strain moments of the
+//! heated length; a reduced FE rotor takes it through its basis, `Tᵀ F_b`). From the chunk's last revolution, sampled at every
 //! step, come the friction power's mean `P` and its first harmonic in the rotor's frame `Q`
 //! (the friction power the stepper records, `t ζ/Δt` per pair — the tangential force times the
 //! slip of the section's surface over the stator's material point — as a transient's, placed at
@@ -32,8 +33,8 @@ use super::speed::{prepare, Prepared};
 use super::RunSettings;
 use crate::error::{Error, Result};
 use crate::math::V2;
-use crate::model::rotor::UnbalanceLoad;
-use crate::model::Model;
+use crate::model::bow::{cmul, fe_bow_load, jeffcott_bow_load, rotor_frame, scaled, static_bow};
+use crate::model::{Model, RotatingLoad, Rotor};
 use crate::time::{EndState, Record, StepPlan, Stepper};
 use serde::Serialize;
 
@@ -42,8 +43,13 @@ use serde::Serialize;
 pub struct HotSpot {
     /// The heated station's index.
     pub station: usize,
-    /// The disk's bow per kelvin of ΔT (m/K).
+    /// The Jeffcott disk's bow per kelvin of ΔT (m/K; NaN for an FE rotor, whose bow is
+    /// computed from its curvature).
     pub bow_per_kelvin: f64,
+    /// The curvature per kelvin α/D (1/(m·K)).
+    pub curvature_per_kelvin: f64,
+    /// The heated length a (m), centred at the station's node.
+    pub heated_length: f64,
     /// G (K/W).
     pub gain: f64,
     /// τ_h (s).
@@ -79,6 +85,8 @@ impl HotSpot {
         Some(Self {
             station,
             bow_per_kelvin: spec.bow_per_kelvin(&ls.scene.rotor),
+            curvature_per_kelvin: spec.expansion / spec.diameter,
+            heated_length: spec.heated_length,
             gain: spec.gain,
             heating_time: spec.heating_time,
             cooling_time: spec.cooling_time,
@@ -128,7 +136,8 @@ pub struct ThermalSample {
     pub delta_t: V2,
     /// The surface zone's S, rotor frame (K).
     pub surface: V2,
-    /// The disk's bow, rotor frame (m).
+    /// The heated station's bow, rotor frame (m): the disk's of a Jeffcott rotor, the static
+    /// deflection of an FE rotor's curvature load at the station's node.
     pub bow: V2,
     /// The station's 1× response vector over the chunk's last revolution, rotor frame (m):
     /// `(1/T) ∫ z e^{−iΩt} dt`.
@@ -157,7 +166,7 @@ pub struct ThermalResults {
     pub speed_ratio: f64,
     /// ω (rad/s).
     pub omega: f64,
-    /// The bow per kelvin (m/K).
+    /// The station's bow per kelvin of ΔT, |b|/|ΔT| (m/K).
     pub bow_per_kelvin: f64,
     /// The coupling step h (s) and the revolutions integrated per step.
     pub coupling_step_s: f64,
@@ -183,6 +192,55 @@ pub struct ThermalResults {
     pub steps: u64,
     /// Machine time covered (s).
     pub machine_time_s: f64,
+    /// An FE rotor's bow along the shaft at the last ΔT: each node's static deflection under
+    /// the curvature load, rotor frame (empty for a Jeffcott rotor).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub bow_shape: Vec<BowPoint>,
+}
+
+/// One node of [`ThermalResults::bow_shape`].
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct BowPoint {
+    /// Axial position (m).
+    pub z_m: f64,
+    /// The bow, rotor frame (m).
+    pub bow: V2,
+}
+
+/// A thermal run's bow per kelvin of ΔT along the rotor frame's x.
+struct Bow {
+    /// The load ([`crate::model::bow`]).
+    load: Vec<RotatingLoad>,
+    /// The heated station's bow, rotor frame, as a complex number (m/K).
+    at_station: V2,
+    /// An FE rotor's static bow at each node, `(z, rotor frame)` (m, m/K); empty: Jeffcott.
+    shape: Vec<(f64, V2)>,
+}
+
+impl Bow {
+    /// The bow of `model`'s rotor at the case of `p` (module docs of [`crate::model::bow`]).
+    fn of(model: &Model, p: &Prepared, hs: &HotSpot) -> Result<Self> {
+        match &model.rotor {
+            Rotor::Jeffcott(_) => Ok(Self {
+                load: jeffcott_bow_load(p.case.rotor_stiffness, hs.bow_per_kelvin),
+                at_station: [hs.bow_per_kelvin, 0.0],
+                shape: Vec::new(),
+            }),
+            Rotor::Fe(f) => {
+                let node = p.case.stations[hs.station].node;
+                let r = &f.rotor;
+                let centre = r.z[node];
+                let load = fe_bow_load(r, centre, hs.heated_length, hs.curvature_per_kelvin);
+                let u = static_bow(r, p.omega, &load)?;
+                let at = |i: usize| rotor_frame(&u, [4 * i, 4 * i + 1]);
+                Ok(Self {
+                    load,
+                    at_station: at(node),
+                    shape: (0..r.nodes()).map(|i| (r.z[i], at(i))).collect(),
+                })
+            }
+        }
+    }
 }
 
 /// Runs the thermal spiral of `model` at ν = `speed_ratio` with the settings `s` and the
@@ -200,10 +258,8 @@ pub fn run_thermal(
     let mut request = s.request_at(0, speed_ratio);
     request.follow_ups = super::FollowUps::default();
     let mut prep = prepare(model, &request)?;
-    let base = prep.case.rotor.unbalance.clone();
-    let node = prep.case.stations[hs.station].node;
-    let dofs = prep.case.rotor.node_dofs[node];
-    let (omega, k) = (prep.omega, prep.case.rotor_stiffness);
+    let bow_model = Bow::of(model, &prep, hs)?;
+    let omega = prep.omega;
     let spr = prep.plan.steps_per_rev.max(1);
     let (chunk, settle) = chunk_plans(&prep.plan, hs);
     let chunk_time = chunk.steps as f64 * chunk.dt;
@@ -217,14 +273,8 @@ pub fn run_thermal(
     let (mut runaway, mut unsynchronous) = (None, None);
     let mut integrated = 0usize;
     loop {
-        let bow = [hs.bow_per_kelvin * dt[0], hs.bow_per_kelvin * dt[1]];
-        set_bow(
-            &mut prep,
-            &base,
-            dofs,
-            k * bow[0].hypot(bow[1]) / (omega * omega),
-            bow,
-        );
+        let bow = cmul(bow_model.at_station, dt);
+        prep.case.set_rotating(scaled(&bow_model.load, dt));
         let (rec, next, revs) = run_chunk(&prep, &chunk, &end, (hs.station, steady))?;
         steps += (revs * spr) as u64;
         integrated += revs;
@@ -260,10 +310,11 @@ pub fn run_thermal(
         Some(_) => (0.0, 0.0),
         None => rates(&samples, runaway.is_some()),
     };
+    let end_dt = samples.last().map_or(dt, |x| x.delta_t);
     Ok(ThermalResults {
         speed_ratio,
         omega,
-        bow_per_kelvin: hs.bow_per_kelvin,
+        bow_per_kelvin: bow_model.at_station[0].hypot(bow_model.at_station[1]),
         coupling_step_s: h,
         revolutions_per_step: integrated as f64 / samples.len().max(1) as f64,
         resolved: hs.step.is_none(),
@@ -274,6 +325,12 @@ pub fn run_thermal(
         runaway_at_s: runaway,
         unsynchronous_at_s: unsynchronous,
         steps,
+        bow_shape: (bow_model.shape.iter())
+            .map(|&(z_m, b)| BowPoint {
+                z_m,
+                bow: cmul(b, end_dt),
+            })
+            .collect(),
     })
 }
 
@@ -390,19 +447,6 @@ fn orbit_change(rec: &Record, station: usize, spr: usize) -> f64 {
     }
 }
 
-/// The case's unbalances: the scene's, and the bow as one more of `me` (kg·m) at its angle.
-fn set_bow(p: &mut Prepared, base: &[UnbalanceLoad], dofs: [usize; 2], me: f64, bow: V2) {
-    let mut u = base.to_vec();
-    if me > 0.0 {
-        u.push(UnbalanceLoad {
-            dofs,
-            me,
-            phase: bow[1].atan2(bow[0]),
-        });
-    }
-    p.case.rotor.unbalance = u;
-}
-
 /// Over the record's last revolution (`spr` samples, one a step): the friction power's first
 /// harmonic in the rotor's frame `Q` (W), its mean (W), the station's 1× vector in the rotor's
 /// frame (m) and the fraction of steps in contact.
@@ -478,6 +522,8 @@ mod tests {
         HotSpot {
             station: 0,
             bow_per_kelvin: 1e-6,
+            curvature_per_kelvin: 1e-3,
+            heated_length: 0.1,
             gain: 2.0,
             heating_time: th,
             cooling_time: tc,

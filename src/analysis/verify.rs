@@ -127,8 +127,17 @@ impl Prepared {
         }
         let last = finer.as_ref().unwrap_or(self);
         if last.request.follow_ups.coexistence {
-            match super::coexist::check(last, &res, end.as_ref()) {
-                Ok(c) => res.coexistence = c,
+            match super::coexist::check_with_companion(last, &res, end.as_ref()) {
+                Ok(Some((mut c, companion))) => {
+                    // A flagged speed: both responses shot as periodic orbits.
+                    if let Some((cr, ce)) = companion.filter(|_| c.coexisting) {
+                        let run = (&res, end.as_ref());
+                        let other = (&*cr, ce.as_ref());
+                        c.orbits = Some(super::coexist_orbits::shoot_both(last, run, other));
+                    }
+                    res.coexistence = Some(c);
+                }
+                Ok(None) => res.coexistence = None,
                 Err(why) => res.coexistence_failed = Some(why),
             }
         }

@@ -505,6 +505,9 @@ fn print_built(s: &Scene, model: &Model, case: &Case, plan: &StepPlan) {
     for line in rubsim::results::describe(&s.output, plan, s.run.sweep.is_some()) {
         println!("  {line}");
     }
+    for line in rubsim::results::describe_orbit(&s.output, plan) {
+        println!("  {line}");
+    }
 }
 
 /// The reduced rotor of `[run.reduction]` at the case's speed: cut-off, modes, static columns,
@@ -571,6 +574,11 @@ pub(crate) fn listed_outputs(s: &Scene, stress: bool) -> Vec<String> {
             add(
                 &["thermal_map.csv"],
                 &["thermal_stability.png", "growth_rate_map.png"],
+            );
+        } else if matches!(s.rotor, scene::RotorSpec::Fe(_)) {
+            add(
+                &["spiral.csv", "bow_shape.csv"],
+                &["spiral.png", "thermal.png"],
             );
         } else {
             add(&["spiral.csv"], &["spiral.png", "thermal.png"]);

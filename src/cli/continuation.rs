@@ -1,5 +1,6 @@
 //! `rubsim continue`: a periodic orbit continued over speed (`analysis::branch`): branch.csv,
-//! bifurcations.csv, branch.png and summary.json.
+//! bifurcations.csv, branch.png and summary.json; with `--key`, over a scene key's values at a
+//! fixed speed (`super::continue_key`).
 
 use super::{chosen_settings, default_out, load, Common, UnitArg};
 use anyhow::{Context, Result};
@@ -10,15 +11,28 @@ use std::path::PathBuf;
 
 /// The body of `summary.json` of `rubsim continue`.
 #[derive(Debug, Serialize)]
-struct ContinueBody<'a> {
+pub(super) struct ContinueBody<'a> {
     /// The branch: its points, bifurcations and where it ended.
-    branch: &'a Branch,
+    pub(super) branch: &'a Branch,
     /// With `--switch`: every branch (the first is `branch`), where each switched one came
     /// from, the doublings not followed.
     #[serde(skip_serializing_if = "Option::is_none")]
-    switched: Option<&'a analysis::switch::Diagram>,
+    pub(super) switched: Option<&'a analysis::switch::Diagram>,
+    /// With `--orbits-at`: each orbit shot there and its time series.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) orbits: Vec<OrbitEntry>,
     /// Wall time of the command (s).
-    wall_s: f64,
+    pub(super) wall_s: f64,
+}
+
+/// An orbit of `--orbits-at` as summary.json lists it: where it was shot from, its Newton and
+/// stability, its series.
+#[derive(Debug, Serialize)]
+pub(super) struct OrbitEntry {
+    #[serde(flatten)]
+    orbit: analysis::orbits_at::OrbitAtRecord,
+    /// Its VTK/HDF5 series, when the scene asks for one and Newton converged.
+    series: Option<super::periodic::OrbitSeries>,
 }
 
 /// Options of `rubsim continue`.
@@ -26,16 +40,27 @@ struct ContinueBody<'a> {
 pub struct ContinueArgs {
     #[command(flatten)]
     pub c: Common,
-    /// First speed, in `--unit` (default: the scene's `[run.sweep]`).
-    #[arg(long)]
+    /// First speed, in `--unit` (default: the scene's `[run.sweep]`); with `--key`, the key's
+    /// first value in its own units.
+    #[arg(long, allow_negative_numbers = true)]
     pub from: Option<f64>,
-    /// Last speed, in `--unit` (below `--from`: continued downwards).
-    #[arg(long)]
+    /// Last speed, in `--unit` (below `--from`: continued downwards); with `--key`, the key's
+    /// last value.
+    #[arg(long, allow_negative_numbers = true)]
     pub to: Option<f64>,
-    /// Speed step, in `--unit`.
-    #[arg(long)]
+    /// Speed step, in `--unit`; with `--key`, the key's step in its own units.
+    #[arg(long, allow_negative_numbers = true)]
     pub step: Option<f64>,
-    /// Unit of the speeds: ratio (ω/ω_n), rad/s or rpm.
+    /// Continue in this numeric scene key instead of the speed (the dotted keys of `--set`:
+    /// `station.0.friction`, `stator.0.stiffness_ratio`, `stator.0.clearance`, …), at the fixed
+    /// speed `--speed`, from `--from` to `--to` by `--step` in the key's units.
+    #[arg(long)]
+    pub key: Option<String>,
+    /// With `--key`: the fixed speed, in `--unit` (default: the scene's `run.speed_ratio` or
+    /// `run.speed`).
+    #[arg(long, requires = "key")]
+    pub speed: Option<f64>,
+    /// Unit of the speeds (with `--key`: of `--speed` only): ratio (ω/ω_n), rad/s or rpm.
     #[arg(long, value_enum, default_value_t = UnitArg::Ratio)]
     pub unit: UnitArg,
     /// Period of the orbit in revolutions (default: the first speed's settled period).
@@ -60,6 +85,12 @@ pub struct ContinueArgs {
     /// the branches in branch.png.
     #[arg(long)]
     pub sweep: Option<PathBuf>,
+    /// Values of the branch parameter (speeds, in `--unit`, comma-separated) at which each
+    /// branch spanning them writes its periodic orbit as the scene's VTK/HDF5 series, under
+    /// `orbits/branch<i>_<ν>/`: Newton at exactly that value from the branch's nearest
+    /// converged point.
+    #[arg(long, value_delimiter = ',')]
+    pub orbits_at: Vec<f64>,
     /// Output directory (default: out/<scene name>/continue).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -81,7 +112,9 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
         switch,
         max_period,
         sweep: sweep_dir,
+        orbits_at,
         out,
+        ..
     } = args.clone();
     let arclength = arclength.then_some(max_points);
     let (ls, model) = load(&c)?;
@@ -146,31 +179,83 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
         analysis::switch::Diagram::of(branch)
     };
     report_diagram(&diagram);
+    let values: Vec<f64> = orbits_at.iter().map(|v| unit.ratio(*v, wn)).collect();
+    let folds = switch || arclength.is_some();
+    let orbits = write_orbits(
+        &mut outd,
+        (&ls, &model),
+        &s,
+        (&diagram, (a, b, h), folds),
+        &values,
+    )?;
     let body = ContinueBody {
         branch: &diagram.branches[0],
         switched: switch.then_some(&diagram),
+        orbits,
         wall_s: t0.elapsed().as_secs_f64(),
     };
-    finish(
-        outd,
-        &Summary {
-            base: Base::new(&ls, &model, "continue"),
-            body,
-        },
-    )?;
+    let base = Base::new(&ls, &model, "continue");
+    finish(outd, &Summary { base, body })?;
     Ok(())
+}
+
+/// The orbits of `--orbits-at` (`values`, ν) on the branches of `d` (continued over
+/// `range` with the settings `s`, `around_folds` by pseudo-arclength or switching), each
+/// written as the scene's time series under `orbits/branch<i>_<ν>/`; the warnings printed.
+fn write_orbits(
+    outd: &mut rubsim::output::OutDir,
+    (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
+    s: &analysis::RunSettings,
+    (d, range, around_folds): (&analysis::switch::Diagram, (f64, f64, f64), bool),
+    values: &[f64],
+) -> Result<Vec<OrbitEntry>> {
+    if values.is_empty() {
+        return Ok(Vec::new());
+    }
+    if let Some(v) = values.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        anyhow::bail!("--orbits-at: every value must be a positive speed, got {v}");
+    }
+    if !rubsim::results::wanted(&ls.scene.output) {
+        eprintln!("warning: --orbits-at: the scene asks for no time series (`output.vtk`, `output.hdf5`; e.g. `--set 'output.vtk={{}}'`): the orbits are shot and listed in summary.json, no series written");
+    }
+    let pinned = analysis::orbits_at::branch_settings(model, s, range, around_folds)?;
+    let (found, notes) = analysis::orbits_at::orbits_at(model, &pinned, &d.branches, values);
+    for n in &notes {
+        eprintln!("warning: {n}");
+    }
+    let mut entries = Vec::with_capacity(found.len());
+    for o in &found {
+        let r = o.record();
+        println!(
+            "orbit at ω/ωn = {} on branch {} (period {}), Newton from {:.4}: {} in {} iteration(s), residual {:.2e}, {} (largest |ρ| {:.4})",
+            r.speed_ratio,
+            r.branch,
+            r.period,
+            r.from_speed_ratio,
+            if r.converged { "converged" } else { "did NOT converge" },
+            r.iterations,
+            r.residual,
+            if r.stable { "stable" } else { "unstable" },
+            r.largest_modulus
+        );
+        let folder = format!("orbits/branch{}_{}/", o.branch, o.speed_ratio);
+        let series = super::periodic::write_series(outd, (ls, model), &o.prep, &o.orbit, &folder)?;
+        entries.push(OrbitEntry { orbit: r, series });
+    }
+    Ok(entries)
 }
 
 /// Prints every branch of `d` ([`report`]), where each switched one came from, and the
 /// doublings not switched.
-fn report_diagram(d: &analysis::switch::Diagram) {
+pub(super) fn report_diagram(d: &analysis::switch::Diagram) {
     for (i, b) in d.branches.iter().enumerate() {
         if let Some(r) = i.checked_sub(1).and_then(|k| d.switched.get(k)) {
             println!(
-                "switched at the period doubling of branch {} at ω/ωn {:.4} (found at {:.4}, {}):",
+                "switched at the period doubling of branch {} at {} {:.4} (found at {:.4}, {}):",
                 r.parent,
-                r.at_speed_ratio,
-                r.found_at_speed_ratio,
+                parameter_label(b),
+                r.at,
+                r.found_at,
                 if r.supercritical {
                     "supercritical"
                 } else {
@@ -194,11 +279,12 @@ fn report(b: &Branch) {
         }
         return;
     };
+    let on = parameter_label(b);
     println!(
-        "period-{} orbit continued over ω/ωn {:.4} … {:.4}: {} points, {} steps",
+        "period-{} orbit continued over {on} {:.4} … {:.4}: {} points, {} steps",
         b.period,
-        first.speed_ratio,
-        last.speed_ratio,
+        first.parameter,
+        last.parameter,
         b.points.len(),
         b.steps
     );
@@ -206,23 +292,23 @@ fn report(b: &Branch) {
     for i in 1..=b.points.len() {
         if i == b.points.len() || b.points[i].stable != b.points[start].stable {
             println!(
-                "  {:>8}  ω/ωn {:.4} – {:.4}",
+                "  {:>8}  {on} {:.4} – {:.4}",
                 if b.points[start].stable {
                     "stable"
                 } else {
                     "unstable"
                 },
-                b.points[start].speed_ratio,
-                b.points[i - 1].speed_ratio
+                b.points[start].parameter,
+                b.points[i - 1].parameter
             );
             start = i;
         }
     }
     for x in &b.bifurcations {
         println!(
-            "  {} at ω/ωn {:.4} (between {:.4} and {:.4}; ρ {:+.4}{:+.4}i → {:+.4}{:+.4}i)",
+            "  {} at {on} {:.4} (between {:.4} and {:.4}; ρ {:+.4}{:+.4}i → {:+.4}{:+.4}i)",
             x.kind,
-            x.speed_ratio,
+            x.parameter,
             x.between[0],
             x.between[1],
             x.rho[0][0],
@@ -233,5 +319,14 @@ fn report(b: &Branch) {
     }
     if let Some(why) = &b.ended {
         eprintln!("warning: the branch ends before the last speed: {why}");
+    }
+}
+
+/// The branch's parameter in messages: `ω/ωn`, or its scene key.
+fn parameter_label(b: &Branch) -> &str {
+    if b.at_speed_ratio.is_some() {
+        &b.parameter
+    } else {
+        "ω/ωn"
     }
 }

@@ -33,6 +33,7 @@ macro_rules! eprintln {
 mod bench;
 mod check;
 mod continuation;
+mod continue_key;
 mod convergence;
 mod import_ross;
 mod map;
@@ -567,6 +568,7 @@ pub fn run() -> Result<()> {
         Cmd::Mesh(a) => mesh::mesh(a),
         Cmd::Stress(a) => stress::stress(a),
         Cmd::Refine(a) => refine::refine(a),
+        Cmd::Continue(a) if a.key.is_some() => continue_key::continuation_in_key(a),
         Cmd::Continue(a) => continuation::continuation(a),
         Cmd::Periodic(a) => periodic::periodic(a),
         Cmd::Modal {

@@ -3,7 +3,7 @@
 
 use super::{chosen_settings, default_out, load, Common, UnitArg};
 use anyhow::{Context, Result};
-use rubsim::analysis::{self, periodic::PeriodicOrbit};
+use rubsim::analysis::{self, floquet::StepRefinement, periodic::PeriodicOrbit};
 use rubsim::output::summary::{finish, Base, Summary};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -14,6 +14,13 @@ use std::path::PathBuf;
 struct PeriodicBody<'a> {
     /// The orbit, its multipliers and stability.
     periodic: &'a PeriodicOrbit,
+    /// With `--refine`: the multipliers at half the step, their differences, error estimates
+    /// and (an orbit without contact) their extrapolation to Δt → 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    refined: Option<&'a StepRefinement>,
+    /// The orbit's VTK/HDF5 time series (`orbit/`), when the scene asks for one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    orbit_series: Option<OrbitSeries>,
     /// Wall time of the command (s).
     wall_s: f64,
 }
@@ -33,6 +40,11 @@ pub struct PeriodicArgs {
     /// with, 1 when it does not repeat).
     #[arg(long)]
     pub period: Option<usize>,
+    /// The multipliers' own step error: the orbit shot again at half the step, each
+    /// multiplier beside its twin, and — an orbit without contact — extrapolated to Δt → 0
+    /// (the continuous flow's exp(λT)); multipliers_refined.csv.
+    #[arg(long)]
+    pub refine: bool,
     /// Output directory (default: out/<scene name>/periodic).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -46,6 +58,7 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
         speed,
         unit,
         period,
+        refine,
         out,
     } = a.clone();
     let (ls, model) = load(&c)?;
@@ -67,19 +80,94 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("periodic")))?;
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &[v])?;
-    let orbit = analysis::periodic::shoot_at(&model, &s, v, period)?;
+    let prep = analysis::prepare(&model, &analysis::periodic::request_at(&s, v))?;
+    let orbit = analysis::periodic::shoot(&prep, period)?;
+    let refined = if refine {
+        Some(analysis::floquet::refine(&prep, &orbit)?)
+    } else {
+        None
+    };
     report(&orbit);
+    let orbit_series = write_series(&mut outd, (&ls, &model), &prep, &orbit, ORBIT_FOLDER)?;
     outd.write("multipliers.csv", multipliers_csv(&orbit).as_bytes())?;
+    if let Some(r) = &refined {
+        report_refined(r);
+        outd.write("multipliers_refined.csv", refined_csv(&orbit, r).as_bytes())?;
+    }
     if ls.scene.output.png {
         rubsim::output::branch::write_multipliers(&mut outd, &ls.scene.title, &orbit.multipliers)?;
     }
     let body = PeriodicBody {
         periodic: &orbit,
+        refined: refined.as_ref(),
+        orbit_series,
         wall_s: t0.elapsed().as_secs_f64(),
     };
     let base = Base::new(&ls, &model, "periodic");
     finish(outd, &Summary { base, body })?;
     Ok(())
+}
+
+/// The folder of `rubsim periodic`'s orbit series in its output directory.
+pub const ORBIT_FOLDER: &str = "orbit/";
+
+/// An orbit's VTK/HDF5 time series as summary.json lists it.
+#[derive(Debug, Serialize)]
+pub struct OrbitSeries {
+    /// Its folder in the output directory (`orbit/`, `orbits/<branch>_<value>/`).
+    pub folder: String,
+    /// Steps of the written period (`k N`) and Δt (s): the frames lie at steps `k N … 2 k N`
+    /// of the integration from the fixed point (the first period a lead-in), times
+    /// `k T … 2 k T`.
+    pub period_steps: usize,
+    /// Δt (s).
+    pub dt: f64,
+    /// The files written, relative to the output directory.
+    pub files: Vec<String>,
+}
+
+/// Writes the converged orbit `o` of `prep` as the time series the scene asks for below
+/// `folder` (`rubsim::results::Series::orbit`) and adopts the files; `None` when the scene
+/// asks for none. An orbit that did not converge is not written (its series would not close):
+/// a warning says so.
+pub fn write_series(
+    outd: &mut rubsim::output::OutDir,
+    (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
+    prep: &analysis::Prepared,
+    o: &PeriodicOrbit,
+    folder: &str,
+) -> Result<Option<OrbitSeries>> {
+    if !rubsim::results::wanted(&ls.scene.output) {
+        return Ok(None);
+    }
+    if !o.converged {
+        eprintln!(
+            "warning: ω/ωn = {:.4}: no periodic orbit of {} revolution(s) converged; its time series ({folder}) is not written",
+            o.speed_ratio, o.period
+        );
+        return Ok(None);
+    }
+    let scene_json = serde_json::to_string(&ls.scene)?;
+    let series = rubsim::results::Series {
+        output: &ls.scene.output,
+        scene_json: &scene_json,
+        staging: outd.staging_dir(),
+    };
+    let files = series.orbit(model, prep, o, folder)?;
+    for f in &files {
+        outd.adopt(f)?;
+    }
+    println!(
+        "  orbit series: {folder} ({} file(s), one period of {} revolution(s))",
+        files.len(),
+        o.period
+    );
+    Ok(Some(OrbitSeries {
+        folder: folder.to_string(),
+        period_steps: o.period * prep.plan.steps_per_rev,
+        dt: prep.plan.dt,
+        files,
+    }))
 }
 
 /// Refuses `--period 0` (an orbit repeats after a whole number ≥ 1 of revolutions); also
@@ -147,6 +235,80 @@ fn multipliers_csv(o: &PeriodicOrbit) -> String {
             m[1],
             m[0].hypot(m[1]),
             m[1].atan2(m[0]).to_degrees()
+        );
+    }
+    s
+}
+
+/// Prints the refinement: the verdict at Δt/2, the largest multipliers' error estimates and
+/// (without contact) their extrapolation.
+fn report_refined(r: &StepRefinement) {
+    println!(
+        "  at Δt/2 = {:.4e} s: Newton {} (residual {:.2e}), largest |ρ| = {:.6}: {}{}; {} steps",
+        r.dt[1],
+        if r.converged {
+            "converged"
+        } else {
+            "did NOT converge"
+        },
+        r.residual,
+        r.largest_modulus,
+        if r.stable { "stable" } else { "unstable" },
+        if r.verdict_changes {
+            " — the step decides the verdict"
+        } else {
+            ""
+        },
+        r.steps
+    );
+    let what = if r.order == 2 {
+        "no contact: order 2, extrapolated to Δt → 0"
+    } else {
+        "contact: order unknown, error bounded by the whole difference"
+    };
+    println!("  multipliers' step error ({what}):");
+    for (i, (h, e)) in r
+        .half_step
+        .iter()
+        .zip(&r.error_estimate)
+        .enumerate()
+        .take(6)
+    {
+        let ext = r.extrapolated.as_ref().map_or(String::new(), |x| {
+            format!(", extrapolated {:+.10} {:+.10}i", x[i][0], x[i][1])
+        });
+        println!(
+            "  ρ{}(Δt/2) = {:+.6} {:+.6}i ± {:.1e}{ext}",
+            i + 1,
+            h[0],
+            h[1],
+            e
+        );
+    }
+}
+
+/// `multipliers_refined.csv`: per multiplier (in multipliers.csv's order) its value at Δt and
+/// at Δt/2, their difference, the error estimate of the Δt/2 value, and the extrapolation to
+/// Δt → 0 (empty with contact).
+fn refined_csv(o: &PeriodicOrbit, r: &StepRefinement) -> String {
+    let mut s = String::from(
+        "index,re,im,re_half,im_half,difference,error_estimate,re_extrapolated,im_extrapolated\n",
+    );
+    for (i, (m, h)) in o.multipliers.iter().zip(&r.half_step).enumerate() {
+        let ext = r
+            .extrapolated
+            .as_ref()
+            .map_or(",".to_string(), |x| format!("{:e},{:e}", x[i][0], x[i][1]));
+        let _ = writeln!(
+            s,
+            "{},{:e},{:e},{:e},{:e},{:e},{:e},{ext}",
+            i + 1,
+            m[0],
+            m[1],
+            h[0],
+            h[1],
+            r.difference[i],
+            r.error_estimate[i]
         );
     }
     s

@@ -451,6 +451,45 @@ pub fn shaft_element(s: &ShaftSection) -> ShaftMatrices {
     ShaftMatrices { m, k, g }
 }
 
+/// The equivalent load of a thermal curvature on the part `ξ ∈ [ξ₁, ξ₂]` (ξ = z/L) of the
+/// element, per unit curvature (1/m): `(f_xz, f_yz)`, in element DOFs (N·m per 1/m, i.e. N·m²,
+/// on rotations; N·m² per m on translations), for a curvature `∂²u_x/∂z²` in the x–z plane
+/// and `∂²u_y/∂z²` in the y–z plane.
+///
+/// A free curvature κ_T (the thermal strain `α ΔT / D` across the section) enters the bending
+/// energy as `½ ∫ E I (φ′ − κ_T)² dz`; the shear strain `w′ − φ` is untouched. Its load is the
+/// virtual work `∫ E I κ_T δφ′ dz`: in planar DOFs `∫_{ξ₁}^{ξ₂} E I(ξ) N_φ′ dz` (5-point
+/// Gauss, exact for the tapered element's quartic I and the linear N_φ′). On a whole element
+/// of constant I this is the moment pair `E I [0, −1, 0, 1]` (`N_φ(1) − N_φ(0)`), and the
+/// element, statically exact, bends under it into the free uniform curvature κ_T with no shear
+/// (the unit tests check it); on part of an element it is the consistent load, exact as the
+/// element is refined.
+///
+/// # Panics
+/// If not `0 ≤ ξ₁ ≤ ξ₂ ≤ 1` (a bug of the caller).
+#[allow(non_snake_case)]
+pub fn thermal_curvature_load(s: &ShaftSection, (x1, x2): (f64, f64)) -> ([f64; 8], [f64; 8]) {
+    assert!((0.0..=x2).contains(&x1) && x2 <= 1.0, "ξ range {x1} … {x2}");
+    let L = s.length;
+    let (_, nf) = shape_functions(L, s.phi());
+    let mut p = [0.0; 4];
+    for (t, wt) in GAUSS5 {
+        let x = x1 + (x2 - x1) * (1.0 + t) / 2.0;
+        let dz = wt * (x2 - x1) * L / 2.0;
+        let (o, i) = s.diameters_at(x);
+        let ei = s.youngs_modulus * tube_inertia(o, i);
+        for (pj, c) in p.iter_mut().zip(&nf) {
+            *pj += dz * ei * dpoly(c, x) / L;
+        }
+    }
+    let (mut fx, mut fy) = ([0.0; 8], [0.0; 8]);
+    for j in 0..4 {
+        fx[XZ[j]] = p[j];
+        fy[YZ[j]] = SYZ[j] * p[j];
+    }
+    (fx, fy)
+}
+
 /// Rigid disk at a node: mass `m` on u_x, u_y, diametral inertia `id` on θ_x, θ_y and the
 /// gyroscopic block `[[0, I_p], [−I_p, 0]]` on (θ_x, θ_y). Returns (M, G) 4×4 in node DOFs.
 /// With axial and torsional DOFs the disk also adds `m` to u_z and `I_p` to θ_z (done by the

@@ -44,6 +44,8 @@ use triplets::Triplets;
 pub struct FeRotor {
     /// Node positions along the axis (m).
     pub z: Vec<f64>,
+    /// The shaft elements in order: element `e` joins nodes `e` and `e + 1`.
+    pub elements: Vec<crate::element::timoshenko::ShaftSection>,
     /// Outer diameter of the shaft at each node (m), for plots.
     pub node_diameter: Vec<f64>,
     /// Number of DOFs (shaft lateral + pedestals + axial + torsional).
@@ -227,6 +229,7 @@ impl FeRotor {
             .collect();
         let mut rotor = FeRotor {
             z,
+            elements: d.elements.clone(),
             node_diameter,
             ndof,
             ndof_lateral,
@@ -475,6 +478,7 @@ impl FeRotor {
             node_torsion: self.node_torsion.clone(),
             node_z: self.z.clone(),
             unbalance: self.unbalance.clone(),
+            rotating: Vec::new(),
             gyro: self.gyroscopic(),
         })
     }

@@ -10,6 +10,7 @@
 //! The model does no file I/O and runs no mesher: meshes come read with the resolved data.
 
 mod blame;
+pub mod bow;
 pub mod drive;
 pub mod events;
 pub mod fe_rotor;
@@ -29,7 +30,7 @@ use crate::scene::{LoadedScene, RayleighOn};
 pub use drive::{Drive, DriveLaw};
 pub use events::{ClearanceEvent, Events, UnbalanceEvent};
 pub use reduce::ReducedRotor;
-pub use rotor::{Jeffcott, RotorBody, UnbalanceLoad};
+pub use rotor::{Jeffcott, RotatingLoad, RotorBody, UnbalanceLoad};
 pub use speed_profile::{SpeedProfile, SpinState};
 pub use stator::ring::RingSupport;
 pub use stator::StatorModel;

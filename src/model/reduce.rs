@@ -31,7 +31,7 @@
 //! displacement is `u = T q` ([`ReducedRotor::expand`]).
 
 use super::fe_rotor::{dense, undamped_modes};
-use super::rotor::{Gyroscopic, RotorBody};
+use super::rotor::{Gyroscopic, RotatingLoad, RotorBody};
 use super::Case;
 use crate::error::ModelError;
 use crate::linalg::Csc;
@@ -124,6 +124,7 @@ fn reduced_body(full: &RotorBody, interface: &[usize], m: Csc, c: Csc, k: Csc) -
                 v
             })
             .collect(),
+        rotating: Vec::new(),
         gyro: None,
     }
 }
@@ -196,6 +197,7 @@ impl ReducedRotor {
             g: csc(&(&tt * dense(&g.g) * &t)),
             k_st: csc(&(&tt * dense(&g.k_st) * &t)),
         });
+        body.rotating = project_rotating(&t, &full.rotating);
         if body.unbalance.iter().any(|u| u.dofs.contains(&usize::MAX)) {
             return Err(singular("an unbalance DOF is not an interface DOF"));
         }
@@ -243,7 +245,34 @@ impl ReducedRotor {
     }
 }
 
+/// Loads fixed in the rotor's frame on the full DOFs, in the basis `T`: `a_q = Tᵀ a` (the
+/// virtual work `δuᵀ f = δqᵀ Tᵀ f` of `u = T q`), one [`RotatingLoad`] per reduced coordinate
+/// that gets a nonzero amplitude.
+fn project_rotating(t: &DMatrix<f64>, full: &[RotatingLoad]) -> Vec<RotatingLoad> {
+    (0..t.ncols())
+        .filter_map(|j| {
+            let a = full.iter().fold([0.0; 2], |a, l| {
+                let tj = t[(l.dof, j)];
+                [a[0] + tj * l.amplitude[0], a[1] + tj * l.amplitude[1]]
+            });
+            (a != [0.0; 2]).then_some(RotatingLoad {
+                dof: j,
+                amplitude: a,
+            })
+        })
+        .collect()
+}
+
 impl Case {
+    /// Sets the loads fixed in the rotor's frame ([`RotatingLoad`], on the full rotor's DOFs)
+    /// of the case's rotor and, when the case is reduced, of its reduced body (`Tᵀ a`).
+    pub fn set_rotating(&mut self, loads: Vec<RotatingLoad>) {
+        if let Some(r) = self.reduced.as_deref_mut() {
+            r.body.rotating = project_rotating(&r.basis, &loads);
+        }
+        self.rotor.rotating = loads;
+    }
+
     /// The rotor the time loop integrates: the reduced body when the case is reduced, else
     /// [`Case::rotor`].
     pub fn loop_rotor(&self) -> &RotorBody {

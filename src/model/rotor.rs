@@ -20,6 +20,21 @@ pub struct UnbalanceLoad {
     pub phase: f64,
 }
 
+/// A load fixed in the rotor's frame, on one DOF: in the fixed frame it turns with the rotor,
+/// `f(t) = Re(a e^{iφ(t)}) = a_re cos φ − a_im sin φ` (N on a translation, N·m on a rotation),
+/// φ the spin angle (`Ω t` at a constant speed). A set of them on the `[u_x, u_y]` (or
+/// `[θ_y, θ_x]`) pairs of a rotor is any load the rotor carries round with it — a thermal bow's
+/// curvature load ([`crate::model::bow`]): `a_y = −i a_x` on a pair is a forward-rotating vector
+/// `|a_x| (cos, sin)(φ + arg a_x)`. Unlike an [`UnbalanceLoad`] its amplitude does not scale
+/// with Ω² and a varying speed adds no tangential term.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RotatingLoad {
+    /// The rotor DOF loaded.
+    pub dof: usize,
+    /// The complex amplitude `a = [re, im]` (N or N·m).
+    pub amplitude: [f64; 2],
+}
+
 /// Linear rotor model as the integrator sees it: `M ü + C u̇ + K u = f(t)`.
 #[derive(Debug, Clone)]
 pub struct RotorBody {
@@ -53,6 +68,8 @@ pub struct RotorBody {
     pub node_z: Vec<f64>,
     /// Unbalance loads.
     pub unbalance: Vec<UnbalanceLoad>,
+    /// Loads fixed in the rotor's frame ([`RotatingLoad`]; a thermal bow's); none by default.
+    pub rotating: Vec<RotatingLoad>,
     /// The speed-dependent terms of a gyroscopic rotor, for a varying speed; `None` when the
     /// rotor has none (Jeffcott rotors, FE rotors without rotary inertia).
     pub gyro: Option<Gyroscopic>,
@@ -140,6 +157,19 @@ impl RotorBody {
         }
     }
 
+    /// The loads fixed in the rotor's frame at the spin angle `phi` (rad), added into `f`:
+    /// `f[d] += a_re cos φ − a_im sin φ` ([`RotatingLoad`]); nothing without any.
+    #[inline]
+    pub fn add_rotating(&self, phi: f64, f: &mut [f64]) {
+        if self.rotating.is_empty() {
+            return;
+        }
+        let (s, c) = crate::math::sin_cos(phi);
+        for l in &self.rotating {
+            f[l.dof] += l.amplitude[0] * c - l.amplitude[1] * s;
+        }
+    }
+
     /// Complex resultant `Σ m_u e e^{iφ}` (kg·m) as `[re, im]`.
     pub fn unbalance_resultant(&self) -> [f64; 2] {
         self.unbalance.iter().fold([0.0, 0.0], |acc, u| {
@@ -219,6 +249,7 @@ impl Jeffcott {
             node_torsion: vec![None],
             node_z: vec![0.0],
             unbalance: self.unbalance.clone(),
+            rotating: Vec::new(),
             gyro: None,
         }
     }

@@ -1,6 +1,12 @@
 //! The files of `rubsim continue` (`analysis::branch`): `branch.csv`, `bifurcations.csv` and
 //! `branch.png`, the bifurcation diagram of the continued orbit, `branch_multipliers.png` (its
 //! largest multiplier about the unit circle); and `rubsim periodic`'s `multipliers.png`.
+//!
+//! A branch in a scene key (`rubsim continue --key`) has the key's values in a column named by
+//! the key: before `speed_ratio` (the fixed speed) in `branch.csv` and `branches.csv`, for
+//! `speed_ratio` in `bifurcations.csv` (its `from`, `to` in the key too), `at_<key>` and
+//! `found_at_<key>` for `at_speed_ratio`, `found_at_speed_ratio` in `switches.csv`; `branch.png`
+//! is drawn over the key.
 
 use super::OutDir;
 use crate::analysis::branch::Branch;
@@ -38,18 +44,23 @@ pub fn write_branch(
     branch: &Branch,
     png: Option<DiagramView<'_>>,
 ) -> Result<()> {
-    let mut csv = format!("{BRANCH_HEADER}\n");
+    let key = key_of(branch);
+    let mut csv = format!("{}\n", with_key(BRANCH_HEADER, key));
     for p in &branch.points {
-        csv.push_str(&point_row(p));
+        csv.push_str(&keyed_row(p, key));
     }
     out.write("branch.csv", csv.as_bytes())?;
-    let mut bif = format!("{BIFURCATIONS_HEADER}\n");
+    let bif_header = match key {
+        Some(k) => BIFURCATIONS_HEADER.replacen("speed_ratio", k, 1),
+        None => BIFURCATIONS_HEADER.to_string(),
+    };
+    let mut bif = format!("{bif_header}\n");
     for b in &branch.bifurcations {
         let _ = writeln!(
             bif,
             "{},{},{},{},{:e},{:e},{:e},{:e}",
             b.kind,
-            b.speed_ratio,
+            b.parameter,
             b.between[0],
             b.between[1],
             b.rho[0][0],
@@ -64,14 +75,45 @@ pub fn write_branch(
         branch_png(
             out,
             &format!(
-                "{title} — period-{} orbit continued in speed",
-                branch.period
+                "{title} — period-{} orbit continued in {}",
+                branch.period,
+                continued_in(branch)
             ),
             std::slice::from_ref(branch),
             view,
         )?;
     }
     Ok(())
+}
+
+/// The key of a branch in a scene key (`None`: a branch in speed).
+fn key_of(b: &Branch) -> Option<&str> {
+    b.at_speed_ratio.map(|_| b.parameter.as_str())
+}
+
+/// What a branch is continued in, for titles: `speed`, or `<key> at ω/ωn ν`.
+fn continued_in(b: &Branch) -> String {
+    match (key_of(b), b.at_speed_ratio) {
+        (Some(k), Some(nu)) => format!("{k} at ω/ωn {nu:.4}"),
+        _ => "speed".to_string(),
+    }
+}
+
+/// `header` of a branch in `key`: the key's column before `speed_ratio`.
+fn with_key(header: &str, key: Option<&str>) -> String {
+    match key {
+        Some(k) => header.replacen("speed_ratio", &format!("{k},speed_ratio"), 1),
+        None => header.to_string(),
+    }
+}
+
+/// A point's row of `branch.csv` (with its newline), after the key's value for a branch in
+/// `key`.
+fn keyed_row(p: &crate::analysis::branch::BranchPoint, key: Option<&str>) -> String {
+    match key {
+        Some(_) => format!("{},{}", p.parameter, point_row(p)),
+        None => point_row(p),
+    }
 }
 
 /// A point's row of `branch.csv` (with its newline).
@@ -113,14 +155,23 @@ pub fn write_diagram(
         return Ok(());
     };
     write_branch(out, title, first, None)?;
-    let mut csv = format!("{BRANCHES_HEADER}\n");
+    let key = key_of(first);
+    let mut csv = format!("{}\n", with_key(BRANCHES_HEADER, key));
     for (i, b) in d.branches.iter().enumerate() {
         for p in &b.points {
-            csv.push_str(&format!("{i},{},{}", b.period, point_row(p)));
+            csv.push_str(&format!("{i},{},{}", b.period, keyed_row(p, key)));
         }
     }
     out.write("branches.csv", csv.as_bytes())?;
-    let mut sw = format!("{SWITCHES_HEADER}\n");
+    let sw_header = match key {
+        Some(k) => SWITCHES_HEADER.replacen(
+            "at_speed_ratio,found_at_speed_ratio",
+            &format!("at_{k},found_at_{k}"),
+            1,
+        ),
+        None => SWITCHES_HEADER.to_string(),
+    };
+    let mut sw = format!("{sw_header}\n");
     for r in &d.switched {
         let _ = writeln!(
             sw,
@@ -129,8 +180,8 @@ pub fn write_diagram(
             d.branches[r.branch].period,
             r.parent,
             r.bifurcation,
-            r.at_speed_ratio,
-            r.found_at_speed_ratio,
+            r.at,
+            r.found_at,
             r.supercritical,
             r.offset,
             r.distance
@@ -141,7 +192,10 @@ pub fn write_diagram(
         write_branch_multipliers(out, title, first)?;
         branch_png(
             out,
-            &format!("{title} — periodic orbits continued in speed, switched at period doublings"),
+            &format!(
+                "{title} — periodic orbits continued in {}, switched at period doublings",
+                continued_in(first)
+            ),
             &d.branches,
             view,
         )?;
@@ -171,9 +225,14 @@ fn branch_png(
     view: DiagramView<'_>,
 ) -> Result<()> {
     let c = usize::from(view.component == "y");
+    let x_label = branches
+        .first()
+        .and_then(key_of)
+        .unwrap_or("ω/ωn")
+        .to_string();
     let mut lines = Vec::new();
     for (i, b) in branches.iter().enumerate() {
-        let from = b.points.first().map_or(0.0, |p| p.speed_ratio);
+        let from = b.points.first().map_or(0.0, |p| p.parameter);
         for j in 0..b.period {
             for (stable, points) in curves(b, &|p| p.poincare_nd.get(j).map_or(f64::NAN, |q| q[c]))
             {
@@ -181,7 +240,7 @@ fn branch_png(
                     label: match (stable && j == 0, i) {
                         (false, _) => String::new(),
                         (true, 0) => format!("period {}", b.period),
-                        (true, _) => format!("period {}, from ω/ωn {from:.3}", b.period),
+                        (true, _) => format!("period {}, from {x_label} {from:.3}", b.period),
                     },
                     points,
                     dashed: !stable,
@@ -201,11 +260,11 @@ fn branch_png(
         &format!("{title} (dashed: unstable{sweep})"),
         &lines,
         view.sweep,
-        &format!("{}/|Z0| at ωt = 2πk", view.component),
+        (&x_label, &format!("{}/|Z0| at ωt = 2πk", view.component)),
     )
 }
 
-/// A branch's values `value(point)` against ω/ωn, as its stable and its unstable stretches
+/// A branch's values `value(point)` against its parameter (ω/ωn, or its key), as its stable and its unstable stretches
 /// (`(stable, points)`; a NaN breaks a line where the other holds; the segment across a change
 /// of stability belongs to the unstable side, so that the line is not broken there).
 fn curves(
@@ -221,7 +280,7 @@ fn curves(
             .map(|(i, p)| {
                 let unstable_near = near(i) || near(i + 1) || (i > 0 && near(i - 1));
                 let on = if stable { p.stable } else { unstable_near };
-                (p.speed_ratio, if on { value(p) } else { f64::NAN })
+                (p.parameter, if on { value(p) } else { f64::NAN })
             })
             .collect();
         (stable, points)

@@ -28,7 +28,7 @@ fn table(header: &str, rows: impl IntoIterator<Item = String>) -> String {
 }
 
 /// The `sweep.csv` header.
-pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,regime,zero_one_k,long_period,coexisting,coexist_start,coexist_contact_fraction,coexist_period,coexist_extents_rel,stick_fraction,dry_rub";
+pub const SWEEP_HEADER: &str = "speed_ratio,period,x_min_nd,x_max_nd,y_min_nd,y_max_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_force_max_nd,steps,wall_s,dt_s,steps_per_rev,z0_m,clearance_m,contact_fraction,min_gap_m,err_extents_rel,steady,transient_revolutions,transient_residual,period_confidence,lines_resolved,integrator_chosen,dt_scale,order_observed,error_predicted,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,regime,zero_one_k,long_period,coexisting,coexist_start,coexist_contact_fraction,coexist_period,coexist_extents_rel,coexisting_stable,stick_fraction,dry_rub";
 
 /// One `sweep.csv` row.
 pub fn sweep_row(r: &SpeedResults) -> String {
@@ -102,18 +102,23 @@ pub fn stick_cells(
 /// The coexistence columns of `sweep.csv` and `map.csv` ([`crate::analysis::coexist`]): whether
 /// the check found another response (`true`, `false`; empty when it was not run), where its
 /// companion started (`free`, `full_contact`), the companion's contact fraction and period,
-/// and the two responses' extents difference over the run's largest |extent|.
+/// the two responses' extents difference over the run's largest |extent|, and at a flagged
+/// speed the number of stable periodic responses its orbits found (`coexisting_stable`,
+/// [`crate::analysis::coexist_orbits`]; empty elsewhere).
 pub fn coexist_columns(r: &SpeedResults) -> String {
     match &r.coexistence {
         Some(c) => format!(
-            "{},{},{:.4},{},{:.3e}",
+            "{},{},{:.4},{},{:.3e},{}",
             c.coexisting,
             c.start.name(),
             c.contact_fraction,
             c.period,
-            c.extents_rel
+            c.extents_rel,
+            c.orbits
+                .as_ref()
+                .map_or(String::new(), |o| o.coexisting_stable.to_string())
         ),
-        None => ",,,,".into(),
+        None => ",,,,,".into(),
     }
 }
 
@@ -382,7 +387,7 @@ pub fn orbit_size_nd(r: &SpeedResults) -> f64 {
 pub fn write_map(out: &mut OutDir, keys: [&str; 2], cells: &[MapCell<'_>]) -> Result<()> {
     let speed_col = !keys.contains(&"speed_ratio");
     let header = format!(
-        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,coexisting,coexist_start,coexist_contact_fraction,coexist_period,coexist_extents_rel,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,zero_one_k,long_period,stick_fraction,dry_rub",
+        "{},{}{},period,regime,x_min_nd,x_max_nd,y_min_nd,y_max_nd,orbit_size_nd,amp_1x_nd,amp_half_nd,amp_third_nd,contact_fraction,contact_force_max_nd,err_extents_rel,err_same_period,coexisting,coexist_start,coexist_contact_fraction,coexist_period,coexist_extents_rel,coexisting_stable,steady,transient_residual,period_confidence,lines_resolved,steps,wall_s,fwd_1x_nd,bwd_1x_nd,whirl_order,whirl_amp_nd,whirl,zero_one_k,long_period,stick_fraction,dry_rub",
         keys[0],
         keys[1],
         if speed_col { ",speed_ratio" } else { "" }

@@ -1,6 +1,7 @@
 //! The files of a thermal run (`analysis::thermal`): `spiral.csv` (every coupling step), the
 //! 1× vector's spiral in the rotor's frame with time marks (`spiral.png`) and the temperature,
-//! bow, 1× amplitude and friction power against time (`thermal.png`).
+//! bow, 1× amplitude and friction power against time (`thermal.png`); for an FE rotor also
+//! the bow along the shaft at the last ΔT (`bow_shape.csv`).
 
 use super::OutDir;
 use crate::analysis::thermal::ThermalResults;
@@ -13,6 +14,11 @@ use std::fmt::Write as _;
 /// first harmonic (W, rotor frame), the mean friction power (W), the contact fraction and the
 /// orbit's change over a revolution relative to its radius (`ThermalSample::non_synchronous`).
 pub const SPIRAL_HEADER: &str = "t_s,delta_t_x_k,delta_t_y_k,bow_x_m,bow_y_m,one_x_re_m,one_x_im_m,one_x_amp_m,one_x_deg,heat_x_w,heat_y_w,power_w,contact_fraction,non_synchronous";
+
+/// Header of `bow_shape.csv` (FE rotors): per shaft node its axial position (m) and its bow in
+/// the rotor's frame (m) at the run's last ΔT — the static deflection of the curvature load on
+/// the rotor's bearings (`ThermalResults::bow_shape`).
+pub const BOW_SHAPE_HEADER: &str = "z_m,bow_x_m,bow_y_m";
 
 /// Marks on the spiral: about this many along the run.
 const MARKS: usize = 10;
@@ -45,6 +51,13 @@ pub fn write_thermal(out: &mut OutDir, title: &str, r: &ThermalResults, png: boo
         );
     }
     out.write("spiral.csv", csv.as_bytes())?;
+    if !r.bow_shape.is_empty() {
+        let mut csv = format!("{BOW_SHAPE_HEADER}\n");
+        for p in &r.bow_shape {
+            let _ = writeln!(csv, "{},{:e},{:e}", p.z_m, p.bow[0], p.bow[1]);
+        }
+        out.write("bow_shape.csv", csv.as_bytes())?;
+    }
     if !png {
         return Ok(());
     }

@@ -18,7 +18,7 @@ use crate::error::Result;
 pub struct BranchLine {
     /// Legend entry (empty: none).
     pub label: String,
-    /// (ν, value) points in the branch's order.
+    /// (parameter, value) points in the branch's order (ν, or a scene key's value).
     pub points: Vec<(f64, f64)>,
     /// Dashed (an unstable stretch) or solid.
     pub dashed: bool,
@@ -26,7 +26,8 @@ pub struct BranchLine {
     pub colour: usize,
 }
 
-/// Draws `lines` (solid or dashed) over the grey `dots` into `path`; x label `ω/ωn`.
+/// Draws `lines` (solid or dashed) over the grey `dots` into `path`, its axes labelled
+/// `(x_label, y_label)` (x: ω/ωn, or the scene key a branch is continued in).
 ///
 /// # Errors
 /// Drawing and I/O errors, naming the file.
@@ -35,7 +36,7 @@ pub fn branch_diagram(
     title: &str,
     lines: &[BranchLine],
     dots: &[(f64, f64)],
-    y_label: &str,
+    (x_label, y_label): (&str, &str),
 ) -> Result<()> {
     let segs: Vec<Vec<Vec<(f64, f64)>>> = lines.iter().map(|c| point_segments(&c.points)).collect();
     let finite = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
@@ -53,7 +54,7 @@ pub fn branch_diagram(
             .builder(&body)
             .build_cartesian_2d(x0..x1, y0..y1)?;
         let (fx, fy) = (tick_formatter(x0, x1, 12), tick_formatter(y0, y1, 12));
-        Axes::page("ω/ωn", y_label, (12, 12), Some((0.12, 0.03))).draw(&mut chart, &fx, &fy)?;
+        Axes::page(x_label, y_label, (12, 12), Some((0.12, 0.03))).draw(&mut chart, &fx, &fy)?;
         if all.is_empty() {
             draw_no_data(chart.plotting_area())?;
             return Ok(());

@@ -206,6 +206,28 @@ pub fn describe(o: &OutputSpec, plan: &StepPlan, sweep: bool) -> Vec<String> {
         .collect()
 }
 
+/// One line per time-series writer for `rubsim check`: what `rubsim periodic` (`orbit/`) and
+/// `rubsim continue --orbits-at` (`orbits/branch<i>_<ν>/`) write of a periodic orbit at the
+/// speed of `plan` — one period of `k` revolutions (`Series::orbit`): `k N / every + 1` frames
+/// when `every` divides the `N` steps of a revolution.
+pub fn describe_orbit(o: &OutputSpec, plan: &StepPlan) -> Vec<String> {
+    frame_plans(o, plan)
+        .into_iter()
+        .map(|(fmt, fp)| {
+            let n = plan.steps_per_rev.max(1);
+            let frames = if n.is_multiple_of(fp.every) {
+                format!("k·{} + 1 frames", n / fp.every)
+            } else {
+                format!("about k·{:.1} frames (every {} does not divide the {n} steps of a revolution: the first frame is not the fixed point)", n as f64 / fp.every as f64, fp.every)
+            };
+            format!(
+                "{fmt} of a periodic orbit (`rubsim periodic`: orbit/; `rubsim continue --orbits-at`: orbits/branch<i>_<ν>/): one period of k revolutions from the fixed point, {frames}, every {} steps (Δt = {:.3e} s)",
+                fp.every, plan.dt
+            )
+        })
+        .collect()
+}
+
 /// The sub-folder of a speed's time series in a sweep: `speed_<ω/ω_n>/`.
 pub fn speed_folder(speed_ratio: f64) -> String {
     format!("speed_{speed_ratio}/")

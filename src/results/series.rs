@@ -1,11 +1,12 @@
 //! [`Series`]: a run with the VTK/HDF5 time-series writers its scene asks for attached — the
 //! one way a single run (`rubsim run`) and a study's case (`crate::study`) write their series.
 
-use super::ResultsSink;
+use super::{wanted, ResultsSink};
+use crate::analysis::periodic::{self, PeriodicOrbit};
 use crate::analysis::{Keep, Prepared, SpeedResults};
 use crate::error::Result;
 use crate::model::Model;
-use crate::scene::OutputSpec;
+use crate::scene::{OutputSpec, SeriesSpec};
 use crate::time::FrameSink;
 use std::path::Path;
 
@@ -70,5 +71,59 @@ impl Series<'_> {
             None => Ok((r, Vec::new())),
             Some(w) => Ok((r, w.finish()?)),
         }
+    }
+
+    /// Writes the periodic orbit `o` of `prep` (a run of `model`; the orbit found on it, its
+    /// speed and step) as the time series the scene asks for, below `prefix` (empty or ending
+    /// in `/`): one period of `k` revolutions integrated from the fixed point by the run's own
+    /// scheme and step with the same writers a run attaches, after a lead-in of one period
+    /// ([`periodic::series_plan`]: frames at steps `k N … 2 k N`, times `k T … 2 k T`). Every
+    /// writer's `every` and `fields` are the scene's; its `from_revolution`/`to_revolution`
+    /// (the window of a run) are replaced by the written period. Returns the files written,
+    /// relative to the staging folder; none when the scene asks for no series.
+    ///
+    /// # Errors
+    /// As [`ResultsSink::new`] and [`periodic::integrate_orbit`].
+    pub fn orbit(
+        &self,
+        model: &Model,
+        prep: &Prepared,
+        o: &PeriodicOrbit,
+        prefix: &str,
+    ) -> Result<Vec<String>> {
+        let output = orbit_output(self.output, o.period);
+        if !wanted(&output) {
+            return Ok(Vec::new());
+        }
+        let plan = periodic::series_plan(&prep.plan, o.period);
+        let mut w = ResultsSink::with_plan(
+            model,
+            prep,
+            &plan,
+            &output,
+            self.scene_json,
+            self.staging,
+            prefix,
+        )?;
+        periodic::integrate_orbit(prep, o, &plan, Some(&mut w))?;
+        w.finish()
+    }
+}
+
+/// `output` with each time-series writer's window set to the second period of `k`
+/// revolutions (revolutions `k … 2k`: [`Series::orbit`]).
+fn orbit_output(output: &OutputSpec, k: usize) -> OutputSpec {
+    let k = k.max(1) as f64;
+    let window = |s: &Option<SeriesSpec>| {
+        s.clone().map(|s| SeriesSpec {
+            from_revolution: k,
+            to_revolution: Some(2.0 * k),
+            ..s
+        })
+    };
+    OutputSpec {
+        vtk: window(&output.vtk),
+        hdf5: window(&output.hdf5),
+        ..output.clone()
     }
 }

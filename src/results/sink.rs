@@ -112,11 +112,29 @@ impl<'a> ResultsSink<'a> {
         staging: &Path,
         prefix: &str,
     ) -> Result<Self> {
+        Self::with_plan(model, prep, &prep.plan, output, scene_json, staging, prefix)
+    }
+
+    /// [`ResultsSink::new`] on the step plan `plan` instead of `prep`'s (a run of `prep`'s case
+    /// and step over other steps: a periodic orbit's series, `Series::orbit`); the plan is the
+    /// one `from_revolution`/`to_revolution` count in and the files' metadata state.
+    ///
+    /// # Errors
+    /// As [`ResultsSink::new`].
+    pub fn with_plan(
+        model: &Model,
+        prep: &'a Prepared,
+        plan: &StepPlan,
+        output: &OutputSpec,
+        scene_json: &str,
+        staging: &Path,
+        prefix: &str,
+    ) -> Result<Self> {
         let info = RunInfo {
             scene_json: scene_json.to_string(),
             speed_ratio: prep.case.speed_ratio,
             omega: prep.omega,
-            plan: prep.plan,
+            plan: *plan,
             integrator: prep.request.step.integrator.name(),
         };
         let init_v = prep.request.initial().v;

@@ -88,6 +88,37 @@ pub struct LoadedScene {
 }
 
 impl LoadedScene {
+    /// This scene again from its file's text with `extra` overrides applied after its own
+    /// (a study's variant, a continuation's value of a key): parsed and validated as
+    /// [`parse`] does.
+    ///
+    /// # Errors
+    /// As [`parse`]: the scene's own error, naming the key and the override.
+    pub fn with_overrides(&self, extra: &[String]) -> Result<LoadedScene, SceneError> {
+        let mut sets = self.overrides.clone();
+        sets.extend(extra.iter().cloned());
+        parse(&self.file, &self.source, &sets)
+    }
+
+    /// The value of the dotted key `key` (array entries by index, `stator.0.clearance`) in
+    /// the file's text with the overrides applied; `None` when the text has no such key (it
+    /// may still be one the scene defaults).
+    pub fn value_at(&self, key: &str) -> Option<toml::Value> {
+        let mut v: toml::Value = toml::from_str(&self.source).ok()?;
+        for a in &self.overrides {
+            apply_override(&mut v, a).ok()?;
+        }
+        let mut cur = &v;
+        for part in key.split('.') {
+            cur = match cur {
+                toml::Value::Table(t) => t.get(part)?,
+                toml::Value::Array(a) => a.get(part.parse::<usize>().ok()?)?,
+                _ => return None,
+            };
+        }
+        Some(cur.clone())
+    }
+
     /// An `Invalid` error for `key`, with the line of that key in the file when present.
     pub fn invalid(&self, key: &str, message: impl Into<String>) -> SceneError {
         invalid_at(&self.file, &self.source, key, message)

@@ -13,12 +13,17 @@
 //! τ_h dS/dt = −S + G Q,      τ_c dΔT/dt = −ΔT + S.
 //! ```
 //!
-//! ΔT bends the shaft with curvature `α ΔT / D` over the heated length `a`, centred at the
-//! disk of a simply supported span `L`: the disk's bow `b = α a (2L − a)/(8D) ΔT` (toward the
-//! hot side), which rotates with the rotor and loads it like an unbalance, `k b e^{iΩt}`.
+//! ΔT bends the shaft with curvature `α ΔT / D` over the heated length `a`. On a Jeffcott rotor
+//! `a` is centred at the disk of a simply supported span `L`: the disk's bow
+//! `b = α a (2L − a)/(8D) ΔT` (toward the hot side), which rotates with the rotor and loads it
+//! as `k b e^{iΩt}`. On an FE rotor `a` is centred at the heated station's node and the
+//! curvature loads the shaft elements there with their thermal-strain moments, the rotor on
+//! its own bearings ([`crate::model::bow`]); `D` is `diameter` either way — the diameter
+//! the hot-spot model's ΔT acts across, not the local element's (one ΔT, one curvature over
+//! the heated length, even where the shaft steps).
 
 use super::validate::checks::positive;
-use super::{LoadedScene, RotorSpec};
+use super::{FeRotorSpec, LoadedScene, RotorSpec};
 use crate::error::SceneError;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -41,9 +46,11 @@ pub struct ThermalSpec {
     pub expansion: f64,
     /// D (m): the shaft diameter the temperature difference acts across.
     pub diameter: f64,
-    /// a (m): the axial length over which ΔT bends the shaft, centred at the disk.
+    /// a (m): the axial length over which ΔT bends the shaft, centred at the disk (Jeffcott)
+    /// or at the heated station's node (FE rotor; within the shaft).
     pub heated_length: f64,
-    /// L (m): the bearing span of the Jeffcott rotor (default: `rotor.shaft.length`).
+    /// L (m): the bearing span of the Jeffcott rotor (default: `rotor.shaft.length`). Not for
+    /// an FE rotor, which stands on its own bearings.
     #[serde(default)]
     pub span: Option<f64>,
     /// G (K/W): the steady temperature difference per watt of the heat's first harmonic.
@@ -77,8 +84,8 @@ pub struct ThermalSpec {
 }
 
 /// Checks `[thermal]`: every coefficient, length and time positive (an error names its key),
-/// the heated length within the span, a Jeffcott rotor (FE rotors: not yet), a known station,
-/// no speed profile.
+/// a known station, the heated length within the span (Jeffcott) or the shaft (FE rotor: no
+/// `span`), no speed profile.
 ///
 /// # Errors
 /// [`SceneError::Invalid`] naming the key.
@@ -110,14 +117,20 @@ pub fn validate(ls: &LoadedScene, t: &ThermalSpec) -> Result<(), SceneError> {
     if t.revolutions == 0 {
         return Err(ls.invalid(&k("revolutions"), "must be at least 1"));
     }
+    if ls.scene.stations.is_empty() {
+        return Err(ls.invalid(
+            "thermal",
+            "the rub that heats the rotor needs a `[[station]]` and a stator",
+        ));
+    }
+    if let Some(name) = &t.station {
+        if !ls.scene.stations.iter().any(|s| &s.name == name) {
+            return Err(ls.invalid(&k("station"), format!("no station named `{name}`")));
+        }
+    }
     let shaft = match &ls.scene.rotor {
         RotorSpec::Jeffcott(j) => j.shaft.as_ref().map(|s| s.length),
-        RotorSpec::Fe(_) => {
-            return Err(ls.invalid(
-                "thermal",
-                "the thermal bow is modelled on the Jeffcott rotor (`rotor.kind = \"jeffcott\"`); FE rotors are not supported yet",
-            ))
-        }
+        RotorSpec::Fe(f) => return validate_fe(ls, t, f),
     };
     let span = match (t.span, shaft) {
         (Some(l), _) => {
@@ -141,17 +154,11 @@ pub fn validate(ls: &LoadedScene, t: &ThermalSpec) -> Result<(), SceneError> {
             ),
         ));
     }
-    if ls.scene.stations.is_empty() {
-        return Err(ls.invalid(
-            "thermal",
-            "the rub that heats the rotor needs a `[[station]]` and a stator",
-        ));
-    }
-    if let Some(name) = &t.station {
-        if !ls.scene.stations.iter().any(|s| &s.name == name) {
-            return Err(ls.invalid(&k("station"), format!("no station named `{name}`")));
-        }
-    }
+    no_profile(ls)
+}
+
+/// A thermal run is at one constant speed.
+fn no_profile(ls: &LoadedScene) -> Result<(), SceneError> {
     if ls.scene.run.speed_profile.is_some() {
         return Err(ls.invalid(
             "thermal",
@@ -159,6 +166,62 @@ pub fn validate(ls: &LoadedScene, t: &ThermalSpec) -> Result<(), SceneError> {
         ));
     }
     Ok(())
+}
+
+/// The FE rotor's part of [`validate`]: no `span`, the heated station's node on the shaft and
+/// the heated length, centred there, within the shaft's ends.
+fn validate_fe(ls: &LoadedScene, t: &ThermalSpec, f: &FeRotorSpec) -> Result<(), SceneError> {
+    if t.span.is_some() {
+        return Err(ls.invalid(
+            "thermal.span",
+            "an FE rotor stands on its own bearings: the bow is the shaft's curvature on them, there is no span to give (remove `thermal.span`)",
+        ));
+    }
+    let (st, key) = match &t.station {
+        Some(name) => (
+            ls.scene.stations.iter().find(|s| &s.name == name),
+            "thermal.station",
+        ),
+        None => (ls.scene.stations.first(), "station.0.node"),
+    };
+    let node = st.map_or(0, |s| s.node);
+    let node_key = st
+        .and_then(|s| ls.scene.stations.iter().position(|o| std::ptr::eq(o, s)))
+        .map_or_else(|| "station.0.node".to_string(), |i| format!("station.{i}.node"));
+    let z = node_positions(f);
+    let Some(&zc) = z.get(node) else {
+        return Err(ls.invalid(
+            key,
+            format!(
+                "the heated station's node {node} is not a node of the shaft (nodes 0..={})",
+                z.len().saturating_sub(1)
+            ),
+        ));
+    };
+    let end = z.last().copied().unwrap_or(0.0);
+    let half = 0.5 * t.heated_length;
+    if zc - half < -1e-12 * end || zc + half > end * (1.0 + 1e-12) {
+        return Err(ls.invalid(
+            "thermal.heated_length",
+            format!(
+                "the heated length {} m centred at the station's node {node} (`{node_key}`, z = {zc} m) runs past the shaft's ends (0 … {end} m)",
+                t.heated_length
+            ),
+        ));
+    }
+    no_profile(ls)
+}
+
+/// The FE rotor's node positions (m) from its shaft segments, each cut into `elements` equal
+/// elements (as [`crate::resolve::rotor::fe_rotor`] cuts them).
+fn node_positions(f: &FeRotorSpec) -> Vec<f64> {
+    let mut z = vec![0.0];
+    for seg in &f.shaft {
+        let n = seg.elements.max(1);
+        let z0 = *z.last().unwrap_or(&0.0);
+        z.extend((1..=n).map(|i| z0 + seg.length * i as f64 / n as f64));
+    }
+    z
 }
 
 impl ThermalSpec {

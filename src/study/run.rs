@@ -279,9 +279,7 @@ fn variant_runs(req: &CasesRequest, progress: &dyn Progress) -> Result<Vec<Optio
         let scene = if var.is_base() {
             None
         } else {
-            let mut sets = ls.overrides.clone();
-            sets.extend(var.overrides.iter().cloned());
-            let l = crate::scene::parse(&ls.file, &ls.source, &sets)?;
+            let l = ls.with_overrides(&var.overrides)?;
             let m = Model::from_scene(&l)
                 .map_err(|e| e.context(format!("{}: building the model", ls.file.display())))?;
             Some((l, m))

@@ -58,8 +58,9 @@ pub const CASES_DIR: &str = "cases";
 /// The store's plan inside [`CASES_DIR`].
 pub const PLAN: &str = "plan.json";
 /// Version of the case-file format (2: the results carry the whirl of the full spectrum; 3:
-/// the numeric arrays packed, [`super::packed`]).
-pub const FORMAT: u32 = 3;
+/// the numeric arrays packed, [`super::packed`]; 4: a flagged speed's coexistence check
+/// carries its two responses as periodic orbits, `coexistence.orbits`).
+pub const FORMAT: u32 = 4;
 /// Test hook: append every case id written to this file.
 #[cfg(feature = "fault-injection")]
 pub const CASE_LOG_ENV: &str = "RUBSIM_CASE_LOG";

@@ -20,6 +20,19 @@ pub(super) fn add_unbalance(
     }
 }
 
+/// Adds the loads fixed in the rotor's frame ([`crate::model::rotor::RotatingLoad`]) at time
+/// `t` (s) to `rhs`: at the spin angle `Ω t` of the case's constant speed, or `φ` of `spin`.
+#[inline]
+pub(super) fn add_rotating(
+    case: &Case,
+    spin: Option<crate::model::SpinState>,
+    t: f64,
+    rhs: &mut [f64],
+) {
+    let phi = spin.map_or(case.omega * t, |s| s.phi);
+    case.loop_rotor().add_rotating(phi, rhs);
+}
+
 /// Most entries (steps of a revolution × unbalances) of an [`UnbalanceTable`]: 1 MiB.
 const UNBALANCE_TABLE_MAX: usize = 1 << 16;
 

@@ -6,7 +6,9 @@ use super::compliance::Compliance;
 use super::drive::{add_event_unbalance, set_clearance, Spin, SpinDof};
 use super::frame::FrameSink;
 use super::guard::{divergence_bounds, dof_name};
-use super::loop_rotor::{add_unbalance, full_len, rotor_contact_dofs, UnbalanceTable};
+use super::loop_rotor::{
+    add_rotating, add_unbalance, full_len, rotor_contact_dofs, UnbalanceTable,
+};
 use super::plan::{Initial, Scheme, StepPlan};
 use super::record::{ContactStats, Record, Recorder, RunStats};
 use super::reduced::ReducedDyn;
@@ -272,6 +274,7 @@ impl<'a> Stepper<'a> {
         let mut f0 = vec![0.0; n];
         add_unbalance(case, self.spin.state(0.0), 0.0, &mut f0);
         add_event_unbalance(&self.events, case, self.spin.state(0.0), 0.0, &mut f0);
+        add_rotating(case, self.spin.state(0.0), 0.0, &mut f0);
         let mut u0 = vec![0.0; n];
         let mut v0 = vec![0.0; n];
         for c in 0..2 {
@@ -560,6 +563,7 @@ impl<'a> Stepper<'a> {
             None => add_unbalance(self.case, next, at, &mut self.rotor.rhs),
         }
         add_event_unbalance(&self.events, self.case, next, at, &mut self.rotor.rhs);
+        add_rotating(self.case, next, at, &mut self.rotor.rhs);
         match (&mut self.gyro, now, next) {
             (Some(g), Some(now), Some(next)) if implicit => {
                 if self.rotor.load() {

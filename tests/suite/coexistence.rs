@@ -42,6 +42,7 @@ const SAMPLING: f64 = 2e-3;
 
 fn coexistence(r: &SpeedResults) -> rubsim::analysis::Coexistence {
     r.coexistence
+        .clone()
         .unwrap_or_else(|| panic!("ν = {}: the check was not run", r.speed_ratio))
 }
 

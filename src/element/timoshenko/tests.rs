@@ -558,3 +558,45 @@ fn rotary_inertia_switch_leaves_the_gyroscopic_matrix() {
         assert!(off.g.iter().flatten().any(|v| *v != 0.0));
     }
 }
+
+/// The thermal curvature load of a whole element is the moment pair `E I κ [0, −1, 0, 1]`, and
+/// the element, loaded by it, bends exactly into the free curvature: `K u = f` for
+/// `w = κ z²/2`, `φ = κ z` (with shear: Φ = 84 and 0.008, and Euler–Bernoulli), in both planes
+/// with their signs (y–z: `θ_x = −∂u_y/∂z`). Two halves add up to the whole.
+#[test]
+#[allow(clippy::needless_range_loop)]
+fn a_thermal_curvature_load_bends_the_element_into_its_free_curvature() {
+    for (length, shear) in [(0.01, true), (1.0, true), (0.3, false)] {
+        let mut s = sec(shear);
+        s.length = length;
+        let ei = s.youngs_modulus * s.inertia();
+        let e = shaft_element(&s);
+        let (fx, fy) = thermal_curvature_load(&s, (0.0, 1.0));
+        let scale = ei;
+        let kappa = 1.0;
+        // u_x = κz²/2 (θ_y = κz); u_y = κz²/2 (θ_x = −κz).
+        let mut ux = [0.0; 8];
+        ux[4] = kappa * length * length / 2.0;
+        ux[7] = kappa * length;
+        let mut uy = [0.0; 8];
+        uy[5] = kappa * length * length / 2.0;
+        uy[6] = -kappa * length;
+        for (u, f) in [(ux, fx), (uy, fy)] {
+            for r in 0..8 {
+                let ku: f64 = (0..8).map(|c| e.k[r][c] * u[c]).sum();
+                assert!(
+                    (ku - f[r]).abs() < 1e-9 * scale,
+                    "L {length}: row {r}: {ku} vs {}",
+                    f[r]
+                );
+            }
+        }
+        assert!((fx[3] + ei).abs() < 1e-9 * ei && (fx[7] - ei).abs() < 1e-9 * ei);
+        assert!((fy[2] - ei).abs() < 1e-9 * ei && (fy[6] + ei).abs() < 1e-9 * ei);
+        let (ax, _) = thermal_curvature_load(&s, (0.0, 0.37));
+        let (bx, _) = thermal_curvature_load(&s, (0.37, 1.0));
+        for r in 0..8 {
+            assert!((ax[r] + bx[r] - fx[r]).abs() < 1e-9 * ei);
+        }
+    }
+}
