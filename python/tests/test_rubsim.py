@@ -313,6 +313,24 @@ def test_periodic_orbits_and_their_branch(tmp_path):
         scene.continuation(2.0, 2.6, 0.1, arclength=True, switch=True)
 
 
+def test_a_branch_in_a_scene_key_from_python(tmp_path):
+    """`Scene.continuation(key=...)` continues the orbit in a scene key at one speed as
+    `rubsim continue --key` does (docs/VALIDATION.md §19.2): the same branch, its column named
+    by the key, and the refusals of a key it cannot continue."""
+    scene = rubsim.Scene(PAPER)
+    b = scene.continuation(0.1, 0.2, 0.05, key="station.0.friction", speed=2.0, period=1)
+    assert b.parameter == "station.0.friction"
+    assert np.allclose(b.table["parameter"], [0.1, 0.15, 0.2])
+    assert np.all(b.table["speed_ratio"] == 2.0)
+    cli("continue", PAPER, "--key", "station.0.friction", "--speed", "2.0", "--from", "0.1",
+        "--to", "0.2", "--step", "0.05", "--period", "1", "--out", tmp_path / "k")
+    assert without_wall(summary(tmp_path / "k")["branch"]) == without_wall(b.summary)
+    with pytest.raises(rubsim.RubsimError, match="frictoin"):
+        scene.continuation(0.1, 0.2, 0.05, key="station.0.frictoin", speed=2.0)
+    with pytest.raises(ValueError, match="key="):
+        scene.continuation(2.0, 2.2, 0.1, speed=2.0)
+
+
 def test_the_thermal_spiral_from_python(tmp_path):
     """`Scene.thermal` runs `[thermal]` as `rubsim run` does (issue 27): the same spiral, and
     `run()` refuses such a scene instead of ignoring its heat."""

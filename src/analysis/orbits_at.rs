@@ -10,7 +10,8 @@
 //! stability and residual are the new shot's. A value outside every branch's range is
 //! reported, not shot.
 
-use super::branch::{request, Branch};
+use super::branch::Branch;
+use super::parameter::request;
 use super::periodic::{self, PeriodicOrbit};
 use super::speed::{prepare, Prepared};
 use super::RunSettings;

@@ -264,7 +264,7 @@ pub fn pinned_reduction(model: &Model, s: &RunSettings, top_ratio: f64) -> Resul
 
 /// The run request of the continuation at ν: the scene's settings, no follow-ups
 /// ([`Continued::prepare`]'s).
-fn request(s: &RunSettings, v: f64) -> super::RunRequest {
+pub(super) fn request(s: &RunSettings, v: f64) -> super::RunRequest {
     let mut r = s.request(v);
     r.follow_ups = super::FollowUps::default();
     r

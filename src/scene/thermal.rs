@@ -187,7 +187,10 @@ fn validate_fe(ls: &LoadedScene, t: &ThermalSpec, f: &FeRotorSpec) -> Result<(),
     let node = st.map_or(0, |s| s.node);
     let node_key = st
         .and_then(|s| ls.scene.stations.iter().position(|o| std::ptr::eq(o, s)))
-        .map_or_else(|| "station.0.node".to_string(), |i| format!("station.{i}.node"));
+        .map_or_else(
+            || "station.0.node".to_string(),
+            |i| format!("station.{i}.node"),
+        );
     let z = node_positions(f);
     let Some(&zc) = z.get(node) else {
         return Err(ls.invalid(
