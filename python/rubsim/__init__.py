@@ -404,9 +404,11 @@ class Transient:
     ``t`` (s), ``omega`` (rad/s), ``frequency`` (the strongest line, rad/s, backward < 0),
     ``contact_fraction``, ``stick_fraction`` (NaN without stick) and ``dry_rub`` (a list of
     ``"whirl"``, ``"whip"`` or ``None``), as ``full_waterfall.csv`` has them; ``wear``
-    (``None`` without ``[stator.wear]``): ``history`` (n × 3: t, volume worn m³, largest depth
-    m) and the worn contact nodes' columns ``stator``, ``node``, ``x``, ``y``, ``z``,
-    ``angle_deg``, ``area``, ``depth`` (m), as ``wear.csv`` and ``worn_depth.csv`` have them."""
+    (``None`` without ``[stator.wear]`` or ``[stator.abradable]``): ``history`` (n × 3: t,
+    volume removed m³, largest depth m) and the worn contact nodes' columns ``stator``,
+    ``node``, ``x``, ``y``, ``z``, ``angle_deg``, ``area``, ``depth`` (m) and, with an
+    abradable coating, ``abraded`` (m, its plastic shortening, part of ``depth``), as
+    ``wear.csv`` and ``worn_depth.csv`` have them."""
 
     def __init__(self, d: dict):
         self.summary = json.loads(d["summary"])

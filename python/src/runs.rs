@@ -219,7 +219,8 @@ fn windows<'py>(py: Python<'py>, wf: &[WaterfallWindow]) -> PyResult<Bound<'py, 
 
 /// A transient's wear (`[stator.wear]`) as a dict: `history` (n × 3: t s, volume worn m³,
 /// largest depth m), the worn contact nodes' columns `stator` (names), `node`, `x`, `y`, `z`,
-/// `angle_deg`, `area`, `depth`; `None` without wear.
+/// `angle_deg`, `area`, `depth` and, with an abradable coating, `abraded`; `None` without wear
+/// or coating.
 fn wear<'py>(
     py: Python<'py>,
     w: Option<&rubsim::analysis::wear::WearResults>,
@@ -243,6 +244,10 @@ fn wear<'py>(
     d.set_item("angle_deg", col(&|n| n.angle_deg))?;
     d.set_item("area", col(&|n| n.area_m2))?;
     d.set_item("depth", col(&|n| n.depth_m))?;
+    // With an abradable coating (`[stator.abradable]`): its plastic shortening, part of `depth`.
+    if w.abradable.is_some() {
+        d.set_item("abraded", col(&|n| n.abraded_m))?;
+    }
     Ok(Some(d))
 }
 
