@@ -442,7 +442,9 @@ class Thermal:
     ``non_synchronous`` (the orbit's change over a revolution relative to its radius);
     ``growth_rate`` (1/s) and ``rotation_rate`` (rad/s) of the spiral, ``runaway_at_s``,
     ``unsynchronous_at_s`` (where the vibration stopped being synchronous and the run stopped);
-    ``summary`` (everything)."""
+    ``error`` (the error estimate of ``run.error_estimate``, a dict: ``delta_t`` relative to
+    the largest |ΔT|, ``growth_rate``, ``rotation_rate`` and its ``coupling`` and ``step``
+    parts; None without it); ``summary`` (everything)."""
 
     def __init__(self, d: dict):
         self.summary = json.loads(d["summary"])
@@ -457,6 +459,7 @@ class Thermal:
         self.rotation_rate = self.summary["rotation_rate"]
         self.runaway_at_s = self.summary["runaway_at_s"]
         self.unsynchronous_at_s = self.summary["unsynchronous_at_s"]
+        self.error = self.summary.get("error")
         self.dir = None if d["dir"] is None else pathlib.Path(d["dir"])
 
     def __repr__(self) -> str:

@@ -18,13 +18,18 @@
 //! (at most [`MAX_STEP_HALVINGS`] times) and grows back by 1.5 after an easy one. The
 //! multipliers at each point are the eigenvalues of `∂P/∂y` there.
 //!
-//! **Folds** are where ν turns back: the secant's ν-component changes sign between two points;
-//! the fold's speed is the vertex of the parabola ν(σ) through the three points around it (σ the
-//! arclength), reported with the interval of the points. A change of stability that is not a
-//! fold (a multiplier through −1 or a complex pair) is reported with the interval of its two
-//! points.
+//! **Folds** are where ν turns back: the secant's ν-component changes sign between two points.
+//! A simple fold is a real multiplier through +1, where `det(∂P/∂y − I)` changes sign; the
+//! segment of the branch on which it does is bisected in arclength [`LOCATE_STEPS`] times (each
+//! midpoint predicted on the chord and corrected on the plane normal to it, as any point), and
+//! the fold's ν is the vertex of the parabola ν(σ) through the last interval's two ends and its
+//! midpoint (σ the arclength). Without such a sign change on either side (two multipliers at
+//! once) the vertex through the three grid points around the turn is kept. A change of
+//! stability that is not a fold (a multiplier through −1: a period doubling; a complex pair: a
+//! Neimark–Sacker point) is located by the same bisection on the segment between its two points,
+//! with the stability at each midpoint as the test, and reported at the last interval's middle.
 
-use super::branch::{Bifurcation, Branch, BranchPoint};
+use super::branch::{Bifurcation, Branch, BranchPoint, LOCATE_STEPS};
 use super::parameter::Continued;
 use super::periodic;
 use super::speed::Prepared;
@@ -130,22 +135,24 @@ pub fn arclength_in(
     let (y1, it1) = arc.correct_at(y0.clone(), from + dir * h)?;
     let w1 = arc.w(&y1, from + dir * h);
     branch.points.push(arc.point(&y1, from + dir * h, it1)?);
-    follow(&mut arc, &mut branch, vec![w0, w1], (lo, hi), max_points);
-    stability_changes(&mut branch);
+    let ws = follow(&mut arc, &mut branch, vec![w0, w1], (lo, hi), max_points);
+    locate_folds(&mut arc, &ws, &mut branch);
+    stability_changes(&mut arc, &ws, &mut branch);
     branch.steps += arc.steps;
     Ok(branch)
 }
 
 /// Continues `branch` from its last two points `ws` (scaled unknowns) by pseudo-arclength
 /// until it leaves `[lo, hi]`, holds `max_points` points or its corrector fails with the step
-/// halved [`MAX_STEP_HALVINGS`] times; folds found on the way are added.
+/// halved [`MAX_STEP_HALVINGS`] times. Returns the scaled unknowns of every point, in the
+/// order of `branch.points`.
 fn follow(
     arc: &mut Arc<'_>,
     branch: &mut Branch,
     mut ws: Vec<Vec<f64>>,
     (lo, hi): (f64, f64),
     max_points: usize,
-) {
+) -> Vec<Vec<f64>> {
     let mut ds = dist(&ws[0], &ws[1]);
     let ds_max = 4.0 * ds;
     while branch.points.len() < max_points {
@@ -188,11 +195,11 @@ fn follow(
             }
         }
         ws.push(w);
-        fold_between(arc.c, &ws, &branch.points, &mut branch.bifurcations);
         if !(lo..=hi).contains(&v) {
             break;
         }
     }
+    ws
 }
 
 impl Arc<'_> {
@@ -417,67 +424,155 @@ fn unit(a: &[f64]) -> Vec<f64> {
     a.iter().map(|d| d / n).collect()
 }
 
-/// A fold between the last points: ν's direction along the branch turns; its speed is the
-/// vertex of the parabola ν(σ) through the last three points.
-fn fold_between(
-    param: &Continued<'_>,
-    ws: &[Vec<f64>],
-    points: &[BranchPoint],
-    out: &mut Vec<Bifurcation>,
-) {
-    let n = ws.len();
-    if n < 3 {
-        return;
-    }
-    let nu = |w: &Vec<f64>| *w.last().unwrap_or(&f64::NAN);
-    let (a, b, c) = (nu(&ws[n - 3]), nu(&ws[n - 2]), nu(&ws[n - 1]));
-    if (b - a) * (c - b) >= 0.0 {
-        return;
-    }
-    let (s1, s2) = (dist(&ws[n - 3], &ws[n - 2]), dist(&ws[n - 2], &ws[n - 1]));
-    // ν(σ) through (0, a), (s1, b), (s1 + s2, c): the vertex.
+/// The vertex of the parabola ν(σ) through the points `ws` (three, in order along the branch),
+/// σ the arclength along their chords; the middle one's ν when they are on a line.
+fn vertex(ws: [&[f64]; 3]) -> f64 {
+    let nu = |w: &[f64]| *w.last().unwrap_or(&f64::NAN);
+    let (a, b, c) = (nu(ws[0]), nu(ws[1]), nu(ws[2]));
+    let (s1, s2) = (dist(ws[0], ws[1]), dist(ws[1], ws[2]));
+    // ν(σ) through (0, a), (s1, b), (s1 + s2, c).
     let (x1, x2) = (s1, s1 + s2);
     let d1 = (b - a) / x1;
     let d2 = (c - b) / (x2 - x1);
     let curv = (d2 - d1) / x2;
-    let vertex = if curv != 0.0 {
+    if curv != 0.0 && curv.is_finite() {
         let sv = 0.5 * (x1 - d1 / curv);
         a + d1 * sv + curv * sv * (sv - x1)
     } else {
         b
-    };
-    let m = points.len();
-    let rho = |p: &BranchPoint| p.rho1;
-    out.push(Bifurcation {
-        kind: "fold",
-        between: [a.min(b).min(c), a.max(b).max(c)],
-        parameter: vertex,
-        speed_ratio: param.speed_ratio(vertex),
-        rho: [rho(&points[m - 2]), rho(&points[m - 1])],
-    });
+    }
 }
 
-/// Changes of stability between consecutive points that no fold explains, with the interval
-/// of their two points.
-fn stability_changes(b: &mut Branch) {
+/// A located point: the bracketing unknowns `[a, b]` (the test's value at `a` kept) and their
+/// midpoint, after [`LOCATE_STEPS`] bisections or the first corrector that failed.
+struct Bracket {
+    ends: [Vec<f64>; 2],
+    mid: Option<Vec<f64>>,
+}
+
+impl Arc<'_> {
+    /// `det(∂P/∂y − I) > 0` at the scaled unknowns `w`: its sign changes where a real
+    /// multiplier crosses +1 (a fold).
+    fn det_positive(&mut self, w: &[f64]) -> Result<bool> {
+        let (y, v) = (self.y(w), w[w.len() - 1]);
+        let n = y.len();
+        let a = self.dp_dy(&y, v)? - DMatrix::<f64>::identity(n, n);
+        Ok(a.determinant() > 0.0)
+    }
+
+    /// Every multiplier inside the unit circle at the scaled unknowns `w`, and the largest.
+    fn stable_at(&mut self, w: &[f64]) -> Result<(bool, [f64; 2])> {
+        let (y, v) = (self.y(w), w[w.len() - 1]);
+        let rho = periodic::floquet(&self.dp_dy(&y, v)?);
+        let r = rho.first().copied().unwrap_or_default();
+        Ok((r[0].hypot(r[1]) < 1.0, r))
+    }
+
+    /// The point halfway along the chord from `a` to `b`, corrected on the plane normal to it.
+    fn midpoint(&mut self, a: &[f64], b: &[f64]) -> Option<Vec<f64>> {
+        let t = unit(&sub(b, a));
+        let half = 0.5 * dist(a, b);
+        let wp: Vec<f64> = a.iter().zip(&t).map(|(a, t)| a + half * t).collect();
+        self.corrector(&wp, &t).ok().flatten().map(|(w, _)| w)
+    }
+
+    /// Bisects the segment from `a` to `b` along the branch [`LOCATE_STEPS`] times, keeping the
+    /// half on which `test` differs between its ends (`test(a)` given as `at_a`).
+    fn bisect(
+        &mut self,
+        (a, b): (&[f64], &[f64]),
+        at_a: bool,
+        test: &mut dyn FnMut(&mut Self, &[f64]) -> Result<bool>,
+    ) -> Bracket {
+        let (mut a, mut b) = (a.to_vec(), b.to_vec());
+        let mut mid = None;
+        for _ in 0..LOCATE_STEPS {
+            let Some(m) = self.midpoint(&a, &b) else {
+                break;
+            };
+            match test(self, &m) {
+                Ok(t) if t == at_a => a = m.clone(),
+                Ok(_) => b = m.clone(),
+                Err(_) => break,
+            }
+            mid = Some(m);
+        }
+        let mid = self.midpoint(&a, &b).or(mid);
+        Bracket { ends: [a, b], mid }
+    }
+}
+
+/// Every fold of the branch (ν turns back at a point): located by bisection on the side of the
+/// turn where `det(∂P/∂y − I)` changes sign (module docs), else the vertex through the three
+/// grid points.
+fn locate_folds(arc: &mut Arc<'_>, ws: &[Vec<f64>], branch: &mut Branch) {
+    let nu = |w: &Vec<f64>| *w.last().unwrap_or(&f64::NAN);
+    let points = &branch.points;
+    for i in 1..ws.len().saturating_sub(1) {
+        let (a, b, c) = (nu(&ws[i - 1]), nu(&ws[i]), nu(&ws[i + 1]));
+        if (b - a) * (c - b) >= 0.0 {
+            continue;
+        }
+        let mut fold = vertex([&ws[i - 1], &ws[i], &ws[i + 1]]);
+        let mut between = [a.min(b).min(c), a.max(b).max(c)];
+        let dets: Vec<Option<bool>> = (i - 1..=i + 1)
+            .map(|j| arc.det_positive(&ws[j]).ok())
+            .collect();
+        let side = [0, 1]
+            .into_iter()
+            .find(|&k| matches!((dets[k], dets[k + 1]), (Some(x), Some(y)) if x != y));
+        if let Some(k) = side {
+            let j = i - 1 + k;
+            let at_a = dets[k] == Some(true);
+            let r = arc.bisect((&ws[j], &ws[j + 1]), at_a, &mut |arc, w| {
+                arc.det_positive(w)
+            });
+            if let Some(m) = &r.mid {
+                fold = vertex([&r.ends[0], m, &r.ends[1]]);
+                let (x, y) = (nu(&r.ends[0]), nu(&r.ends[1]));
+                between = [x.min(y).min(fold), x.max(y).max(fold)];
+            }
+        }
+        branch.bifurcations.push(Bifurcation {
+            kind: "fold",
+            between,
+            parameter: fold,
+            speed_ratio: arc.c.speed_ratio(fold),
+            rho: [points[i].rho1, points[i + 1].rho1],
+        });
+    }
+}
+
+/// Changes of stability between consecutive points that no fold explains, located by
+/// bisection in arclength (module docs): the last interval and its middle.
+fn stability_changes(arc: &mut Arc<'_>, ws: &[Vec<f64>], b: &mut Branch) {
     let mut found = Vec::new();
-    for pair in b.points.windows(2) {
+    for (i, pair) in b.points.windows(2).enumerate() {
         let (p, q) = (&pair[0], &pair[1]);
         if p.stable == q.stable {
             continue;
         }
-        let (lo, hi) = (p.parameter.min(q.parameter), p.parameter.max(q.parameter));
         let unstable = if p.stable { q } else { p };
         let stable = if p.stable { p } else { q };
         if unstable.instability == Some("fold") {
             continue; // the fold's own report
         }
+        let mut rho = [stable.rho1, unstable.rho1];
+        let r = arc.bisect((&ws[i], &ws[i + 1]), p.stable, &mut |arc, w| {
+            let (st, r) = arc.stable_at(w)?;
+            rho[usize::from(!st)] = r;
+            Ok(st)
+        });
+        let nu = |w: &[f64]| *w.last().unwrap_or(&f64::NAN);
+        let (x, y) = (nu(&r.ends[0]), nu(&r.ends[1]));
+        let (lo, hi) = (x.min(y), x.max(y));
+        let at = r.mid.as_deref().map_or(0.5 * (lo + hi), nu).clamp(lo, hi);
         found.push(Bifurcation {
             kind: unstable.instability.unwrap_or("unknown"),
             between: [lo, hi],
-            parameter: 0.5 * (lo + hi),
-            speed_ratio: 0.5 * (p.speed_ratio + q.speed_ratio),
-            rho: [stable.rho1, unstable.rho1],
+            parameter: at,
+            speed_ratio: arc.c.speed_ratio(at),
+            rho,
         });
     }
     b.bifurcations.extend(found);

@@ -196,6 +196,53 @@ pub struct ThermalResults {
     /// the curvature load, rotor frame (empty for a Jeffcott rotor).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub bow_shape: Vec<BowPoint>,
+    /// The vibration's time step Δt (s).
+    pub dt_s: f64,
+    /// The run's error estimate (`run.error_estimate`; `None` without it): [`ThermalError`].
+    pub error: Option<ThermalError>,
+}
+
+/// A thermal run's error estimate: the run repeated with its coupling step doubled (2h; a
+/// resolved run's chunks twice as long) and with its time step doubled (2Δt), each compared
+/// with the run at the coupling steps they share. Each difference is taken whole as the run's
+/// error from that source (first order; the coupling converges at a measured order of 1.7 and
+/// the step at the scheme's, so the whole difference over-estimates both), and `delta_t` adds
+/// the two. The linear theory's own assumption and the hot-spot model's are not in it.
+#[derive(Debug, Clone, Serialize)]
+pub struct ThermalError {
+    /// Estimated error of ΔT over the run, relative to its largest |ΔT|: `coupling.delta_t +
+    /// step.delta_t` (the step's part 0 when its companion could not run).
+    pub delta_t: f64,
+    /// Estimated error of the growth rate (1/s), the two parts added.
+    pub growth_rate: f64,
+    /// Estimated error of the rotation rate (1/s), the two parts added.
+    pub rotation_rate: f64,
+    /// The coupling step's part: the run against its companion at 2h.
+    pub coupling: Difference,
+    /// The time step's part: the run against its companion at 2Δt; `None` when that companion
+    /// failed (`step_failed` says why: a 2Δt past the scheme's stability limit, typically).
+    pub step: Option<Difference>,
+    /// Why the 2Δt companion gave no estimate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_failed: Option<String>,
+    /// Steps the companions integrated.
+    pub steps: u64,
+}
+
+/// How far a companion's spiral is from the run's.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Difference {
+    /// The companion's coupling step (s).
+    pub coupling_step_s: f64,
+    /// The companion's time step (s).
+    pub dt_s: f64,
+    /// Largest |ΔT − ΔT_companion| at the coupling steps both have, relative to the run's
+    /// largest |ΔT| there.
+    pub delta_t: f64,
+    /// |growth rate − the companion's| (1/s).
+    pub growth_rate: f64,
+    /// |rotation rate − the companion's| (1/s).
+    pub rotation_rate: f64,
 }
 
 /// One node of [`ThermalResults::bow_shape`].
@@ -244,7 +291,8 @@ impl Bow {
 }
 
 /// Runs the thermal spiral of `model` at ν = `speed_ratio` with the settings `s` and the
-/// hot-spot model `hs` (module docs).
+/// hot-spot model `hs` (module docs), and — `run.error_estimate` — its error estimate
+/// ([`ThermalError`]: about 1.5 to 2 times the run's cost again).
 ///
 /// # Errors
 /// As [`prepare`] and the vibration's runs; [`Error::Study`] for a state that does not
@@ -257,7 +305,83 @@ pub fn run_thermal(
 ) -> Result<ThermalResults> {
     let mut request = s.request_at(0, speed_ratio);
     request.follow_ups = super::FollowUps::default();
-    let mut prep = prepare(model, &request)?;
+    let mut r = spiral(model, &request, speed_ratio, hs)?;
+    if s.error_estimate {
+        r.error = Some(estimate(model, &request, hs, &r)?);
+    }
+    Ok(r)
+}
+
+/// The run's [`ThermalError`]: its companions at 2h and 2Δt.
+///
+/// # Errors
+/// The 2h companion's (it runs what the run ran, at a longer coupling step).
+fn estimate(
+    model: &Model,
+    request: &super::RunRequest,
+    hs: &HotSpot,
+    r: &ThermalResults,
+) -> Result<ThermalError> {
+    let coarse = match hs.step {
+        Some(h) => HotSpot {
+            step: Some(2.0 * h),
+            ..*hs
+        },
+        None => HotSpot {
+            revolutions: 2 * hs.revolutions,
+            ..*hs
+        },
+    };
+    let c = spiral(model, request, r.speed_ratio, &coarse)?;
+    let coupling = difference(r, &c, 2);
+    let mut at_2dt = *request;
+    at_2dt.step.dt = Some(2.0 * r.dt_s);
+    let (step, step_failed, step_steps) = match spiral(model, &at_2dt, r.speed_ratio, hs) {
+        Ok(d) => (Some(difference(r, &d, 1)), None, d.steps),
+        Err(e) => (None, Some(e.to_string()), 0),
+    };
+    let part = |f: fn(&Difference) -> f64| f(&coupling) + step.as_ref().map_or(0.0, f);
+    Ok(ThermalError {
+        delta_t: part(|d| d.delta_t),
+        growth_rate: part(|d| d.growth_rate),
+        rotation_rate: part(|d| d.rotation_rate),
+        coupling,
+        step,
+        step_failed,
+        steps: c.steps + step_steps,
+    })
+}
+
+/// How far the companion `c` is from the run `r`, at the coupling steps both have (`c`'s
+/// `j`-th at `r`'s `every·j`-th).
+fn difference(r: &ThermalResults, c: &ThermalResults, every: usize) -> Difference {
+    let (mut worst, mut size) = (0.0_f64, 0.0_f64);
+    for (j, b) in c.samples.iter().enumerate() {
+        let Some(a) = r.samples.get(every * j) else {
+            break;
+        };
+        let d = [a.delta_t[0] - b.delta_t[0], a.delta_t[1] - b.delta_t[1]];
+        worst = worst.max(d[0].hypot(d[1]));
+        size = size.max(a.delta_t[0].hypot(a.delta_t[1]));
+    }
+    Difference {
+        coupling_step_s: c.coupling_step_s,
+        dt_s: c.dt_s,
+        delta_t: if size > 0.0 { worst / size } else { 0.0 },
+        growth_rate: (r.growth_rate - c.growth_rate).abs(),
+        rotation_rate: (r.rotation_rate - c.rotation_rate).abs(),
+    }
+}
+
+/// The spiral of `model` run by `request` at ν = `speed_ratio` with the hot-spot model `hs`
+/// (module docs), without its error estimate.
+fn spiral(
+    model: &Model,
+    request: &super::RunRequest,
+    speed_ratio: f64,
+    hs: &HotSpot,
+) -> Result<ThermalResults> {
+    let mut prep = prepare(model, request)?;
     let bow_model = Bow::of(model, &prep, hs)?;
     let omega = prep.omega;
     let spr = prep.plan.steps_per_rev.max(1);
@@ -266,7 +390,7 @@ pub fn run_thermal(
     let h = hs.step.unwrap_or(chunk_time);
     let (mut end, mut steps) = first_state(&prep, &settle)?;
     // An accelerated step's vibration goes on until its 1× vector is steady to the tolerance.
-    let steady = hs.step.map(|_| s.tolerance);
+    let steady = hs.step.map(|_| request.tolerance);
     let (mut sf, mut dt) = (hs.initial, hs.initial);
     let mut samples = Vec::new();
     let mut t = 0.0;
@@ -331,6 +455,8 @@ pub fn run_thermal(
                 bow: cmul(b, end_dt),
             })
             .collect(),
+        dt_s: chunk.dt,
+        error: None,
     })
 }
 

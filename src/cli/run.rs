@@ -226,6 +226,29 @@ fn print_dry_spans(spans: &[rubsim::analysis::waterfall::DrySpan]) {
     }
 }
 
+/// Prints a thermal run's error estimate and its two parts (`run.error_estimate`).
+fn print_thermal_error(r: &analysis::thermal::ThermalResults) {
+    let Some(e) = &r.error else { return };
+    println!(
+        "  estimated error: ΔT within {:.2e} of its largest, growth rate ± {:.2e} 1/s, rotation ± {:.2e} rad/s (coupling step: {:.2e} against h = {:.4e} s; time step: {})",
+        e.delta_t,
+        e.growth_rate,
+        e.rotation_rate,
+        e.coupling.delta_t,
+        e.coupling.coupling_step_s,
+        e.step.map_or_else(
+            || "no estimate".to_string(),
+            |d| format!("{:.2e} against Δt = {:.4e} s", d.delta_t, d.dt_s)
+        )
+    );
+    if let Some(why) = &e.step_failed {
+        eprintln!(
+            "warning: ω/ωn = {:.3}: the thermal run's companion at 2Δt failed ({why}): its error estimate leaves out the time step's part",
+            r.speed_ratio
+        );
+    }
+}
+
 /// Prints a thermal run's end: the coupling, the spiral's growth and rotation, a runaway.
 fn print_thermal(r: &analysis::thermal::ThermalResults) {
     let last = r.samples.last();
@@ -259,6 +282,7 @@ fn print_thermal(r: &analysis::thermal::ThermalResults) {
             "settling"
         }
     );
+    print_thermal_error(r);
     if let Some(t) = r.unsynchronous_at_s {
         let change = r.samples.last().map_or(0.0, |s| s.non_synchronous);
         eprintln!(

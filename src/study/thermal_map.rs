@@ -205,7 +205,12 @@ pub fn run(ls: &LoadedScene, model: &Model) -> Result<ThermalMap> {
             let lv = crate::scene::parse(&ls.file, &ls.source, &sets)
                 .map_err(|e| at(v, None, e.into()))?;
             let m = Model::from_scene(&lv).map_err(|e| at(v, None, e))?;
-            let settings = crate::analysis::RunSettings::from_scene(&lv.scene);
+            // A cell's class and growth rate are the map's; its error estimate (two more
+            // spirals per cell) is left to `rubsim run` at the cell's speed and values.
+            let settings = crate::analysis::RunSettings {
+                error_estimate: false,
+                ..crate::analysis::RunSettings::from_scene(&lv.scene)
+            };
             Ok((lv, m, settings))
         })
         .collect::<Result<_>>()?;

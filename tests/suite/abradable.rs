@@ -414,8 +414,7 @@ fn the_casing_scene_cuts_a_groove_all_round_and_the_rub_ends_by_itself() {
         ],
     );
     let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
-            .unwrap();
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let w = &s["transient"]["wear"];
     assert_eq!(w["free_at_end"], true, "{w}");
     let a = &w["abradable"];

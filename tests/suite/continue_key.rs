@@ -298,3 +298,62 @@ fn the_continue_command_in_a_key_writes_its_column_and_refuses_what_it_cannot_co
         assert!(!dir.exists(), "{args:?} wrote {}", dir.display());
     }
 }
+
+/// The fold and the Neimark–Sacker point of a pseudo-arclength branch located by bisection in
+/// arclength (`analysis::arclength`: the sign of det(∂P/∂y − I) for the fold, the stability
+/// for the torus), independently of the continuation step: the ring's fold in its stiffness at
+/// ν 2.8 at first steps 1, 0.5 and 0.25 (the vertex through the grid points gave 9.3301,
+/// 9.3183, 9.2991), and the ring's full rub in speed losing stability to a torus at steps 0.1
+/// and 0.05.
+#[test]
+fn arclength_folds_and_tori_are_located_independently_of_the_step() {
+    let folds: Vec<f64> = [1.0, 0.5, 0.25]
+        .iter()
+        .map(|&h| {
+            let d = key_branch(
+                RING,
+                ("stator.0.stiffness_ratio", 2.8),
+                (25.0, 5.0, h),
+                1,
+                Some(400),
+            );
+            let b = &d.branches[0];
+            let f: Vec<_> = b.bifurcations.iter().filter(|x| x.kind == "fold").collect();
+            assert_eq!(f.len(), 1, "step {h}: {:?}", b.bifurcations);
+            f[0].parameter
+        })
+        .collect();
+    let spread = folds
+        .iter()
+        .fold(0.0_f64, |m, a| m.max((a - folds[1]).abs()));
+    eprintln!("folds in κ at steps 1, 0.5, 0.25: {folds:?}, spread {spread:.2e}");
+    assert!(spread < 1e-3, "{folds:?}");
+    let (ls, m) = common::file_model(&repo(RING), NO_SETS);
+    let tori: Vec<f64> = [0.1, 0.05]
+        .iter()
+        .map(|&h| {
+            let b = rubsim::analysis::arclength::continue_arclength(
+                &m,
+                &common::settings(&ls),
+                (1.8, 4.8, h),
+                Some(1),
+                400,
+            )
+            .expect("continue");
+            let ns: Vec<_> = b
+                .bifurcations
+                .iter()
+                .filter(|x| x.kind == "neimark_sacker")
+                .collect();
+            assert_eq!(ns.len(), 1, "step {h}: {:?}", b.bifurcations);
+            assert!(
+                ns[0].between[1] - ns[0].between[0] < h / 16.0,
+                "{:?}",
+                ns[0]
+            );
+            ns[0].parameter
+        })
+        .collect();
+    eprintln!("Neimark–Sacker in ν at steps 0.1, 0.05: {tori:?}");
+    assert!((tori[0] - tori[1]).abs() < 1e-3, "{tori:?}");
+}
