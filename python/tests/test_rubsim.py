@@ -343,6 +343,8 @@ def test_the_thermal_spiral_from_python(tmp_path):
     assert th.growth_rate == want["growth_rate"] > 0
     assert np.all(np.diff(np.abs(th.delta_t)[5:]) > 0)
     assert np.allclose(np.abs(th.bow), np.abs(th.delta_t) * want["bow_per_kelvin"])
+    # Its error estimate (run.error_estimate): companions at 2h and 2Δt, as the command prints.
+    assert th.error == want["error"] and 0 < th.error["delta_t"] < 0.1
     with pytest.raises(rubsim.StudyError, match="thermal"):
         scene.run()
 
