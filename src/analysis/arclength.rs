@@ -27,7 +27,8 @@
 //! once) the vertex through the three grid points around the turn is kept. A change of
 //! stability that is not a fold (a multiplier through −1: a period doubling; a complex pair: a
 //! Neimark–Sacker point) is located by the same bisection on the segment between its two points,
-//! with the stability at each midpoint as the test, and reported at the last interval's middle.
+//! with the stability at each midpoint as the test, and reported at the last interval's middle;
+//! so is a grazing point (one point touching a stator, the next not) with contact as the test.
 
 use super::branch::{Bifurcation, Branch, BranchPoint, LOCATE_STEPS};
 use super::parameter::Continued;
@@ -138,6 +139,7 @@ pub fn arclength_in(
     let ws = follow(&mut arc, &mut branch, vec![w0, w1], (lo, hi), max_points);
     locate_folds(&mut arc, &ws, &mut branch);
     stability_changes(&mut arc, &ws, &mut branch);
+    grazings(&mut arc, &ws, &mut branch);
     branch.steps += arc.steps;
     Ok(branch)
 }
@@ -468,12 +470,34 @@ impl Arc<'_> {
         Ok((r[0].hypot(r[1]) < 1.0, r))
     }
 
-    /// The point halfway along the chord from `a` to `b`, corrected on the plane normal to it.
+    /// Whether the orbit at the scaled unknowns `w` touches a stator over its period.
+    fn touches_at(&mut self, w: &[f64]) -> Result<bool> {
+        let (y, v) = (self.y(w), w[w.len() - 1]);
+        let p = self.prep(v)?;
+        let start = self.start(&y, p.plan.dt)?;
+        let orbit = periodic::orbit_from(&p, &p.plan, &start, self.k)?;
+        self.steps += orbit.stats.steps as u64;
+        Ok(orbit.contact_fraction > 0.0)
+    }
+
+    /// The point halfway along the chord from `a` to `b`, corrected on the plane normal to it;
+    /// where that corrector fails (a kink of the branch: a grazing point, where the map is not
+    /// smooth), Newton in `y` at the chord's middle value of the parameter from `a`'s state,
+    /// then from `b`'s.
     fn midpoint(&mut self, a: &[f64], b: &[f64]) -> Option<Vec<f64>> {
         let t = unit(&sub(b, a));
         let half = 0.5 * dist(a, b);
         let wp: Vec<f64> = a.iter().zip(&t).map(|(a, t)| a + half * t).collect();
-        self.corrector(&wp, &t).ok().flatten().map(|(w, _)| w)
+        if let Some((w, _)) = self.corrector(&wp, &t).ok().flatten() {
+            return Some(w);
+        }
+        let v = wp[wp.len() - 1];
+        for from in [a, b] {
+            if let Ok((y, _)) = self.correct_at(self.y(from), v) {
+                return Some(self.w(&y, v));
+            }
+        }
+        None
     }
 
     /// Bisects the segment from `a` to `b` along the branch [`LOCATE_STEPS`] times, keeping the
@@ -513,8 +537,13 @@ fn locate_folds(arc: &mut Arc<'_>, ws: &[Vec<f64>], branch: &mut Branch) {
         if (b - a) * (c - b) >= 0.0 {
             continue;
         }
-        let mut fold = vertex([&ws[i - 1], &ws[i], &ws[i + 1]]);
         let mut between = [a.min(b).min(c), a.max(b).max(c)];
+        // The vertex through the grid points; the turning point itself where that parabola
+        // puts it farther than the points' span beyond them (a jump, not a smooth turn).
+        let width = between[1] - between[0];
+        let mut fold = Some(vertex([&ws[i - 1], &ws[i], &ws[i + 1]]))
+            .filter(|f| *f >= between[0] - width && *f <= between[1] + width)
+            .unwrap_or(b);
         let dets: Vec<Option<bool>> = (i - 1..=i + 1)
             .map(|j| arc.det_positive(&ws[j]).ok())
             .collect();
@@ -573,6 +602,33 @@ fn stability_changes(arc: &mut Arc<'_>, ws: &[Vec<f64>], b: &mut Branch) {
             parameter: at,
             speed_ratio: arc.c.speed_ratio(at),
             rho,
+        });
+    }
+    b.bifurcations.extend(found);
+}
+
+/// Grazing points between consecutive points one of which touches a stator and the other not,
+/// located by bisection in arclength on contact (`branch::Bifurcation`'s `grazing`).
+fn grazings(arc: &mut Arc<'_>, ws: &[Vec<f64>], b: &mut Branch) {
+    let mut found = Vec::new();
+    for (i, pair) in b.points.windows(2).enumerate() {
+        let (p, q) = (&pair[0], &pair[1]);
+        let (tp, tq) = (p.contact_fraction > 0.0, q.contact_fraction > 0.0);
+        if tp == tq {
+            continue;
+        }
+        let r = arc.bisect((&ws[i], &ws[i + 1]), tp, &mut |arc, w| arc.touches_at(w));
+        let nu = |w: &[f64]| *w.last().unwrap_or(&f64::NAN);
+        let (x, y) = (nu(&r.ends[0]), nu(&r.ends[1]));
+        let (lo, hi) = (x.min(y), x.max(y));
+        let at = 0.5 * (lo + hi);
+        let (free, rub) = if tp { (q, p) } else { (p, q) };
+        found.push(Bifurcation {
+            kind: "grazing",
+            between: [lo, hi],
+            parameter: at,
+            speed_ratio: arc.c.speed_ratio(at),
+            rho: [free.rho1, rub.rho1],
         });
     }
     b.bifurcations.extend(found);

@@ -15,7 +15,10 @@
 //! side only) the change is located by bisection in ν ([`LOCATE_STEPS`] halvings, each a
 //! Newton from the nearer point) and named by the multiplier that crosses the unit circle on
 //! the unstable side: `period_doubling` (ρ through −1), `fold` (through +1) or
-//! `neimark_sacker` (a complex pair).
+//! `neimark_sacker` (a complex pair). Between two points one of which touches a stator over its
+//! period and the other not, the grazing point — where the orbit's largest excursion reaches the
+//! clearance, a rub beginning or ending, the branch's nonsmooth point — is located by the same
+//! bisection on contact (`grazing`).
 
 pub use super::parameter::pinned_reduction;
 use super::parameter::Continued;
@@ -72,7 +75,9 @@ pub struct BranchPoint {
 /// A change of stability located between two speeds.
 #[derive(Debug, Clone, Serialize)]
 pub struct Bifurcation {
-    /// `period_doubling`, `fold` or `neimark_sacker`: the unstable side's crossing multiplier.
+    /// `period_doubling`, `fold` or `neimark_sacker`: the unstable side's crossing multiplier;
+    /// `grazing`: the orbit's largest excursion reaches the clearance (a rub begins or ends:
+    /// the branch's nonsmooth point), whatever the stability on either side.
     pub kind: &'static str,
     /// The located interval of the parameter `[ν_a, ν_b]` (a key's branch: of the key's
     /// values): stable at one end, unstable at the other.
@@ -81,7 +86,8 @@ pub struct Bifurcation {
     pub parameter: f64,
     /// ν there: the location for a branch in speed, the fixed speed of a key's branch.
     pub speed_ratio: f64,
-    /// The crossing multiplier on the stable and on the unstable side.
+    /// The crossing multiplier on the stable and on the unstable side (a grazing: the largest
+    /// on the side clear of the stators and on the touching side).
     pub rho: [[f64; 2]; 2],
 }
 
@@ -263,6 +269,11 @@ pub fn follow(
                 branch.bifurcations.push(b);
             }
         }
+        if touches(&next) != touches(&prev) {
+            let (b, st) = locate_grazing(c, &prev, &next);
+            steps += st;
+            branch.bifurcations.push(b);
+        }
         branch.points.push(BranchPoint::of(&next));
         prev = next;
     }
@@ -349,10 +360,15 @@ fn keep_doubling(
     });
 }
 
-/// Bisects the interval between `a` and `b` (stable on one side only) [`LOCATE_STEPS`] times;
-/// the bifurcation found (none when a midpoint's Newton fails, which ends the location at the
-/// interval reached) and the steps it took.
-fn locate(c: &Continued<'_>, a: &PeriodicOrbit, b: &PeriodicOrbit) -> (Option<Bifurcation>, u64) {
+/// Bisects the interval between `a` and `b` (`test` differing between them) [`LOCATE_STEPS`]
+/// times, each midpoint by Newton from the nearer end on `test`'s side of `a`; the last
+/// interval's ends (the first with `a`'s value of `test`) and the steps it took. A midpoint
+/// whose Newton fails ends the location at the interval reached.
+fn bisect(
+    c: &Continued<'_>,
+    (a, b): (&PeriodicOrbit, &PeriodicOrbit),
+    test: fn(&PeriodicOrbit) -> bool,
+) -> (PeriodicOrbit, PeriodicOrbit, u64) {
     let (mut lo, mut hi) = (a.clone(), b.clone());
     let mut steps = 0;
     for _ in 0..LOCATE_STEPS {
@@ -360,7 +376,7 @@ fn locate(c: &Continued<'_>, a: &PeriodicOrbit, b: &PeriodicOrbit) -> (Option<Bi
         match c.shoot_from(mid, &lo) {
             Ok((_, m)) if m.converged => {
                 steps += m.steps;
-                if m.stable == lo.stable {
+                if test(&m) == test(&lo) {
                     lo = m;
                 } else {
                     hi = m;
@@ -369,6 +385,39 @@ fn locate(c: &Continued<'_>, a: &PeriodicOrbit, b: &PeriodicOrbit) -> (Option<Bi
             _ => break,
         }
     }
+    (lo, hi, steps)
+}
+
+/// Whether the orbit touches a stator at some instant of its period.
+fn touches(o: &PeriodicOrbit) -> bool {
+    o.orbit.contact_fraction > 0.0
+}
+
+/// The grazing point between `a` and `b`, one clear of the stators over its period and the
+/// other touching them: located by bisection on [`touches`] (the orbit's largest excursion
+/// reaches the clearance there: the branch's nonsmooth point, where a rub begins or ends).
+/// Reported as `grazing`, its `rho` the free side's and the touching side's largest
+/// multipliers.
+fn locate_grazing(c: &Continued<'_>, a: &PeriodicOrbit, b: &PeriodicOrbit) -> (Bifurcation, u64) {
+    let (lo, hi, steps) = bisect(c, (a, b), touches);
+    let (free, rub) = if touches(&lo) { (&hi, &lo) } else { (&lo, &hi) };
+    let rho = |o: &PeriodicOrbit| o.multipliers.first().copied().unwrap_or_default();
+    let at = 0.5 * (lo.parameter + hi.parameter);
+    let bif = Bifurcation {
+        kind: "grazing",
+        between: [lo.parameter, hi.parameter],
+        parameter: at,
+        speed_ratio: c.speed_ratio(at),
+        rho: [rho(free), rho(rub)],
+    };
+    (bif, steps)
+}
+
+/// Bisects the interval between `a` and `b` (stable on one side only) [`LOCATE_STEPS`] times;
+/// the bifurcation found (none when a midpoint's Newton fails, which ends the location at the
+/// interval reached) and the steps it took.
+fn locate(c: &Continued<'_>, a: &PeriodicOrbit, b: &PeriodicOrbit) -> (Option<Bifurcation>, u64) {
+    let (lo, hi, steps) = bisect(c, (a, b), |o| o.stable);
     let (stable, unstable) = if lo.stable { (&lo, &hi) } else { (&hi, &lo) };
     let rho = |o: &PeriodicOrbit| o.multipliers.first().copied().unwrap_or_default();
     let at = 0.5 * (lo.parameter + hi.parameter);

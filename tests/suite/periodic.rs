@@ -468,3 +468,45 @@ fn the_fe_paper_rotor_branch_doubles_where_the_jeffcott_does() {
     eprintln!("FE rotor: period doubling at ν {:.4}", pd.speed_ratio);
     assert!((pd.speed_ratio - 2.2414).abs() < 0.02, "{pd:?}");
 }
+
+/// The grazing point of the ring's full rub (`scenes/periodic/ring_hysteresis.toml`: the unit
+/// rotor, ξ 0.2, δ 1.5 e): where the free orbit's radius |Z0(ν)| reaches the clearance the rub
+/// begins or ends — ν² = x, (1 − δ²) x² + δ² (2 − 4ξ²) x − δ² = 0: ν 0.82780 below the critical
+/// speed, the rub's lower end. Continued down from the full rub at ν 1.0 to 0.6 in ν alone and
+/// by pseudo-arclength the branch grazes there, located by bisection on contact (to 1/64 of
+/// the step in ν alone). (The other root, 1.62069, is where the unstable rub meets the free
+/// orbit at a corner of the loop: a natural continuation of the free orbit ends there, and
+/// pseudo-arclength does not turn it reliably — not tested.)
+#[test]
+fn the_ring_rub_grazes_where_the_free_orbit_reaches_the_clearance() {
+    let (xi, d) = (0.2_f64, 1.5_f64);
+    let (qa, qb, qc) = (1.0 - d * d, d * d * (2.0 - 4.0 * xi * xi), -d * d);
+    let disc = (qb * qb - 4.0 * qa * qc).sqrt();
+    let lower = ((-qb + disc) / (2.0 * qa))
+        .sqrt()
+        .min(((-qb - disc) / (2.0 * qa)).sqrt());
+    let (ls, m) = common::file_model(&repo("scenes/periodic/ring_hysteresis.toml"), NO_SETS);
+    let s = common::settings(&ls);
+    let speeds: Vec<f64> = (0..=8).map(|i| 1.0 - 0.05 * i as f64).collect();
+    let grazing = |b: &rubsim::analysis::branch::Branch| {
+        let g: Vec<_> = b
+            .bifurcations
+            .iter()
+            .filter(|x| x.kind == "grazing")
+            .collect();
+        assert_eq!(g.len(), 1, "{:?} {:?}", b.bifurcations, b.ended);
+        (g[0].parameter, (g[0].between[1] - g[0].between[0]).abs())
+    };
+    let natural =
+        rubsim::analysis::branch::continue_in_speed(&m, &s, &speeds, Some(1)).expect("continue");
+    let (at, width) = grazing(&natural);
+    eprintln!("grazing in ν alone at {at:.5} (interval {width:.1e}) against {lower:.5}");
+    assert!(width <= 0.05 / 64.0 + 1e-12);
+    assert!((at - lower).abs() < 1e-3, "{at} against {lower}");
+    let arc =
+        rubsim::analysis::arclength::continue_arclength(&m, &s, (1.0, 0.6, 0.05), Some(1), 100)
+            .expect("continue");
+    let (at, width) = grazing(&arc);
+    eprintln!("grazing by pseudo-arclength at {at:.5} (interval {width:.1e})");
+    assert!(width < 0.01 && (at - lower).abs() < 2e-3, "{at} ({width})");
+}
