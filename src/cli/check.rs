@@ -94,6 +94,32 @@ pub fn check(c: &Common) -> Result<()> {
     Ok(())
 }
 
+/// A stator's wear: Archard's law (`[stator.wear]`) and the abradable coating
+/// (`[stator.abradable]`).
+fn print_wear(w: &rubsim::model::stator::StatorWear) {
+    let (lo, hi) = w
+        .areas
+        .iter()
+        .fold((f64::INFINITY, 0.0_f64), |(a, b), x| (a.min(*x), b.max(*x)));
+    // A coating alone (`rate` 0) is no Archard wear.
+    if w.rate > 0.0 {
+        println!(
+            "  wears (Archard): k = {:.4e} m²/N magnified {} times (`run.wear_acceleration`); {} contact nodes of {:.4e} … {:.4e} m² (their depth grows by k p |ζ| / area a step)",
+            w.rate / w.acceleration,
+            w.acceleration,
+            w.areas.len(),
+            lo,
+            hi
+        );
+    }
+    if let Some(l) = &w.layer {
+        println!(
+            "  abradable coating: h = {:.4e} m, E = {:.4e} Pa, σ_y = {:.4e} Pa, H = {:.4e} Pa (each node a radial rod E A / h in series, its force at most A (σ_y + H d_p / h))",
+            l.thickness, l.youngs_modulus, l.yield_stress, l.hardening_modulus
+        );
+    }
+}
+
 /// Each stator: kind, size, contact stiffness, mesh, how it enters the loop, clearance.
 fn print_stators(s: &Scene, case: &Case) {
     for (spec, m) in s.stators.iter().zip(&case.stators) {
@@ -138,27 +164,7 @@ fn print_stators(s: &Scene, case: &Case) {
             );
         }
         if let Some(w) = &m.wear {
-            let (lo, hi) = w
-                .areas
-                .iter()
-                .fold((f64::INFINITY, 0.0_f64), |(a, b), x| (a.min(*x), b.max(*x)));
-            // A coating alone (`rate` 0) is no Archard wear.
-            if w.rate > 0.0 {
-                println!(
-                "  wears (Archard): k = {:.4e} m²/N magnified {} times (`run.wear_acceleration`); {} contact nodes of {:.4e} … {:.4e} m² (their depth grows by k p |ζ| / area a step)",
-                w.rate / w.acceleration,
-                w.acceleration,
-                w.areas.len(),
-                lo,
-                hi
-            );
-            }
-            if let Some(l) = &w.layer {
-                println!(
-                    "  abradable coating: h = {:.4e} m, E = {:.4e} Pa, σ_y = {:.4e} Pa, H = {:.4e} Pa (each node a radial rod E A / h in series, its force at most A (σ_y + H d_p / h))",
-                    l.thickness, l.youngs_modulus, l.yield_stress, l.hardening_modulus
-                );
-            }
+            print_wear(w);
         }
         if m.massless() {
             print_massless(m);
