@@ -349,6 +349,20 @@ def test_the_thermal_spiral_from_python(tmp_path):
         scene.run()
 
 
+def test_the_section_conduction_from_python(tmp_path):
+    """A scene whose section conducts its heat (`[thermal.conduction]`) spirals from Python as
+    from the command line, and its summary carries the section's figures."""
+    path = ROOT / "scenes" / "thermal" / "newkirk_conduction.toml"
+    sets = {"thermal.duration": 5, "run.error_estimate": False}
+    th = rubsim.Scene(path, set=sets).thermal(out=tmp_path / "py")
+    cli("run", path, "--set", "thermal.duration=5", "--set", "run.error_estimate=false",
+        "--out", tmp_path / "cli")
+    want = summary(tmp_path / "cli")["thermal"]
+    assert without_wall(summary(tmp_path / "py")["thermal"]) == without_wall(want)
+    assert th.growth_rate == want["growth_rate"]
+    assert want["section"]["cells"] == 32 and 1.5 < want["section"]["slowest_time_s"] < 2.5
+
+
 def test_the_thermal_stability_map_from_python(tmp_path):
     """`Scene.map` of a scene with `[thermal]` is the spiral's stability map, as `rubsim map`
     writes it: the same cells and classes, and a grid laid out along the axes."""

@@ -22,8 +22,8 @@
 //! **Stops.** At `duration`, or when |ΔT| passes `max_temperature_difference`: a runaway,
 //! reported with the growth rate of its last steps — never a NaN. Or when the vibration is not
 //! the synchronous response the two time scales assume: the station's orbit over a chunk's
-//! last revolution differs from the one before by more than [`MAX_NON_SYNCHRONOUS`] of its
-//! largest radius (a self-excited whirl of the rub — dry friction whirl where μ k_s exceeds the
+//! last revolution differs from the one before, less the drift of its 1× vector, by more than
+//! [`MAX_NON_SYNCHRONOUS`] of the largest orbit radius so far (a self-excited whirl of the rub — dry friction whirl where μ k_s exceeds the
 //! damping — or a response that does not settle). The heat of a revolution then does not
 //! belong to the bow of the moment; the run stops there and says so
 //! (`ThermalResults::unsynchronous_at_s`), its growth rate not fitted.
@@ -38,94 +38,9 @@ use crate::model::{Model, RotatingLoad, Rotor};
 use crate::time::{EndState, Record, StepPlan, Stepper};
 use serde::Serialize;
 
-/// The hot-spot model of a scene, resolved against its model.
-#[derive(Debug, Clone, Copy)]
-pub struct HotSpot {
-    /// The heated station's index.
-    pub station: usize,
-    /// The Jeffcott disk's bow per kelvin of ΔT (m/K; NaN for an FE rotor, whose bow is
-    /// computed from its curvature).
-    pub bow_per_kelvin: f64,
-    /// The curvature per kelvin α/D (1/(m·K)).
-    pub curvature_per_kelvin: f64,
-    /// The heated length a (m), centred at the station's node.
-    pub heated_length: f64,
-    /// G (K/W).
-    pub gain: f64,
-    /// τ_h (s).
-    pub heating_time: f64,
-    /// τ_c (s).
-    pub cooling_time: f64,
-    /// Machine time (s).
-    pub duration: f64,
-    /// Coupling step h (s); `None`: the chunk's own length.
-    pub step: Option<f64>,
-    /// Revolutions per chunk.
-    pub revolutions: usize,
-    /// Revolutions before the first coupling.
-    pub settle_revolutions: usize,
-    /// |ΔT| of a runaway (K).
-    pub max_temperature_difference: f64,
-    /// ΔT (and S) at t = 0 (K).
-    pub initial: V2,
-}
-
-impl HotSpot {
-    /// The hot-spot model of the scene `ls`: `[thermal]` with its station's index (default: the
-    /// first station), the bow per kelvin of its rotor, and the run's transient revolutions as
-    /// the default settling; `None` without `[thermal]`.
-    pub fn of_scene(ls: &crate::scene::LoadedScene) -> Option<Self> {
-        let spec = ls.scene.thermal.as_ref()?;
-        let station = spec
-            .station
-            .as_ref()
-            .and_then(|n| ls.scene.stations.iter().position(|s| &s.name == n))
-            .unwrap_or(0);
-        let settle = ls.scene.run.transient_revolutions;
-        Some(Self {
-            station,
-            bow_per_kelvin: spec.bow_per_kelvin(&ls.scene.rotor),
-            curvature_per_kelvin: spec.expansion / spec.diameter,
-            heated_length: spec.heated_length,
-            gain: spec.gain,
-            heating_time: spec.heating_time,
-            cooling_time: spec.cooling_time,
-            duration: spec.duration,
-            step: spec.step,
-            revolutions: spec.revolutions,
-            settle_revolutions: spec.settle_revolutions.unwrap_or(settle).max(1),
-            max_temperature_difference: spec.max_temperature_difference,
-            initial: spec.initial,
-        })
-    }
-
-    /// The heat's state `(S, ΔT)` after `h` seconds from `(s0, t0)` with the input
-    /// `G (q0 + q1 t)` (W, W/s): the exact solution of the two lags (module docs of
-    /// [`crate::scene::thermal`]), componentwise. With `S(t) = a + b t + d e^{−t/τ_h}`,
-    /// `a = G q0 − τ_h G q1`, `b = G q1`, `d = S0 − a`:
-    /// `ΔT(t) = a − τ_c b + b t + d τ_h/(τ_h − τ_c) e^{−t/τ_h} + C e^{−t/τ_c}` (the middle
-    /// term `d (t/τ) e^{−t/τ}` when τ_h = τ_c = τ), C from ΔT(0) = t0.
-    pub fn advance_linear(&self, (s0, t0): (V2, V2), (q0, q1): (V2, V2), h: f64) -> (V2, V2) {
-        let (th, tc, g) = (self.heating_time, self.cooling_time, self.gain);
-        let (eh, ec) = ((-h / th).exp(), (-h / tc).exp());
-        let mut s = [0.0; 2];
-        let mut t = [0.0; 2];
-        for k in 0..2 {
-            let (a, b) = (g * q0[k] - th * g * q1[k], g * q1[k]);
-            let d = s0[k] - a;
-            s[k] = a + b * h + d * eh;
-            let ramp = a - tc * b;
-            let (p0, ph) = if (th - tc).abs() > 1e-9 * th.max(tc) {
-                let r = d * th / (th - tc);
-                (r, r * eh)
-            } else {
-                (0.0, d * (h / tc) * ec)
-            };
-            t[k] = ramp + b * h + ph + (t0[k] - ramp - p0) * ec;
-        }
-        (s, t)
-    }
-}
+mod heat;
+use heat::Heat;
+pub use heat::{HeatLaw, HotSpot, Lags, SectionFacts};
 
 /// One coupling step of a thermal run.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -149,14 +64,16 @@ pub struct ThermalSample {
     /// Fraction of that revolution's steps in contact.
     pub contact_fraction: f64,
     /// The station's orbit's change over one revolution, relative to its largest radius over
-    /// that revolution: `max_k |z_k − z_{k−N}| / max_k |z_k|` (N steps a revolution); ≈ 0 for a
-    /// synchronous response (any harmonics of Ω), O(1) for a whirl of its own frequency.
+    /// the run so far: `max_k |z_k − z_{k−N} − (Z₁ − Z₀) e^{iΩt_k}| / max |z|` (N steps a
+    /// revolution, `Z₁`, `Z₀` the 1× vectors of the two revolutions, rotor frame: the
+    /// synchronous drift taken out); ≈ 0 for a synchronous response (any harmonics of Ω) even
+    /// while a fast spiral turns it, O(1) for a whirl of its own frequency.
     pub non_synchronous: f64,
 }
 
 /// The largest [`ThermalSample::non_synchronous`] of a vibration taken as synchronous: beyond
-/// it the run stops ([`ThermalResults::unsynchronous_at_s`]). The bow's change over a chunk
-/// stays well below it (|s| h ≪ 1 of the spiral's own rate).
+/// it the run stops ([`ThermalResults::unsynchronous_at_s`]). A synchronous response turned by
+/// the spiral reads the drift of its other harmonics only, well below it.
 pub const MAX_NON_SYNCHRONOUS: f64 = 0.05;
 
 /// A thermal run's results.
@@ -200,6 +117,9 @@ pub struct ThermalResults {
     pub dt_s: f64,
     /// The run's error estimate (`run.error_estimate`; `None` without it): [`ThermalError`].
     pub error: Option<ThermalError>,
+    /// The conducting section's figures (`[thermal.conduction]`; `None` for the hot-spot lags).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub section: Option<SectionFacts>,
 }
 
 /// A thermal run's error estimate: the run repeated with its coupling step doubled (2h; a
@@ -391,12 +311,14 @@ fn spiral(
     let (mut end, mut steps) = first_state(&prep, &settle)?;
     // An accelerated step's vibration goes on until its 1× vector is steady to the tolerance.
     let steady = hs.step.map(|_| request.tolerance);
-    let (mut sf, mut dt) = (hs.initial, hs.initial);
+    let mut state = Heat::new(&hs.heat, hs.initial)?;
     let mut samples = Vec::new();
     let mut t = 0.0;
     let (mut runaway, mut unsynchronous) = (None, None);
     let mut integrated = 0usize;
+    let mut largest = 0.0f64;
     loop {
+        let dt = state.delta_t();
         let bow = cmul(bow_model.at_station, dt);
         prep.case.set_rotating(scaled(&bow_model.load, dt));
         let (rec, next, revs) = run_chunk(&prep, &chunk, &end, (hs.station, steady))?;
@@ -404,11 +326,16 @@ fn spiral(
         integrated += revs;
         end = next;
         let (heat, power, one_x, contact) = harmonics(&prep, &rec, hs.station, spr);
-        let non_synchronous = orbit_change(&rec, hs.station, spr);
+        let (change, radius) = orbit_change(&prep, &rec, hs.station, spr);
+        // Relative to the largest orbit so far: a 1× vector that the bow brings near zero
+        // (the bow cancelling the unbalance) does not turn the coupling's small free vibration
+        // into a large fraction.
+        largest = largest.max(radius);
+        let non_synchronous = if largest > 0.0 { change / largest } else { 0.0 };
         samples.push(ThermalSample {
             t_s: t,
             delta_t: dt,
-            surface: sf,
+            surface: state.surface(),
             bow,
             one_x,
             heat,
@@ -427,14 +354,14 @@ fn spiral(
         if t + 0.5 * h > hs.duration {
             break;
         }
-        (sf, dt) = hs.advance_linear((sf, dt), (heat, heat_slope(&samples, h)), h);
+        state.advance((heat, heat_slope(&samples, h)), h);
         t += h;
     }
     let (growth_rate, rotation_rate) = match unsynchronous {
         Some(_) => (0.0, 0.0),
         None => rates(&samples, runaway.is_some()),
     };
-    let end_dt = samples.last().map_or(dt, |x| x.delta_t);
+    let end_dt = samples.last().map_or(hs.initial, |x| x.delta_t);
     Ok(ThermalResults {
         speed_ratio,
         omega,
@@ -457,6 +384,7 @@ fn spiral(
             .collect(),
         dt_s: chunk.dt,
         error: None,
+        section: state.facts(),
     })
 }
 
@@ -554,23 +482,29 @@ fn one_x(p: &Prepared, rec: &Record, station: usize, (from, count): (usize, usiz
 }
 
 /// [`ThermalSample::non_synchronous`] of the record's last revolution (`spr` samples, one a
-/// step) against the one before; 0 with less than two revolutions recorded or no motion.
-fn orbit_change(rec: &Record, station: usize, spr: usize) -> f64 {
+/// step) against the one before, less the drift of the 1× vector between them: `z_k − z_{k−N}
+/// − (Z₁ − Z₀) e^{iΩt_k}` (`Z₁`, `Z₀` the two revolutions' 1× vectors in the rotor's frame) —
+/// so that a synchronous response turned by a fast spiral reads ≈ 0, and a whirl of its own
+/// frequency its size. The largest change and the revolution's largest radius (m); zeros with
+/// less than two revolutions.
+fn orbit_change(p: &Prepared, rec: &Record, station: usize, spr: usize) -> (f64, f64) {
     let n = rec.len();
     if spr == 0 || n < 2 * spr {
-        return 0.0;
+        return (0.0, 0.0);
     }
+    let last = one_x(p, rec, station, (n - spr, spr));
+    let before = one_x(p, rec, station, (n - 2 * spr, spr));
+    let drift = [last[0] - before[0], last[1] - before[1]];
     let (mut change, mut radius) = (0.0f64, 0.0f64);
     for i in n - spr..n {
         let (u, v) = (rec.disp_at(i, station), rec.disp_at(i - spr, station));
-        change = change.max((u[0] - v[0]).hypot(u[1] - v[1]));
+        let (sn, cs) = (p.omega * rec.t[i]).sin_cos();
+        let sync = [drift[0] * cs - drift[1] * sn, drift[0] * sn + drift[1] * cs];
+        let d = [u[0] - v[0] - sync[0], u[1] - v[1] - sync[1]];
+        change = change.max(d[0].hypot(d[1]));
         radius = radius.max(u[0].hypot(u[1]));
     }
-    if radius > 0.0 {
-        change / radius
-    } else {
-        0.0
-    }
+    (change, radius)
 }
 
 /// Over the record's last revolution (`spr` samples, one a step): the friction power's first
@@ -638,65 +572,4 @@ fn rates(samples: &[ThermalSample], runaway: bool) -> (f64, f64) {
     }
     let (re, im) = (re / den, im / den);
     ((re.hypot(im)).ln() / h, im.atan2(re) / h)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn hot(th: f64, tc: f64) -> HotSpot {
-        HotSpot {
-            station: 0,
-            bow_per_kelvin: 1e-6,
-            curvature_per_kelvin: 1e-3,
-            heated_length: 0.1,
-            gain: 2.0,
-            heating_time: th,
-            cooling_time: tc,
-            duration: 1.0,
-            step: None,
-            revolutions: 1,
-            settle_revolutions: 1,
-            max_temperature_difference: 100.0,
-            initial: [0.0; 2],
-        }
-    }
-
-    /// The exact lag update with a linear input agrees with many small steps of the ODEs, for
-    /// distinct and for equal time constants, and composes: two steps of h/2 are one of h.
-    #[test]
-    fn the_two_lags_advance_exactly() {
-        for (th, tc) in [(3.0, 7.0), (5.0, 5.0), (7.0, 3.0)] {
-            let hs = hot(th, tc);
-            let (s0, t0, q, q1) = ([1.0, -2.0], [0.5, 0.25], [3.0, 1.0], [0.5, -0.75]);
-            let (s1, t1) = hs.advance_linear((s0, t0), (q, q1), 4.0);
-            let (mut s, mut t, mut tau) = (s0, t0, 0.0);
-            let n = 400_000;
-            let dt = 4.0 / n as f64;
-            for _ in 0..n {
-                // Midpoint (second order) steps.
-                let f = |s: V2, t: V2, tau: f64| {
-                    let u = [q[0] + q1[0] * tau, q[1] + q1[1] * tau];
-                    let ds = [(hs.gain * u[0] - s[0]) / th, (hs.gain * u[1] - s[1]) / th];
-                    let dtt = [(s[0] - t[0]) / tc, (s[1] - t[1]) / tc];
-                    (ds, dtt)
-                };
-                let (a, b) = f(s, t, tau);
-                let sm = [s[0] + 0.5 * dt * a[0], s[1] + 0.5 * dt * a[1]];
-                let tm = [t[0] + 0.5 * dt * b[0], t[1] + 0.5 * dt * b[1]];
-                let (a, b) = f(sm, tm, tau + 0.5 * dt);
-                tau += dt;
-                s = [s[0] + dt * a[0], s[1] + dt * a[1]];
-                t = [t[0] + dt * b[0], t[1] + dt * b[1]];
-            }
-            for k in 0..2 {
-                assert!((s1[k] - s[k]).abs() < 1e-9, "{th} {tc}: S {s1:?} {s:?}");
-                assert!((t1[k] - t[k]).abs() < 1e-9, "{th} {tc}: ΔT {t1:?} {t:?}");
-            }
-            let q2 = [q[0] + 2.0 * q1[0], q[1] + 2.0 * q1[1]];
-            let first = hs.advance_linear((s0, t0), (q, q1), 2.0);
-            let half = hs.advance_linear(first, (q2, q1), 2.0);
-            assert!((half.1[0] - t1[0]).abs() < 1e-12 && (half.1[1] - t1[1]).abs() < 1e-12);
-        }
-    }
 }

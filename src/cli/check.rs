@@ -52,6 +52,9 @@ pub fn check(c: &Common) -> Result<()> {
             st.name, st.node, st.radius, st.friction
         );
     }
+    if let Some(hs) = analysis::thermal::HotSpot::of_scene(&ls) {
+        println!("thermal: {}", hs.heat.describe()?);
+    }
     let st = settings(&ls);
     if let Some(spec) = &s.run.speed_profile {
         print_stators(s, &case);

@@ -262,6 +262,9 @@ fn print_thermal(r: &analysis::thermal::ThermalResults) {
         r.revolutions_per_step,
         r.steps
     );
+    if let Some(f) = &r.section {
+        println!("  heat: {}", f.describe());
+    }
     if let Some(s) = last {
         println!(
             "  at the end: |ΔT| = {:.4e} K, |bow| = {:.4e} m, |1×| = {:.4e} m at {:.2}° (rotor frame), friction power {:.4e} W",

@@ -17,6 +17,7 @@ pub mod fe_rotor;
 mod place;
 pub mod reduce;
 pub mod rotor;
+pub mod section;
 pub mod speed_profile;
 pub mod stator;
 

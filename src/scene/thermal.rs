@@ -21,6 +21,10 @@
 //! its own bearings ([`crate::model::bow`]); `D` is `diameter` either way — the diameter
 //! the hot-spot model's ΔT acts across, not the local element's (one ΔT, one curvature over
 //! the heated length, even where the shaft steps).
+//!
+//! Instead of `gain`, `heating_time` and `cooling_time`, `[thermal.conduction]` gives the
+//! section's material ([`ConductionSpec`]): ΔT then follows from the first circumferential
+//! harmonic of heat conduction in the solid section of diameter D ([`crate::model::section`]).
 
 use super::validate::checks::positive;
 use super::{FeRotorSpec, LoadedScene, RotorSpec};
@@ -53,12 +57,23 @@ pub struct ThermalSpec {
     /// an FE rotor, which stands on its own bearings.
     #[serde(default)]
     pub span: Option<f64>,
-    /// G (K/W): the steady temperature difference per watt of the heat's first harmonic.
-    pub gain: f64,
-    /// τ_h (s): how fast the surface zone follows the heat input.
-    pub heating_time: f64,
-    /// τ_c (s): how fast the section's temperature difference follows the surface, and cools.
-    pub cooling_time: f64,
+    /// G (K/W): the steady temperature difference per watt of the heat's first harmonic (the
+    /// hot-spot lags; or `[thermal.conduction]`, not both).
+    #[serde(default)]
+    pub gain: Option<f64>,
+    /// τ_h (s): how fast the surface zone follows the heat input (the hot-spot lags).
+    #[serde(default)]
+    pub heating_time: Option<f64>,
+    /// τ_c (s): how fast the section's temperature difference follows the surface, and cools
+    /// (the hot-spot lags).
+    #[serde(default)]
+    pub cooling_time: Option<f64>,
+    /// The section's heat conduction in place of the hot-spot lags (`[thermal.conduction]`,
+    /// [`crate::model::section`]): the temperature across the solid section of diameter
+    /// `diameter` from its material, its surface cooling and the share of the friction heat
+    /// that enters the rotor.
+    #[serde(default)]
+    pub conduction: Option<ConductionSpec>,
     /// Machine time to run (s).
     pub duration: f64,
     /// The coupling step h (s): the heat is advanced by h after each vibration run of
@@ -83,6 +98,38 @@ pub struct ThermalSpec {
     pub initial: [f64; 2],
 }
 
+fn thirty_two() -> usize {
+    32
+}
+
+/// `[thermal.conduction]`: the heated section as a solid steel (or other) disk whose first
+/// circumferential harmonic of temperature diffuses from the rubbing surface
+/// ([`crate::model::section`] states the equations): the hot-spot model's gain and two time
+/// constants then follow from the material instead of being given.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ConductionSpec {
+    /// k (W/(m·K)): the shaft's thermal conductivity (steel: 40–50).
+    pub conductivity: f64,
+    /// ρ (kg/m³): the shaft's density.
+    pub density: f64,
+    /// c (J/(kg·K)): the shaft's specific heat (steel: 450–500).
+    pub specific_heat: f64,
+    /// h (W/(m²·K)): the heat transfer coefficient from the shaft's surface to the gas
+    /// around it (0: an adiabatic surface; forced air 20–200).
+    #[serde(default)]
+    pub surface_coefficient: f64,
+    /// η: the share of the friction power that flows into the rotor (0 < η ≤ 1; the rest
+    /// heats the stator).
+    pub heat_fraction: f64,
+    /// Radial finite elements of the section, graded toward the surface (2 … 400).
+    #[serde(default = "thirty_two")]
+    pub cells: usize,
+}
+
+/// The most radial elements a section may have: its modes are found by a dense eigensolver.
+pub const MAX_SECTION_CELLS: usize = 400;
+
 /// Checks `[thermal]`: every coefficient, length and time positive (an error names its key),
 /// a known station, the heated length within the span (Jeffcott) or the shaft (FE rotor: no
 /// `span`), no speed profile.
@@ -95,9 +142,6 @@ pub fn validate(ls: &LoadedScene, t: &ThermalSpec) -> Result<(), SceneError> {
         ("expansion", t.expansion),
         ("diameter", t.diameter),
         ("heated_length", t.heated_length),
-        ("gain", t.gain),
-        ("heating_time", t.heating_time),
-        ("cooling_time", t.cooling_time),
         ("duration", t.duration),
         ("max_temperature_difference", t.max_temperature_difference),
     ] {
@@ -111,6 +155,7 @@ pub fn validate(ls: &LoadedScene, t: &ThermalSpec) -> Result<(), SceneError> {
             ));
         }
     }
+    validate_section(ls, t)?;
     if let Some(h) = t.step {
         positive(ls, &k("step"), h)?;
     }
@@ -155,6 +200,64 @@ pub fn validate(ls: &LoadedScene, t: &ThermalSpec) -> Result<(), SceneError> {
         ));
     }
     no_profile(ls)
+}
+
+/// The section's heat model: the three hot-spot lags, each positive, or `[thermal.conduction]`
+/// with its material positive, h ≥ 0, 0 < η ≤ 1 and 2 … [`MAX_SECTION_CELLS`] cells — one of
+/// the two, not both.
+fn validate_section(ls: &LoadedScene, t: &ThermalSpec) -> Result<(), SceneError> {
+    let lags = [
+        ("gain", t.gain),
+        ("heating_time", t.heating_time),
+        ("cooling_time", t.cooling_time),
+    ];
+    let Some(c) = &t.conduction else {
+        for (name, v) in lags {
+            let Some(v) = v else {
+                return Err(ls.invalid(
+                    &format!("thermal.{name}"),
+                    "missing: give the hot-spot lags `gain`, `heating_time` and `cooling_time`, or the section's conduction `[thermal.conduction]`",
+                ));
+            };
+            positive(ls, &format!("thermal.{name}"), v)?;
+        }
+        return Ok(());
+    };
+    if let Some((name, _)) = lags.iter().find(|(_, v)| v.is_some()) {
+        return Err(ls.invalid(
+            &format!("thermal.{name}"),
+            "the section's conduction `[thermal.conduction]` gives the gain and the time constants: remove the hot-spot lags `gain`, `heating_time` and `cooling_time` (or the conduction)",
+        ));
+    }
+    let k = |s: &str| format!("thermal.conduction.{s}");
+    for (name, v) in [
+        ("conductivity", c.conductivity),
+        ("density", c.density),
+        ("specific_heat", c.specific_heat),
+        ("heat_fraction", c.heat_fraction),
+    ] {
+        positive(ls, &k(name), v)?;
+    }
+    super::validate::checks::non_negative(ls, &k("surface_coefficient"), c.surface_coefficient)?;
+    if c.heat_fraction > 1.0 {
+        return Err(ls.invalid(
+            &k("heat_fraction"),
+            format!(
+                "is the share of the friction heat that enters the rotor, at most 1, got {}",
+                c.heat_fraction
+            ),
+        ));
+    }
+    if !(2..=MAX_SECTION_CELLS).contains(&c.cells) {
+        return Err(ls.invalid(
+            &k("cells"),
+            format!(
+                "must be 2 … {MAX_SECTION_CELLS} (the section's modes are found by a dense eigensolver), got {}",
+                c.cells
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// A thermal run is at one constant speed.

@@ -122,3 +122,92 @@ impl Newkirk {
         out
     }
 }
+
+/// The modified Bessel function `I_n(x)` of a complex argument by its power series
+/// `Σ (x/2)^{2m+n} / (m! (m+n)!)` (good to rounding for |x| ≲ 30, the range the section's
+/// transfer function is checked in).
+pub fn bessel_i(n: u32, x: C64) -> C64 {
+    let half = x / 2.0;
+    let mut term = C64::new(1.0, 0.0);
+    for k in 1..=n {
+        term *= half / k as f64;
+    }
+    let mut sum = term;
+    let q = half * half;
+    for m in 1..400 {
+        term *= q / (m as f64 * (m + n) as f64);
+        sum += term;
+        if term.norm() < 1e-18 * sum.norm() && m as f64 > x.norm() {
+            break;
+        }
+    }
+    sum
+}
+
+/// The heated section's conduction in closed form (docs/VALIDATION.md §21.3,
+/// `src/model/section.rs`): the first circumferential harmonic `T₁(r) e^{st}` of a solid
+/// cylinder of radius `radius` (m), conductivity `k` (W/(m·K)), heat capacity `rho_c`
+/// (J/(m³·K)), surface coefficient `h` (W/(m²·K)), heated over `length` (m) by the share
+/// `eta` of the friction heat's first harmonic Q (W).
+#[derive(Debug, Clone, Copy)]
+pub struct SectionOracle {
+    pub radius: f64,
+    pub length: f64,
+    pub k: f64,
+    pub rho_c: f64,
+    pub h: f64,
+    pub eta: f64,
+}
+
+impl SectionOracle {
+    /// ΔT/Q (s) (K/W): with λ = √(s ρc/k), `T₁ = A I₁(λ r)`,
+    /// `A = q₁ / (k λ I₁′(λR) + h I₁(λR))`, `q₁ = η Q/(π a R)`, and the effective ΔT
+    /// `(8/R³) ∫ T₁ r² dr = 8 A I₂(λR)/(R λ)`; at s = 0 its limit `2 q₁ R/(k + hR)` per Q.
+    pub fn transfer(&self, s: C64) -> C64 {
+        let r = self.radius;
+        let flux = self.eta / (std::f64::consts::PI * self.length * r);
+        if s.norm() == 0.0 {
+            return C64::new(2.0 * flux * r / (self.k + self.h * r), 0.0);
+        }
+        let lam = (s * self.rho_c / self.k).sqrt();
+        let x = lam * r;
+        let (i0, i1, i2) = (bessel_i(0, x), bessel_i(1, x), bessel_i(2, x));
+        let i1p = i0 - i1 / x;
+        let a = flux / (self.k * lam * i1p + self.h * i1);
+        a * 8.0 * i2 / (lam * r)
+    }
+}
+
+/// The spiral's dominant slow eigenvalue s (1/s) for a section's transfer function `t(s)`
+/// (K/W) and the rest of the loop `l` (W/K: Λ/G of [`Newkirk`]): the root of `t(s) l = 1`
+/// with the largest real part, by Newton (its derivative by differences) from the single-lag
+/// guess `(t(0) l − 1)/tau` and its neighbours.
+pub fn dominant_root(t: impl Fn(C64) -> C64, l: C64, tau: f64) -> C64 {
+    let f = |s: C64| t(s) * l - 1.0;
+    let guess = (t(C64::new(0.0, 0.0)) * l - 1.0) / tau;
+    let mut best: Option<C64> = None;
+    for g in [
+        guess,
+        guess * 0.5,
+        guess * 2.0,
+        guess.conj(),
+        C64::new(-0.5 / tau, 0.0),
+    ] {
+        let mut s = g;
+        let mut ok = false;
+        for _ in 0..100 {
+            let e = 1e-7 * (s.norm() + 1.0 / tau);
+            let d = (f(s + e) - f(s - e)) / (2.0 * e);
+            let step = f(s) / d;
+            s -= step;
+            if step.norm() < 1e-13 * (s.norm() + 1.0 / tau) {
+                ok = true;
+                break;
+            }
+        }
+        if ok && s.re.is_finite() && best.is_none_or(|b| s.re > b.re + 1e-9) {
+            best = Some(s);
+        }
+    }
+    best.expect("no root converged")
+}

@@ -51,6 +51,7 @@ mod step_refinement;
 mod stick;
 mod switch;
 mod thermal;
+mod thermal_conduction;
 mod thermal_fe;
 mod thermal_map;
 mod transient_scenes;

@@ -33,9 +33,9 @@ fn run(sets: &[&str]) -> (ThermalResults, Newkirk) {
         radius: station.radius,
         omega: r.omega,
         me: 0.008 * 0.045,
-        gain: spec.gain,
-        th: spec.heating_time,
-        tc: spec.cooling_time,
+        gain: spec.gain.unwrap(),
+        th: spec.heating_time.unwrap(),
+        tc: spec.cooling_time.unwrap(),
         bow: r.bow_per_kelvin,
     };
     (r, nk)

@@ -161,6 +161,21 @@ max_temperature_difference = 1e4
 /// `Λ = G μ k_s Ω R h`; the slow eigenvalues, roots of `(1 + τ_h s)(1 + τ_c s) = Λ`, the larger
 /// real part first. Returns (Λ, s).
 fn fe_theory(ls: &LoadedScene, model: &Model, omega: f64, ks: f64) -> (C64, C64) {
+    let spec = ls.scene.thermal.as_ref().unwrap();
+    let lam = spec.gain.unwrap() * fe_loop(ls, model, omega, ks);
+    let (p, q, s0) = (
+        spec.heating_time.unwrap() * spec.cooling_time.unwrap(),
+        spec.heating_time.unwrap() + spec.cooling_time.unwrap(),
+        1.0 - lam,
+    );
+    let d = (q * q - 4.0 * p * s0).sqrt();
+    let (s1, s2) = ((-q + d) / (2.0 * p), (-q - d) / (2.0 * p));
+    (lam, if s1.re >= s2.re { s1 } else { s2 })
+}
+
+/// The FE rotor's loop without the section's law: `Λ/G = μ k_s Ω R h` (W/K), `h` the 1×
+/// response at the station per kelvin of [`fe_theory`].
+pub(crate) fn fe_loop(ls: &LoadedScene, model: &Model, omega: f64, ks: f64) -> C64 {
     let Rotor::Fe(f) = &model.rotor else {
         panic!("an FE rotor")
     };
@@ -186,15 +201,7 @@ fn fe_theory(ls: &LoadedScene, model: &Model, omega: f64, ks: f64) -> (C64, C64)
     }
     let u: Vec<C64> = a.lu().solve(&fb).unwrap().iter().copied().collect();
     let h = rotor_frame(&u, [x, y]);
-    let lam = spec.gain * st.friction * ks * omega * st.radius * C64::new(h[0], h[1]);
-    let (p, q, s0) = (
-        spec.heating_time * spec.cooling_time,
-        spec.heating_time + spec.cooling_time,
-        1.0 - lam,
-    );
-    let d = (q * q - 4.0 * p * s0).sqrt();
-    let (s1, s2) = ((-q + d) / (2.0 * p), (-q - d) / (2.0 * p));
-    (lam, if s1.re >= s2.re { s1 } else { s2 })
+    st.friction * ks * omega * st.radius * C64::new(h[0], h[1])
 }
 
 /// The spiral of `FE_SPIRAL` with overrides, and its theory (Λ, s).

@@ -34,9 +34,9 @@ fn map(sets: &[&str]) -> (ThermalMap, impl Fn(f64, f64) -> Newkirk) {
         radius,
         omega: nu * wn,
         me: 0.008 * 0.045,
-        gain: spec.gain,
-        th: spec.heating_time,
-        tc: spec.cooling_time,
+        gain: spec.gain.unwrap(),
+        th: spec.heating_time.unwrap(),
+        tc: spec.cooling_time.unwrap(),
         bow: hs.bow_per_kelvin,
     };
     (m, closed)
