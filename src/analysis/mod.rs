@@ -44,6 +44,7 @@
 //! probe), [`refine`] (mesh-refinement metrics).
 
 pub mod arclength;
+pub mod autonomous;
 pub mod autostep;
 pub mod bench;
 pub mod branch;

@@ -3,7 +3,9 @@
 
 use super::{chosen_settings, default_out, load, Common, UnitArg};
 use anyhow::{Context, Result};
-use rubsim::analysis::{self, floquet::StepRefinement, periodic::PeriodicOrbit};
+use rubsim::analysis::{
+    self, autonomous::AutonomousOrbit, floquet::StepRefinement, periodic::PeriodicOrbit,
+};
 use rubsim::output::summary::{finish, Base, Summary};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -45,6 +47,11 @@ pub struct PeriodicArgs {
     /// (the continuous flow's exp(λT)); multipliers_refined.csv.
     #[arg(long)]
     pub refine: bool,
+    /// The orbit of an autonomous system — no unbalance, no load fixed in the rotor: a whirl
+    /// at its own frequency (dry whip) — with its period unknown and a phase condition,
+    /// started from the settled run's whirl line (`analysis::autonomous`).
+    #[arg(long, conflicts_with_all = ["period", "refine"])]
+    pub autonomous: bool,
     /// Output directory (default: out/<scene name>/periodic).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -59,6 +66,7 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
         unit,
         period,
         refine,
+        autonomous,
         out,
     } = a.clone();
     let (ls, model) = load(&c)?;
@@ -81,6 +89,9 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
     let t0 = std::time::Instant::now();
     let s = chosen_settings(&ls, &model, &[v])?;
     let prep = analysis::prepare(&model, &analysis::periodic::request_at(&s, v))?;
+    if autonomous {
+        return write_autonomous(outd, (&ls, &model), &prep, t0);
+    }
     let orbit = analysis::periodic::shoot(&prep, period)?;
     let refined = if refine {
         Some(analysis::floquet::refine(&prep, &orbit)?)
@@ -106,6 +117,81 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
     let base = Base::new(&ls, &model, "periodic");
     finish(outd, &Summary { base, body })?;
     Ok(())
+}
+
+/// `rubsim periodic --autonomous`: the orbit shot with its period ([`AutonomousOrbit`]),
+/// reported, and written as `summary.json` (`autonomous`) and `multipliers.csv`.
+fn write_autonomous(
+    mut outd: rubsim::output::OutDir,
+    (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
+    prep: &analysis::Prepared,
+    t0: std::time::Instant,
+) -> Result<()> {
+    let o = analysis::autonomous::shoot_autonomous(prep)?;
+    report_autonomous(&o);
+    outd.write("multipliers.csv", rows_csv(&o.multipliers).as_bytes())?;
+    if ls.scene.output.png {
+        rubsim::output::branch::write_multipliers(&mut outd, &ls.scene.title, &o.multipliers)?;
+    }
+    let body = AutonomousBody {
+        autonomous: &o,
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    let base = Base::new(ls, model, "periodic");
+    finish(outd, &Summary { base, body })?;
+    Ok(())
+}
+
+/// The body of `summary.json` of `rubsim periodic --autonomous`.
+#[derive(Debug, Serialize)]
+struct AutonomousBody<'a> {
+    /// The orbit, its period, multipliers and stability.
+    autonomous: &'a AutonomousOrbit,
+    /// Wall time of the command (s).
+    wall_s: f64,
+}
+
+/// Prints an autonomous orbit: its period and whirl, convergence, stability, multipliers.
+fn report_autonomous(o: &AutonomousOrbit) {
+    println!(
+        "ω/ωn = {:.4}: autonomous orbit, period {:.6e} s (started from {:.6e} s), whirl {:+.6} ω_n = {:+.6} Ω ({}), {} steps of Δt = {:.4e} s a period; Newton {} in {} iteration(s), residual {:.2e}; {} steps",
+        o.speed_ratio,
+        o.period_s,
+        o.start_period_s,
+        o.whirl_ratio,
+        o.order,
+        if o.whirl_frequency < 0.0 { "backward" } else { "forward" },
+        o.steps_per_period,
+        o.dt_s,
+        if o.converged { "converged" } else { "did NOT converge" },
+        o.iterations,
+        o.residual,
+        o.steps
+    );
+    println!(
+        "  orbit: radius {:.6e} … {:.6e} m at the first station, contact fraction {:.4}",
+        o.radius_m[0], o.radius_m[1], o.contact_fraction
+    );
+    let t = o.trivial_multiplier;
+    let state = match (o.converged, o.stable, o.instability) {
+        (false, ..) => "unknown (no periodic orbit found near the settled whirl)".to_string(),
+        (true, true, _) => "stable".to_string(),
+        (true, false, Some(how)) => format!("unstable ({how})"),
+        (true, false, None) => "unstable".to_string(),
+    };
+    println!(
+        "  the shift along the orbit: ρ = {:+.8} {:+.8}i (|ρ − 1| = {:.1e}); largest other |ρ| = {:.6}: {state}",
+        t[0],
+        t[1],
+        (t[0] - 1.0).hypot(t[1]),
+        o.largest_modulus
+    );
+    if !o.converged {
+        eprintln!(
+            "warning: ω/ωn = {:.4}: shooting did not find an autonomous periodic orbit (residual {:.2e} after {} Newton iterations): the whirl may be quasi-periodic or chaotic",
+            o.speed_ratio, o.residual, o.iterations
+        );
+    }
 }
 
 /// The folder of `rubsim periodic`'s orbit series in its output directory.
@@ -225,8 +311,13 @@ fn report(o: &PeriodicOrbit) {
 /// `multipliers.csv`: index, real and imaginary parts, modulus and angle (degrees) of each
 /// Floquet multiplier, largest modulus first.
 fn multipliers_csv(o: &PeriodicOrbit) -> String {
+    rows_csv(&o.multipliers)
+}
+
+/// [`multipliers_csv`] of the multipliers `rho`.
+fn rows_csv(rho: &[[f64; 2]]) -> String {
     let mut s = String::from("index,re,im,modulus,angle_deg\n");
-    for (i, m) in o.multipliers.iter().enumerate() {
+    for (i, m) in rho.iter().enumerate() {
         let _ = writeln!(
             s,
             "{},{:e},{:e},{:e},{:e}",

@@ -8,6 +8,7 @@ mod common;
 
 mod abradable;
 mod architecture;
+mod autonomous;
 mod autostep;
 mod campbell;
 mod cases;
