@@ -57,6 +57,8 @@ __all__ = [
     "Map",
     "Modal",
     "Periodic",
+    "Autonomous",
+    "AutonomousBranch",
     "Branch",
     "Diagram",
     "Thermal",
@@ -283,12 +285,20 @@ class Scene:
         unit: str = "ratio",
         period: Optional[int] = None,
         refine: bool = False,
-    ) -> "Periodic":
+        autonomous: bool = False,
+    ) -> Union["Periodic", "Autonomous"]:
         """The periodic orbit of ``period`` revolutions (default: the settled run's) at
         ``speed`` (default: the scene's) by shooting, as ``rubsim periodic``: its Floquet
         multipliers and stability. With ``refine`` (``rubsim periodic --refine``) the orbit is
         shot again at half the step: ``refined`` holds the multipliers there, their error
-        estimates and, for an orbit without contact, their extrapolation to Δt → 0."""
+        estimates and, for an orbit without contact, their extrapolation to Δt → 0. With
+        ``autonomous`` (``rubsim periodic --autonomous``): an :class:`Autonomous` — a whirl at
+        its own frequency (dry whip) in a scene without unbalance, its period unknown."""
+        if autonomous:
+            if period is not None or refine:
+                raise ValueError("autonomous= finds the period itself: leave out period= and refine=")
+            d = self._native.periodic_autonomous(self._ratio(speed, unit))
+            return Autonomous(json.loads(d))
         d = self._native.periodic(self._ratio(speed, unit), period, bool(refine))
         return Periodic(json.loads(d))
 
@@ -306,7 +316,8 @@ class Scene:
         max_period: int = 8,
         key: Optional[str] = None,
         speed: Optional[float] = None,
-    ) -> Union["Branch", "Diagram"]:
+        autonomous: bool = False,
+    ) -> Union["Branch", "Diagram", "AutonomousBranch"]:
         """The periodic orbit continued over speed from ``from_`` to ``to`` by ``step``
         (default: the scene's ``[run.sweep]``), as ``rubsim continue``: in ν alone, or by
         pseudo-arclength around folds (``arclength``, at most ``max_points`` points). With
@@ -314,7 +325,24 @@ class Scene:
         doublings and theirs, up to period ``max_period`` (``rubsim continue --switch``).
         With ``key`` (a dotted scene key, ``"station.0.friction"``): continued over that key
         from ``from_`` to ``to`` by ``step`` in the key's own units at the fixed ``speed`` (in
-        ``unit``; default the scene's), as ``rubsim continue --key``."""
+        ``unit``; default the scene's), as ``rubsim continue --key``. With ``autonomous``: an
+        :class:`AutonomousBranch` — the whirl at its own frequency continued in speed or in
+        ``key`` (``rubsim continue --autonomous``)."""
+        if autonomous:
+            if period is not None or arclength or switch:
+                raise ValueError(
+                    "autonomous= continues in the parameter alone with the period unknown: leave out period=, arclength= and switch="
+                )
+            if key is None and speed is not None:
+                raise ValueError("speed= is the fixed speed of a branch in a key: give key= too")
+            if key is not None:
+                r = [None if v is None else float(v) for v in (from_, to, step)]
+                nu = self._ratio(speed, unit)
+                d = self._native.continuation_autonomous(str(key), nu, *r)
+            else:
+                r = [self._ratio(v, unit) for v in (from_, to, step)]
+                d = self._native.continuation_autonomous(None, None, *r)
+            return AutonomousBranch(json.loads(d))
         n = int(max_points) if arclength else None
         m = int(max_period) if switch else None
         if key is not None:
@@ -666,6 +694,57 @@ class Periodic:
         if not self.converged:
             state = "not converged"
         return f"<rubsim.Periodic ν={self.speed_ratio:.4g}, period {self.period}: {state}>"
+
+
+class Autonomous:
+    """An autonomous periodic orbit (``periodic(autonomous=True)``): a whirl at its own
+    frequency, its period unknown. ``period_s`` (s), ``whirl_ratio`` (ω_w/ω_n, signed: negative
+    backward), ``order`` (ω_w/Ω), ``radius_m`` (the first station's smallest and largest radius
+    over the period), ``contact_fraction``, ``multipliers`` (complex numpy array, largest
+    modulus first, the trivial one among them), ``trivial_multiplier`` (complex: the shift
+    along the orbit, 1 to the differences' accuracy), ``largest_modulus`` (of the others),
+    ``stable``, ``instability``, ``converged``, ``parameter``, ``speed_ratio``, ``summary``
+    (everything)."""
+
+    def __init__(self, d: dict):
+        self.summary = d
+        for k in ("parameter", "speed_ratio", "converged", "period_s", "whirl_ratio", "order",
+                  "contact_fraction", "largest_modulus", "stable", "instability"):
+            setattr(self, k, d[k])
+        self.radius_m = np.array(d["radius_m"], dtype=float)
+        self.multipliers = _complex(d["multipliers"])
+        self.trivial_multiplier = complex(*d["trivial_multiplier"])
+
+    def __repr__(self) -> str:
+        state = "stable" if self.stable else f"unstable ({self.instability})"
+        if not self.converged:
+            state = "not converged"
+        return f"<rubsim.Autonomous ν={self.speed_ratio:.4g}, whirl {self.whirl_ratio:+.5g} ω_n: {state}>"
+
+
+class AutonomousBranch:
+    """Autonomous orbits continued (``continuation(autonomous=True)``): ``parameter``
+    (``"speed_ratio"`` or the scene key), ``points`` (each an :class:`Autonomous`), ``table``
+    (numpy columns over the points: ``parameter``, ``speed_ratio``, ``stable``,
+    ``largest_modulus``, ``period_s``, ``whirl_ratio``, ``order``, ``radius_m`` — the mean of
+    the smallest and largest —, ``contact_fraction``), ``ended`` (why it stopped early, or
+    None), ``summary``."""
+
+    def __init__(self, d: dict):
+        self.summary = d
+        self.parameter = d["parameter"]
+        self.points = [Autonomous(p) for p in d["points"]]
+        self.table = {
+            k: np.array([getattr(p, k) for p in self.points])
+            for k in ("parameter", "speed_ratio", "largest_modulus", "period_s", "whirl_ratio",
+                      "order", "contact_fraction")
+        }
+        self.table["stable"] = np.array([p.stable for p in self.points], dtype=bool)
+        self.table["radius_m"] = np.array([p.radius_m.mean() for p in self.points])
+        self.ended = d["ended"]
+
+    def __repr__(self) -> str:
+        return f"<rubsim.AutonomousBranch in {self.parameter}: {len(self.points)} points>"
 
 
 class Branch:

@@ -310,6 +310,75 @@ pub fn periodic(
     })
 }
 
+/// The autonomous orbit (a whirl at its own frequency, dry whip) at ν = `speed` (default: the
+/// scene's single speed), as `rubsim periodic --autonomous`: the JSON of
+/// `analysis::autonomous::AutonomousOrbit`.
+pub fn periodic_autonomous(
+    py: Python<'_>,
+    (ls, model): (&LoadedScene, &Model),
+    speed: Option<f64>,
+) -> PyResult<String> {
+    let v = speed_of(ls, model, speed)?;
+    let o = py
+        .detach(|| {
+            let s = rubsim::study::run_settings(ls, model, &[v])?;
+            let prep = analysis::prepare(model, &analysis::periodic::request_at(&s, v))?;
+            analysis::autonomous::shoot_autonomous(&prep)
+        })
+        .py_err()?;
+    json(&o)
+}
+
+/// The autonomous orbit continued over ν `from … to` by `step` (default: the scene's
+/// `[run.sweep]`), or with `key` over that key's values at the fixed ν `speed` (default: the
+/// scene's), as `rubsim continue --autonomous`: the JSON of
+/// `analysis::autonomous_branch::AutonomousBranch`.
+pub fn continuation_autonomous(
+    py: Python<'_>,
+    (ls, model): (&LoadedScene, &Model),
+    (key, speed): (Option<&str>, Option<f64>),
+    range: [Option<f64>; 3],
+) -> PyResult<String> {
+    let (at, abh, speeds) = match key {
+        Some(k) => {
+            let v = speed_of(ls, model, speed)?;
+            let [Some(a), Some(b), Some(h)] = range else {
+                return Err(StudyError::new_err(format!(
+                    "key={k} needs from_=, to= and step=, in the key's own units"
+                )));
+            };
+            (Some((k, v)), (a, b, h), vec![v])
+        }
+        None => {
+            let (a, b, h) = sweep_range(ls, range)?;
+            let speeds = analysis::continuation::speeds(a, b, h).py_err()?;
+            (None, (a, b, h), speeds)
+        }
+    };
+    let branch = py
+        .detach(|| {
+            let s = rubsim::study::run_settings(ls, model, &speeds)?;
+            analysis::continuation::continue_autonomous((ls, model), &s, at, abh)
+        })
+        .py_err()?;
+    json(&branch)
+}
+
+/// `(from, to, step)` as given, each missing one from the scene's `[run.sweep]`.
+fn sweep_range(ls: &LoadedScene, range: [Option<f64>; 3]) -> PyResult<(f64, f64, f64)> {
+    let scene = ls.scene.run.sweep.as_ref().map(|s| [s.from, s.to, s.step]);
+    let mut abh = [0.0; 3];
+    for (k, name) in ["from_", "to", "step"].iter().enumerate() {
+        abh[k] = range[k].or(scene.map(|s| s[k])).ok_or_else(|| {
+            StudyError::new_err(format!(
+                "{}: give {name}= (the scene has no [run.sweep])",
+                ls.file.display()
+            ))
+        })?;
+    }
+    Ok((abh[0], abh[1], abh[2]))
+}
+
 /// The period-`period` orbit continued over ν `from … to` by `step` (default: the scene's
 /// `[run.sweep]`), by pseudo-arclength in at most `arclength` points when given, as `rubsim
 /// continue`: the JSON of `analysis::branch::Branch`.
@@ -331,18 +400,7 @@ pub fn continuation(
             "max_period must be at least 2 (a switched branch doubles the period)",
         ));
     }
-    let sweep = ls.scene.run.sweep.as_ref();
-    let scene = sweep.map(|s| [s.from, s.to, s.step]);
-    let mut abh = [0.0; 3];
-    for (k, name) in ["from_", "to", "step"].iter().enumerate() {
-        abh[k] = range[k].or(scene.map(|s| s[k])).ok_or_else(|| {
-            StudyError::new_err(format!(
-                "{}: give {name}= (the scene has no [run.sweep])",
-                ls.file.display()
-            ))
-        })?;
-    }
-    let [a, b, h] = abh;
+    let (a, b, h) = sweep_range(ls, range)?;
     let speeds = analysis::continuation::speeds(a, b, h).py_err()?;
     let s = py
         .detach(|| rubsim::study::run_settings(ls, model, &speeds))

@@ -221,6 +221,29 @@ impl NativeScene {
         runs::periodic(py, (&self.ls, model), speed, period, refine)
     }
 
+    /// The autonomous orbit at ν = `speed` (JSON text); see `runs::periodic_autonomous`.
+    #[pyo3(signature = (speed=None))]
+    fn periodic_autonomous(&self, py: Python<'_>, speed: Option<f64>) -> PyResult<String> {
+        let model = self.model(py)?;
+        runs::periodic_autonomous(py, (&self.ls, model), speed)
+    }
+
+    /// The autonomous orbit continued over speed or a key (JSON text); see
+    /// `runs::continuation_autonomous`.
+    #[pyo3(signature = (key=None, speed=None, from_=None, to=None, step=None))]
+    fn continuation_autonomous(
+        &self,
+        py: Python<'_>,
+        key: Option<&str>,
+        speed: Option<f64>,
+        from_: Option<f64>,
+        to: Option<f64>,
+        step: Option<f64>,
+    ) -> PyResult<String> {
+        let model = self.model(py)?;
+        runs::continuation_autonomous(py, (&self.ls, model), (key, speed), [from_, to, step])
+    }
+
     /// A periodic orbit continued over speed (JSON text); see `runs::continuation`. With
     /// `switch = Some(max_period)`: the diagram of `rubsim continue --switch` (JSON text).
     #[pyo3(signature = (from_=None, to=None, step=None, period=None, arclength=None, switch=None))]

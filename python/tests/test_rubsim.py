@@ -380,3 +380,31 @@ def test_the_thermal_stability_map_from_python(tmp_path):
     assert g.shape == (len(m.y), len(m.x)) and set(g[-1]) == {"not_synchronous"}
     assert np.all(np.isnan(m.grid("growth_rate")[-1])) and np.all(np.isfinite(m.grid("growth_rate")[0]))
     assert rubsim.Scene(ROOT / "scenes" / "thermal" / "newkirk_map.toml", set=sets).map().dir is None
+
+
+def test_autonomous_orbits_from_python(tmp_path):
+    """Dry whip from Python (docs/VALIDATION.md §19.5): `periodic(autonomous=True)` is the
+    command's orbit — the same period and multipliers —, its whirl the closed form
+    ξ/μ + √(1 + (ξ/μ)²) = 4.23607 ω_n backward; `continuation(autonomous=True, key=...)` in the
+    friction is `rubsim continue --autonomous --key`'s branch row for row."""
+    dry = ROOT / "scenes" / "periodic" / "dry_whip.toml"
+    scene = rubsim.Scene(dry)
+    a = scene.periodic(autonomous=True)
+    assert isinstance(a, rubsim.Autonomous) and a.converged and not a.stable
+    assert abs(a.whirl_ratio + 0.2 / 0.1 + math.sqrt(1 + 4.0)) < 1e-5
+    assert abs(a.trivial_multiplier - 1) < 1e-5
+    cli("periodic", dry, "--autonomous", "--out", tmp_path / "p")
+    want = summary(tmp_path / "p")["autonomous"]
+    assert a.period_s == want["period_s"]
+    assert np.array_equal(a.multipliers, np.array([complex(*m) for m in want["multipliers"]]))
+    b = scene.continuation(0.1, 0.2, 0.05, key="station.0.friction", speed=2.0, autonomous=True)
+    assert isinstance(b, rubsim.AutonomousBranch) and b.ended is None
+    cli("continue", dry, "--autonomous", "--key", "station.0.friction", "--speed", "2",
+        "--from", "0.1", "--to", "0.2", "--step", "0.05", "--out", tmp_path / "c")
+    rows = summary(tmp_path / "c")["autonomous_branch"]["points"]
+    assert np.array_equal(b.table["whirl_ratio"], np.array([r["whirl_ratio"] for r in rows]))
+    assert abs(b.table["whirl_ratio"][1] + 3.0) < 1e-4
+    with pytest.raises(ValueError, match="period"):
+        scene.periodic(autonomous=True, period=1)
+    with pytest.raises(rubsim.RubsimError, match="rotor.unbalance"):
+        rubsim.Scene(PAPER).periodic(2.0, autonomous=True)

@@ -48,6 +48,9 @@ const FD_PERIOD: f64 = 1e-6;
 /// An autonomous periodic orbit (module docs) and its stability.
 #[derive(Debug, Clone, Serialize)]
 pub struct AutonomousOrbit {
+    /// The value of the parameter a branch is continued in (ν, or a scene key's value); ν for
+    /// a single orbit.
+    pub parameter: f64,
     /// ν = Ω/ω_n.
     pub speed_ratio: f64,
     /// Whether Newton met the shooting tolerance.
@@ -135,9 +138,24 @@ pub fn shoot_autonomous(prep: &Prepared) -> Result<AutonomousOrbit> {
         ));
     }
     let t0 = std::f64::consts::TAU / (order.abs() * prep.omega);
-    let mut o = shoot_period(prep, end, t0)?;
+    let n = ((t0 / prep.plan.dt).round() as usize).max(8);
+    let mut o = shoot_period(prep, end, t0, n)?;
     o.steps += settled.stats.steps as u64;
     Ok(o)
+}
+
+/// The orbit of `prep` by Newton from `from`, an orbit at a neighbouring value of a branch's
+/// parameter: its fixed point and period the start, its `N` steps a period kept, so that every
+/// point of a branch is a fixed point of one map, smooth in the parameter
+/// ([`super::autonomous_branch`]).
+///
+/// # Errors
+/// As [`shoot_autonomous`]; [`Error::Study`] for a state that does not fit `prep`'s run.
+pub fn shoot_autonomous_from(prep: &Prepared, from: &AutonomousOrbit) -> Result<AutonomousOrbit> {
+    autonomous(prep)?;
+    let (x, layout) = &from.fixed_point;
+    let end = layout.with_state_vector(x).ok_or_else(not_fitting)?;
+    shoot_period(prep, end, from.period_s, from.steps_per_period)
 }
 
 /// Refuses a case that is not autonomous.
@@ -158,12 +176,21 @@ fn autonomous(prep: &Prepared) -> Result<()> {
     Ok(())
 }
 
-/// Shoots from the settled state `end` with the period estimate `t0` (s).
+/// Shoots from the state `end` with the period estimate `t0` (s) in `n` steps a period.
 ///
 /// # Errors
 /// As [`shoot_autonomous`].
-fn shoot_period(prep: &Prepared, end: EndState, t0: f64) -> Result<AutonomousOrbit> {
-    let n = ((t0 / prep.plan.dt).round() as usize).max(8);
+fn shoot_period(prep: &Prepared, end: EndState, t0: f64, n: usize) -> Result<AutonomousOrbit> {
+    if t0 / n as f64 > prep.plan.limit {
+        return Err(Error::study(
+            "run.dt",
+            format!(
+                "the period {t0:.6e} s in {n} steps makes Δt = {:.4e} s, above the explicit scheme's stability limit {:.4e} s (a branch keeps its first orbit's steps a period: continue over a shorter range, or start where the period is longest)",
+                t0 / n as f64,
+                prep.plan.limit
+            ),
+        ));
+    }
     let map = PeriodMap::new(prep, n, t0, end)?;
     let x0 = map.end.state_vector().ok_or_else(|| {
         Error::study(
@@ -207,6 +234,7 @@ fn shoot_period(prep: &Prepared, end: EndState, t0: f64) -> Result<AutonomousOrb
     let sense = record.sense;
     let whirl = sense * std::f64::consts::TAU / t;
     Ok(AutonomousOrbit {
+        parameter: prep.speed_ratio,
         speed_ratio: prep.speed_ratio,
         converged: newton.converged,
         iterations: newton.iterations,

@@ -197,3 +197,30 @@ pub fn continue_key(scene: &LoadedScene, s: &RunSettings, b: &KeyBranch<'_>) -> 
         }
     }
 }
+
+/// `rubsim continue --autonomous`: the autonomous orbit (a whirl at its own frequency) of the
+/// scene continued over `range` — in speed (ν `from … to` by `step`), or with `key = Some((key,
+/// ν))` over the key's values at the fixed speed ν ([`super::autonomous_branch`]).
+///
+/// # Errors
+/// As [`speeds`] or [`values`]; the key's refusals ([`Continued::of_key`]); the first value's
+/// ([`super::autonomous_branch::follow_autonomous`]).
+pub fn continue_autonomous(
+    (scene, model): (&LoadedScene, &Model),
+    s: &RunSettings,
+    key: Option<(&str, f64)>,
+    (from, to, step): (f64, f64, f64),
+) -> Result<super::autonomous_branch::AutonomousBranch> {
+    match key {
+        None => {
+            let v = speeds(from, to, step)?;
+            let c = Continued::of_speed(model, s, from.max(to))?;
+            super::autonomous_branch::follow_autonomous(&c, &v)
+        }
+        Some(at) => {
+            let v = values(from, to, step)?;
+            let c = Continued::of_key(scene, s, at, &v)?;
+            super::autonomous_branch::follow_autonomous(&c, &v)
+        }
+    }
+}

@@ -45,6 +45,7 @@
 
 pub mod arclength;
 pub mod autonomous;
+pub mod autonomous_branch;
 pub mod autostep;
 pub mod bench;
 pub mod branch;

@@ -91,6 +91,11 @@ pub struct ContinueArgs {
     /// converged point.
     #[arg(long, value_delimiter = ',')]
     pub orbits_at: Vec<f64>,
+    /// The autonomous orbit — a whirl at its own frequency (dry whip) in a scene without
+    /// unbalance — continued with its period unknown (`rubsim periodic --autonomous` at each
+    /// value, Newton from the previous orbit): in speed, or with `--key` in the key at `--speed`.
+    #[arg(long, conflicts_with_all = ["arclength", "switch", "period"])]
+    pub autonomous: bool,
     /// Output directory (default: out/<scene name>/continue).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -102,9 +107,6 @@ pub struct ContinueArgs {
 pub fn continuation(args: &ContinueArgs) -> Result<()> {
     let ContinueArgs {
         c,
-        from,
-        to,
-        step,
         unit,
         period,
         arclength,
@@ -120,23 +122,7 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
     let (ls, model) = load(&c)?;
     super::periodic::check_period(period)?;
     let wn = model.rotor.natural_frequency();
-    let sweep = ls.scene.run.sweep.as_ref();
-    let pick = |given: Option<f64>, scene: Option<f64>, name: &str| -> Result<f64> {
-        given.map(|v| unit.ratio(v, wn)).or(scene).with_context(|| {
-            format!(
-                "{}: `rubsim continue` needs --{name} or the scene's [run.sweep]",
-                c.scene.display()
-            )
-        })
-    };
-    let a = pick(from, sweep.map(|s| s.from), "from")?;
-    let b = pick(to, sweep.map(|s| s.to), "to")?;
-    let h = match step {
-        Some(v) => unit.ratio(v, wn),
-        None => sweep
-            .map(|s| s.step)
-            .context("`rubsim continue` needs --step or the scene's [run.sweep]")?,
-    };
+    let (a, b, h) = speed_range(args, &ls, &model)?;
     if arclength.is_some_and(|n| n < 2) {
         anyhow::bail!("--max-points must be at least 2, got {max_points}");
     }
@@ -197,6 +183,33 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
     let base = Base::new(&ls, &model, "continue");
     finish(outd, &Summary { base, body })?;
     Ok(())
+}
+
+/// The branch's speeds `(from, to, step)` as ν: `--from`, `--to`, `--step` in `--unit`, or the
+/// scene's `[run.sweep]`.
+pub(super) fn speed_range(
+    args: &ContinueArgs,
+    ls: &rubsim::scene::LoadedScene,
+    model: &rubsim::model::Model,
+) -> Result<(f64, f64, f64)> {
+    let wn = model.rotor.natural_frequency();
+    let sweep = ls.scene.run.sweep.as_ref();
+    let pick = |given: Option<f64>, scene: Option<f64>, name: &str| -> Result<f64> {
+        given
+            .map(|v| args.unit.ratio(v, wn))
+            .or(scene)
+            .with_context(|| {
+                format!(
+                    "{}: `rubsim continue` needs --{name} or the scene's [run.sweep]",
+                    args.c.scene.display()
+                )
+            })
+    };
+    Ok((
+        pick(args.from, sweep.map(|s| s.from), "from")?,
+        pick(args.to, sweep.map(|s| s.to), "to")?,
+        pick(args.step, sweep.map(|s| s.step), "step")?,
+    ))
 }
 
 /// The orbits of `--orbits-at` (`values`, ν) on the branches of `d` (continued over

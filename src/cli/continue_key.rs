@@ -8,24 +8,13 @@ use anyhow::{Context, Result};
 use rubsim::analysis::{self, continuation::KeyBranch};
 use rubsim::output::summary::{finish, Base, Summary};
 
-/// Continues the period-`--period` orbit over `--key` from `--from` to `--to` by `--step` (the
-/// key's units) at `--speed` (in `--unit`; default the scene's single speed), and writes the
-/// branch's files. Everything the key's values refuse is refused before a run, nothing written.
-pub fn continuation_in_key(args: &ContinueArgs) -> Result<()> {
-    let a = args.clone();
+/// The fixed speed ν of a branch in `--key` (`--speed` in `--unit`, or the scene's one speed)
+/// and its range `(from, to, step)` in the key's units.
+pub(super) fn key_speed_range(
+    a: &ContinueArgs,
+    (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
+) -> Result<(f64, (f64, f64, f64))> {
     let key = a.key.as_deref().unwrap_or_default();
-    let (ls, model) = load(&a.c)?;
-    super::periodic::check_period(a.period)?;
-    if a.sweep.is_some() {
-        anyhow::bail!(
-            "--sweep draws a sweep's points over speed: not with --key (the branch is drawn over `{key}`)"
-        );
-    }
-    if !a.orbits_at.is_empty() {
-        anyhow::bail!(
-            "--orbits-at picks orbits by speed on a branch in speed: not with --key (this branch is at one speed; shoot an orbit of it with `rubsim periodic --set {key}=VALUE`)"
-        );
-    }
     if a.speed.is_none() && a.unit != UnitArg::Ratio {
         anyhow::bail!(
             "--unit applies to --speed only (the key's values are in its own units): give --speed in that unit, or leave --unit out"
@@ -44,13 +33,35 @@ pub fn continuation_in_key(args: &ContinueArgs) -> Result<()> {
     let nu = a
         .speed
         .map(|v| a.unit.ratio(v, model.rotor.natural_frequency()))
-        .or_else(|| analysis::single_speed(&ls.scene.run, &model))
+        .or_else(|| analysis::single_speed(&ls.scene.run, model))
         .with_context(|| {
             format!(
                 "{}: `rubsim continue --key` runs at one speed: --speed, or the scene's run.speed_ratio or run.speed",
                 a.c.scene.display()
             )
         })?;
+    Ok((nu, (from, to, step)))
+}
+
+/// Continues the period-`--period` orbit over `--key` from `--from` to `--to` by `--step` (the
+/// key's units) at `--speed` (in `--unit`; default the scene's single speed), and writes the
+/// branch's files. Everything the key's values refuse is refused before a run, nothing written.
+pub fn continuation_in_key(args: &ContinueArgs) -> Result<()> {
+    let a = args.clone();
+    let key = a.key.as_deref().unwrap_or_default();
+    let (ls, model) = load(&a.c)?;
+    super::periodic::check_period(a.period)?;
+    if a.sweep.is_some() {
+        anyhow::bail!(
+            "--sweep draws a sweep's points over speed: not with --key (the branch is drawn over `{key}`)"
+        );
+    }
+    if !a.orbits_at.is_empty() {
+        anyhow::bail!(
+            "--orbits-at picks orbits by speed on a branch in speed: not with --key (this branch is at one speed; shoot an orbit of it with `rubsim periodic --set {key}=VALUE`)"
+        );
+    }
+    let (nu, (from, to, step)) = key_speed_range(&a, (&ls, &model))?;
     if a.arclength && a.max_points < 2 {
         anyhow::bail!("--max-points must be at least 2, got {}", a.max_points);
     }

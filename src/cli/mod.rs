@@ -33,6 +33,7 @@ macro_rules! eprintln {
 mod bench;
 mod check;
 mod continuation;
+mod continue_autonomous;
 mod continue_key;
 mod convergence;
 mod import_ross;
@@ -568,6 +569,7 @@ pub fn run() -> Result<()> {
         Cmd::Mesh(a) => mesh::mesh(a),
         Cmd::Stress(a) => stress::stress(a),
         Cmd::Refine(a) => refine::refine(a),
+        Cmd::Continue(a) if a.autonomous => continue_autonomous::continuation_autonomous(a),
         Cmd::Continue(a) if a.key.is_some() => continue_key::continuation_in_key(a),
         Cmd::Continue(a) => continuation::continuation(a),
         Cmd::Periodic(a) => periodic::periodic(a),

@@ -15,6 +15,7 @@
 //! [`outdir`]. The directory is checked for writability before any computation starts
 //! ([`OutDir::prepare`]).
 
+pub mod autonomous;
 pub mod branch;
 pub mod csv;
 pub mod drawings;

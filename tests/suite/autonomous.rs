@@ -7,7 +7,7 @@
 use crate::common::{self, cli};
 use nalgebra::DMatrix;
 use rubsim::analysis::autonomous::{shoot_autonomous, AutonomousOrbit};
-use rubsim::analysis::{self, periodic};
+use rubsim::analysis::{self, autonomous_branch::AutonomousBranch, periodic};
 
 const SCENE: &str = "scenes/periodic/dry_whip.toml";
 const XI: f64 = 0.2;
@@ -17,7 +17,12 @@ const DELTA: f64 = 1e-3;
 
 /// The closed-form whirl ω_w/ω_n = ξ/μ + √(1 + (ξ/μ)²) and radius R = κδ/(κ + 1 − ω_w²).
 fn whirl() -> (f64, f64) {
-    let w = XI / MU + (1.0 + (XI / MU).powi(2)).sqrt();
+    whirl_at(MU)
+}
+
+/// [`whirl`] at the friction `mu`.
+fn whirl_at(mu: f64) -> (f64, f64) {
+    let w = XI / mu + (1.0 + (XI / mu).powi(2)).sqrt();
     (w, KAPPA * DELTA / (KAPPA + 1.0 - w * w))
 }
 
@@ -27,12 +32,17 @@ fn whirl() -> (f64, f64) {
 /// `(s² + 2ξs + c)(s + 2ξ) + 4ω²s − 2ω(μκ − 2ξω) = 0`, `c = 1 + κ − ω²`; with the shift along
 /// the orbit (φ, exponent 0) the four multipliers are 1 and `exp(s T)`, `T = 2π/ω`.
 fn multipliers() -> Vec<[f64; 2]> {
-    let (w, _) = whirl();
+    multipliers_at(MU)
+}
+
+/// [`multipliers`] at the friction `mu`.
+fn multipliers_at(mu: f64) -> Vec<[f64; 2]> {
+    let (w, _) = whirl_at(mu);
     let c = 1.0 + KAPPA - w * w;
     // s³ + a s² + b s + d.
     let a = 4.0 * XI;
     let b = c + 4.0 * XI * XI + 4.0 * w * w;
-    let d = 2.0 * XI * c - 2.0 * w * (MU * KAPPA - 2.0 * XI * w);
+    let d = 2.0 * XI * c - 2.0 * w * (mu * KAPPA - 2.0 * XI * w);
     let companion = DMatrix::from_row_slice(3, 3, &[-a, -b, -d, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
     let t = std::f64::consts::TAU / w;
     let mut rho: Vec<[f64; 2]> = companion
@@ -178,4 +188,137 @@ fn a_forced_or_resting_rotor_is_refused() {
         ],
     );
     assert!(err.contains("does not whirl"), "{err}");
+}
+
+/// The whip continued at ν 2 over a key or in speed, at Δt₀ = 1 ms (its N steps a period kept).
+fn branch(key: Option<(&str, f64)>, range: (f64, f64, f64)) -> AutonomousBranch {
+    let (ls, model) = common::file_model(
+        &common::repo(SCENE),
+        &["run.auto_step=false", "run.dt=1e-3"],
+    );
+    let s = common::settings(&ls);
+    analysis::continuation::continue_autonomous((&ls, &model), &s, key, range).unwrap()
+}
+
+/// Continued in the friction μ 0.1 … 0.3 by 0.05 (`--autonomous --key station.0.friction`):
+/// every point is the closed form's whirl and radius at its μ (measured 4e-7 … 9e-6 relative,
+/// asserted 2e-5) and its multipliers the linearisation's exp(sT) (5e-6 … 1.2e-5 of max(|ρ|,
+/// 1), asserted 1e-4), unstable throughout (the cubic's constant term 2ξc − 2ω_w(μκ − 2ξω_w)
+/// < 0 wherever the whip exists: ρ₁ 1.069 … 4.342); each point's trivial multiplier 1 within
+/// 1e-6 (measured 4e-9 … 1.7e-7). Δt = T/N grows with T from 0.98 to 2.2 ms.
+#[test]
+fn the_whip_continued_in_friction_is_the_closed_form() {
+    let b = branch(Some(("station.0.friction", 2.0)), (0.1, 0.3, 0.05));
+    assert_eq!(b.points.len(), 5, "{:?}", b.ended);
+    assert!(b.ended.is_none() && b.parameter == "station.0.friction");
+    for o in &b.points {
+        let mu = o.parameter;
+        let (w, r) = whirl_at(mu);
+        let radius = 0.5 * (o.radius_m[0] + o.radius_m[1]);
+        let (ew, er) = ((o.whirl_ratio + w).abs() / w, (radius - r).abs() / r);
+        let want = multipliers_at(mu);
+        // Each expected multiplier against the nearest shot one (two of nearly one modulus
+        // may come in either order).
+        let em = want
+            .iter()
+            .map(|e| {
+                o.multipliers
+                    .iter()
+                    .map(|g| (g[0] - e[0]).hypot(g[1] - e[1]) / e[0].hypot(e[1]).max(1.0))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0_f64, f64::max);
+        let t = o.trivial_multiplier;
+        eprintln!(
+            "μ {mu:.3}: whirl {:.7} (−{w:.7}) {ew:.1e}, radius {radius:.6e} ({r:.6e}) {er:.1e}, ρ₁ {:.6} ({:.6}), multipliers {em:.1e}, trivial {:.1e}, Δt {:.3e}",
+            o.whirl_ratio,
+            o.largest_modulus,
+            want[0][0],
+            (t[0] - 1.0).hypot(t[1]),
+            o.dt_s
+        );
+        assert!(ew < 2e-5 && er < 2e-5, "μ {mu}: {ew:e} {er:e}");
+        assert!(em < 1e-4, "μ {mu}: {em:e}");
+        assert!((t[0] - 1.0).hypot(t[1]) < 1e-6, "{t:?}");
+        assert!(!o.stable && o.instability == Some("fold"));
+    }
+    assert_eq!(b.stretches().len(), 1);
+}
+
+/// Continued in speed ν 1.5 … 3 by 0.5: the whip does not depend on the spin (the slip keeps its
+/// sign), every point the same orbit within 1e-9 relative, its order −ω_w/(ν ω_n).
+#[test]
+fn the_whip_continued_in_speed_does_not_change() {
+    let b = branch(None, (1.5, 3.0, 0.5));
+    assert_eq!(b.points.len(), 4, "{:?}", b.ended);
+    let first = &b.points[0];
+    for o in &b.points {
+        assert!((o.whirl_ratio - first.whirl_ratio).abs() < 1e-9 * first.whirl_ratio.abs());
+        assert!((o.radius_m[1] - first.radius_m[1]).abs() < 1e-9 * first.radius_m[1]);
+        assert!((o.order - o.whirl_ratio / o.parameter).abs() < 1e-12);
+    }
+    assert!((first.whirl_ratio + whirl().0).abs() < 2e-6 * whirl().0);
+}
+
+/// Continued downwards in μ from 0.1 to 0.07: the whip exists only above μ_c = 2ξ√(1+κ)/κ
+/// (its radius κδ/(κ + 1 − ω_w²) grows without bound there), so the branch ends between μ_c
+/// and its last converged value 0.09, saying where and why, not with an error.
+#[test]
+fn the_whip_branch_ends_at_the_critical_friction() {
+    let mu_c = 2.0 * XI * (1.0 + KAPPA).sqrt() / KAPPA;
+    let b = branch(Some(("station.0.friction", 2.0)), (0.1, 0.07, 0.01));
+    let why = b.ended.as_deref().expect("ends");
+    eprintln!("μ_c {mu_c:.5}: {why}");
+    let last = b.points.last().unwrap().parameter;
+    assert!((last - 0.09).abs() < 1e-12, "{last}");
+    assert!(why.contains("station.0.friction") && why.contains("no autonomous orbit"));
+    let at: f64 = why
+        .split("station.0.friction = ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap();
+    assert!(at > mu_c && at < 0.09, "failed at {at}, μ_c {mu_c}");
+}
+
+/// `rubsim continue --autonomous --key`: branch.csv with the key's column and one row per
+/// value, summary.json's `autonomous_branch`; `--period` and `--sweep` beside it refused.
+#[test]
+fn the_continue_command_writes_the_autonomous_branch() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("b");
+    let args = [
+        "continue",
+        SCENE,
+        "--autonomous",
+        "--key",
+        "station.0.friction",
+        "--speed",
+        "2",
+        "--from",
+        "0.1",
+        "--to",
+        "0.2",
+        "--step",
+        "0.05",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let stdout = cli::ok(&common::repo(""), &args);
+    assert!(stdout.contains("unstable"), "{stdout}");
+    let (head, rows) = cli::csv_table(&out.join("branch.csv"));
+    assert_eq!(head[0], "station.0.friction");
+    assert_eq!(rows.len(), 3);
+    let w = head.iter().position(|h| h == "whirl_ratio").unwrap();
+    let got: f64 = rows[1][w].parse().unwrap();
+    assert!((got + 3.0).abs() < 1e-4, "{got}");
+    let s = cli::json(&out.join("summary.json"));
+    assert_eq!(
+        s["autonomous_branch"]["points"].as_array().unwrap().len(),
+        3
+    );
+    let err = cli::fails(&common::repo(""), &[&args[..], &["--period", "1"]].concat());
+    assert!(err.contains("--period"), "{err}");
+    let err = cli::fails(&common::repo(""), &[&args[..], &["--sweep", "x"]].concat());
+    assert!(err.contains("--sweep"), "{err}");
 }
