@@ -126,6 +126,15 @@ pub fn shoot_autonomous(prep: &Prepared) -> Result<AutonomousOrbit> {
             "shooting restarts the run's scheme from its settled state, which this run does not keep (an implicit scheme or a fixed window `run.duration`): use an explicit scheme with a settling window",
         )
     })?;
+    if settled.contact_fraction == 0.0 {
+        return Err(Error::study(
+            "stator",
+            format!(
+                "the settled run at ω/ωn = {:.4} never touches a stator: without contact and without forcing a damped rotor's motion decays — no self-excited orbit to shoot (start it in contact with `run.initial_displacement`, `run.initial_velocity`, or reduce the clearance)",
+                prep.speed_ratio
+            ),
+        ));
+    }
     let order = settled.whirl.dominant_order;
     let radius = settled.whirl.dominant_nd;
     if !(order.is_finite() && order.abs() > 1e-9 && radius > 0.0) {
@@ -411,6 +420,9 @@ impl<'a> PeriodMap<'a> {
         let mut px = self.apply_y(&x, t)?;
         let mut res = residual(&x, &px);
         let mut iterations = 0;
+        // The period stays within a factor 2 of the start: a period halved or doubled is
+        // another orbit, and a free vibration's decay would let T wander off.
+        let t_range = (0.5 * t, 2.0 * t);
         while res > SHOOT_TOLERANCE && iterations < MAX_NEWTON {
             iterations += 1;
             let (jx, js) = self.jacobian_y(&x, t)?;
@@ -443,7 +455,7 @@ impl<'a> PeriodMap<'a> {
                     }
                 }
                 let tt = t + scale * d[n - 1];
-                if tt > 0.0 {
+                if tt > t_range.0 && tt < t_range.1 {
                     let pt = self.apply_y(&trial, tt)?;
                     steps += per_map;
                     let rt = residual(&trial, &pt);

@@ -152,7 +152,8 @@ fn the_command_writes_the_autonomous_orbit() {
 }
 
 /// Bad input: an unbalance (the motion is forced, not autonomous) is refused naming
-/// `rotor.unbalance`; a rotor at rest (nothing whirls to start from) gets a clear report.
+/// `rotor.unbalance`; a rotor at rest, or whirling clear of the ring (its motion decays: no
+/// self-excited orbit), gets a clear report naming the stator.
 #[test]
 fn a_forced_or_resting_rotor_is_refused() {
     let text = common::read(&common::repo(SCENE)).replace(
@@ -187,7 +188,25 @@ fn a_forced_or_resting_rotor_is_refused() {
             tmp.path().join("p").to_str().unwrap(),
         ],
     );
-    assert!(err.contains("does not whirl"), "{err}");
+    assert!(err.contains("never touches a stator"), "{err}");
+    // A free whirl clear of the ring decays: refused before Newton, not a Newton that wanders
+    // (its period ran from 6.4 s to 7e-4 s before the refusal).
+    let err = cli::fails(
+        &common::repo(""),
+        &[
+            "periodic",
+            SCENE,
+            "--autonomous",
+            "--set",
+            "stator.0.clearance=1.0",
+            "--out",
+            tmp.path().join("q").to_str().unwrap(),
+        ],
+    );
+    assert!(
+        err.contains("never touches a stator") && err.contains("decays"),
+        "{err}"
+    );
 }
 
 /// The whip continued at ν 2 over a key or in speed, at Δt₀ = 1 ms (its N steps a period kept).
