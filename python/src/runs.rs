@@ -390,11 +390,6 @@ pub fn continuation(
     (arclength, switch): (Option<usize>, Option<usize>),
 ) -> PyResult<String> {
     check_period(period)?;
-    if switch.is_some() && arclength.is_some() {
-        return Err(StudyError::new_err(
-            "switch= continues in speed alone: leave out arclength=",
-        ));
-    }
     if switch.is_some_and(|m| m < 2) {
         return Err(StudyError::new_err(
             "max_period must be at least 2 (a switched branch doubles the period)",
@@ -407,8 +402,21 @@ pub fn continuation(
         .py_err()?;
     if let Some(max_period) = switch {
         let d = py
-            .detach(|| {
-                analysis::continuation::continue_switching(model, &s, (a, b, h), period, max_period)
+            .detach(|| match arclength {
+                Some(n) => analysis::continuation::arclength_switching(
+                    model,
+                    &s,
+                    (a, b, h),
+                    period,
+                    (n, max_period),
+                ),
+                None => analysis::continuation::continue_switching(
+                    model,
+                    &s,
+                    (a, b, h),
+                    period,
+                    max_period,
+                ),
             })
             .py_err()?;
         return json(&d);

@@ -309,8 +309,12 @@ def test_periodic_orbits_and_their_branch(tmp_path):
     cli("continue", PAPER, "--from", "2.0", "--to", "2.6", "--step", "0.1", "--period", "1",
         "--switch", "--max-period", "4", "--out", tmp_path / "sw")
     assert without_wall(summary(tmp_path / "sw")["switched"]) == without_wall(d.summary)
-    with pytest.raises(rubsim.StudyError, match="arclength"):
-        scene.continuation(2.0, 2.6, 0.1, arclength=True, switch=True)
+    # Switching on a pseudo-arclength branch, as `rubsim continue --arclength --switch`.
+    a = scene.continuation(2.0, 2.6, 0.1, period=1, arclength=True, switch=True, max_period=2)
+    assert [b.period for b in a.branches] == [1, 2]
+    cli("continue", PAPER, "--from", "2.0", "--to", "2.6", "--step", "0.1", "--period", "1",
+        "--arclength", "--switch", "--max-period", "2", "--out", tmp_path / "asw")
+    assert without_wall(summary(tmp_path / "asw")["switched"]) == without_wall(a.summary)
 
 
 def test_a_branch_in_a_scene_key_from_python(tmp_path):

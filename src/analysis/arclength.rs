@@ -88,26 +88,89 @@ pub fn continue_arclength(
 /// As [`continue_arclength`].
 pub fn arclength_in(
     c: Continued<'_>,
-    (from, to, h): (f64, f64, f64),
+    range: (f64, f64, f64),
     period: Option<usize>,
     max_points: usize,
 ) -> Result<Branch> {
-    let (lo, hi) = (from.min(to), from.max(to));
+    match started(c, range, period)? {
+        Started::Ended(branch) => Ok(branch),
+        Started::Shot(cf) => arclength_from(&cf.0, &cf.1, range, max_points),
+    }
+}
+
+/// `rubsim continue --arclength --switch`: the branch of [`arclength_in`], then the branches
+/// switched at its period doublings and theirs up to period `max_period`
+/// ([`super::switch::switch_all`]): the orbits on either side of each doubling located in
+/// arclength shot half the first step `h` past it from the points' kept states
+/// ([`periodic::shoot_from_state`]; the grid points of an arclength branch may lie several
+/// steps apart), each with the values beyond it by `h`, away from the doubling, within the
+/// range. The switched branches are continued in the
+/// parameter alone, at the arclength branch's one `N` steps a revolution.
+///
+/// # Errors
+/// As [`arclength_in`].
+pub fn arclength_switching(
+    c: Continued<'_>,
+    range: (f64, f64, f64),
+    period: Option<usize>,
+    (max_points, max_period): (usize, usize),
+) -> Result<super::switch::Diagram> {
+    match started(c, range, period)? {
+        Started::Ended(branch) => Ok(super::switch::Diagram::of(branch)),
+        Started::Shot(cf) => {
+            let (c, first) = *cf;
+            let mut branch = arclength_from(&c, &first, range, max_points)?;
+            keep_doublings(&c, &mut branch, range);
+            Ok(super::switch::switch_all(&c, branch, max_period))
+        }
+    }
+}
+
+/// The first orbit of a pseudo-arclength branch, shot from its settled run at `from`, and the
+/// parameter with the branch's one `N` steps a revolution; or the branch that ends there.
+enum Started<'a> {
+    Shot(Box<(Continued<'a>, periodic::PeriodicOrbit)>),
+    Ended(Branch),
+}
+
+/// [`Started`] of `c` over `(from, to, _)`.
+fn started<'a>(
+    c: Continued<'a>,
+    (from, to, _): (f64, f64, f64),
+    period: Option<usize>,
+) -> Result<Started<'a>> {
     let first = c.shoot(from, period)?;
-    let k = first.period;
-    let mut branch = Branch {
-        steps: first.steps,
-        ..Branch::empty(k, &c)
-    };
     if !first.converged {
+        let k = first.period;
+        let mut branch = Branch {
+            steps: first.steps,
+            ..Branch::empty(k, &c)
+        };
         branch.ended = Some(format!(
             "no periodic orbit of {k} revolution(s) at {} = {from:.4} (residual {:.2e})",
             c.label(),
             first.residual
         ));
-        return Ok(branch);
+        return Ok(Started::Ended(branch));
     }
-    let c = c.with_fixed_steps((lo, hi))?;
+    let c = c.with_fixed_steps((from.min(to), from.max(to)))?;
+    Ok(Started::Shot(Box::new((c, first))))
+}
+
+/// The branch from the orbit `first` (shot at `from`) over `[from, to]` with the first step `h`
+/// in the parameter `c` (its fixed `N` steps a revolution), at most `max_points` points.
+fn arclength_from(
+    c: &Continued<'_>,
+    first: &periodic::PeriodicOrbit,
+    (from, to, h): (f64, f64, f64),
+    max_points: usize,
+) -> Result<Branch> {
+    let (lo, hi) = (from.min(to), from.max(to));
+    let k = first.period;
+    let mut branch = Branch {
+        steps: first.steps,
+        ..Branch::empty(k, c)
+    };
     let n_rev = c.steps_per_rev().unwrap_or(1);
     let (x, end) = (&first.fixed_point.0, &first.fixed_point.1);
     let sizes = end.central_sizes().ok_or_else(|| {
@@ -119,7 +182,7 @@ pub fn arclength_in(
     let dt0 = end.dt;
     let y0 = to_uv(x, &sizes, dt0);
     let mut arc = Arc {
-        c: &c,
+        c,
         k,
         n_rev,
         template: end.clone(),
@@ -632,4 +695,84 @@ fn grazings(arc: &mut Arc<'_>, ws: &[Vec<f64>], b: &mut Branch) {
         });
     }
     b.bifurcations.extend(found);
+}
+
+/// Keeps, for every period doubling located on the pseudo-arclength `branch`, the orbits on its
+/// two sides — half the first step `h` past it, by Newton from the nearer point's kept state
+/// (that point's own value where that fails or the point is nearer) — with the values beyond
+/// each — by the first step `h`, away from the doubling, within the range — for switching
+/// (`branch::Doubling`). A doubling whose orbits do not converge is not kept (switching then
+/// lists it as not followed).
+fn keep_doublings(c: &Continued<'_>, branch: &mut Branch, (from, to, h): (f64, f64, f64)) {
+    let (lo, hi) = (from.min(to), from.max(to));
+    let mut kept = Vec::new();
+    for (bi, b) in branch.bifurcations.iter().enumerate() {
+        if b.kind != "period_doubling" {
+            continue;
+        }
+        let pair = branch.points.windows(2).find(|w| {
+            let (a, z) = (
+                w[0].parameter.min(w[1].parameter),
+                w[0].parameter.max(w[1].parameter),
+            );
+            w[0].stable != w[1].stable && (a..=z).contains(&b.parameter)
+        });
+        let Some(pair) = pair else {
+            continue;
+        };
+        // Half the first step past the doubling on the point's side (the grid points of an
+        // arclength branch may lie several steps apart), by Newton from the point's state;
+        // the point itself where that fails.
+        let shot_at = |p: &super::branch::BranchPoint, v: f64| {
+            let start = p.start.as_ref()?;
+            let prep = c.prepare(v).ok()?;
+            let mut o = periodic::shoot_from_state(&prep, branch.period, start).ok()?;
+            o.parameter = v;
+            o.converged.then_some(o)
+        };
+        let shot = |p: &super::branch::BranchPoint| -> Option<periodic::PeriodicOrbit> {
+            let side = if p.parameter >= b.parameter {
+                1.0
+            } else {
+                -1.0
+            };
+            let near = b.parameter + side * 0.5 * h;
+            let between = (near - p.parameter) * side <= 0.0;
+            between
+                .then(|| shot_at(p, near))
+                .flatten()
+                .or_else(|| shot_at(p, p.parameter))
+        };
+        let (Some(a), Some(z)) = (shot(&pair[0]), shot(&pair[1])) else {
+            continue;
+        };
+        let beyond = |o: &periodic::PeriodicOrbit| -> Vec<f64> {
+            let dir = if o.parameter >= b.parameter {
+                1.0
+            } else {
+                -1.0
+            };
+            (1..)
+                .map(|i| o.parameter + dir * h * f64::from(i))
+                .take_while(|v| (lo - 1e-12..=hi + 1e-12).contains(v))
+                .take(1_000_000)
+                .collect()
+        };
+        let (ba, bz) = (beyond(&a), beyond(&z));
+        let (unstable, stable) = if pair[0].stable {
+            ((z, bz), (a, ba))
+        } else {
+            ((a, ba), (z, bz))
+        };
+        kept.push(super::branch::Doubling {
+            bifurcation: bi,
+            unstable,
+            stable,
+        });
+    }
+    branch.steps += kept
+        .iter()
+        .map(|d| d.unstable.0.steps + d.stable.0.steps)
+        .sum::<u64>();
+    branch.doublings = kept;
 }

@@ -76,6 +76,30 @@ pub fn continue_switching(
     switching(&c, &speeds, period, max_period)
 }
 
+/// `rubsim continue --arclength --switch`: the pseudo-arclength branch from `from` towards `to`
+/// (first step `step`, at most `max_points` points), then the branches switched at its period
+/// doublings up to period `max_period` ([`super::arclength::arclength_switching`]).
+///
+/// # Errors
+/// As [`speeds`]; [`Error::Study`] for fewer than 2 points; the first speed's shooting errors.
+pub fn arclength_switching(
+    model: &Model,
+    s: &RunSettings,
+    (from, to, step): (f64, f64, f64),
+    period: Option<usize>,
+    (max_points, max_period): (usize, usize),
+) -> Result<Diagram> {
+    speeds(from, to, step)?;
+    if max_points < 2 {
+        return Err(Error::study(
+            "",
+            format!("a pseudo-arclength branch needs at least 2 points, got {max_points}"),
+        ));
+    }
+    let c = Continued::of_speed(model, s, from.max(to))?;
+    super::arclength::arclength_switching(c, (from, to, step), period, (max_points, max_period))
+}
+
 /// The branch of period `period` over `values` of the parameter `c`, then the branches
 /// switched from its period doublings up to period `max_period` ([`continue_switching`] for
 /// any parameter).
@@ -170,11 +194,7 @@ pub fn continue_key(scene: &LoadedScene, s: &RunSettings, b: &KeyBranch<'_>) -> 
     }
     let at = (b.key, b.speed_ratio);
     match (b.arclength, b.switch) {
-        (Some(_), Some(_)) => Err(Error::study(
-            "",
-            "switching continues in the parameter alone: not with pseudo-arclength",
-        )),
-        (Some(n), None) if n < 2 => Err(Error::study(
+        (Some(n), _) if n < 2 => Err(Error::study(
             "",
             format!("a pseudo-arclength branch needs at least 2 points, got {n}"),
         )),
@@ -182,6 +202,10 @@ pub fn continue_key(scene: &LoadedScene, s: &RunSettings, b: &KeyBranch<'_>) -> 
             let c = Continued::of_key(scene, s, at, &[from, to])?;
             let branch = super::arclength::arclength_in(c, (from, to, step), b.period, n)?;
             Ok(Diagram::of(branch))
+        }
+        (Some(n), Some(m)) => {
+            let c = Continued::of_key(scene, s, at, &[from, to])?;
+            super::arclength::arclength_switching(c, (from, to, step), b.period, (n, m))
         }
         (None, Some(m)) => switching(
             &Continued::of_key(scene, s, at, &values)?,

@@ -76,7 +76,7 @@ pub struct ContinueArgs {
     /// Branch switching: from every period doubling located, the period-2k orbit that branches
     /// off it, continued over the speeds beyond (and from its own doublings, up to
     /// `--max-period`); branches.csv, switches.csv, every branch in branch.png.
-    #[arg(long, conflicts_with = "arclength")]
+    #[arg(long)]
     pub switch: bool,
     /// Largest period (revolutions) a switched branch may have.
     #[arg(long, default_value_t = 8)]
@@ -153,7 +153,17 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
             component,
             sweep: &dots,
         });
-    let diagram = if switch {
+    let diagram = if let (true, Some(n)) = (switch, arclength) {
+        let d = analysis::continuation::arclength_switching(
+            &model,
+            &s,
+            (a, b, h),
+            period,
+            (n, max_period),
+        )?;
+        rubsim::output::branch::write_diagram(&mut outd, title, &d, png)?;
+        d
+    } else if switch {
         let d =
             analysis::continuation::continue_switching(&model, &s, (a, b, h), period, max_period)?;
         rubsim::output::branch::write_diagram(&mut outd, title, &d, png)?;

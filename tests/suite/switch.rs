@@ -113,8 +113,8 @@ fn the_switched_doublings_do_not_depend_on_the_step() {
 }
 
 /// `rubsim continue --switch` writes branches.csv (every branch's points) and switches.csv
-/// besides the first branch's files, and says where each branch came from; `--switch` with
-/// `--arclength` and a `--max-period` below 2 are refused.
+/// besides the first branch's files, and says where each branch came from; a `--max-period`
+/// below 2 is refused.
 #[test]
 fn the_continue_command_switches_and_refuses_what_it_cannot() {
     let tmp = tempfile::tempdir().unwrap();
@@ -147,21 +147,18 @@ fn the_continue_command_switches_and_refuses_what_it_cannot() {
     }
     let s = cli::json(&out.join("summary.json"));
     assert_eq!(s["switched"]["branches"].as_array().unwrap().len(), 3);
-    for extra in [
-        &["--switch", "--arclength"][..],
-        &["--switch", "--max-period", "1"][..],
-    ] {
-        let bad = tmp.path().join("bad");
-        let mut a = base.to_vec();
-        a.extend_from_slice(extra);
-        a.extend(["--out", bad.to_str().unwrap()]);
-        let err = cli::fails(&common::repo(""), &a);
-        assert!(
-            err.contains("--arclength") || err.contains("--max-period"),
-            "{err}"
-        );
-        assert!(!bad.exists());
-    }
+    let bad = tmp.path().join("bad");
+    let mut a = base.to_vec();
+    a.extend([
+        "--switch",
+        "--max-period",
+        "1",
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
+    let err = cli::fails(&common::repo(""), &a);
+    assert!(err.contains("--max-period"), "{err}");
+    assert!(!bad.exists());
 }
 
 /// The stable orbits of the branches are the sweep's responses: at every speed of the paper
@@ -237,4 +234,73 @@ fn the_stable_branches_are_the_sweeps_responses() {
         "{err}"
     );
     assert!(!bad.exists());
+}
+
+/// Switching on a pseudo-arclength branch (`rubsim continue --arclength --switch`): the paper
+/// case's period-1 branch from ν 2.0 (first step 0.1, 0.05) doubles at 2.2312 / 2.2318 — within
+/// 0.011 of the branch in ν alone's 2.2414 (the arclength branch's one N steps a revolution, the
+/// finer of the range's ends, is another map than each speed's own plan) —, the period-2
+/// orbit is switched onto half a step past it and continued; its own doubling at 2.3770 /
+/// 2.3775 is the period-2 branch in ν alone's 2.3742 within 0.0035. The command writes both
+/// branches (no longer refused); from Python the same.
+#[test]
+fn switching_works_on_a_pseudo_arclength_branch() {
+    let (ls, m) = common::file_model(&common::repo(PAPER), NO_SETS);
+    let s = common::settings(&ls);
+    let mut firsts = Vec::new();
+    for h in [0.1, 0.05] {
+        let d = rubsim::analysis::continuation::arclength_switching(
+            &m,
+            &s,
+            (2.0, 2.6, h),
+            Some(1),
+            (200, 2),
+        )
+        .expect("arclength switching");
+        let periods: Vec<usize> = d.branches.iter().map(|b| b.period).collect();
+        let (pd1, pd2) = (doublings(&d.branches[0]), doublings(&d.branches[1]));
+        let r = &d.switched[0];
+        eprintln!(
+            "h {h}: periods {periods:?}, doublings {pd1:?} then {pd2:?}, found at {:.4}",
+            r.found_at_speed_ratio
+        );
+        assert_eq!(periods, [1, 2]);
+        assert!((pd1[0] - 2.2414).abs() < 0.011, "{pd1:?}");
+        assert!((pd2[0] - 2.3742).abs() < 0.0035, "{pd2:?}");
+        assert!(r.supercritical && r.found_at_speed_ratio - pd1[0] <= h + 1e-9);
+        assert!(d.branches[1]
+            .points
+            .iter()
+            .all(|p| p.poincare_nd.len() == 2));
+        let q = &d.branches[1].points[0].poincare_nd;
+        assert!((q[0][0] - q[1][0]).hypot(q[0][1] - q[1][1]) > 1e-2, "{q:?}");
+        firsts.push(pd1[0]);
+    }
+    assert!((firsts[0] - firsts[1]).abs() < 1e-3, "{firsts:?}");
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("a");
+    cli::ok(
+        &common::repo(""),
+        &[
+            "continue",
+            PAPER,
+            "--from",
+            "2.0",
+            "--to",
+            "2.6",
+            "--step",
+            "0.1",
+            "--period",
+            "1",
+            "--arclength",
+            "--switch",
+            "--max-period",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let (_, rows) = cli::csv_table(&out.join("branches.csv"));
+    let periods: std::collections::BTreeSet<&str> = rows.iter().map(|r| r[1].as_str()).collect();
+    assert_eq!(periods.into_iter().collect::<Vec<_>>(), ["1", "2"]);
 }
