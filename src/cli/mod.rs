@@ -130,9 +130,14 @@ impl UnitArg {
     pub fn rad_per_s(self, v: f64, wn: f64) -> f64 {
         v * self.unit().to_rad_per_s(wn)
     }
-    /// A speed `v` in this unit as ω/ω_n.
+    /// A speed `v` in this unit as ω/ω_n; a ratio exactly as given (`v ω_n / ω_n` could differ
+    /// from `v` in its last bit, and a branch's values built from it from the Python
+    /// package's, which takes a ratio as it is).
     pub fn ratio(self, v: f64, wn: f64) -> f64 {
-        self.rad_per_s(v, wn) / wn
+        match self {
+            Self::Ratio => v,
+            _ => self.rad_per_s(v, wn) / wn,
+        }
     }
 }
 
