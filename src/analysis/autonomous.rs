@@ -420,9 +420,10 @@ impl<'a> PeriodMap<'a> {
         let mut px = self.apply_y(&x, t)?;
         let mut res = residual(&x, &px);
         let mut iterations = 0;
-        // The period stays within a factor 2 of the start: a period halved or doubled is
-        // another orbit, and a free vibration's decay would let T wander off.
-        let t_range = (0.5 * t, 2.0 * t);
+        // The period stays within a factor 1.5 of the start: the orbit run twice is a fixed
+        // point at 2T too (a linear start extrapolated from two orbits once converged there),
+        // and a free vibration's decay would let T wander off.
+        let t_range = (t / 1.5, 1.5 * t);
         while res > SHOOT_TOLERANCE && iterations < MAX_NEWTON {
             iterations += 1;
             let (jx, js) = self.jacobian_y(&x, t)?;
