@@ -342,17 +342,9 @@ impl<'a> PeriodMap<'a> {
         y
     }
 
-    /// The inverse of [`PeriodMap::to_y`].
+    /// The inverse of [`PeriodMap::to_y`]: the map `(u, w) ↦ (u, u − w)` is its own inverse.
     fn to_x(&self, y: &[f64]) -> Vec<f64> {
-        let mut x = y.to_vec();
-        let mut at = 0;
-        for &n in &self.sizes {
-            for i in 0..n {
-                x[at + n + i] = y[at + i] - y[at + n + i];
-            }
-            at += 2 * n;
-        }
-        x
+        self.to_y(y)
     }
 
     /// `P_T` in `y` ([`PeriodMap::to_y`]).

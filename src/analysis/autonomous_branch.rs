@@ -40,13 +40,14 @@ pub struct AutonomousBranch {
 }
 
 impl AutonomousBranch {
-    /// The branch's stretches of one stability: `(stable, first value, last value)`.
-    pub fn stretches(&self) -> Vec<(bool, f64, f64)> {
-        let mut out: Vec<(bool, f64, f64)> = Vec::new();
-        for p in &self.points {
+    /// The branch's stretches of one stability: `(stable, first point, last point)`, indices
+    /// into `points`.
+    pub fn stretches(&self) -> Vec<(bool, usize, usize)> {
+        let mut out: Vec<(bool, usize, usize)> = Vec::new();
+        for (i, p) in self.points.iter().enumerate() {
             match out.last_mut() {
-                Some(s) if s.0 == p.stable => s.2 = p.parameter,
-                _ => out.push((p.stable, p.parameter, p.parameter)),
+                Some(s) if s.0 == p.stable => s.2 = i,
+                _ => out.push((p.stable, i, i)),
             }
         }
         out

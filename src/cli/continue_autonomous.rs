@@ -89,14 +89,13 @@ fn report(b: &AutonomousBranch) {
         b.points.len(),
         b.steps
     );
-    let at = |v: f64| b.points.iter().find(|p| p.parameter == v);
-    for (stable, lo, hi) in b.stretches() {
-        let (Some(p), Some(q)) = (at(lo), at(hi)) else {
-            continue;
-        };
+    for (stable, i, j) in b.stretches() {
+        let (p, q) = (&b.points[i], &b.points[j]);
         println!(
-            "  {:>8}  {on} {lo:.6} – {hi:.6}: whirl {:+.6} … {:+.6} ω_n, radius {:.6e} … {:.6e} m, largest other |ρ| {:.6} … {:.6}",
+            "  {:>8}  {on} {:.6} – {:.6}: whirl {:+.6} … {:+.6} ω_n, radius {:.6e} … {:.6e} m, largest other |ρ| {:.6} … {:.6}",
             if stable { "stable" } else { "unstable" },
+            p.parameter,
+            q.parameter,
             p.whirl_ratio,
             q.whirl_ratio,
             0.5 * (p.radius_m[0] + p.radius_m[1]),

@@ -87,22 +87,12 @@ fn branch_png(out: &mut OutDir, title: &str, b: &AutonomousBranch, x_label: &str
         ("radius (mm)", |p| 0.5e3 * (p.radius_m[0] + p.radius_m[1])),
     ];
     for (colour, (name, value)) in quantities.into_iter().enumerate() {
-        for stable in [true, false] {
-            let unstable_at = |j: usize| b.points.get(j).is_some_and(|q| !q.stable);
-            let points: Vec<(f64, f64)> = b
-                .points
-                .iter()
-                .enumerate()
-                .map(|(i, p)| {
-                    // The segment across a change of stability belongs to the unstable side.
-                    let on = if stable {
-                        p.stable
-                    } else {
-                        !p.stable || unstable_at(i + 1) || (i > 0 && unstable_at(i - 1))
-                    };
-                    (p.parameter, if on { value(p) } else { f64::NAN })
-                })
-                .collect();
+        let points: Vec<(f64, bool, f64)> = b
+            .points
+            .iter()
+            .map(|p| (p.parameter, p.stable, value(p)))
+            .collect();
+        for (stable, points) in super::branch::stretch_curves(&points) {
             lines.push(plot::BranchLine {
                 label: if stable {
                     name.to_string()

@@ -265,25 +265,35 @@ fn branch_png(
 }
 
 /// A branch's values `value(point)` against its parameter (ω/ωn, or its key), as its stable and its unstable stretches
-/// (`(stable, points)`; a NaN breaks a line where the other holds; the segment across a change
-/// of stability belongs to the unstable side, so that the line is not broken there).
+/// ([`stretch_curves`]).
 fn curves(
     branch: &Branch,
     value: &dyn Fn(&crate::analysis::branch::BranchPoint) -> f64,
 ) -> [(bool, Vec<(f64, f64)>); 2] {
-    let near = |j: usize| branch.points.get(j).is_some_and(|q| !q.stable);
+    let points: Vec<(f64, bool, f64)> = branch
+        .points
+        .iter()
+        .map(|p| (p.parameter, p.stable, value(p)))
+        .collect();
+    stretch_curves(&points)
+}
+
+/// Points `(parameter, stable, value)` in a branch's order as its stable and its unstable
+/// stretches (`(stable, points)`; a NaN breaks a line where the other holds; the segment across
+/// a change of stability belongs to the unstable side, so that the line is not broken there).
+pub(super) fn stretch_curves(points: &[(f64, bool, f64)]) -> [(bool, Vec<(f64, f64)>); 2] {
+    let near = |j: usize| points.get(j).is_some_and(|q| !q.1);
     [true, false].map(|stable| {
-        let points = branch
-            .points
+        let line = points
             .iter()
             .enumerate()
-            .map(|(i, p)| {
+            .map(|(i, &(x, s, y))| {
                 let unstable_near = near(i) || near(i + 1) || (i > 0 && near(i - 1));
-                let on = if stable { p.stable } else { unstable_near };
-                (p.parameter, if on { value(p) } else { f64::NAN })
+                let on = if stable { s } else { unstable_near };
+                (x, if on { y } else { f64::NAN })
             })
             .collect();
-        (stable, points)
+        (stable, line)
     })
 }
 
