@@ -180,6 +180,28 @@ pub fn pvd(path: &Path) -> Vec<(f64, String)> {
         .collect()
 }
 
+/// Opens a written HDF5 file for reading, retrying for up to a second while it is locked: a
+/// child process another test thread spawns holds copies of this process's descriptors between
+/// its fork and exec (`O_CLOEXEC` closes them only at the exec), and with them libhdf5's
+/// `flock` on a file just written and closed — the open then fails with "unable to lock file"
+/// (errno 11) for that instant, as `OutDir`'s lock waits for its `LOCK_PATIENCE`.
+#[cfg(feature = "hdf5")]
+pub fn open_h5(path: &Path) -> hdf5_metno::File {
+    let t0 = std::time::Instant::now();
+    loop {
+        match hdf5_metno::File::open(path) {
+            Ok(f) => return f,
+            Err(e)
+                if e.to_string().contains("unable to lock file")
+                    && t0.elapsed().as_secs_f64() < 1.0 =>
+            {
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+            Err(e) => panic!("{}: {e}", path.display()),
+        }
+    }
+}
+
 /// A whole dataset of an HDF5 file.
 #[cfg(feature = "hdf5")]
 pub fn read<T: hdf5_metno::H5Type + Clone>(f: &hdf5_metno::File, name: &str) -> Vec<T> {

@@ -335,8 +335,7 @@ fn ring_stator_is_drawn_as_its_contact_circle() {
     #[cfg(feature = "hdf5")]
     {
         // The static VTKHDF grid: the same circle, P at the ring centre, the pair line.
-        use hdf5_metno as h5;
-        let f = h5::File::open(dir.join("results.vtkhdf")).unwrap();
+        let f = crate::common::output::open_h5(&dir.join("results.vtkhdf"));
         let pts: Vec<f64> = f.dataset("VTKHDF/Points").unwrap().read_raw().unwrap();
         let g = vtu(&dir.join(&frames[0].1));
         let x = points(&g);
@@ -496,8 +495,7 @@ fn tetrahedral_stator_cells_in_vtk_and_hdf5() {
         }
         #[cfg(feature = "hdf5")]
         {
-            use hdf5_metno as h5;
-            let f = h5::File::open(dir.join("results.vtkhdf")).unwrap();
+            let f = crate::common::output::open_h5(&dir.join("results.vtkhdf"));
             let read_f = |n: &str| -> Vec<f64> { f.dataset(n).unwrap().read_raw().unwrap() };
             let read_i = |n: &str| -> Vec<i64> { f.dataset(n).unwrap().read_raw().unwrap() };
             let types: Vec<u8> = f.dataset("VTKHDF/Types").unwrap().read_raw().unwrap();
@@ -563,7 +561,7 @@ mod hdf5_file {
             ],
             &dir,
         );
-        let f = h5::File::open(dir.join("results.vtkhdf")).unwrap();
+        let f = crate::common::output::open_h5(&dir.join("results.vtkhdf"));
         let spr = 64;
         // The 4-revolution window is lengthened to 6 (½× and ⅓× on exact bins) after the
         // 10 transient revolutions (held at 10: the window does not slide).
@@ -686,7 +684,7 @@ mod hdf5_file {
         let nn = case.rotor.node_dofs.len();
         assert_eq!(nn, 9);
         let ndof = case.rotor.ndof;
-        let f = h5::File::open(dir.join("results.vtkhdf")).unwrap();
+        let f = crate::common::output::open_h5(&dir.join("results.vtkhdf"));
         let format: h5::types::VarLenUnicode = f.attr("format").unwrap().read_scalar().unwrap();
         assert_eq!(format.as_str(), "rubsim results 2 (docs/OUTPUTS.md)");
         let ds = f.dataset("rotor/node_dofs").unwrap();
@@ -834,7 +832,7 @@ mod hdf5_file {
             ],
             &dir,
         );
-        let f = h5::File::open(dir.join("results.vtkhdf")).unwrap();
+        let f = crate::common::output::open_h5(&dir.join("results.vtkhdf"));
         let t: Vec<f64> = read(&f, "time");
         let u: Vec<f64> = read(&f, "rotor/u");
         let v: Vec<f64> = read(&f, "rotor/v");
@@ -856,7 +854,7 @@ mod hdf5_file {
             ],
             &dir,
         );
-        let f5 = h5::File::open(dir.join("results.vtkhdf")).unwrap();
+        let f5 = crate::common::output::open_h5(&dir.join("results.vtkhdf"));
         let v5: Vec<f64> = read(&f5, "rotor/v");
         let step5: Vec<i64> = read(&f5, "step");
         for (k, s) in step5.iter().enumerate().skip(1) {

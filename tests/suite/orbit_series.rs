@@ -85,7 +85,7 @@ fn the_orbit_series_starts_on_the_fixed_point_and_closes_after_one_period() {
     assert!(rel(&mid, &first, size) > 0.1);
     #[cfg(feature = "hdf5")]
     {
-        let f = hdf5_metno::File::open(dir.join("results.vtkhdf")).unwrap();
+        let f = crate::common::output::open_h5(&dir.join("results.vtkhdf"));
         let t: Vec<f64> = common::output::read(&f, "time");
         let u: Vec<f64> = common::output::read(&f, "rotor/u");
         assert_eq!(t.len(), frames.len());

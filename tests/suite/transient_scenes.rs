@@ -214,8 +214,7 @@ fn blade_off_against_the_meshed_diaphragm_writes_a_consistent_series() {
     assert!(w[t.len() - 1] < w[0]);
     #[cfg(feature = "hdf5")]
     {
-        use hdf5_metno as h5;
-        let f = h5::File::open(out.join("results.vtkhdf")).unwrap();
+        let f = crate::common::output::open_h5(&out.join("results.vtkhdf"));
         let ht: Vec<f64> = f.dataset("time").unwrap().read_raw().unwrap();
         let hw: Vec<f64> = f.dataset("spin/omega").unwrap().read_raw().unwrap();
         let hphi: Vec<f64> = f
@@ -275,8 +274,7 @@ fn fe_rotor_runs_up_through_its_critical_rubbing_the_seal() {
     );
     #[cfg(feature = "hdf5")]
     {
-        use hdf5_metno as h5;
-        let h = h5::File::open(out.join("results.vtkhdf")).unwrap();
+        let h = crate::common::output::open_h5(&out.join("results.vtkhdf"));
         let t: Vec<f64> = h.dataset("time").unwrap().read_raw().unwrap();
         let r: Vec<f64> = h.dataset("spin/speed_ratio").unwrap().read_raw().unwrap();
         let a: Vec<f64> = h.dataset("spin/omega_dot").unwrap().read_raw().unwrap();

@@ -321,7 +321,7 @@ fn the_worn_depth_is_a_field_of_the_series_and_the_command_writes_its_tables() {
         .unwrap();
     let vtu = common::read(&out.join(last.split('"').next().unwrap()));
     assert!(vtu.contains("Name=\"worn_depth\""), "no worn_depth field");
-    let f = hdf5_metno::File::open(out.join("results.vtkhdf")).unwrap();
+    let f = crate::common::output::open_h5(&out.join("results.vtkhdf"));
     let field: Vec<f64> = common::output::read(&f, "VTKHDF/PointData/worn_depth");
     let frames = common::output::read::<f64>(&f, "VTKHDF/Steps/Values").len();
     let per = field.len() / frames;
