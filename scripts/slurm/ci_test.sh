@@ -1,8 +1,9 @@
 #!/bin/bash
-# A real Slurm test (issue 12): installs Debian's slurm-wlm and munge, starts a one-node
+# A real Slurm test (issues 12, 29): installs Debian's slurm-wlm and munge, starts a one-node
 # cluster (munged, slurmctld, slurmd, a minimal slurm.conf written here), submits a small map
 # as an array job of 3 shards with the merge as a dependent job (scripts/slurm/submit.sh),
-# waits, and compares map.csv and the pictures with a one-machine run value for value.
+# waits, and compares map.csv and the pictures with a one-machine run value for value; then
+# the same for a continuation in 4 segments as 2 shards (`rubsim continue --segments`).
 # Skips (exit 0, with a message) when not root. Stops only the daemons it started.
 #
 #   bash scripts/slurm/ci_test.sh [path/to/rubsim]
@@ -84,14 +85,18 @@ sets=(--set 'run.map.x={ key = "speed_ratio", values = [0.8, 1.7, 2.5, 3.1, 4.2,
 scene=$repo/scenes/paper/regime_map.toml
 "$bin" map "$scene" "${sets[@]}" --out "$work/one" --jobs 1 >/dev/null
 cd "$work"
+# Waits for every job to leave the queue (3 minutes at most).
+wait_jobs() {
+    for _ in $(seq 600); do
+        [ -z "$(squeue -h -o %i)" ] && break
+        sleep 0.3
+    done
+    if [ -n "$(squeue -h -o %i)" ]; then
+        echo "slurm test: jobs still queued after 3 minutes"; squeue; exit 1
+    fi
+}
 RUBSIM=$bin "$repo/scripts/slurm/submit.sh" map "$scene" "$work/dist" 3 2 "${sets[@]}"
-for _ in $(seq 600); do
-    [ -z "$(squeue -h -o %i)" ] && break
-    sleep 0.3
-done
-if [ -n "$(squeue -h -o %i)" ]; then
-    echo "slurm test: jobs still queued after 3 minutes"; squeue; exit 1
-fi
+wait_jobs
 cat "$work"/rubsim-merge-*.out
 strip() { cut -d, -f1-17 "$1"; } # map.csv without its last column (wall_s)
 if ! diff <(strip "$work/one/map.csv") <(strip "$work/dist/map.csv"); then
@@ -102,3 +107,17 @@ for f in regime_map.png orbit_size_map.png contact_force_map.png; do
 done
 ls -d "$work"/dist/shard-*-of-3 | wc -l | grep -qx 3
 echo "slurm test: 3 shards on a one-node Slurm merged into the one-machine map, value for value"
+# A continuation of the paper case in 4 segments as an array of 2 shards (issue 29): the merged
+# branch equals the one-machine run's, byte for byte.
+paper=$repo/scenes/paper/partial_rub.toml
+csets=(--set run.revolutions=120 --set run.transient_revolutions=60
+       --from 1.6 --to 2.6 --step 0.1 --period 1 --segments 4)
+"$bin" continue "$paper" "${csets[@]}" --out "$work/cone" >/dev/null
+RUBSIM=$bin "$repo/scripts/slurm/submit.sh" continue "$paper" "$work/cdist" 2 2 "${csets[@]}"
+wait_jobs
+cat "$work"/rubsim-merge-*.out | tail -3
+for f in branch.csv bifurcations.csv; do
+    cmp "$work/cone/$f" "$work/cdist/$f" || { echo "slurm test: the merged $f differs"; exit 1; }
+done
+ls -d "$work"/cdist/shard-*-of-2 | wc -l | grep -qx 2
+echo "slurm test: a continuation in 4 segments on 2 Slurm shards merged into the one-machine branch"

@@ -27,7 +27,7 @@ use super::speed::Prepared;
 use super::RunSettings;
 use crate::error::Result;
 use crate::model::Model;
-use serde::Serialize;
+use serde::{Deserialize, Deserializer, Serialize};
 
 /// Halvings of a continuation step whose Newton does not converge, each reaching the
 /// midpoint first (the contact set can change much between two speeds of a sweep's grid).
@@ -38,7 +38,7 @@ pub const MAX_SUBSTEPS: usize = 4;
 pub const LOCATE_STEPS: usize = 6;
 
 /// One converged point of the branch.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BranchPoint {
     /// ν = ω/ω_n of the orbit (a key's branch: its fixed speed).
     pub speed_ratio: f64,
@@ -52,7 +52,8 @@ pub struct BranchPoint {
     /// The multiplier of largest modulus `[Re, Im]`.
     pub rho1: [f64; 2],
     /// How it is unstable (`period_doubling`, `fold`, `neimark_sacker`), `None` when stable.
-    pub instability: Option<&'static str>,
+    #[serde(default, deserialize_with = "kind_or_none")]
+    pub instability: Option<KindName>,
     /// The orbit's extents `[x_min, x_max, y_min, y_max]` / |Z0|.
     pub extents_nd: [f64; 4],
     /// 1× amplitude / |Z0|.
@@ -73,12 +74,13 @@ pub struct BranchPoint {
 }
 
 /// A change of stability located between two speeds.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Bifurcation {
     /// `period_doubling`, `fold` or `neimark_sacker`: the unstable side's crossing multiplier;
     /// `grazing`: the orbit's largest excursion reaches the clearance (a rub begins or ends:
     /// the branch's nonsmooth point), whatever the stability on either side.
-    pub kind: &'static str,
+    #[serde(deserialize_with = "kind")]
+    pub kind: KindName,
     /// The located interval of the parameter `[ν_a, ν_b]` (a key's branch: of the key's
     /// values): stable at one end, unstable at the other.
     pub between: [f64; 2],
@@ -91,13 +93,14 @@ pub struct Bifurcation {
     pub rho: [[f64; 2]; 2],
 }
 
-/// A branch of period-`k` orbits over speed.
-#[derive(Debug, Clone, Serialize)]
+/// A branch of period-`k` orbits over speed. Read back (a continuation's segment file,
+/// `crate::study::segments`) without its restart states and doublings, which are not written.
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Branch {
     /// The continued parameter: `speed_ratio` (ν), or the scene key.
     pub parameter: String,
     /// The fixed ν of a branch in a scene key (`None` for a branch in speed).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at_speed_ratio: Option<f64>,
     /// Period in revolutions.
     pub period: usize,
@@ -106,6 +109,7 @@ pub struct Branch {
     /// The changes of stability located along it.
     pub bifurcations: Vec<Bifurcation>,
     /// Why the branch stops before the last speed, when it does.
+    #[serde(default)]
     pub ended: Option<String>,
     /// Steps integrated in all.
     pub steps: u64,
@@ -171,6 +175,35 @@ impl BranchPoint {
             start: o.start_state(),
         }
     }
+}
+
+/// The names a bifurcation's `kind` and a point's `instability` take.
+pub const KINDS: [&str; 4] = ["period_doubling", "fold", "neimark_sacker", "grazing"];
+
+/// One of [`KINDS`] (spelled through an alias: serde's derive borrows a field written
+/// `&str` from its input, which a name read back from a file cannot be).
+pub type KindName = &'static str;
+
+/// The name of [`KINDS`] equal to `s`.
+fn known<E: serde::de::Error>(s: &str) -> std::result::Result<KindName, E> {
+    KINDS
+        .into_iter()
+        .find(|k| *k == s)
+        .ok_or_else(|| E::custom(format!("unknown kind `{s}`, expected one of {KINDS:?}")))
+}
+
+/// One of [`KINDS`], read back.
+fn kind<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<KindName, D::Error> {
+    known(&String::deserialize(d)?)
+}
+
+/// One of [`KINDS`] or nothing, read back.
+fn kind_or_none<'de, D: Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<Option<KindName>, D::Error> {
+    Option::<String>::deserialize(d)?
+        .map(|s| known(&s))
+        .transpose()
 }
 
 /// The first `k` Poincaré points of an orbit's run (its distinct ones when it has period `k`).

@@ -154,22 +154,42 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
 /// map's run errors.
 pub fn shoot_state(prep: &Prepared, k: usize, end: EndState) -> Result<PeriodicOrbit> {
     let k = k.max(1);
-    let x0 = end.state_vector().ok_or_else(|| {
-        Error::study(
-            "run.integrator",
-            "shooting needs the state of central differences; the implicit schemes are not shot yet (choose an explicit one: `--set run.integrator=collocated` or `forward_increment`)".to_string(),
-        )
-    })?;
+    let x0 = end.state_vector().ok_or_else(implicit_refused)?;
     if x0.len() > MAX_STATE {
-        return Err(Error::study(
-            "rotor",
-            format!(
-                "the periodic orbit's state has {} components; shooting runs the map twice per component per Newton iteration and is limited to {MAX_STATE} (reduce the rotor, e.g. `rotor.modal_reduction`, or make the stators massless)",
-                x0.len()
-            ),
-        ));
+        return Err(too_large(x0.len()));
     }
     solve(prep, k, &prep.plan, end, (x0, None))
+}
+
+/// Whether `prep`'s runs can be shot, checked from two steps before any long run: an explicit
+/// scheme's state of at most [`MAX_STATE`] components.
+///
+/// # Errors
+/// [`Error::Study`] as [`shoot_state`] refuses; the two steps' run errors.
+pub fn check_shootable(prep: &Prepared) -> Result<()> {
+    match state_size(prep)? {
+        None => Err(implicit_refused()),
+        Some(n) if n > MAX_STATE => Err(too_large(n)),
+        Some(_) => Ok(()),
+    }
+}
+
+/// An implicit scheme's state, which shooting does not restart.
+fn implicit_refused() -> Error {
+    Error::study(
+        "run.integrator",
+        "shooting needs the state of central differences; the implicit schemes are not shot yet (choose an explicit one: `--set run.integrator=collocated` or `forward_increment`)".to_string(),
+    )
+}
+
+/// A state of `n` components, above [`MAX_STATE`].
+fn too_large(n: usize) -> Error {
+    Error::study(
+        "rotor",
+        format!(
+            "the periodic orbit's state has {n} components; shooting runs the map twice per component per Newton iteration and is limited to {MAX_STATE} (reduce the rotor, e.g. `rotor.modal_reduction`, or make the stators massless)"
+        ),
+    )
 }
 
 /// The period-`from.period` orbit of `prep` by Newton from the orbit `from` found at a

@@ -96,6 +96,24 @@ pub struct ContinueArgs {
     /// value, Newton from the previous orbit): in speed, or with `--key` in the key at `--speed`.
     #[arg(long, conflicts_with_all = ["arclength", "switch", "period"])]
     pub autonomous: bool,
+    /// Split the branch into this many segments, each continued from its own settled run at
+    /// its first value (period `--period`, default 1), in parallel, each kept in the output
+    /// folder's case store as soon as it is done: a rerun resumes, `--shard` runs a part
+    /// (`rubsim merge` joins them); segments.csv says where they join.
+    #[arg(long, conflicts_with_all = ["arclength", "switch", "autonomous", "orbits_at"])]
+    pub segments: Option<usize>,
+    /// With `--segments`: run only the segments of shard i of n (the j-th with j mod n = i − 1)
+    /// into <out>/shard-<i>-of-<n>/, for `rubsim merge`; inside a Slurm array job the default
+    /// is the task's.
+    #[arg(long, value_name = "I/N", requires = "segments")]
+    pub shard: Option<String>,
+    /// With `--segments`: worker threads running segments at once (default: all cores).
+    #[arg(long, requires = "segments")]
+    pub jobs: Option<usize>,
+    /// With `--segments`: discard the segments of an earlier, different continuation in the
+    /// output folder instead of refusing to run.
+    #[arg(long, requires = "segments")]
+    pub fresh: bool,
     /// Output directory (default: out/<scene name>/continue).
     #[arg(long)]
     pub out: Option<PathBuf>,

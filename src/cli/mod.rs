@@ -35,6 +35,7 @@ mod check;
 mod continuation;
 mod continue_autonomous;
 mod continue_key;
+mod continue_segments;
 mod convergence;
 mod import_ross;
 mod map;
@@ -535,6 +536,19 @@ pub fn open_out(dir: &Path) -> Result<rubsim::output::OutDir> {
     Ok(out)
 }
 
+/// The shard asked for: `--shard i/n`, else a Slurm array task's, else none.
+pub fn shard_of(given: Option<&str>) -> Result<Option<rubsim::study::Shard>> {
+    use rubsim::study::Shard;
+    Ok(match given {
+        Some(s) => Some(Shard::parse(s)?),
+        // A value that is not UTF-8 reaches the parser (as U+FFFD) and is refused naming its
+        // variable; `env::var(k).ok()` would take it as unset and run every case in each task.
+        None => {
+            Shard::from_slurm(|k| std::env::var_os(k).map(|v| v.to_string_lossy().into_owned()))?
+        }
+    })
+}
+
 /// Writes `summary.json`, commits the output directory and says where the results are.
 pub fn finish<S: serde::Serialize>(out: rubsim::output::OutDir, summary: &S) -> Result<()> {
     let dir = rubsim::output::summary::finish(out, summary)?;
@@ -549,6 +563,7 @@ pub fn run() -> Result<()> {
     let jobs = match &cli.cmd {
         Cmd::Sweep { a, .. } | Cmd::Map { a, .. } => a.jobs,
         Cmd::Bench { jobs, .. } => *jobs,
+        Cmd::Continue(a) => a.jobs,
         _ => None,
     };
     if let Some(j) = jobs {
@@ -574,6 +589,7 @@ pub fn run() -> Result<()> {
         Cmd::Mesh(a) => mesh::mesh(a),
         Cmd::Stress(a) => stress::stress(a),
         Cmd::Refine(a) => refine::refine(a),
+        Cmd::Continue(a) if a.segments.is_some() => continue_segments::continuation_in_segments(a),
         Cmd::Continue(a) if a.autonomous => continue_autonomous::continuation_autonomous(a),
         Cmd::Continue(a) if a.key.is_some() => continue_key::continuation_in_key(a),
         Cmd::Continue(a) => continuation::continuation(a),

@@ -13,7 +13,7 @@ use rubsim::output::OutDir;
 use rubsim::scene::LoadedScene;
 use rubsim::study::assemble::Tables;
 use rubsim::study::summary::{ShardBody, ShardRecord};
-use rubsim::study::{self, CaseStore, Computed, Kind, Merged, Shard, Study, StudyRequest};
+use rubsim::study::{self, CaseStore, Computed, Kind, Merged, Study, StudyRequest};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -81,14 +81,7 @@ pub fn run(c: &Common, kind: Kind, a: &StudyArgs) -> Result<()> {
         return thermal_map(c, a, (&ls, &model));
     }
     let study = Study::of(&ls, Some(model.rotor.natural_frequency()), kind)?;
-    let shard = match &a.shard {
-        Some(s) => Some(Shard::parse(s)?),
-        // A value that is not UTF-8 reaches the parser (as U+FFFD) and is refused naming its
-        // variable; `env::var(k).ok()` would take it as unset and run every case in each task.
-        None => {
-            Shard::from_slurm(|k| std::env::var_os(k).map(|v| v.to_string_lossy().into_owned()))?
-        }
-    };
+    let shard = super::shard_of(a.shard.as_deref())?;
     let root = a.out.clone().unwrap_or_else(|| default_out(&c.scene));
     let dir = shard.map_or(root.clone(), |s| root.join(s.folder()));
     let mut outd = open_out(&dir)?;
@@ -156,6 +149,10 @@ pub fn merge(dirs: &[PathBuf]) -> Result<()> {
     let t0 = std::time::Instant::now();
     let folders = study::merge_folders(dirs)?;
     let out = &dirs[0];
+    let first = CaseStore::read_only(&folders[0].join(study::CASES_DIR))?;
+    if first.plan().continuation.is_some() {
+        return super::continue_segments::merge(out, &folders, t0);
+    }
     let mut outd = open_out(out)?;
     let merged = Merged::open(&folders, out)?;
     merged.gather_series(&mut outd)?;

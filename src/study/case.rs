@@ -23,6 +23,12 @@ impl CaseId {
         Self(parts.join(","))
     }
 
+    /// The id of segment `index` (0-based) of a continuation split into `count` segments
+    /// (`crate::study::segments`): `segment=<index + 1>-of-<count>`.
+    pub fn segment(index: usize, count: usize) -> Self {
+        Self(format!("segment={}-of-{count}", index + 1))
+    }
+
     /// The id as text.
     pub fn as_str(&self) -> &str {
         &self.0

@@ -179,27 +179,13 @@ impl Merged {
     /// scenes, of an unknown command, or made by a rubsim that reads the scene differently
     /// ([`Error::Study`]); an unreadable plan.
     pub fn open(folders: &[PathBuf], out: &Path) -> Result<Self> {
-        let mut locks = Vec::new();
-        for f in folders.iter().filter(|f| *f != out) {
-            locks.push(
-                OutDir::prepare(f)
-                    .map_err(|e| e.context(format!("{}: a shard still running?", f.display())))?,
-            );
-        }
-        let stores = folders
-            .iter()
-            .map(|f| CaseStore::read_only(&f.join(CASES_DIR)))
-            .collect::<Result<Vec<_>>>()?;
-        let first = stores
-            .first()
-            .ok_or_else(|| Error::study("", "no cases to merge"))?;
-        for s in &stores[1..] {
-            if s.plan().scene_hash != first.plan().scene_hash {
-                return Err(different_scenes(first, s));
-            }
-        }
-        let (scene, kind) = scene_of(first)?;
+        let (locks, stores) = locked_stores(folders, out)?;
+        let first = &stores[0];
         let plan = first.plan();
+        let dir = first.dir().display();
+        let kind = Kind::from_name(&plan.command)
+            .ok_or_else(|| Error::study(&dir, format!("unknown command {:?}", plan.command)))?;
+        let scene = scene_of(first, kind.name())?;
         let study = Study::of(&scene, Some(plan.model.omega_n_rad_s), kind)?;
         let model = plan.model.clone();
         Ok(Self {
@@ -219,6 +205,36 @@ impl Merged {
     pub fn gather_series(&self, outd: &mut OutDir) -> Result<()> {
         SeriesPlan::of(&self.scene, &self.study)?.gather(&self.study, &self.stores, outd)
     }
+}
+
+/// The stores of `folders` (at least one), each folder other than `out` (the merge's output
+/// directory, whose lock the caller holds) locked while the returned locks live; every store
+/// of one scene hash.
+///
+/// # Errors
+/// A shard folder locked by a running shard ([`Error::Context`]); stores of different scenes
+/// ([`Error::Study`]); an unreadable plan.
+pub fn locked_stores(folders: &[PathBuf], out: &Path) -> Result<(Vec<OutDir>, Vec<CaseStore>)> {
+    let mut locks = Vec::new();
+    for f in folders.iter().filter(|f| *f != out) {
+        locks.push(
+            OutDir::prepare(f)
+                .map_err(|e| e.context(format!("{}: a shard still running?", f.display())))?,
+        );
+    }
+    let stores = folders
+        .iter()
+        .map(|f| CaseStore::read_only(&f.join(CASES_DIR)))
+        .collect::<Result<Vec<_>>>()?;
+    let first = stores
+        .first()
+        .ok_or_else(|| Error::study("", "no cases to merge"))?;
+    for s in &stores[1..] {
+        if s.plan().scene_hash != first.plan().scene_hash {
+            return Err(different_scenes(first, s));
+        }
+    }
+    Ok((locks, stores))
 }
 
 /// Why the stores `a` and `b` cannot be merged.
@@ -241,14 +257,16 @@ fn different_scenes(a: &CaseStore, b: &CaseStore) -> Error {
     )
 }
 
-/// The scene and command of a store, rebuilt from its plan and checked against its scene hash.
-fn scene_of(store: &CaseStore) -> Result<(LoadedScene, Kind)> {
+/// The scene of a store, rebuilt from its plan and checked against its scene hash, which
+/// was taken with the command `command` ([`scene_hash`]).
+///
+/// # Errors
+/// The scene's own errors; [`Error::Study`] when the hash differs (another rubsim's reading).
+pub fn scene_of(store: &CaseStore, command: &str) -> Result<LoadedScene> {
     let plan = store.plan();
     let dir = store.dir().display();
-    let kind = Kind::from_name(&plan.command)
-        .ok_or_else(|| Error::study(&dir, format!("unknown command {:?}", plan.command)))?;
     let ls = crate::scene::parse(Path::new(&plan.scene_file), &plan.source, &plan.overrides)?;
-    if scene_hash(kind.name(), &ls.scene) != plan.scene_hash {
+    if scene_hash(command, &ls.scene) != plan.scene_hash {
         return Err(Error::study(
             &dir,
             format!(
@@ -259,7 +277,7 @@ fn scene_of(store: &CaseStore) -> Result<(LoadedScene, Kind)> {
             ),
         ));
     }
-    Ok((ls, kind))
+    Ok(ls)
 }
 
 #[cfg(test)]

@@ -23,6 +23,8 @@ pub mod merge;
 pub mod overlay;
 pub mod packed;
 pub mod run;
+pub mod segment_spec;
+pub mod segments;
 pub mod series;
 pub mod shard;
 pub mod single;

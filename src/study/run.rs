@@ -83,15 +83,8 @@ pub struct StudyRun {
 pub fn run(req: &StudyRequest, outd: &mut OutDir, progress: &dyn Progress) -> Result<StudyRun> {
     let (ls, kind) = (req.scene, req.study.kind);
     let cases = req.study.cases();
-    if let Some(s) = req.shard.filter(|s| s.count > cases.len()) {
-        return Err(Error::Shard {
-            given: format!("--shard {}/{}", s.index, s.count),
-            message: format!(
-                "the study has {} cases, fewer than {} shards",
-                cases.len(),
-                s.count
-            ),
-        });
+    if let Some(s) = req.shard {
+        s.check_count(cases.len(), &format!("the study has {} cases", cases.len()))?;
     }
     let plan = StorePlan {
         format: FORMAT,
@@ -103,6 +96,7 @@ pub fn run(req: &StudyRequest, outd: &mut OutDir, progress: &dyn Progress) -> Re
         source: ls.source.clone(),
         overrides: ls.overrides.clone(),
         model: ModelRecord::of(req.model),
+        continuation: None,
     };
     let (store, note) = CaseStore::open(outd.dir(), plan, req.fresh)?;
     if let Some(n) = note {

@@ -143,6 +143,20 @@ impl Shard {
         k % self.count == self.index - 1
     }
 
+    /// Refuses more shards than the `total` items to share (`what`: "the study has 5 cases").
+    ///
+    /// # Errors
+    /// [`Error::Shard`] naming the shard and `what`.
+    pub fn check_count(self, total: usize, what: &str) -> Result<()> {
+        if self.count > total {
+            return Err(Error::Shard {
+                given: format!("--shard {}/{}", self.index, self.count),
+                message: format!("{what}, fewer than {} shards", self.count),
+            });
+        }
+        Ok(())
+    }
+
     /// The shard's folder inside the study's output directory: `shard-<i>-of-<n>`.
     pub fn folder(&self) -> String {
         format!("shard-{}-of-{}", self.index, self.count)

@@ -91,6 +91,10 @@ pub struct StorePlan {
     pub overrides: Vec<String>,
     /// The `model` record of the summary (not rebuilt by `merge`).
     pub model: ModelRecord,
+    /// A continuation's segments (`command` `continue`): what they continue; `None` for a
+    /// sweep or map.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub continuation: Option<super::segment_spec::SegmentSpec>,
 }
 
 /// The identity of a study's cases: FNV-1a of the program version, the command and the
@@ -220,12 +224,18 @@ impl CaseRecord {
     /// # Errors
     /// [`Error::Output`] naming `path` when the record cannot be written as TOML.
     pub fn sealed(&self, path: &Path) -> Result<Vec<u8>> {
-        let mut text = toml::to_string(self).map_err(|e| Error::output(path, e))?;
-        let mut h = Fnv128::new();
-        h.write(text.as_bytes());
-        text.push_str(&format!("{END}{}\n", h.hex()));
-        Ok(text.into_bytes())
+        let text = toml::to_string(self).map_err(|e| Error::output(path, e))?;
+        Ok(seal(text))
     }
+}
+
+/// A store file's bytes: `text` and its end line `# end <FNV-1a of text>`, which
+/// [`CaseStore::read_body`] checks.
+pub fn seal(mut text: String) -> Vec<u8> {
+    let mut h = Fnv128::new();
+    h.write(text.as_bytes());
+    text.push_str(&format!("{END}{}\n", h.hex()));
+    text.into_bytes()
 }
 
 /// The case files of one output directory (or shard folder); see the module docs.
@@ -355,6 +365,20 @@ impl CaseStore {
         durable::sync_dir(&self.dir)
     }
 
+    /// The text of the file of `id` above its end line ([`seal`]); `None` when it has no file.
+    ///
+    /// # Errors
+    /// [`Error::Output`] naming the file: unreadable, half-written or damaged.
+    pub fn read_body(&self, id: &CaseId) -> Result<Option<String>> {
+        let p = self.path(id);
+        let text = match fs::read_to_string(&p) {
+            Ok(t) => t,
+            Err(e) if e.kind() == ErrorKind::NotFound => return Ok(None),
+            Err(e) => return Err(Error::output(&p, e)),
+        };
+        body(&p, &text).map(|b| Some(b.to_string()))
+    }
+
     /// Reads case `id`; `None` when it has no file.
     ///
     /// # Errors
@@ -362,12 +386,10 @@ impl CaseStore {
     /// another scene, or a number of its results not finite ([`CaseRecord::numbers`]).
     pub fn read(&self, id: &CaseId) -> Result<Option<CaseRecord>> {
         let p = self.path(id);
-        let text = match fs::read_to_string(&p) {
-            Ok(t) => t,
-            Err(e) if e.kind() == ErrorKind::NotFound => return Ok(None),
-            Err(e) => return Err(Error::output(&p, e)),
+        let Some(text) = self.read_body(id)? else {
+            return Ok(None);
         };
-        let rec: CaseRecord = toml::from_str(body(&p, &text)?)
+        let rec: CaseRecord = toml::from_str(&text)
             .map_err(|e| Error::output(&p, format!("damaged case file: {}", e.message())))?;
         if rec.id != *id {
             return Err(Error::output(
@@ -569,17 +591,19 @@ fn read_plan(dir: &Path) -> std::result::Result<StorePlan, String> {
 /// Why a store is not this study's.
 fn foreign_message(found: &std::result::Result<StorePlan, String>, plan: &StorePlan) -> String {
     let what = match found {
-        Ok(p) => format!(
-            "holds the cases of another scene (`rubsim {}` of {}{}, scene hash {})",
-            p.command,
-            p.scene_file,
-            if p.overrides.is_empty() {
-                String::new()
-            } else {
-                format!(" with --set {}", p.overrides.join(" --set "))
-            },
-            p.scene_hash
-        ),
+        Ok(p) => {
+            format!(
+                "holds the cases of another scene (`rubsim {}` of {}{}, scene hash {})",
+                p.command,
+                p.scene_file,
+                if p.overrides.is_empty() {
+                    String::new()
+                } else {
+                    format!(" with --set {}", p.overrides.join(" --set "))
+                },
+                p.scene_hash
+            ) + &continuation_differs(p, plan)
+        }
         Err(why) => format!("holds cases this run cannot identify ({why})"),
     };
     format!(
@@ -587,6 +611,25 @@ fn foreign_message(found: &std::result::Result<StorePlan, String>, plan: &StoreP
          --fresh to discard them, or choose another --out",
         plan.scene_hash
     )
+}
+
+/// How the continuation in segments of `found` differs from `plan`'s, when both are one and
+/// they differ (the scene hash includes it); empty otherwise.
+fn continuation_differs(found: &StorePlan, plan: &StorePlan) -> String {
+    match (&found.continuation, &plan.continuation) {
+        (Some(a), Some(b)) if a != b => format!(
+            ", continuing {} over {:?} at period {} in {} segments where this run continues {} over {:?} at period {} in {}",
+            a.key.as_deref().unwrap_or("speed_ratio"),
+            a.range,
+            a.period,
+            a.segments,
+            b.key.as_deref().unwrap_or("speed_ratio"),
+            b.range,
+            b.period,
+            b.segments
+        ),
+        _ => String::new(),
+    }
 }
 
 /// True when `dir` holds no case file (e.g. a run killed before it wrote its plan).
@@ -687,6 +730,7 @@ mod tests {
                 omega_n_rad_s: 1.0,
                 rotor: String::new(),
             },
+            continuation: None,
         };
         // A folder with only a temporary file: a run killed before its plan was in place.
         fs::create_dir_all(tmp.path().join(CASES_DIR)).unwrap();

@@ -179,3 +179,19 @@ pub fn csv_table(p: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let header = lines.next().map(split).unwrap_or_default();
     (header, lines.map(split).collect())
 }
+
+/// A CSV without its timing column `wall_s` (when it has one), for comparing runs.
+pub fn without_timing(csv: &str) -> String {
+    let header: Vec<&str> = csv.lines().next().unwrap_or("").split(',').collect();
+    let Some(w) = header.iter().position(|h| *h == "wall_s") else {
+        return csv.to_string();
+    };
+    csv.lines()
+        .map(|l| {
+            let mut f: Vec<&str> = l.split(',').collect();
+            f.remove(w);
+            f.join(",")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}

@@ -8,7 +8,7 @@
 
 use crate::common;
 
-use common::cli::{command, fails, ok, text, tree};
+use common::cli::{command, fails, ok, text, tree, without_timing};
 use common::{read, repo};
 #[cfg(feature = "fault-injection")]
 use std::collections::BTreeMap;
@@ -35,21 +35,6 @@ fn sweep_args<'a>(scene: &'a str, out: &'a str, extra: &[&'a str]) -> Vec<&'a st
     a.extend_from_slice(&["--out", out, "--jobs", "1"]);
     a.extend_from_slice(extra);
     a
-}
-
-/// sweep.csv without its timing column (`wall_s`), for comparing runs.
-fn without_timing(csv: &str) -> String {
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let w = header.iter().position(|h| *h == "wall_s").unwrap();
-    csv.lines()
-        .map(|l| {
-            let mut f: Vec<&str> = l.split(',').collect();
-            f.remove(w);
-            f.join(",")
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
 }
 
 /// How many times each case id was written, from the test hook's log.

@@ -47,6 +47,7 @@ mod regression;
 mod ring_kinematics;
 mod ross_options;
 mod schema;
+mod segments;
 mod steady;
 mod step_refinement;
 mod stick;

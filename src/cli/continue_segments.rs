@@ -1,0 +1,263 @@
+//! `rubsim continue --segments n`: a branch in speed or in `--key` cut into segments run in
+//! parallel, each kept as it finishes (resume), one shard of them with `--shard` or in a
+//! Slurm array, and `rubsim merge` of the shards (`rubsim::study::segments`): the files of
+//! `rubsim continue` and segments.csv.
+
+use super::continuation::{report_diagram, speed_range, ContinueArgs};
+use super::{chosen_settings, default_out, finish, load, open_out, progress_bar};
+use anyhow::{Context, Result};
+use indicatif::ProgressBar;
+use rubsim::analysis::{self, branch::Branch, switch::Diagram};
+use rubsim::output::branch::{write_branch, write_diagram, DiagramView};
+use rubsim::output::summary::{Base, ModelRecord, Summary};
+use rubsim::output::OutDir;
+use rubsim::scene::LoadedScene;
+use rubsim::study::segment_spec::SegmentSpec;
+use rubsim::study::segments::{self, MergedSegments, Seam, SegmentRecord, SegmentRequest};
+use rubsim::study::summary::{ShardBody, ShardRecord};
+use rubsim::study::{shard_counts, CaseStore, CASES_DIR};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// The body of `summary.json` of `rubsim continue --segments` (and of its merge).
+#[derive(Debug, Serialize)]
+struct SegmentedBody<'a> {
+    /// The branch asked for (the first part when the segments do not all join).
+    branch: &'a Branch,
+    /// Every part, when a seam splits the branch.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    parts: Option<&'a Diagram>,
+    /// What was continued and how it was cut.
+    continuation: &'a SegmentSpec,
+    /// Each segment: its range, points, steps, wall time, where it ended.
+    segments: Vec<SegmentLine>,
+    /// Where consecutive segments do not join, and why.
+    seams: &'a [Seam],
+    /// Wall time of the command (s).
+    wall_s: f64,
+}
+
+/// One segment in summary.json.
+#[derive(Debug, Serialize)]
+struct SegmentLine {
+    segment: usize,
+    range: [f64; 2],
+    points: usize,
+    steps: u64,
+    wall_s: f64,
+    ended: Option<String>,
+}
+
+/// The segments' progress on stderr: resumed segments and a bar over those to run.
+struct Printed {
+    bar: OnceLock<ProgressBar>,
+}
+
+impl rubsim::study::Progress for Printed {
+    fn warning(&self, message: &str) {
+        eprintln!("warning: {message}");
+    }
+    fn resumed(&self, finished: usize, of: usize, store: &Path) {
+        if let Some(b) = self.bar.get() {
+            b.inc(finished as u64);
+        }
+        eprintln!(
+            "{finished} of {of} segments already finished in {}; running {}",
+            store.display(),
+            of - finished
+        );
+    }
+    fn case_done(&self) {
+        if let Some(b) = self.bar.get() {
+            b.inc(1);
+        }
+    }
+    fn end(&self) {
+        if let Some(b) = self.bar.get() {
+            b.finish_and_clear();
+        }
+    }
+}
+
+/// What `args` continue, cut into `--segments`, and the speeds the step is chosen for.
+fn spec_of(
+    args: &ContinueArgs,
+    (ls, model): (&LoadedScene, &rubsim::model::Model),
+) -> Result<(SegmentSpec, Vec<f64>)> {
+    let (key, speed_ratio, (a, b, h), speeds) = match args.key.as_deref() {
+        Some(k) => {
+            let (nu, range) = super::continue_key::key_speed_range(args, (ls, model))?;
+            (Some(k.to_string()), Some(nu), range, vec![nu])
+        }
+        None => {
+            let (a, b, h) = speed_range(args, ls, model)?;
+            let v = analysis::continuation::speeds(a, b, h)
+                .with_context(|| format!("--from {a}, --to {b}, --step {h}"))?;
+            (None, None, (a, b, h), v)
+        }
+    };
+    let spec = SegmentSpec {
+        key,
+        speed_ratio,
+        range: [a, b, h],
+        period: args.period.unwrap_or(1),
+        segments: args.segments.unwrap_or(1),
+    };
+    spec.bounds()
+        .with_context(|| format!("--from {a}, --to {b}, --step {h}"))?;
+    Ok((spec, speeds))
+}
+
+/// Runs the segments of the continuation `args` asks for that are not finished yet (a
+/// shard's, with `--shard` or in a Slurm array), and — unsharded — joins every segment and
+/// writes the branch's files. What the options or the key refuse is refused before the output
+/// folder is made.
+pub fn continuation_in_segments(args: &ContinueArgs) -> Result<()> {
+    let a = args.clone();
+    let (ls, model) = load(&a.c)?;
+    super::periodic::check_period(a.period)?;
+    if a.key.is_some() && a.sweep.is_some() {
+        anyhow::bail!("--sweep draws a sweep's points over speed: not with --key");
+    }
+    let (spec, speeds) = spec_of(&a, (&ls, &model))?;
+    let shard = super::shard_of(a.shard.as_deref())?;
+    let dots = match (&a.sweep, shard) {
+        (Some(d), None) => rubsim::study::overlay::sweep_poincare(
+            &ls,
+            &model,
+            d,
+            usize::from(ls.scene.output.component == "y"),
+        )
+        .context("--sweep")?,
+        _ => Vec::new(),
+    };
+    let s = chosen_settings(&ls, &model, &speeds)?;
+    let req = SegmentRequest {
+        scene: &ls,
+        model: &model,
+        settings: &s,
+        spec: &spec,
+        shard,
+        fresh: a.fresh,
+    };
+    let c = segments::continued(&req).with_context(|| format!("{}", a.c.scene.display()))?;
+    let root = a
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out(&a.c.scene).join("continue"));
+    let mut outd = open_out(&shard.map_or(root.clone(), |s| root.join(s.folder())))?;
+    let t0 = std::time::Instant::now();
+    let mine = shard.map_or(spec.segments, |s| {
+        (0..spec.segments).filter(|j| s.contains(*j)).count()
+    });
+    println!(
+        "period-{} orbit continued in {} segments{}",
+        spec.period,
+        spec.segments,
+        shard.map_or(String::new(), |s| format!(
+            " (shard {}/{}: {mine} of them)",
+            s.index, s.count
+        ))
+    );
+    let printed = Printed {
+        bar: OnceLock::from(progress_bar(mine)),
+    };
+    let ran = segments::run(&req, &c, &mut outd, &printed)?;
+    match shard {
+        Some(sh) => {
+            let base = Base::with_model(&ls, ModelRecord::of(&model), "continue shard");
+            let body = ShardBody {
+                shard: ShardRecord {
+                    index: sh.index,
+                    count: sh.count,
+                    cases: ran.mine,
+                    computed: ran.held.len(),
+                    study_cases: ran.segments,
+                    cases_dir: CASES_DIR,
+                },
+                wall_s: t0.elapsed().as_secs_f64(),
+            };
+            println!(
+                "shard {}/{}: {} segments ({} computed now); assemble with `rubsim merge {}`",
+                sh.index,
+                sh.count,
+                ran.mine,
+                ran.held.len(),
+                root.display()
+            );
+            finish(outd, &Summary { base, body })
+        }
+        None => {
+            let base = Base::with_model(&ls, ModelRecord::of(&model), "continue");
+            let recs = segments::records(&[&ran.store], &spec, &[], ran.held)?;
+            assemble(outd, (&ls, base), (&spec, &recs), &dots, t0)
+        }
+    }
+}
+
+/// `rubsim merge` of a continuation's shards: every segment of `folders` joined into `out`.
+pub(super) fn merge(out: &Path, folders: &[PathBuf], t0: std::time::Instant) -> Result<()> {
+    let outd = open_out(out)?;
+    let m = MergedSegments::open(folders, out)?;
+    let refs: Vec<&CaseStore> = m.stores.iter().collect();
+    let recs = segments::records(&refs, &m.spec, &shard_counts(out), Vec::new())?;
+    let base = Base::with_model(&m.scene, m.model.clone(), "continue");
+    assemble(outd, (&m.scene, base), (&m.spec, &recs), &[], t0)
+}
+
+/// Joins the segments `recs` and writes branch.csv, bifurcations.csv (and with seams
+/// branches.csv), the pictures, segments.csv and summary.json; prints the branch and its seams.
+fn assemble(
+    mut outd: OutDir,
+    (ls, base): (&LoadedScene, Base<'_>),
+    (spec, recs): (&SegmentSpec, &[SegmentRecord]),
+    dots: &[(f64, f64)],
+    t0: std::time::Instant,
+) -> Result<()> {
+    let joined = segments::join(recs);
+    let d = &joined.diagram;
+    let png = ls.scene.output.png.then_some(DiagramView {
+        component: ls.scene.output.component.as_str(),
+        sweep: dots,
+    });
+    let title = &ls.scene.title;
+    if d.branches.len() == 1 {
+        write_branch(&mut outd, title, &d.branches[0], png)?;
+    } else {
+        write_diagram(&mut outd, title, d, png)?;
+    }
+    outd.write(
+        "segments.csv",
+        segments::segments_csv(recs, &joined.seams).as_bytes(),
+    )?;
+    report_diagram(d);
+    for s in &joined.seams {
+        eprintln!(
+            "warning: segments {} and {} do not join at {}: {}",
+            s.after_segment,
+            s.after_segment + 1,
+            s.at,
+            s.why
+        );
+    }
+    let body = SegmentedBody {
+        branch: &d.branches[0],
+        parts: (d.branches.len() > 1).then_some(d),
+        continuation: spec,
+        segments: recs
+            .iter()
+            .map(|r| SegmentLine {
+                segment: r.index + 1,
+                range: r.range,
+                points: r.branch.points.len(),
+                steps: r.branch.steps,
+                wall_s: r.wall_s,
+                ended: r.branch.ended.clone(),
+            })
+            .collect(),
+        seams: &joined.seams,
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    finish(outd, &Summary { base, body })
+}
