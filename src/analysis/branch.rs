@@ -250,6 +250,9 @@ pub fn continue_in(c: &Continued<'_>, values: &[f64], period: Option<usize>) -> 
 /// a period-`parent` branch (`Some(parent)`, [`super::switch`]) also ends where its orbit
 /// repeats after `parent` revolutions already: it has merged back into its parent (a period
 /// halving), and Newton would follow the parent from there as a fixed point of the longer map.
+/// Any branch treats an orbit of a longer minimal period than the previous point's
+/// ([`minimal_period`]) as a failed step: Newton jumped onto the doubled orbit, which the
+/// k-revolution map of an orbit that repeats sooner has as a fixed point too.
 pub fn follow(
     c: &Continued<'_>,
     start: PeriodicOrbit,
@@ -348,6 +351,15 @@ fn advance(
         return (Advance::Failed(why), steps);
     }
     match merged(&prep, &o, parent) {
+        Ok((false, st)) if minimal_period(&o) > minimal_period(prev) => {
+            let why = format!(
+                "Newton from the orbit at {at} {:.4} reached an orbit of minimal period {} at {v:.4} where the branch's is {} (another branch, the step halved {MAX_SUBSTEPS} times)",
+                prev.parameter,
+                minimal_period(&o),
+                minimal_period(prev)
+            );
+            (Advance::Failed(why), steps + st)
+        }
         Ok((false, st)) => (Advance::Point(o), steps + st),
         Ok((true, st)) => {
             let p = parent.unwrap_or(k);
@@ -396,7 +408,10 @@ fn keep_doubling(
 /// Bisects the interval between `a` and `b` (`test` differing between them) [`LOCATE_STEPS`]
 /// times, each midpoint by Newton from the nearer end on `test`'s side of `a`; the last
 /// interval's ends (the first with `a`'s value of `test`) and the steps it took. A midpoint
-/// whose Newton fails ends the location at the interval reached.
+/// whose Newton fails, or reaches an orbit of a longer minimal period than its start's (another
+/// branch: near a period doubling the k-revolution map of an orbit that repeats sooner has the
+/// doubled orbit as a fixed point too; a shorter one is the branch merging into the orbit it
+/// doubled from, which it meets continuously), ends the location at the interval reached.
 fn bisect(
     c: &Continued<'_>,
     (a, b): (&PeriodicOrbit, &PeriodicOrbit),
@@ -407,7 +422,7 @@ fn bisect(
     for _ in 0..LOCATE_STEPS {
         let mid = 0.5 * (lo.parameter + hi.parameter);
         match c.shoot_from(mid, &lo) {
-            Ok((_, m)) if m.converged => {
+            Ok((_, m)) if m.converged && minimal_period(&m) <= minimal_period(&lo) => {
                 steps += m.steps;
                 if test(&m) == test(&lo) {
                     lo = m;
@@ -419,6 +434,25 @@ fn bisect(
         }
     }
     (lo, hi, steps)
+}
+
+/// The orbit's minimal period: the smallest divisor `p` of its period `k` after which its
+/// Poincaré points (of the `6k` revolutions run from the fixed point) repeat, within
+/// [`periodic::DISTINCT`] of their size.
+pub(crate) fn minimal_period(o: &PeriodicOrbit) -> usize {
+    let pts = &o.orbit.poincare_nd;
+    let size = pts.iter().fold(1e-300_f64, |m, p| m.max(p[0].hypot(p[1])));
+    let repeats = |p: usize| {
+        pts.len() > p
+            && pts
+                .iter()
+                .zip(&pts[p..])
+                .all(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]) <= periodic::DISTINCT * size)
+    };
+    (1..o.period)
+        .filter(|p| o.period % p == 0)
+        .find(|&p| repeats(p))
+        .unwrap_or(o.period)
 }
 
 /// Whether the orbit touches a stator at some instant of its period.

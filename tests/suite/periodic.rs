@@ -510,3 +510,34 @@ fn the_ring_rub_grazes_where_the_free_orbit_reaches_the_clearance() {
     eprintln!("grazing by pseudo-arclength at {at:.5} (interval {width:.1e})");
     assert!(width < 0.01 && (at - lower).abs() < 2e-3, "{at} ({width})");
 }
+
+/// A branch of the two-revolution map started on the paper case's period-1 orbit (ν 2.2, its
+/// settled run) and continued to 2.3 across the doubling at 2.2414: near the doubling that map
+/// has the doubled orbit as a fixed point too, and a bisection midpoint's Newton used to reach
+/// it — it then located a "fold" of the doubled orbit at 2.2305, outside the interval where the
+/// branch's own multiplier crosses (ρ² through +1 at 2.2414). A midpoint of longer minimal
+/// period now ends the location: the interval reported is coarser and holds 2.2414 (measured
+/// [2.225, 2.25]), and every point of the branch repeats after one revolution.
+#[test]
+fn a_bisection_does_not_take_the_doubled_orbit_for_the_branch() {
+    let (ls, m) = common::file_model(&repo(PAPER), NO_SETS);
+    let s = common::settings(&ls);
+    let b = rubsim::analysis::branch::continue_in_speed(&m, &s, &[2.2, 2.3], Some(2))
+        .expect("continue");
+    assert_eq!(b.points.len(), 2, "{:?}", b.ended);
+    for p in &b.points {
+        let [a, z] = [p.poincare_nd[0], p.poincare_nd[1]];
+        assert!(
+            (a[0] - z[0]).hypot(a[1] - z[1]) < 1e-6,
+            "{:?}",
+            p.poincare_nd
+        );
+    }
+    let x = &b.bifurcations[0];
+    eprintln!("{} located in [{}, {}]", x.kind, x.between[0], x.between[1]);
+    assert!(
+        x.between[0] < 2.2414 && 2.2414 < x.between[1],
+        "{:?}",
+        b.bifurcations
+    );
+}
