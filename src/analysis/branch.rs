@@ -450,7 +450,7 @@ pub(crate) fn minimal_period(o: &PeriodicOrbit) -> usize {
                 .all(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]) <= periodic::DISTINCT * size)
     };
     (1..o.period)
-        .filter(|p| o.period % p == 0)
+        .filter(|p| o.period.is_multiple_of(*p))
         .find(|&p| repeats(p))
         .unwrap_or(o.period)
 }
