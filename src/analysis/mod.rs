@@ -50,6 +50,7 @@ pub mod autostep;
 pub mod bench;
 pub mod branch;
 pub mod coexist;
+pub mod coexist_branches;
 pub mod coexist_orbits;
 pub mod continuation;
 pub mod convergence;

@@ -176,6 +176,23 @@ impl<'a> Continued<'a> {
         Ok(p)
     }
 
+    /// [`Continued::prepare`] with the coexistence check's other start
+    /// ([`Prepared::linear_start`], which `prepare` leaves out): the run at `v` whose second
+    /// response [`super::coexist::check_with_companion`] finds (`super::coexist_branches`).
+    ///
+    /// # Errors
+    /// As [`Continued::prepare`].
+    pub(crate) fn prepare_with_companion(&self, v: f64) -> Result<Prepared> {
+        let mut p = self.prepare(v)?;
+        p.linear_start = match &self.what {
+            What::Speed(model) => super::coexist::linear_start(model, &p.case),
+            What::Key { scene, key, .. } => {
+                super::coexist::linear_start(&model_at(scene, key, v)?, &p.case)
+            }
+        };
+        Ok(p)
+    }
+
     /// The period-`period` orbit at `v` shot from its settled run ([`periodic::shoot`]).
     ///
     /// # Errors

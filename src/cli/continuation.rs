@@ -18,6 +18,10 @@ pub(super) struct ContinueBody<'a> {
     /// from, the doublings not followed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) switched: Option<&'a analysis::switch::Diagram>,
+    /// With `--sweep`: each speed the sweep flagged as coexisting, the branches holding its
+    /// responses and those it added.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) coexisting: Vec<analysis::coexist_branches::CoexistRecord>,
     /// With `--orbits-at`: each orbit shot there and its time series.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(super) orbits: Vec<OrbitEntry>,
@@ -171,27 +175,23 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
             component,
             sweep: &dots,
         });
-    let diagram = if let (true, Some(n)) = (switch, arclength) {
-        let d = analysis::continuation::arclength_switching(
-            &model,
-            &s,
-            (a, b, h),
-            period,
-            (n, max_period),
-        )?;
-        rubsim::output::branch::write_diagram(&mut outd, title, &d, png)?;
-        d
-    } else if switch {
-        let d =
-            analysis::continuation::continue_switching(&model, &s, (a, b, h), period, max_period)?;
-        rubsim::output::branch::write_diagram(&mut outd, title, &d, png)?;
-        d
-    } else {
-        let branch =
-            analysis::continuation::continue_branch(&model, &s, (a, b, h), period, arclength)?;
-        rubsim::output::branch::write_branch(&mut outd, title, &branch, png)?;
-        analysis::switch::Diagram::of(branch)
+    let mut diagram = diagram_of(
+        &model,
+        &s,
+        (a, b, h),
+        period,
+        (switch, arclength, max_period),
+    )?;
+    let coexisting = match &sweep_dir {
+        Some(d) => coexisting_branches((&ls, &model), &s, d, &mut diagram, &speeds)?,
+        None => Vec::new(),
     };
+    let several = switch || diagram.branches.len() > 1;
+    if several {
+        rubsim::output::branch::write_diagram(&mut outd, title, &diagram, png)?;
+    } else {
+        rubsim::output::branch::write_branch(&mut outd, title, &diagram.branches[0], png)?;
+    }
     report_diagram(&diagram);
     let values: Vec<f64> = orbits_at.iter().map(|v| unit.ratio(*v, wn)).collect();
     let folds = switch || arclength.is_some();
@@ -204,13 +204,72 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
     )?;
     let body = ContinueBody {
         branch: &diagram.branches[0],
-        switched: switch.then_some(&diagram),
+        switched: several.then_some(&diagram),
+        coexisting,
         orbits,
         wall_s: t0.elapsed().as_secs_f64(),
     };
     let base = Base::new(&ls, &model, "continue");
     finish(outd, &Summary { base, body })?;
     Ok(())
+}
+
+/// The diagram `rubsim continue` asks for over the speeds `range` (ν): the branch in ν alone
+/// or by pseudo-arclength (`arclength`: at most that many points), with `switch` the branches
+/// switched at its period doublings up to period `max_period`.
+fn diagram_of(
+    model: &rubsim::model::Model,
+    s: &analysis::RunSettings,
+    range: (f64, f64, f64),
+    period: Option<usize>,
+    (switch, arclength, max_period): (bool, Option<usize>, usize),
+) -> Result<analysis::switch::Diagram> {
+    use analysis::continuation as c;
+    Ok(match (switch, arclength) {
+        (true, Some(n)) => c::arclength_switching(model, s, range, period, (n, max_period))?,
+        (true, None) => c::continue_switching(model, s, range, period, max_period)?,
+        (false, _) => {
+            analysis::switch::Diagram::of(c::continue_branch(model, s, range, period, arclength)?)
+        }
+    })
+}
+
+/// With `--sweep DIR`: the responses of every speed the sweep in `dir` flagged as coexisting
+/// that lie on no branch of `d`, continued as branches of their own over `speeds`
+/// (`analysis::coexist_branches`), each flagged speed's record printed.
+fn coexisting_branches(
+    (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
+    s: &analysis::RunSettings,
+    dir: &std::path::Path,
+    d: &mut analysis::switch::Diagram,
+    speeds: &[f64],
+) -> Result<Vec<analysis::coexist_branches::CoexistRecord>> {
+    let flagged = rubsim::study::overlay::sweep_flagged(ls, model, dir).context("--sweep")?;
+    if flagged.is_empty() {
+        return Ok(Vec::new());
+    }
+    let top = speeds.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let c = analysis::parameter::Continued::of_speed(model, s, top)?;
+    let recs = analysis::coexist_branches::add_coexisting(&c, d, &flagged, speeds);
+    for r in &recs {
+        let on: Vec<String> = r
+            .on_branch
+            .iter()
+            .map(|b| b.map_or("none".to_string(), |i| i.to_string()))
+            .collect();
+        println!(
+            "coexisting responses at ω/ωn {} (the sweep's check): on branch(es) {}{}{}",
+            r.speed_ratio,
+            on.join(", "),
+            if r.new_branches.is_empty() {
+                String::new()
+            } else {
+                format!(" — new branch(es) {:?}", r.new_branches)
+            },
+            r.note.as_ref().map_or(String::new(), |n| format!(" ({n})"))
+        );
+    }
+    Ok(recs)
 }
 
 /// The branch's speeds `(from, to, step)` as ν: `--from`, `--to`, `--step` in `--unit`, or the

@@ -107,6 +107,7 @@ pub fn continuation_in_key(args: &ContinueArgs) -> Result<()> {
     let body = ContinueBody {
         branch: &d.branches[0],
         switched: a.switch.then_some(&d),
+        coexisting: Vec::new(),
         orbits: Vec::new(),
         wall_s: t0.elapsed().as_secs_f64(),
     };

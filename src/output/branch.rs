@@ -193,8 +193,13 @@ pub fn write_diagram(
         branch_png(
             out,
             &format!(
-                "{title} — periodic orbits continued in {}, switched at period doublings",
-                continued_in(first)
+                "{title} — periodic orbits continued in {}{}",
+                continued_in(first),
+                if d.switched.is_empty() {
+                    ""
+                } else {
+                    ", switched at period doublings"
+                }
             ),
             &d.branches,
             view,

@@ -1,9 +1,11 @@
 //! A finished sweep's Poincaré points read back from its case store, to draw under the
 //! branches of `rubsim continue --sweep DIR` (issue 29: the bifurcation diagram overlaid on the
-//! sweep's Poincaré points).
+//! sweep's Poincaré points), and the speeds its coexistence check flagged, whose responses
+//! that command continues as branches of their own.
 
 use super::store::{scene_hash, CaseStore};
 use super::{merge, Kind, Study};
+use crate::analysis::coexist_branches::Flagged;
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::scene::LoadedScene;
@@ -22,6 +24,48 @@ pub fn sweep_poincare(
     dir: &Path,
     c: usize,
 ) -> Result<Vec<(f64, f64)>> {
+    Ok(sweep_results(ls, model, dir)?
+        .iter()
+        .flat_map(|(r, _)| {
+            r.poincare_nd
+                .iter()
+                .map(move |p| (r.speed_ratio, p[c.min(1)]))
+        })
+        .collect())
+}
+
+/// The speeds of the same sweep whose coexistence check flagged two responses, each with the
+/// Poincaré sections of its responses shot as converged periodic orbits (`rubsim continue
+/// --sweep DIR` continues them as branches: [`crate::analysis::coexist_branches`]).
+///
+/// # Errors
+/// As [`sweep_poincare`].
+pub fn sweep_flagged(ls: &LoadedScene, model: &Model, dir: &Path) -> Result<Vec<Flagged>> {
+    Ok(sweep_results(ls, model, dir)?
+        .iter()
+        .filter_map(|(r, _)| {
+            let c = r.coexistence.as_ref().filter(|c| c.coexisting)?;
+            let sections = c.orbits.as_ref().map_or(Vec::new(), |o| {
+                o.orbits
+                    .iter()
+                    .filter(|x| x.converged)
+                    .map(|x| x.section_nd.clone())
+                    .collect()
+            });
+            Some(Flagged {
+                speed_ratio: r.speed_ratio,
+                sections,
+            })
+        })
+        .collect())
+}
+
+/// Every case of the sweep of `ls` kept in `dir` (checked as [`sweep_poincare`] says).
+fn sweep_results(
+    ls: &LoadedScene,
+    model: &Model,
+    dir: &Path,
+) -> Result<Vec<(crate::analysis::SpeedResults, crate::plot::Boundary)>> {
     let at = |m: String| Error::study(dir.display(), m);
     let cases = dir.join("cases");
     if !cases.is_dir() {
@@ -43,14 +87,5 @@ pub fn sweep_poincare(
         )));
     }
     let study = Study::of(ls, Some(model.rotor.natural_frequency()), Kind::Sweep)?;
-    let results =
-        merge::results(&[&store], &study, &[], Vec::new()).map_err(|e| at(e.to_string()))?;
-    Ok(results
-        .iter()
-        .flat_map(|(r, _)| {
-            r.poincare_nd
-                .iter()
-                .map(move |p| (r.speed_ratio, p[c.min(1)]))
-        })
-        .collect())
+    merge::results(&[&store], &study, &[], Vec::new()).map_err(|e| at(e.to_string()))
 }

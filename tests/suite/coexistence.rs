@@ -319,3 +319,100 @@ fn a_failed_companion_is_reported_with_its_error() {
     assert!(s["result"]["coexistence"].is_null(), "{s}");
     assert!(s.get("coexisting").is_none(), "{s}");
 }
+
+/// The ring of `scenes/periodic/ring_hysteresis.toml` swept with the coexistence check (ν 1.8 –
+/// 3.0, explicit scheme): every speed is flagged — the run started on the rub stays in full
+/// annular rub, the companion from the no-contact orbit stays free. `rubsim continue --sweep`
+/// gives the flagged speeds their branches: the run's response lies on the continued branch
+/// (the rub), the companion's on none, so the first flagged speed adds its branch — the free
+/// orbit, continued over the range — and every later one finds both responses on the two
+/// branches. The free branch is the linear orbit (extents within 2e-3 of |Z0|: measured 1.1e-3,
+/// the explicit scheme's step error), stable, without contact; the rub branch's radius at ν 2.8
+/// is the closed form's 2.40026 e (ORACLES §2: measured 2.4001 e). With `--arclength` the rub's
+/// pseudo-arclength points lie between the grid's speeds and the responses are matched on its
+/// interpolated section: still two branches, none drawn twice.
+#[test]
+fn flagged_speeds_get_the_branches_of_both_responses() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ring = common::repo("scenes/periodic/ring_hysteresis.toml");
+    let ring = ring.to_str().unwrap();
+    let sets = [
+        "--set",
+        "run.check_coexistence=true",
+        "--set",
+        "run.integrator=collocated",
+        "--set",
+        "run.sweep.to=3.0",
+    ];
+    let sw = tmp.path().join("sweep");
+    let mut a = vec!["sweep", ring];
+    a.extend(sets);
+    a.extend(["--out", sw.to_str().unwrap()]);
+    common::cli::ok(tmp.path(), &a);
+    for (name, extra) in [("c", None), ("arc", Some("--arclength"))] {
+        let out = tmp.path().join(name);
+        let mut a = vec!["continue", ring, "--period", "1"];
+        a.extend(sets);
+        a.extend(extra);
+        a.extend([
+            "--sweep",
+            sw.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let printed = common::cli::ok(tmp.path(), &a);
+        assert!(
+            printed.contains("coexisting responses at ω/ωn 1.8"),
+            "{printed}"
+        );
+        let (h, rows) = common::cli::csv_table(&out.join("branches.csv"));
+        let col = |n: &str| h.iter().position(|c| c == n).unwrap();
+        let (b, cf, st, xm, nu) = (
+            col("branch"),
+            col("contact_fraction"),
+            col("stable"),
+            col("x_max_nd"),
+            col("speed_ratio"),
+        );
+        let num = |r: &Vec<String>, i: usize| r[i].parse::<f64>().unwrap();
+        assert!(
+            rows.iter().all(|r| r[b] == "0" || r[b] == "1"),
+            "{name}: {rows:?}"
+        );
+        let free: Vec<_> = rows.iter().filter(|r| r[b] == "1").collect();
+        assert_eq!(free.len(), 13, "{name}");
+        for r in &free {
+            assert_eq!(num(r, cf), 0.0);
+            assert_eq!(r[st], "true");
+            assert!((num(r, xm) - 1.0).abs() < 2e-3, "{name}: {r:?}");
+        }
+        assert!(rows
+            .iter()
+            .filter(|r| r[b] == "0")
+            .all(|r| num(r, cf) == 1.0));
+        if extra.is_none() {
+            let rub = rows.iter().find(|r| r[b] == "0" && r[nu] == "2.8").unwrap();
+            let nu2 = 2.8_f64 * 2.8;
+            let z0 = nu2 / ((1.0 - nu2).powi(2) + (2.0 * XI * 2.8).powi(2)).sqrt();
+            let radius = num(rub, xm) * z0;
+            let (full, _) = radial_annular_rub(2.8, KAPPA, MU, XI, D);
+            eprintln!("rub radius at ν 2.8: {radius:.5} e (closed form {full:.5} e)");
+            assert!(
+                (radius / full - 1.0).abs() < 1e-3,
+                "{radius} against {full}"
+            );
+        }
+        let s = common::cli::json(&out.join("summary.json"));
+        let recs = s["coexisting"].as_array().unwrap();
+        assert!(recs.len() >= 10, "{name}: {recs:?}");
+        assert_eq!(recs[0]["new_branches"], serde_json::json!([1]), "{name}");
+        assert!(recs[1..]
+            .iter()
+            .all(|r| r["new_branches"] == serde_json::json!([])));
+        assert!(recs.iter().all(|r| r["on_branch"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|x| !x.is_null())));
+    }
+}
