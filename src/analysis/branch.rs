@@ -299,7 +299,9 @@ pub fn follow(
             let (b, st) = locate(c, &prev, &next);
             steps += st;
             if let Some(b) = b {
-                if b.kind == "period_doubling" {
+                // A doubling named on an orbit that repeats sooner than the map (own_instability)
+                // has no −1 multiplier of the map to switch along.
+                if b.kind == "period_doubling" && minimal_period(&prev) == prev.period {
                     keep_doubling(&mut branch, (&prev, &next), &todo);
                 }
                 branch.bifurcations.push(b);
@@ -436,6 +438,31 @@ fn bisect(
     (lo, hi, steps)
 }
 
+/// How the orbit `o` is unstable as an orbit of its own minimal period `p` when that is
+/// shorter than the map's `k` revolutions it was continued with, and the steps that took: the
+/// `k`-revolution map's multipliers are the `p`-revolution map's to the power `k/p`, so its
+/// crossing at +1 may be the orbit's period doubling (ρ through −1 for even `k/p`); the orbit's
+/// fixed point is shot once more on the `p`-revolution map (a fixed point of it already: one
+/// monodromy) and named by that map's crossing multiplier. `None` when `p = k` or the shot
+/// fails.
+fn own_instability(c: &Continued<'_>, o: &PeriodicOrbit) -> (Option<&'static str>, u64) {
+    let p = minimal_period(o);
+    if p >= o.period {
+        return (None, 0);
+    }
+    let shot = c.prepare(o.parameter).and_then(|prep| {
+        let start = o
+            .start_state()
+            .ok_or_else(|| crate::error::Error::study("run", "no restart state"))?;
+        periodic::shoot_from_state(&prep, p, &start)
+    });
+    match shot {
+        Ok(q) if q.converged => (q.instability, q.steps),
+        Ok(q) => (None, q.steps),
+        Err(_) => (None, 0),
+    }
+}
+
 /// The orbit's minimal period: the smallest divisor `p` of its period `k` after which its
 /// Poincaré points (of the `6k` revolutions run from the fixed point) repeat, within
 /// [`periodic::DISTINCT`] of their size.
@@ -484,11 +511,13 @@ fn locate_grazing(c: &Continued<'_>, a: &PeriodicOrbit, b: &PeriodicOrbit) -> (B
 /// the bifurcation found (none when a midpoint's Newton fails, which ends the location at the
 /// interval reached) and the steps it took.
 fn locate(c: &Continued<'_>, a: &PeriodicOrbit, b: &PeriodicOrbit) -> (Option<Bifurcation>, u64) {
-    let (lo, hi, steps) = bisect(c, (a, b), |o| o.stable);
+    let (lo, hi, mut steps) = bisect(c, (a, b), |o| o.stable);
     let (stable, unstable) = if lo.stable { (&lo, &hi) } else { (&hi, &lo) };
     let rho = |o: &PeriodicOrbit| o.multipliers.first().copied().unwrap_or_default();
     let at = 0.5 * (lo.parameter + hi.parameter);
-    let bif = unstable.instability.map(|kind| Bifurcation {
+    let (own, st) = own_instability(c, unstable);
+    steps += st;
+    let bif = own.or(unstable.instability).map(|kind| Bifurcation {
         kind,
         between: [lo.parameter, hi.parameter],
         parameter: at,

@@ -517,7 +517,9 @@ fn the_ring_rub_grazes_where_the_free_orbit_reaches_the_clearance() {
 /// it — it then located a "fold" of the doubled orbit at 2.2305, outside the interval where the
 /// branch's own multiplier crosses (ρ² through +1 at 2.2414). A midpoint of longer minimal
 /// period now ends the location: the interval reported is coarser and holds 2.2414 (measured
-/// [2.225, 2.25]), and every point of the branch repeats after one revolution.
+/// [2.225, 2.25]), and every point of the branch repeats after one revolution. The crossing is
+/// named by the orbit's own one-revolution map: a period doubling, where the two-revolution
+/// map's multiplier (ρ², in the file) passes +1.
 #[test]
 fn a_bisection_does_not_take_the_doubled_orbit_for_the_branch() {
     let (ls, m) = common::file_model(&repo(PAPER), NO_SETS);
@@ -535,6 +537,8 @@ fn a_bisection_does_not_take_the_doubled_orbit_for_the_branch() {
     }
     let x = &b.bifurcations[0];
     eprintln!("{} located in [{}, {}]", x.kind, x.between[0], x.between[1]);
+    assert_eq!(x.kind, "period_doubling");
+    assert!(x.rho[1][0] > 1.0, "{:?}", x.rho);
     assert!(
         x.between[0] < 2.2414 && 2.2414 < x.between[1],
         "{:?}",
