@@ -124,7 +124,8 @@ pub fn switching(
 }
 
 /// The values of a branch in a key from `from` to `to` by `step` (the key's units), in the
-/// order continued: downwards when `to < from`; `from + i·step` exactly, not rounded.
+/// order continued: downwards when `to < from`; `from + i·step`, its floating-point noise
+/// rounded away (`without_noise`: 0.3, not 0.30000000000000004).
 ///
 /// # Errors
 /// [`Error::Study`] for a value that is not finite, a step that is not positive, or more than
@@ -153,8 +154,21 @@ pub fn values(from: f64, to: f64, step: f64) -> Result<Vec<f64>> {
     }
     let dir = if to < from { -1.0 } else { 1.0 };
     Ok((0..=n as usize)
-        .map(|i| from + dir * step * i as f64)
+        .map(|i| without_noise(from + dir * step * i as f64, step))
         .collect())
+}
+
+/// `v` rounded to six digits below the step's first (`0.30000000000000004` of `0.1 + 4·0.05`
+/// printed as `0.3`) when that moves it by no more than 1e-9 of its size or of the step — the
+/// floating point's noise, not a value the user gave (`0.123456789` from `--from` stays).
+fn without_noise(v: f64, step: f64) -> f64 {
+    let q = 10f64.powi(6 - step.log10().floor() as i32);
+    let r = (v * q).round() / q;
+    if r.is_finite() && (r - v).abs() <= 1e-9 * v.abs().max(step) {
+        r
+    } else {
+        v
+    }
 }
 
 /// What `rubsim continue --key` continues: the key, the fixed speed, the values and the kind of
@@ -246,5 +260,20 @@ pub fn continue_autonomous(
             let c = Continued::of_key(scene, s, at, &v)?;
             super::autonomous_branch::follow_autonomous(&c, &v)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::values;
+
+    #[test]
+    fn key_values_carry_no_floating_point_noise_but_keep_what_was_given() {
+        assert_eq!(values(0.1, 0.3, 0.05).unwrap(), [0.1, 0.15, 0.2, 0.25, 0.3]);
+        assert_eq!(values(0.3, 0.1, 0.05).unwrap()[4], 0.1);
+        let v = values(0.123456789, 0.2, 0.05).unwrap();
+        assert_eq!(v[0], 0.123456789);
+        assert_eq!(values(1e-4, 1.3e-4, 1e-5).unwrap()[3], 1.3e-4);
+        assert_eq!(values(25.0, 5.0, 0.5).unwrap()[39], 5.5);
     }
 }
