@@ -250,9 +250,10 @@ pub fn continue_in(c: &Continued<'_>, values: &[f64], period: Option<usize>) -> 
 /// a period-`parent` branch (`Some(parent)`, [`super::switch`]) also ends where its orbit
 /// repeats after `parent` revolutions already: it has merged back into its parent (a period
 /// halving), and Newton would follow the parent from there as a fixed point of the longer map.
-/// Any branch treats an orbit of a longer minimal period than the previous point's
-/// ([`minimal_period`]) as a failed step: Newton jumped onto the doubled orbit, which the
-/// k-revolution map of an orbit that repeats sooner has as a fixed point too.
+/// Any branch treats an orbit of a longer minimal period than the previous point's (the
+/// fewest revolutions after which its Poincaré points repeat) as a failed step: Newton jumped
+/// onto the doubled orbit, which the k-revolution map of an orbit that repeats sooner has as
+/// a fixed point too.
 pub fn follow(
     c: &Continued<'_>,
     start: PeriodicOrbit,

@@ -237,7 +237,7 @@ fn diagram_of(
 /// With `--sweep DIR`: the responses of every speed the sweep in `dir` flagged as coexisting
 /// that lie on no branch of `d`, continued as branches of their own over `speeds`
 /// (`analysis::coexist_branches`), each flagged speed's record printed.
-fn coexisting_branches(
+pub(super) fn coexisting_branches(
     (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
     s: &analysis::RunSettings,
     dir: &std::path::Path,
@@ -250,7 +250,15 @@ fn coexisting_branches(
     }
     let top = speeds.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let c = analysis::parameter::Continued::of_speed(model, s, top)?;
-    let recs = analysis::coexist_branches::add_coexisting(&c, d, &flagged, speeds);
+    Ok(report_coexisting(
+        analysis::coexist_branches::add_coexisting(&c, d, &flagged, speeds),
+    ))
+}
+
+/// Prints each flagged speed's record ([`coexisting_branches`]) and hands them back.
+pub(super) fn report_coexisting(
+    recs: Vec<analysis::coexist_branches::CoexistRecord>,
+) -> Vec<analysis::coexist_branches::CoexistRecord> {
     for r in &recs {
         let on: Vec<String> = r
             .on_branch
@@ -269,7 +277,7 @@ fn coexisting_branches(
             r.note.as_ref().map_or(String::new(), |n| format!(" ({n})"))
         );
     }
-    Ok(recs)
+    recs
 }
 
 /// The branch's speeds `(from, to, step)` as ν: `--from`, `--to`, `--step` in `--unit`, or the

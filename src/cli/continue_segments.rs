@@ -7,7 +7,7 @@ use super::continuation::{report_diagram, speed_range, ContinueArgs};
 use super::{chosen_settings, default_out, finish, load, open_out, progress_bar};
 use anyhow::{Context, Result};
 use indicatif::ProgressBar;
-use rubsim::analysis::{self, branch::Branch, switch::Diagram};
+use rubsim::analysis::{self, branch::Branch, coexist_branches::CoexistRecord, switch::Diagram};
 use rubsim::output::branch::{write_branch, write_diagram, DiagramView};
 use rubsim::output::summary::{Base, ModelRecord, Summary};
 use rubsim::output::OutDir;
@@ -25,7 +25,8 @@ use std::sync::OnceLock;
 struct SegmentedBody<'a> {
     /// The branch asked for (the first part when the segments do not all join).
     branch: &'a Branch,
-    /// Every part, when a seam splits the branch.
+    /// Every part, when a seam splits the branch (and the flagged speeds' branches of
+    /// `--sweep`).
     #[serde(skip_serializing_if = "Option::is_none")]
     parts: Option<&'a Diagram>,
     /// What was continued and how it was cut.
@@ -34,6 +35,10 @@ struct SegmentedBody<'a> {
     segments: Vec<SegmentLine>,
     /// Where consecutive segments do not join, and why.
     seams: &'a [Seam],
+    /// With `--sweep`: each flagged speed, the branches holding its responses and those it
+    /// added (as `rubsim continue --sweep`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    coexisting: Vec<CoexistRecord>,
     /// Wall time of the command (s).
     wall_s: f64,
 }
@@ -191,9 +196,37 @@ pub fn continuation_in_segments(args: &ContinueArgs) -> Result<()> {
         None => {
             let base = Base::with_model(&ls, ModelRecord::of(&model), "continue");
             let recs = segments::records(&[&ran.store], &spec, &[], ran.held)?;
-            assemble(outd, (&ls, base), (&spec, &recs), &dots, t0)
+            let sweep = a.sweep.as_deref().filter(|_| spec.key.is_none());
+            let (joined, coexisting) =
+                joined_with_coexisting(&recs, (&ls, &model), (&c, &speeds), sweep)?;
+            assemble(
+                outd,
+                (&ls, base),
+                (&spec, &recs),
+                (joined, coexisting),
+                (&dots, t0),
+            )
         }
     }
+}
+
+/// The segments `recs` joined and, with `--sweep DIR` (a branch in speed), the responses of
+/// the speeds that sweep flagged as coexisting added as branches in `c` over `speeds`
+/// (`analysis::coexist_branches`), their records printed.
+fn joined_with_coexisting(
+    recs: &[SegmentRecord],
+    (ls, model): (&LoadedScene, &rubsim::model::Model),
+    (c, speeds): (&analysis::parameter::Continued<'_>, &[f64]),
+    sweep: Option<&Path>,
+) -> Result<(segments::Joined, Vec<CoexistRecord>)> {
+    let mut joined = segments::join(recs);
+    let Some(d) = sweep else {
+        return Ok((joined, Vec::new()));
+    };
+    let flagged = rubsim::study::overlay::sweep_flagged(ls, model, d).context("--sweep")?;
+    let add = analysis::coexist_branches::add_coexisting;
+    let recs = add(c, &mut joined.diagram, &flagged, speeds);
+    Ok((joined, super::continuation::report_coexisting(recs)))
 }
 
 /// `rubsim merge` of a continuation's shards: every segment of `folders` joined into `out`.
@@ -203,19 +236,27 @@ pub(super) fn merge(out: &Path, folders: &[PathBuf], t0: std::time::Instant) -> 
     let refs: Vec<&CaseStore> = m.stores.iter().collect();
     let recs = segments::records(&refs, &m.spec, &shard_counts(out), Vec::new())?;
     let base = Base::with_model(&m.scene, m.model.clone(), "continue");
-    assemble(outd, (&m.scene, base), (&m.spec, &recs), &[], t0)
+    let joined = segments::join(&recs);
+    assemble(
+        outd,
+        (&m.scene, base),
+        (&m.spec, &recs),
+        (joined, Vec::new()),
+        (&[], t0),
+    )
 }
 
-/// Joins the segments `recs` and writes branch.csv, bifurcations.csv (and with seams
-/// branches.csv), the pictures, segments.csv and summary.json; prints the branch and its seams.
+/// Writes the joined segments `recs` (`joined`, with the flagged speeds' branches of
+/// `--sweep` and their `coexisting` records): branch.csv, bifurcations.csv (with several
+/// branches branches.csv), the pictures, segments.csv and summary.json; prints the branches
+/// and the seams.
 fn assemble(
     mut outd: OutDir,
     (ls, base): (&LoadedScene, Base<'_>),
     (spec, recs): (&SegmentSpec, &[SegmentRecord]),
-    dots: &[(f64, f64)],
-    t0: std::time::Instant,
+    (joined, coexisting): (segments::Joined, Vec<CoexistRecord>),
+    (dots, t0): (&[(f64, f64)], std::time::Instant),
 ) -> Result<()> {
-    let joined = segments::join(recs);
     let d = &joined.diagram;
     let png = ls.scene.output.png.then_some(DiagramView {
         component: ls.scene.output.component.as_str(),
@@ -257,6 +298,7 @@ fn assemble(
             })
             .collect(),
         seams: &joined.seams,
+        coexisting,
         wall_s: t0.elapsed().as_secs_f64(),
     };
     finish(outd, &Summary { base, body })

@@ -330,7 +330,8 @@ fn a_failed_companion_is_reported_with_its_error() {
 /// the explicit scheme's step error), stable, without contact; the rub branch's radius at ν 2.8
 /// is the closed form's 2.40026 e (ORACLES §2: measured 2.4001 e). With `--arclength` the rub's
 /// pseudo-arclength points lie between the grid's speeds and the responses are matched on its
-/// interpolated section: still two branches, none drawn twice.
+/// interpolated section: still two branches, none drawn twice; in two segments
+/// (`--segments 2`) the joined rub and the free orbit: the same two.
 #[test]
 fn flagged_speeds_get_the_branches_of_both_responses() {
     let tmp = tempfile::tempdir().unwrap();
@@ -349,7 +350,12 @@ fn flagged_speeds_get_the_branches_of_both_responses() {
     a.extend(sets);
     a.extend(["--out", sw.to_str().unwrap()]);
     common::cli::ok(tmp.path(), &a);
-    for (name, extra) in [("c", None), ("arc", Some("--arclength"))] {
+    let none: &[&str] = &[];
+    for (name, extra) in [
+        ("c", none),
+        ("arc", &["--arclength"][..]),
+        ("seg", &["--segments", "2"][..]),
+    ] {
         let out = tmp.path().join(name);
         let mut a = vec!["continue", ring, "--period", "1"];
         a.extend(sets);
@@ -390,7 +396,7 @@ fn flagged_speeds_get_the_branches_of_both_responses() {
             .iter()
             .filter(|r| r[b] == "0")
             .all(|r| num(r, cf) == 1.0));
-        if extra.is_none() {
+        if extra.is_empty() {
             let rub = rows.iter().find(|r| r[b] == "0" && r[nu] == "2.8").unwrap();
             let nu2 = 2.8_f64 * 2.8;
             let z0 = nu2 / ((1.0 - nu2).powi(2) + (2.0 * XI * 2.8).powi(2)).sqrt();
