@@ -294,7 +294,7 @@ pub fn periodic(
     let v = speed_of(ls, model, speed)?;
     let (orbit, refined) = py
         .detach(|| {
-            let s = rubsim::study::run_settings(ls, model, &[v])?;
+            let s = rubsim::study::shooting_settings(ls, model, &[v])?;
             analysis::floquet::shoot_refined(model, &s, v, period, refine)
         })
         .py_err()?;
@@ -321,7 +321,7 @@ pub fn periodic_autonomous(
     let v = speed_of(ls, model, speed)?;
     let o = py
         .detach(|| {
-            let s = rubsim::study::run_settings(ls, model, &[v])?;
+            let s = rubsim::study::shooting_settings(ls, model, &[v])?;
             let prep = analysis::prepare(model, &analysis::periodic::request_at(&s, v))?;
             analysis::autonomous::shoot_autonomous(&prep)
         })
@@ -357,7 +357,7 @@ pub fn continuation_autonomous(
     };
     let branch = py
         .detach(|| {
-            let s = rubsim::study::run_settings(ls, model, &speeds)?;
+            let s = rubsim::study::shooting_settings(ls, model, &speeds)?;
             analysis::continuation::continue_autonomous((ls, model), &s, at, abh)
         })
         .py_err()?;
@@ -398,7 +398,7 @@ pub fn continuation(
     let (a, b, h) = sweep_range(ls, range)?;
     let speeds = analysis::continuation::speeds(a, b, h).py_err()?;
     let s = py
-        .detach(|| rubsim::study::run_settings(ls, model, &speeds))
+        .detach(|| rubsim::study::shooting_settings(ls, model, &speeds))
         .py_err()?;
     if let Some(max_period) = switch {
         let d = py
@@ -455,7 +455,7 @@ pub fn continuation_key(
     };
     let d = py
         .detach(|| {
-            let s = rubsim::study::run_settings(ls, model, &[v])?;
+            let s = rubsim::study::shooting_settings(ls, model, &[v])?;
             analysis::continuation::continue_key(ls, &s, &branch)
         })
         .py_err()?;

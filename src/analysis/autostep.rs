@@ -292,6 +292,50 @@ pub fn choose(
     rho_inf: Option<f64>,
     speeds: &[f64],
 ) -> Result<RunSettings> {
+    choose_among(
+        model,
+        s,
+        &candidates(model, run_integrator),
+        rho_inf,
+        speeds,
+    )
+}
+
+/// [`choose`] for the commands that shoot periodic orbits (`rubsim periodic`, `rubsim
+/// continue`), whose maps restart central differences: among the explicit schemes only
+/// (collocated, forward increment, on the full or the reduced model) when the scene names no
+/// integrator; a scene that names an implicit one keeps it (and shooting refuses it, naming
+/// the key).
+///
+/// # Errors
+/// As [`choose`].
+pub fn choose_explicit(
+    model: &Model,
+    s: &RunSettings,
+    run_integrator: Option<IntegratorKind>,
+    rho_inf: Option<f64>,
+    speeds: &[f64],
+) -> Result<RunSettings> {
+    let mut kinds = candidates(model, run_integrator);
+    if run_integrator.is_none() {
+        kinds.retain(|k| {
+            matches!(
+                k,
+                IntegratorKind::Collocated | IntegratorKind::ForwardIncrement
+            )
+        });
+    }
+    choose_among(model, s, &kinds, rho_inf, speeds)
+}
+
+/// [`choose`] among the schemes `kinds`.
+fn choose_among(
+    model: &Model,
+    s: &RunSettings,
+    kinds: &[IntegratorKind],
+    rho_inf: Option<f64>,
+    speeds: &[f64],
+) -> Result<RunSettings> {
     if s.step.dt.is_some() || speeds.is_empty() {
         return Ok(*s);
     }
@@ -317,11 +361,7 @@ pub fn choose(
         Some(_) => None,
         None => reducible(model, s, pilots[0]),
     };
-    let variants = variants(
-        &candidates(model, run_integrator),
-        scene_red,
-        reduced_base.is_some(),
-    );
+    let variants = variants(kinds, scene_red, reduced_base.is_some());
     let floors = Floors {
         model,
         s,

@@ -2,7 +2,7 @@
 //! bifurcations.csv, branch.png and summary.json; with `--key`, over a scene key's values at a
 //! fixed speed (`super::continue_key`).
 
-use super::{chosen_settings, default_out, load, Common, UnitArg};
+use super::{default_out, load, shooting_settings, Common, UnitArg};
 use anyhow::{Context, Result};
 use rubsim::analysis::{self, branch::Branch};
 use rubsim::output::summary::{finish, Base, Summary};
@@ -165,7 +165,7 @@ pub fn continuation(args: &ContinueArgs) -> Result<()> {
     };
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("continue")))?;
     let t0 = std::time::Instant::now();
-    let s = chosen_settings(&ls, &model, &speeds)?;
+    let s = shooting_settings(&ls, &model, &speeds)?;
     let title = &ls.scene.title;
     let png = ls
         .scene

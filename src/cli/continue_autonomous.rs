@@ -3,7 +3,7 @@
 //! (`analysis::continuation::continue_autonomous`): branch.csv, branch.png, summary.json.
 
 use super::continuation::ContinueArgs;
-use super::{chosen_settings, default_out, load};
+use super::{default_out, load, shooting_settings};
 use anyhow::{Context, Result};
 use rubsim::analysis::{self, autonomous_branch::AutonomousBranch};
 use rubsim::output::summary::{finish, Base, Summary};
@@ -42,7 +42,7 @@ pub fn continuation_autonomous(args: &ContinueArgs) -> Result<()> {
             (None, range, v)
         }
     };
-    let s = chosen_settings(&ls, &model, &speeds)?;
+    let s = shooting_settings(&ls, &model, &speeds)?;
     let t0 = std::time::Instant::now();
     let branch = analysis::continuation::continue_autonomous((&ls, &model), &s, key, range)
         .with_context(|| format!("{}: --autonomous", a.c.scene.display()))?;

@@ -3,7 +3,7 @@
 //! key's column in branch.csv and bifurcations.csv, branch.png over the key.
 
 use super::continuation::{report_diagram, ContinueArgs, ContinueBody};
-use super::{chosen_settings, default_out, load, UnitArg};
+use super::{default_out, load, shooting_settings, UnitArg};
 use anyhow::{Context, Result};
 use rubsim::analysis::{self, continuation::KeyBranch};
 use rubsim::output::summary::{finish, Base, Summary};
@@ -81,7 +81,7 @@ pub fn continuation_in_key(args: &ContinueArgs) -> Result<()> {
         arclength: a.arclength.then_some(a.max_points),
         switch: a.switch.then_some(a.max_period),
     };
-    let s = chosen_settings(&ls, &model, &[nu])?;
+    let s = shooting_settings(&ls, &model, &[nu])?;
     let t0 = std::time::Instant::now();
     // The key's refusals come before the output folder is made: nothing is written.
     let d = analysis::continuation::continue_key(&ls, &s, &branch)

@@ -4,7 +4,7 @@
 //! `rubsim continue` and segments.csv.
 
 use super::continuation::{report_diagram, speed_range, ContinueArgs};
-use super::{chosen_settings, default_out, finish, load, open_out, progress_bar};
+use super::{default_out, finish, load, open_out, progress_bar, shooting_settings};
 use anyhow::{Context, Result};
 use indicatif::ProgressBar;
 use rubsim::analysis::{self, branch::Branch, coexist_branches::CoexistRecord, switch::Diagram};
@@ -137,7 +137,7 @@ pub fn continuation_in_segments(args: &ContinueArgs) -> Result<()> {
         .context("--sweep")?,
         _ => Vec::new(),
     };
-    let s = chosen_settings(&ls, &model, &speeds)?;
+    let s = shooting_settings(&ls, &model, &speeds)?;
     let req = SegmentRequest {
         scene: &ls,
         model: &model,

@@ -403,6 +403,18 @@ pub fn chosen_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Resul
     Ok(s)
 }
 
+/// [`chosen_settings`] for the commands that shoot periodic orbits (`periodic`, `continue`):
+/// the step chosen among the explicit schemes, whose state the maps restart
+/// (`rubsim::study::shooting_settings`); the choice is printed on stderr.
+pub fn shooting_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Result<RunSettings> {
+    let s = rubsim::study::shooting_settings(ls, model, speeds)
+        .with_context(|| format!("{}: choosing Δt for `run.tolerance`", ls.file.display()))?;
+    if let Some(c) = &s.choice {
+        eprintln!("{}", describe_choice(c));
+    }
+    Ok(s)
+}
+
 /// [`chosen_settings`] without printing the choice (`rubsim check` prints it in its own
 /// description of the run).
 pub fn choose_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Result<RunSettings> {

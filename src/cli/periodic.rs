@@ -1,7 +1,7 @@
 //! `rubsim periodic`: the periodic response at one speed by shooting, its Floquet multipliers
 //! and stability (`analysis::periodic`).
 
-use super::{chosen_settings, default_out, load, Common, UnitArg};
+use super::{default_out, load, shooting_settings, Common, UnitArg};
 use anyhow::{Context, Result};
 use rubsim::analysis::{
     self, autonomous::AutonomousOrbit, floquet::StepRefinement, periodic::PeriodicOrbit,
@@ -87,7 +87,7 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
         })?;
     let mut outd = super::open_out(&out.unwrap_or_else(|| default_out(&c.scene).join("periodic")))?;
     let t0 = std::time::Instant::now();
-    let s = chosen_settings(&ls, &model, &[v])?;
+    let s = shooting_settings(&ls, &model, &[v])?;
     let prep = analysis::prepare(&model, &analysis::periodic::request_at(&s, v))?;
     if autonomous {
         return write_autonomous(outd, (&ls, &model), &prep, t0);

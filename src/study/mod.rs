@@ -36,7 +36,8 @@ pub mod variant;
 pub use case::{cases, CaseId, CaseSpec};
 pub use merge::{merge_folders, results, Merged};
 pub use run::{
-    run, run_cases, run_settings, CasesRequest, Computed, Progress, Quiet, StudyRequest, StudyRun,
+    run, run_cases, run_settings, shooting_settings, CasesRequest, Computed, Progress, Quiet,
+    StudyRequest, StudyRun,
 };
 pub use series::SeriesPlan;
 pub use shard::{shard_counts, shard_folders, Shard};

@@ -346,10 +346,39 @@ fn run_case(
 /// # Errors
 /// As [`analysis::choose`].
 pub fn run_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Result<RunSettings> {
+    settings_with(ls, model, speeds, analysis::choose)
+}
+
+/// [`run_settings`] for the commands that shoot periodic orbits (`rubsim periodic`, `rubsim
+/// continue` and the Python package's `periodic`, `continuation`): the step chosen among the
+/// explicit schemes, whose state the maps restart ([`analysis::autostep::choose_explicit`]).
+///
+/// # Errors
+/// As [`run_settings`].
+pub fn shooting_settings(ls: &LoadedScene, model: &Model, speeds: &[f64]) -> Result<RunSettings> {
+    settings_with(ls, model, speeds, analysis::autostep::choose_explicit)
+}
+
+/// A step choice: [`analysis::choose`] or [`analysis::autostep::choose_explicit`].
+type Chooser = fn(
+    &Model,
+    &RunSettings,
+    Option<crate::scene::IntegratorKind>,
+    Option<f64>,
+    &[f64],
+) -> Result<RunSettings>;
+
+/// The scene's run settings, with the step chosen by `choose` when the scene asks for it.
+fn settings_with(
+    ls: &LoadedScene,
+    model: &Model,
+    speeds: &[f64],
+    choose: Chooser,
+) -> Result<RunSettings> {
     let s = RunSettings::from_scene(&ls.scene);
     let run = &ls.scene.run;
     if !run.auto_step || run.dt.is_some() || run.speed_profile.is_some() {
         return Ok(s);
     }
-    analysis::choose(model, &s, run.integrator, run.rho_inf, speeds)
+    choose(model, &s, run.integrator, run.rho_inf, speeds)
 }
