@@ -4,7 +4,8 @@
 //!
 //! For each flagged speed ν within a diagram's range ([`add_coexisting`]), each response the
 //! sweep shot (its Poincaré section, kept in the case file) is looked for on the diagram's
-//! branches at ν: a branch with a point at ν whose section is within
+//! branches at ν (a response the sweep could not shoot — its scheme implicit, its response not
+//! periodic — counts as found on none): a branch with a point at ν whose section is within
 //! [`DISTINCT_SECTION`] of the response's (the Hausdorff distance, relative to the larger
 //! section's size) holds it, and so does a branch — pseudo-arclength's, whose points lie
 //! between the grid's speeds — whose section interpolated between its two points around ν is
@@ -80,7 +81,9 @@ pub fn add_coexisting(
             new_branches: Vec::new(),
             note: None,
         };
-        if before.iter().all(Option::is_some) {
+        // Both responses known (shot by the sweep) and found: nothing to run. A sweep that
+        // could not shoot them (an implicit scheme, a response not periodic) left fewer.
+        if before.len() >= 2 && before.iter().all(Option::is_some) {
             rec.note = Some("every response on a branch already".into());
             records.push(rec);
             continue;
