@@ -20,10 +20,10 @@
 
 use super::branch::{self, Branch};
 use super::coexist::DISTINCT_SECTION;
+use super::coexist_orbits::hausdorff;
 use super::parameter::Continued;
 use super::periodic::{self, PeriodicOrbit};
 use super::switch::Diagram;
-use super::{analyse, Keep};
 use crate::error::{Error, Result};
 use serde::Serialize;
 
@@ -152,20 +152,6 @@ fn on_branch(d: &Diagram, v: f64, section: &[[f64; 2]]) -> Option<usize> {
     })
 }
 
-/// The Hausdorff distance of two point sets (∞ when one is empty).
-fn hausdorff(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
-    if a.is_empty() || b.is_empty() {
-        return f64::INFINITY;
-    }
-    let near = |p: &[f64; 2], set: &[[f64; 2]]| {
-        set.iter()
-            .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
-            .fold(f64::INFINITY, f64::min)
-    };
-    let one = |x: &[[f64; 2]], y: &[[f64; 2]]| x.iter().map(|p| near(p, y)).fold(0.0, f64::max);
-    one(a, b).max(one(b, a))
-}
-
 /// The two responses at `v` as the coexistence check finds them — the settled run and its
 /// companion from the other start — each shot with the period its run read (those that
 /// converged), and the steps of the two runs.
@@ -175,10 +161,7 @@ fn hausdorff(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
 /// companion failed.
 fn responses_at(c: &Continued<'_>, v: f64) -> Result<(Vec<PeriodicOrbit>, u64)> {
     let prep = c.prepare_with_companion(v)?;
-    let mut req = prep.request;
-    req.follow_ups.error_estimate = true;
-    let (rec, stats, plan, end, _) = prep.drive_with(&prep.plan, &req, None)?;
-    let res = analyse(&prep.case, &req, &plan, &rec, stats, Keep::default());
+    let (res, end) = periodic::settle(&prep)?;
     let mut steps = res.stats.steps as u64;
     let at = format!("ω/ωn = {v}");
     let (_, companion) = super::coexist::check_with_companion(&prep, &res, end.as_ref())

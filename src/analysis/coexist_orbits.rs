@@ -172,7 +172,7 @@ fn shoot_one(
 }
 
 /// The Hausdorff distance of two point sets (∞ when one is empty).
-fn hausdorff(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+pub(crate) fn hausdorff(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
     let near = |p: &[f64; 2], set: &[[f64; 2]]| {
         set.iter()
             .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))

@@ -127,11 +127,7 @@ pub fn request_at(s: &super::RunSettings, speed_ratio: f64) -> super::RunRequest
 /// The run's errors (an unstable step, a contact solve that fails); [`Error::Study`] for a
 /// state larger than [`MAX_STATE`], an implicit scheme or a speed that is not constant.
 pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
-    let mut req = prep.request;
-    // The settling run keeps its end state (kept with the error estimate's bookkeeping).
-    req.follow_ups.error_estimate = true;
-    let (rec, stats, plan, end, _) = prep.drive_with(&prep.plan, &req, None)?;
-    let settled = analyse(&prep.case, &req, &plan, &rec, stats, Keep::default());
+    let (settled, end) = settle(prep)?;
     let steps = settled.stats.steps as u64;
     let end = end.ok_or_else(|| {
         Error::study(
@@ -143,6 +139,23 @@ pub fn shoot(prep: &Prepared, period: Option<usize>) -> Result<PeriodicOrbit> {
     let mut o = shoot_state(prep, k, end)?;
     o.steps += steps;
     Ok(o)
+}
+
+/// `prep`'s run to its settled state, analysed, and the end state it keeps (none for an
+/// implicit scheme or a fixed window): where shooting starts ([`shoot`],
+/// `super::coexist_branches`).
+///
+/// # Errors
+/// The run's errors.
+pub(crate) fn settle(prep: &Prepared) -> Result<(SpeedResults, Option<EndState>)> {
+    let mut req = prep.request;
+    // The settling run keeps its end state (kept with the error estimate's bookkeeping).
+    req.follow_ups.error_estimate = true;
+    let (rec, stats, plan, end, _) = prep.drive_with(&prep.plan, &req, None)?;
+    Ok((
+        analyse(&prep.case, &req, &plan, &rec, stats, Keep::default()),
+        end,
+    ))
 }
 
 /// The period-`k` orbit of `prep` by Newton from `end`, a settled state of a run of `prep`

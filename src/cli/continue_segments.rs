@@ -6,7 +6,6 @@
 use super::continuation::{report_diagram, speed_range, ContinueArgs};
 use super::{default_out, finish, load, open_out, progress_bar, shooting_settings};
 use anyhow::{Context, Result};
-use indicatif::ProgressBar;
 use rubsim::analysis::{self, branch::Branch, coexist_branches::CoexistRecord, switch::Diagram};
 use rubsim::output::branch::{write_branch, write_diagram, DiagramView};
 use rubsim::output::summary::{Base, ModelRecord, Summary};
@@ -52,37 +51,6 @@ struct SegmentLine {
     steps: u64,
     wall_s: f64,
     ended: Option<String>,
-}
-
-/// The segments' progress on stderr: resumed segments and a bar over those to run.
-struct Printed {
-    bar: OnceLock<ProgressBar>,
-}
-
-impl rubsim::study::Progress for Printed {
-    fn warning(&self, message: &str) {
-        eprintln!("warning: {message}");
-    }
-    fn resumed(&self, finished: usize, of: usize, store: &Path) {
-        if let Some(b) = self.bar.get() {
-            b.inc(finished as u64);
-        }
-        eprintln!(
-            "{finished} of {of} segments already finished in {}; running {}",
-            store.display(),
-            of - finished
-        );
-    }
-    fn case_done(&self) {
-        if let Some(b) = self.bar.get() {
-            b.inc(1);
-        }
-    }
-    fn end(&self) {
-        if let Some(b) = self.bar.get() {
-            b.finish_and_clear();
-        }
-    }
 }
 
 /// What `args` continue, cut into `--segments`, and the speeds the step is chosen for.
@@ -165,9 +133,7 @@ pub fn continuation_in_segments(args: &ContinueArgs) -> Result<()> {
             s.index, s.count
         ))
     );
-    let printed = Printed {
-        bar: OnceLock::from(progress_bar(mine)),
-    };
+    let printed = super::progress::Printed::new("segments", OnceLock::from(progress_bar(mine)));
     let ran = segments::run(&req, &c, &mut outd, &printed)?;
     match shard {
         Some(sh) => {

@@ -41,6 +41,7 @@ mod import_ross;
 mod map;
 mod mesh;
 mod periodic;
+mod progress;
 mod refine;
 mod rotordyn;
 mod run;

@@ -3,10 +3,9 @@
 //! the study's progress printed, and its results handed to the tables and pictures
 //! ([`super::sweep`], [`super::map`]) and the summary.
 
-use super::{default_out, describe_choice, finish, load, open_out, progress_bar, Common};
+use super::progress::Printed;
+use super::{default_out, finish, load, open_out, Common};
 use anyhow::Result;
-use indicatif::ProgressBar;
-use rubsim::analysis::{RunSettings, StepChoice};
 use rubsim::model::Model;
 use rubsim::output::summary::{Base, ModelRecord, Summary};
 use rubsim::output::OutDir;
@@ -14,7 +13,7 @@ use rubsim::scene::LoadedScene;
 use rubsim::study::assemble::Tables;
 use rubsim::study::summary::{ShardBody, ShardRecord};
 use rubsim::study::{self, CaseStore, Computed, Kind, Merged, Study, StudyRequest};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::OnceLock;
 
 /// The options every study command shares.
@@ -37,42 +36,6 @@ pub struct StudyArgs {
     pub fresh: bool,
 }
 
-/// The study's progress on stderr: warnings, the chosen step, resumed cases, the estimate and
-/// a progress bar over the cases.
-struct Printed {
-    bar: OnceLock<ProgressBar>,
-}
-
-impl study::Progress for Printed {
-    fn warning(&self, message: &str) {
-        eprintln!("warning: {message}");
-    }
-    fn step_chosen(&self, choice: &StepChoice) {
-        eprintln!("{}", describe_choice(choice));
-    }
-    fn resumed(&self, finished: usize, of: usize, store: &Path) {
-        eprintln!(
-            "{finished} of {of} cases already finished in {}; running {}",
-            store.display(),
-            of - finished
-        );
-    }
-    fn start(&self, model: &Model, settings: &RunSettings, speeds: &[f64], runs: usize) {
-        super::announce_sweep(model, settings, speeds, runs);
-        let _ = self.bar.set(progress_bar(runs));
-    }
-    fn case_done(&self) {
-        if let Some(b) = self.bar.get() {
-            b.inc(1);
-        }
-    }
-    fn end(&self) {
-        if let Some(b) = self.bar.get() {
-            b.finish_and_clear();
-        }
-    }
-}
-
 /// `rubsim sweep` / `rubsim map`: runs the cases not yet finished (of the shard, when asked),
 /// each written to the case store as soon as it is done; unsharded, assembles the results.
 pub fn run(c: &Common, kind: Kind, a: &StudyArgs) -> Result<()> {
@@ -93,9 +56,7 @@ pub fn run(c: &Common, kind: Kind, a: &StudyArgs) -> Result<()> {
         shard,
         fresh: a.fresh,
     };
-    let printed = Printed {
-        bar: OnceLock::new(),
-    };
+    let printed = Printed::new("cases", OnceLock::new());
     let ran = study::run(&req, &mut outd, &printed)?;
     let model_rec = ModelRecord::of(&model);
     match shard {

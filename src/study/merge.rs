@@ -109,18 +109,8 @@ fn missing_message(missing: &[&CaseSpec], total: usize, shard_counts: &[usize]) 
     if missing.len() > 20 {
         msg.push_str(&format!("\n  … and {} more", missing.len() - 20));
     }
-    for n in shard_counts {
-        let mut shards: Vec<usize> = missing.iter().map(|c| c.index % n + 1).collect();
-        shards.sort_unstable();
-        shards.dedup();
-        let list: Vec<String> = shards.iter().map(|s| s.to_string()).collect();
-        msg.push_str(&format!(
-            "\nthey belong to shards {} of {n}: run those again (Slurm: sbatch --array={} …)",
-            list.join(", "),
-            list.join(",")
-        ));
-    }
-    msg
+    let indices: Vec<usize> = missing.iter().map(|c| c.index).collect();
+    msg + &super::shard::rerun_hint(&indices, shard_counts)
 }
 
 /// The folders whose case stores a merge of `dirs` reads: each directory that holds

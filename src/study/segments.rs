@@ -266,25 +266,12 @@ pub fn records(
 /// "k of n segments are missing: …", and the shards that run them.
 fn missing_message(missing: &[usize], n: usize, shard_counts: &[usize]) -> String {
     let list: Vec<String> = missing.iter().map(|j| (j + 1).to_string()).collect();
-    let mut msg = format!(
+    let msg = format!(
         "{} of {n} segments are missing: {}",
         missing.len(),
         list.join(", ")
     );
-    for c in shard_counts {
-        let mut shards: Vec<usize> = missing.iter().map(|j| j % c + 1).collect();
-        shards.dedup();
-        shards.sort_unstable();
-        shards.dedup();
-        let s: Vec<String> = shards.iter().map(|s| s.to_string()).collect();
-        let _ = write!(
-            msg,
-            "\nthey belong to shards {} of {c}: run those again (Slurm: sbatch --array={} …)",
-            s.join(", "),
-            s.join(",")
-        );
-    }
-    msg
+    msg + &super::shard::rerun_hint(missing, shard_counts)
 }
 
 /// Where two consecutive segments do not join ([`join`]).

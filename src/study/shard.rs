@@ -163,6 +163,25 @@ impl Shard {
     }
 }
 
+/// For each shard count `n` of `counts`, the line naming the shards of `n` that hold the
+/// missing items of `indices` (item k in shard k mod n + 1) and the Slurm array that reruns
+/// them: what a merge with items missing tells its user.
+pub fn rerun_hint(indices: &[usize], counts: &[usize]) -> String {
+    let mut msg = String::new();
+    for n in counts.iter().filter(|n| **n > 0) {
+        let mut shards: Vec<usize> = indices.iter().map(|k| k % n + 1).collect();
+        shards.sort_unstable();
+        shards.dedup();
+        let list: Vec<String> = shards.iter().map(|s| s.to_string()).collect();
+        msg.push_str(&format!(
+            "\nthey belong to shards {} of {n}: run those again (Slurm: sbatch --array={} …)",
+            list.join(", "),
+            list.join(",")
+        ));
+    }
+    msg
+}
+
 /// The `shard-*` folders of `dir` that hold a case store, sorted.
 pub fn shard_folders(dir: &Path) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
