@@ -233,6 +233,31 @@ impl DynBody {
         }
     }
 
+    /// `r ← M̃⁻¹ (r + A u + B u_prev)`: the step's linear part applied to a tangent `(u, u_prev)`
+    /// of central differences (`r` holds a load on entry; an implicit body leaves `r` as it is,
+    /// `time::stepper::tangent` not carrying those).
+    pub(crate) fn propagate(&mut self, u: &[f64], up: &[f64], r: &mut [f64]) {
+        let Ops::Central(ab) = &self.ops else {
+            return;
+        };
+        if let (Some((a, b)), MInv::Diag(inv)) = (ab.diagonal(), &self.minv) {
+            for i in 0..self.n {
+                r[i] = inv[i] * (r[i] + (a[i] * u[i] + b[i] * up[i]));
+            }
+            return;
+        }
+        ab.mul_add(u, up, r);
+        match &mut self.minv {
+            MInv::Diag(inv) => r.iter_mut().zip(inv.iter()).for_each(|(r, d)| *r *= d),
+            MInv::Lu { lu, .. } => {
+                if let StepSolver::LowRank(w) = lu.as_mut() {
+                    w.low_rank_mul_add(up, r);
+                }
+                lu.solve_in_place(r);
+            }
+        }
+    }
+
     /// `u_next += M̃⁻¹ r`; `r` is overwritten.
     pub(crate) fn correct(&mut self, r: &mut [f64]) {
         match &mut self.minv {

@@ -493,6 +493,15 @@ impl Compliance {
         }
     }
 
+    /// The forces applied since the last reset taken off, the forces before it kept (a trial
+    /// solve undone: `time::stepper::tangent`).
+    pub(crate) fn discard(&mut self) {
+        for &(l, _, _) in &self.forces {
+            self.fpos[l] = usize::MAX;
+        }
+        self.forces.clear();
+    }
+
     /// Undeformed: no contact force (Eq. 49).
     #[inline]
     pub(crate) fn reset(&mut self) {

@@ -86,7 +86,7 @@ pub use plan::{
     MAX_STEPS, STATOR_WITH_MASS_RHO_INF, WINDOW_MULTIPLE,
 };
 pub use record::{ContactStats, Record, RunStats};
-pub use stepper::{EndState, History, Sink, Stepper};
+pub use stepper::{EndState, History, Sink, Stepper, Tangent, TangentStats};
 
 use crate::error::SolveError;
 use crate::model::Case;

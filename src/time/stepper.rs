@@ -23,8 +23,10 @@ use std::time::Instant;
 
 mod instants;
 mod restart;
+mod tangent;
 
 pub use restart::{EndState, History};
+pub use tangent::{Tangent, TangentStats};
 
 /// A frame sink, or none.
 pub type Sink<'s> = Option<&'s mut dyn FrameSink>;
@@ -96,6 +98,8 @@ pub struct Stepper<'a> {
     pub(crate) next_record: usize,
     /// Index of the next step.
     n: usize,
+    /// The contact's linearisation each step takes while a tangent is carried (`tangent`).
+    probe: Option<Box<tangent::Probe>>,
 }
 
 impl<'a> Stepper<'a> {
@@ -161,6 +165,7 @@ impl<'a> Stepper<'a> {
         Self::build(case, scheme, plan, init, spin)
     }
 
+    /// The stepper of `case` by `scheme` over `plan` from `init`, its speed as `spin`.
     fn build(
         case: &'a Case,
         scheme: Scheme,
@@ -169,14 +174,7 @@ impl<'a> Stepper<'a> {
         spin: Spin<'a>,
     ) -> Result<Self, SolveError> {
         let lr = case.loop_rotor();
-        if matches!(spin, Spin::Driven(_)) && case.reduced.is_some() {
-            return Err(SolveError::ReducedTransient);
-        }
-        if matches!(spin, Spin::Driven(_)) && lr.gyro.is_some() && scheme.implicit().is_some() {
-            return Err(SolveError::GyroscopicTransient {
-                integrator: scheme.name().into(),
-            });
-        }
+        refuse_driven(case, scheme, &spin)?;
         let dt = plan.dt;
         let factor_err = |what: String| factor_err(what, dt);
         let rotor = DynBody::new(
@@ -248,6 +246,7 @@ impl<'a> Stepper<'a> {
                 plan.record_every
             },
             n: 0,
+            probe: None,
         };
         if let Spin::Driven(_) = st.spin {
             st.recorder
@@ -455,6 +454,7 @@ impl<'a> Stepper<'a> {
         self.begin_step();
         if self.scheme.collocated() {
             set_clearance(&self.events, &mut self.pairs, t);
+            self.probe_static(n, t)?;
             self.static_contact(n, t)?;
             self.record_collocated(sink, n, t)?;
             if n == self.plan.steps {
@@ -466,6 +466,9 @@ impl<'a> Stepper<'a> {
         }
         self.predict(t)?;
         set_clearance(&self.events, &mut self.pairs, t + dt);
+        if !self.scheme.collocated() {
+            self.probe_increment(n, t)?;
+        }
         self.increment_contact(n, t)?;
         if self.active > 0 {
             self.stats.contact_steps += 1;
@@ -769,4 +772,20 @@ fn phases(case: &Case, scheme: Scheme, pairs: &Pairs) -> (Phase, Phase) {
         deformed: true,
     };
     (static_phase, increment_phase)
+}
+
+/// The driven speed's refusals: a reduced rotor, and gyroscopic loads under an implicit scheme.
+fn refuse_driven(case: &Case, scheme: Scheme, spin: &Spin<'_>) -> Result<(), SolveError> {
+    if !matches!(spin, Spin::Driven(_)) {
+        return Ok(());
+    }
+    if case.reduced.is_some() {
+        return Err(SolveError::ReducedTransient);
+    }
+    if case.loop_rotor().gyro.is_some() && scheme.implicit().is_some() {
+        return Err(SolveError::GyroscopicTransient {
+            integrator: scheme.name().into(),
+        });
+    }
+    Ok(())
 }
