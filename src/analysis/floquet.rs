@@ -13,11 +13,13 @@
 //! - without contact on either orbit (contact fraction 0) the map is linear and the scheme's
 //!   error is `C Δt² + O(Δt⁴)`: `ρ* = ρ(Δt/2) + (ρ(Δt/2) − ρ(Δt))/3` removes the `Δt²` term
 //!   (on the free paper rotor at N = 384 the closed-form propagators leave 3.3e-11), and the
-//!   error of `ρ(Δt/2)` is estimated as `|ρ(Δt/2) − ρ(Δt)|/3`. What remains is the difference
-//!   monodromy's round-off (≈ 1e-8 at shooting's step of `1e-5 max |x|` and 768 steps a
-//!   revolution: 1.7e-8 after extrapolation); an orbit that keeps clear of contact has an
-//!   affine map, whose differences are exact at any step, so both levels' multipliers are
-//!   taken again from differences of [`AFFINE_STEP`], a hundredth of the round-off;
+//!   error of `ρ(Δt/2)` is estimated as `|ρ(Δt/2) − ρ(Δt)|/3`. The variational monodromy of
+//!   such a map is its propagator to round-off (1e-11); where the monodromy is by differences
+//!   of whole maps (a step with no linearisation: `periodic::Monodromy`) their round-off
+//!   remains (≈ 1e-8 at shooting's step of `1e-5 max |x|` and 768 steps a revolution: 1.7e-8
+//!   after extrapolation), and an orbit that keeps clear of contact has an affine map, whose
+//!   differences are exact at any step, so both levels' multipliers are taken again from
+//!   differences of [`AFFINE_STEP`], a hundredth of the round-off;
 //! - with contact the map is only piecewise smooth and its order in Δt is not known (first
 //!   order for the forward increment against a massless stator): no extrapolation, and the
 //!   error of `ρ(Δt/2)` is estimated by the whole difference `|ρ(Δt/2) − ρ(Δt)|` (the
@@ -123,7 +125,8 @@ pub fn refine(prep: &Prepared, o: &PeriodicOrbit) -> Result<StepRefinement> {
     let mut steps = fine.steps;
     let mut coarse = o.multipliers.clone();
     let mut half_step = half_step;
-    if smooth && clear_of_contact(o) && clear_of_contact(&fine) {
+    let differenced = o.monodromy == periodic::Monodromy::FiniteDifference;
+    if differenced && smooth && clear_of_contact(o) && clear_of_contact(&fine) {
         // The map is affine: differences of a larger step are exact and carry less round-off.
         let (c, s1) = periodic::multipliers_at(prep, o, plan, AFFINE_STEP)?;
         let (f, s2) = periodic::multipliers_at(prep, &fine, &half, AFFINE_STEP)?;

@@ -10,31 +10,52 @@
 //! `x* = P(x*)`: the same discrete orbit a long run settles on, without its transient.
 //!
 //! **Newton.** `F(x) = P(x) − x` is solved by Newton from a settled run's end state, with the
-//! Jacobian `M = ∂P/∂x` by central differences (two `k`-revolution runs per state
-//! component, `h = 10⁻⁵ max |x|`) and steps halved up to [`MAX_HALVINGS`] times while the residual does not
-//! fall. Converged when `max |F| ≤` [`SHOOT_TOLERANCE`] `· max |x|`; after [`MAX_NEWTON`]
-//! iterations without it the report says so (`converged = false`, the residual reached) —
-//! a response that is not periodic at period `k` (a torus, chaos) gets that report, not a
-//! Newton that runs on.
+//! Jacobian `M = ∂P/∂x` (below) and steps halved up to [`MAX_HALVINGS`] times while the
+//! residual does not fall. Converged when `max |F| ≤` [`SHOOT_TOLERANCE`] `· max |x|`; after
+//! [`MAX_NEWTON`] iterations without it the report says so (`converged = false`, the residual
+//! reached) — a response that is not periodic at period `k` (a torus, chaos) gets that report,
+//! not a Newton that runs on.
+//!
+//! **The monodromy.** `M` is taken by the variational equations of the scheme's own step
+//! ([`Monodromy::Variational`], `time::Tangent`): one run of the map carries the tangent
+//! `∂(uⁿ⁺¹, uⁿ)/∂x` along, the step being linear in the rotor's state but for its contact,
+//! whose forces (the collocated scheme's static multipliers `L`, the forward-increment
+//! scheme's increments `D`) are differentiated at each step in contact by central differences
+//! over the contact DOFs alone (relative step [`TANGENT_STEP`]), on the step's own active set:
+//! where a perturbation of one sign changes the set, that column is taken one-sided on the
+//! side that keeps it ([`TangentStats::one_sided`]). That is the derivative of the discrete map
+//! on the nominal orbit's contact sequence — the discrete counterpart of the saltation-matrix
+//! monodromy of the flow — at the cost of about one map, where differences of whole maps cost
+//! `2 dim x` maps and, when a perturbation moves a contact event across a step, straddle it
+//! (measured: at `h = 10⁻⁵ max |x|` they miss the paper case's period-2 monodromy at ν 3.1 by
+//! 3e-3 of its entries). A step with no linearisation (a stator with mass, stick, dashpots,
+//! wear, an abradable coating) keeps central differences of whole maps
+//! ([`Monodromy::FiniteDifference`], two `k`-revolution runs per component, `h = 10⁻⁵ max |x|`);
+//! the orbit says which it took.
 //!
 //! **Floquet multipliers.** At the fixed point `M` is the monodromy matrix of the discrete map
 //! and its eigenvalues `ρ` the Floquet multipliers: the orbit is stable when every `|ρ| < 1`.
 //! It loses stability through `ρ = −1` (period doubling), `ρ = +1` (a fold or a symmetry-breaking
 //! branch) or a complex pair crossing the unit circle (Neimark–Sacker: a torus). For a case
-//! without contact the map is linear and `ρ` are the eigenvalues of the `k N`-step propagator,
-//! which approach `exp(λ k T)` (λ the rotor's eigenvalues, `rubsim modal`) as Δt² for central
-//! differences. With contact the map is piecewise smooth: where a contact starts or ends within
-//! the `k` revolutions the differences straddle the event and `M` is the mean of the one-sided
-//! derivatives of the scheme's own map (the forward-increment multipliers make that map Lipschitz), not the
-//! saltation-matrix monodromy of the continuous flow; the multipliers of an orbit that grazes
-//! (a contact starting with zero penetration rate) are not reliable and are reported as found.
+//! without contact the map is linear and `ρ` are the eigenvalues of the `k N`-step propagator
+//! (the variational monodromy gives them to round-off), which approach `exp(λ k T)` (λ the
+//! rotor's eigenvalues, `rubsim modal`) as Δt² for central differences. With contact the map
+//! is piecewise smooth (the forward-increment multipliers make it Lipschitz). An orbit that
+//! sits on a contact event — a contact starting or ending exactly at a step, or grazing — is a
+//! kink of the map: its one-sided derivatives differ, the central differences are their mean
+//! and the derivative of neither side, and the variational monodromy is a one-sided one (the
+//! FE paper rotor at ν 1.7: sides 8e-3 apart, each variational column within 2e-6 of one of
+//! them). Such an orbit's multipliers are those of one side and are reported as found; the
+//! linearisation's `one_sided` count says when it happened.
 
 use super::speed::{analyse, Prepared, SpeedResults};
 use super::Keep;
 use crate::error::{Error, Result};
-use crate::time::{EndState, Record, RunStats, Sink, StepPlan, Stepper};
+use crate::time::{EndState, Record, RunStats, Sink, StepPlan, Stepper, TangentStats};
 use nalgebra::DMatrix;
 use serde::Serialize;
+
+mod map;
 
 /// Relative residual `max |P(x) − x| / max |x|` of a converged fixed point.
 pub const SHOOT_TOLERANCE: f64 = 1e-9;
@@ -51,8 +72,36 @@ pub const MAX_STATE: usize = 400;
 /// period-2k orbit from its parent's fixed point, and its k-map residual from an orbit that
 /// repeats after k revolutions already (`super::switch`, `super::branch::follow`).
 pub const DISTINCT: f64 = 1e-6;
-/// Relative central-difference step of the Jacobian (of `max |x|`).
+/// Relative central-difference step of the Jacobian of whole maps (of `max |x|`), where the
+/// step has no linearisation.
 const FD_STEP: f64 = 1e-5;
+/// Relative perturbation (of `max |x|`) of the contact DOFs in each step's linearisation of
+/// the variational monodromy (`time::Tangent`: truncation `(h/R)²`, round-off `ε R/h`, R the
+/// section radius).
+pub const TANGENT_STEP: f64 = 1e-4;
+
+/// How a monodromy `∂P/∂x` was taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Monodromy {
+    /// The variational equations of the scheme's own step carried along one run of the map
+    /// (`time::Tangent`): the body's operators exact, each step's contact solve linearised on
+    /// its own active set.
+    Variational,
+    /// Central differences of whole maps, two per state component (scenes whose step has no
+    /// linearisation: stators with mass, stick, dashpots, wear, abradable coatings).
+    FiniteDifference,
+}
+
+impl Monodromy {
+    /// The name written in outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            Monodromy::Variational => "variational",
+            Monodromy::FiniteDifference => "finite_difference",
+        }
+    }
+}
 
 /// A periodic response found by shooting ([`shoot`]) and its stability.
 #[derive(Debug, Clone, Serialize)]
@@ -87,6 +136,11 @@ pub struct PeriodicOrbit {
     pub orbit: Box<SpeedResults>,
     /// Components of the state `x`.
     pub state_size: usize,
+    /// How the monodromy of the multipliers was taken.
+    pub monodromy: Monodromy,
+    /// The variational monodromy's linearisation at the fixed point (steps in contact, contact
+    /// DOF columns differenced on one side of an event or across one); `None` for differences.
+    pub linearisation: Option<TangentStats>,
     /// Steps integrated in all: the settling run, the maps and their differences, the orbit.
     pub steps: u64,
     /// The last iterate `x` and the state it is laid out in (a start for a neighbouring speed:
@@ -309,8 +363,56 @@ pub(super) fn monodromy(
     o: &PeriodicOrbit,
 ) -> Result<(DMatrix<f64>, Vec<f64>, u64)> {
     let (x, end) = &o.fixed_point;
-    let (m, steps) = Map::new(prep, o.period, &prep.plan, end.clone()).jacobian(x)?;
+    let (m, steps) = map::Map::new(prep, o.period, &prep.plan, end.clone()).jacobian(x)?;
     Ok((m, x.clone(), steps))
+}
+
+/// The monodromy of the orbit `o` found on `prep` at its fixed point by the variational
+/// equations, each step's contact DOFs perturbed by `rel · max |x|`, and the linearisation's
+/// counters; `None` where the run's step has no linearisation (a check of the monodromy
+/// against [`monodromy_differences`] and of its independence of `rel`).
+///
+/// # Errors
+/// The map's run errors.
+pub fn monodromy_variational(
+    prep: &Prepared,
+    o: &PeriodicOrbit,
+    rel: f64,
+) -> Result<Option<(DMatrix<f64>, TangentStats)>> {
+    let (x, end) = &o.fixed_point;
+    let map = map::Map::new(prep, o.period, &prep.plan, end.clone());
+    Ok(map.variational(x, rel)?.map(|(m, st, _)| (m, st)))
+}
+
+/// Which differences of whole maps [`monodromy_differences`] takes: central
+/// `(P(x + h eⱼ) − P(x − h eⱼ)) / 2h`, forward `(P(x + h eⱼ) − P(x)) / h` or backward
+/// `(P(x) − P(x − h eⱼ)) / h`. At an orbit on a contact event (a grazing or a kink of the map)
+/// the two one-sided derivatives differ and the central one is their mean, the derivative of
+/// neither side.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Difference {
+    /// Centred on `x`: second order where the map is smooth.
+    Central,
+    /// From `x` towards `+eⱼ`.
+    Forward,
+    /// From `x` towards `−eⱼ`.
+    Backward,
+}
+
+/// The monodromy of the orbit `o` found on `prep` at its fixed point by differences
+/// (`kind`) of whole maps of relative step `rel` (of max |x|).
+///
+/// # Errors
+/// The map's run errors.
+pub fn monodromy_differences(
+    prep: &Prepared,
+    o: &PeriodicOrbit,
+    rel: f64,
+    kind: Difference,
+) -> Result<DMatrix<f64>> {
+    let (x, end) = &o.fixed_point;
+    let map = map::Map::new(prep, o.period, &prep.plan, end.clone());
+    Ok(map.differences(x, rel, kind)?.0)
 }
 
 /// Newton on the `k`-revolution map of `prep` from `x0`, laid out as the orbit `like`'s fixed
@@ -339,11 +441,11 @@ pub(super) fn solve_deflated(
     )
 }
 
-/// The Floquet multipliers of the orbit `o` found on `prep` at the step of `plan`, from the
-/// monodromy's central differences of relative step `rel` (of max |x|; [`FD_STEP`] when
-/// shooting). A larger step removes round-off where the map is affine — an orbit that keeps
-/// clear of every contact with its perturbations (the multipliers' refinement) —, and the steps
-/// it took.
+/// The Floquet multipliers of the orbit `o` found on `prep` at the step of `plan`, from its
+/// monodromy: variational where the step has its linearisation, else central differences of
+/// relative step `rel` (of max |x|; [`FD_STEP`] when shooting) — a larger step removes
+/// round-off where the map is affine, an orbit that keeps clear of every contact with its
+/// perturbations (the multipliers' refinement) —, and the steps it took.
 ///
 /// # Errors
 /// The map's run errors.
@@ -354,7 +456,7 @@ pub(super) fn multipliers_at(
     rel: f64,
 ) -> Result<(Vec<[f64; 2]>, u64)> {
     let (x, end) = &o.fixed_point;
-    let (m, steps) = Map::new(prep, o.period, plan, end.clone()).jacobian_at(x, rel)?;
+    let (m, steps) = map::Map::new(prep, o.period, plan, end.clone()).jacobian_at(x, rel)?;
     Ok((floquet(&m), steps))
 }
 
@@ -365,7 +467,7 @@ pub(super) fn multipliers_at(
 /// The map's run errors.
 pub(super) fn residual_after(prep: &Prepared, o: &PeriodicOrbit, k: usize) -> Result<(f64, u64)> {
     let (x, end) = &o.fixed_point;
-    let map = Map::new(prep, k, &prep.plan, end.clone());
+    let map = map::Map::new(prep, k, &prep.plan, end.clone());
     let px = map.apply(x)?;
     Ok((residual(x, &px), map.plan.steps as u64))
 }
@@ -380,12 +482,12 @@ fn solve(
     end: EndState,
     (x0, deflated): (Vec<f64>, Option<&[f64]>),
 ) -> Result<PeriodicOrbit> {
-    let map = Map::new(prep, k, plan, end);
-    let mut steps = 0;
-    let (x, newton) = map.newton(x0, deflated)?;
-    steps += newton.steps;
+    let map = map::Map::new(prep, k, plan, end);
+    let (x, newton) = map::newton_with_fallback(&map, x0, deflated)?;
+    let mut steps = newton.steps;
     let (multipliers, jsteps) = map.multipliers(&x)?;
     steps += jsteps;
+    let (monodromy, linearisation) = map.taken.get();
     let (orbit, osteps) = map.orbit(&x, k)?;
     steps += osteps;
     let largest = multipliers.first().map_or(0.0, |r| r[0].hypot(r[1]));
@@ -403,6 +505,8 @@ fn solve(
         multipliers,
         orbit: Box::new(orbit),
         state_size: x.len(),
+        monodromy,
+        linearisation,
         steps,
         fixed_point: (x, map.end),
     })
@@ -417,146 +521,6 @@ pub(crate) fn crossing(r: [f64; 2], largest: f64) -> &'static str {
         "period_doubling"
     } else {
         "fold"
-    }
-}
-
-/// How Newton ended: the last residual, its iterations and steps.
-struct Newton {
-    converged: bool,
-    iterations: usize,
-    residual: f64,
-    steps: u64,
-}
-
-/// The discrete Poincaré map of `k` revolutions of a prepared run (module docs).
-struct Map<'a> {
-    prep: &'a Prepared,
-    /// `k N` steps, nothing cut.
-    plan: StepPlan,
-    /// The settled end state, whose layout the vectors follow.
-    end: EndState,
-}
-
-impl<'a> Map<'a> {
-    /// The `k`-revolution map of `prep` at the step of `plan` (nothing cut), its vectors laid
-    /// out as `end`.
-    fn new(prep: &'a Prepared, k: usize, plan: &StepPlan, end: EndState) -> Self {
-        Self {
-            prep,
-            plan: StepPlan {
-                steps: k * plan.steps_per_rev.max(1),
-                steady_from: 0,
-                ..*plan
-            },
-            end,
-        }
-    }
-
-    /// `P(x)`: the state after the map's `k N` steps from `x`.
-    fn apply(&self, x: &[f64]) -> Result<Vec<f64>> {
-        let start = self.end.with_state_vector(x).ok_or_else(not_restarted)?;
-        end_after(self.prep, &self.plan, &start)
-    }
-
-    /// Newton on `P(x) − x` from `x` (module docs).
-    fn newton(&self, mut x: Vec<f64>, deflated: Option<&[f64]>) -> Result<(Vec<f64>, Newton)> {
-        let per_map = self.plan.steps as u64;
-        let mut steps = 0u64;
-        let mut px = self.apply(&x)?;
-        steps += per_map;
-        let mut res = residual(&x, &px);
-        // The deflated residual D(x)·res a step must lower (D = 1 without deflation).
-        let weight = |x: &[f64]| deflated.map_or(1.0, |r| deflation(x, r).0);
-        let mut merit = weight(&x) * res;
-        let mut iterations = 0;
-        while res > SHOOT_TOLERANCE && iterations < MAX_NEWTON {
-            iterations += 1;
-            let (m, js) = self.jacobian(&x)?;
-            steps += js;
-            let n = x.len();
-            let a = m - DMatrix::<f64>::identity(n, n);
-            let f = nalgebra::DVector::from_iterator(n, px.iter().zip(&x).map(|(p, x)| x - p));
-            let Some(dx) = a.lu().solve(&f) else {
-                break; // M − I singular: a multiplier at +1 (a fold); reported as not converged
-            };
-            let mut scale = deflated.map_or(1.0, |r| {
-                let (d, grad) = deflation(&x, r);
-                let g: f64 = grad.iter().zip(dx.iter()).map(|(g, d)| g * d).sum();
-                1.0 / (1.0 - g / d)
-            });
-            if !scale.is_finite() {
-                break;
-            }
-            let mut accepted = false;
-            for _ in 0..=MAX_HALVINGS {
-                let trial: Vec<f64> = x
-                    .iter()
-                    .zip(dx.iter())
-                    .map(|(x, d)| x + scale * d)
-                    .collect();
-                let pt = self.apply(&trial)?;
-                steps += per_map;
-                let rt = residual(&trial, &pt);
-                let mt = weight(&trial) * rt;
-                if rt.is_finite() && mt < merit {
-                    (x, px, res, merit, accepted) = (trial, pt, rt, mt, true);
-                    break;
-                }
-                scale *= 0.5;
-            }
-            if !accepted {
-                break;
-            }
-        }
-        Ok((
-            x,
-            Newton {
-                converged: res <= SHOOT_TOLERANCE,
-                iterations,
-                residual: res,
-                steps,
-            },
-        ))
-    }
-
-    /// `∂P/∂x` at `x` by central differences of step `h` = [`FD_STEP`] `· max |x|` (two maps per
-    /// component); and the steps it took. The map's round-off over its `k N` steps (≈ 1e-13 of
-    /// `|x|`) divided by `h` bounds the entries' error: ≈ 1e-8, where forward differences at a
-    /// step small enough for their truncation would give 1e-6.
-    fn jacobian(&self, x: &[f64]) -> Result<(DMatrix<f64>, u64)> {
-        self.jacobian_at(x, FD_STEP)
-    }
-
-    /// [`Map::jacobian`] with the relative step `rel` of `max |x|` in place of [`FD_STEP`].
-    fn jacobian_at(&self, x: &[f64], rel: f64) -> Result<(DMatrix<f64>, u64)> {
-        let n = x.len();
-        let h = rel * x.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
-        let mut m = DMatrix::<f64>::zeros(n, n);
-        for j in 0..n {
-            let mut xp = x.to_vec();
-            xp[j] += h;
-            let mut xm = x.to_vec();
-            xm[j] -= h;
-            let (pp, pm) = (self.apply(&xp)?, self.apply(&xm)?);
-            for i in 0..n {
-                m[(i, j)] = (pp[i] - pm[i]) / (2.0 * h);
-            }
-        }
-        Ok((m, (2 * n * self.plan.steps) as u64))
-    }
-
-    /// The Floquet multipliers at `x`, largest modulus first.
-    fn multipliers(&self, x: &[f64]) -> Result<(Vec<[f64; 2]>, u64)> {
-        let (m, steps) = self.jacobian(x)?;
-        Ok((floquet(&m), steps))
-    }
-
-    /// The orbit from `x` over `6 k` revolutions, analysed as a steady window.
-    fn orbit(&self, x: &[f64], k: usize) -> Result<(SpeedResults, u64)> {
-        let start = self.end.with_state_vector(x).ok_or_else(not_restarted)?;
-        let orbit = orbit_from(self.prep, &self.plan, &start, k)?;
-        let steps = orbit.stats.steps as u64;
-        Ok((orbit, steps))
     }
 }
 
@@ -656,24 +620,6 @@ pub(super) fn floquet(m: &DMatrix<f64>) -> Vec<[f64; 2]> {
         .collect();
     rho.sort_by(|a, b| b[0].hypot(b[1]).total_cmp(&a[0].hypot(a[1])));
     rho
-}
-
-/// The deflation `D(x) = 1/d² + 1`, `d = ‖x − r‖₂ / max |r|`, and its gradient ∇D (for
-/// [`solve_deflated`]).
-fn deflation(x: &[f64], r: &[f64]) -> (f64, Vec<f64>) {
-    let scale = r.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-300);
-    let d2 = x
-        .iter()
-        .zip(r)
-        .map(|(a, b)| ((a - b) / scale).powi(2))
-        .sum::<f64>()
-        .max(1e-300);
-    let grad = x
-        .iter()
-        .zip(r)
-        .map(|(a, b)| -2.0 * (a - b) / (scale * scale * d2 * d2))
-        .collect();
-    (1.0 / d2 + 1.0, grad)
 }
 
 /// `max |P(x) − x| / max |x|` (∞ for a non-finite map): also the distance of a state `px`

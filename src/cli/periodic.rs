@@ -194,6 +194,28 @@ fn report_autonomous(o: &AutonomousOrbit) {
     }
 }
 
+/// How the orbit's monodromy was taken, for the console: the variational one with its
+/// linearisation's counters (and a note where a column was one-sided: the orbit on a contact
+/// event, its multipliers those of one side), or the differences of whole maps.
+fn monodromy_line(o: &PeriodicOrbit) -> String {
+    match o.linearisation {
+        Some(l) => format!(
+            "variational ({} steps in contact linearised{})",
+            l.contact_steps,
+            if l.one_sided > 0 {
+                format!(
+                    "; {} contact column(s) one-sided: the orbit sits on a contact event, a kink of the map, and its multipliers are those of one side",
+                    l.one_sided
+                )
+            } else {
+                String::new()
+            }
+        ),
+        None => "central differences of whole maps (this scene's step has no linearisation)"
+            .to_string(),
+    }
+}
+
 /// The folder of `rubsim periodic`'s orbit series in its output directory.
 pub const ORBIT_FOLDER: &str = "orbit/";
 
@@ -291,6 +313,7 @@ fn report(o: &PeriodicOrbit) {
         (true, false, None) => "unstable".to_string(),
     };
     println!("  largest |ρ| = {:.6}: {state}", o.largest_modulus);
+    println!("  monodromy: {}", monodromy_line(o));
     for (i, m) in o.multipliers.iter().take(6).enumerate() {
         println!(
             "  ρ{} = {:+.6} {:+.6}i (|ρ| = {:.6})",
