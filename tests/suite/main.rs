@@ -58,6 +58,7 @@ mod thermal_fe;
 mod thermal_map;
 mod transient_scenes;
 mod transients;
+mod variational;
 mod verification;
 mod wear;
 mod whirl;
