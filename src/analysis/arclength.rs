@@ -13,8 +13,10 @@
 //! point (displacements and velocities scaled apart), solve `P(y; ν) − y = 0` with the
 //! pseudo-arclength condition `tᵀ (w − w_p) = 0`, `w_p = w_i + h t` predicted along the unit
 //! secant `t` of the last two points (the first secant from a step in ν). Newton on the
-//! bordered system `[[∂P/∂y − I, ∂P/∂ν], [tᵀ]]`, the derivatives by central differences (two maps
-//! per column); a step whose Newton does not converge in [`MAX_CORRECTOR`] iterations is halved
+//! bordered system `[[∂P/∂y − I, ∂P/∂ν], [tᵀ]]`: `∂P/∂y` the variational monodromy of the
+//! scheme's step (`periodic::Monodromy`) where the step has its linearisation — a corrector
+//! that fails with it is tried again with differences —, else central differences (two maps
+//! per column), `∂P/∂ν` by central differences; a step whose Newton does not converge in [`MAX_CORRECTOR`] iterations is halved
 //! (at most [`MAX_STEP_HALVINGS`] times) and grows back by 1.5 after an easy one. The
 //! multipliers at each point are the eigenvalues of `∂P/∂y` there.
 //!
@@ -40,6 +42,8 @@ use crate::model::Model;
 use crate::time::{EndState, StepPlan};
 use nalgebra::{DMatrix, DVector};
 
+mod jacobian;
+
 /// Newton iterations of one corrector.
 pub const MAX_CORRECTOR: usize = 10;
 /// Halvings of a step whose corrector fails before the branch is reported as ended.
@@ -61,6 +65,11 @@ struct Arc<'a> {
     /// Scales of the components of `y` (displacement and velocity blocks).
     scale: Vec<f64>,
     steps: u64,
+    /// The Jacobians by differences of whole maps even where the step has its linearisation
+    /// (`jacobian`: a corrector's retry).
+    differences_only: bool,
+    /// Whether the last Jacobian was the variational one.
+    linearised: bool,
 }
 
 /// Continues the period-`period` orbit from ν = `from` (shot from its settled run) over speeds
@@ -180,7 +189,7 @@ fn arclength_from(
         )
     })?;
     let dt0 = end.dt;
-    let y0 = to_uv(x, &sizes, dt0);
+    let y0 = jacobian::to_uv(x, &sizes, dt0);
     let mut arc = Arc {
         c,
         k,
@@ -189,6 +198,8 @@ fn arclength_from(
         scale: block_scales(&y0, &sizes),
         sizes,
         steps: 0,
+        differences_only: false,
+        linearised: false,
     };
     // The first point again at the branch's fixed N, by Newton in y at ν = from.
     let (y0, _) = arc.correct_at(y0, from)?;
@@ -283,7 +294,7 @@ impl Arc<'_> {
     /// The end state of `y` for a run of step `dt` (its `(uᴺ, uᴺ⁻¹)` at that step).
     fn start(&self, y: &[f64], dt: f64) -> Result<EndState> {
         self.template
-            .with_state_vector(&from_uv(y, &self.sizes, dt))
+            .with_state_vector(&jacobian::from_uv(y, &self.sizes, dt))
             .map(|e| e.at_step(dt))
             .ok_or_else(|| Error::study("run", "the branch's state does not fit".to_string()))
     }
@@ -294,28 +305,12 @@ impl Arc<'_> {
         let start = self.start(y, p.plan.dt)?;
         let end = periodic::end_after(&p, &p.plan, &start)?;
         self.steps += p.plan.steps as u64;
-        Ok(to_uv(&end, &self.sizes, p.plan.dt))
+        Ok(jacobian::to_uv(&end, &self.sizes, p.plan.dt))
     }
 
-    /// `∂P/∂y` at `(y, ν)` by central differences (unscaled).
-    fn dp_dy(&mut self, y: &[f64], v: f64) -> Result<DMatrix<f64>> {
-        let n = y.len();
-        let mut m = DMatrix::zeros(n, n);
-        for j in 0..n {
-            let h = FD_STEP * self.scale[j];
-            let (mut a, mut b) = (y.to_vec(), y.to_vec());
-            a[j] += h;
-            b[j] -= h;
-            let (pa, pb) = (self.map(&a, v)?, self.map(&b, v)?);
-            for i in 0..n {
-                m[(i, j)] = (pa[i] - pb[i]) / (2.0 * h);
-            }
-        }
-        Ok(m)
-    }
-
-    /// Newton in `y` at a fixed ν from `y`; the point and its iterations.
-    fn correct_at(&mut self, mut y: Vec<f64>, v: f64) -> Result<(Vec<f64>, usize)> {
+    /// Newton in `y` at a fixed ν from `y` with the Jacobian [`Arc::dp_dy`] gives; the point
+    /// and its iterations (`jacobian`: with a retry by differences, `Arc::correct_at`).
+    fn correct_at_once(&mut self, mut y: Vec<f64>, v: f64) -> Result<(Vec<f64>, usize)> {
         for it in 0..=MAX_CORRECTOR {
             let py = self.map(&y, v)?;
             let f: Vec<f64> = py.iter().zip(&y).map(|(p, y)| p - y).collect();
@@ -341,8 +336,9 @@ impl Arc<'_> {
     }
 
     /// The pseudo-arclength corrector from the prediction `wp` along `t`: the point and its
-    /// iterations, `None` when Newton does not converge.
-    fn corrector(&mut self, wp: &[f64], t: &[f64]) -> Result<Option<(Vec<f64>, usize)>> {
+    /// iterations, `None` when Newton does not converge (`jacobian`: with a retry by
+    /// differences, `Arc::corrector`).
+    fn corrector_once(&mut self, wp: &[f64], t: &[f64]) -> Result<Option<(Vec<f64>, usize)>> {
         let n = wp.len() - 1;
         let mut w = wp.to_vec();
         for it in 0..=MAX_CORRECTOR {
@@ -432,32 +428,6 @@ impl Arc<'_> {
             start: Some(start),
         })
     }
-}
-
-/// `(uᴺ, uᴺ⁻¹)` per body → `(u, v)`, `v = (uᴺ − uᴺ⁻¹)/dt`.
-fn to_uv(x: &[f64], sizes: &[usize], dt: f64) -> Vec<f64> {
-    let mut y = x.to_vec();
-    let mut at = 0;
-    for &n in sizes {
-        for i in 0..n {
-            y[at + n + i] = (x[at + i] - x[at + n + i]) / dt;
-        }
-        at += 2 * n;
-    }
-    y
-}
-
-/// `(u, v)` per body → `(uᴺ, uᴺ⁻¹)` at step `dt`.
-fn from_uv(y: &[f64], sizes: &[usize], dt: f64) -> Vec<f64> {
-    let mut x = y.to_vec();
-    let mut at = 0;
-    for &n in sizes {
-        for i in 0..n {
-            x[at + n + i] = y[at + i] - dt * y[at + n + i];
-        }
-        at += 2 * n;
-    }
-    x
 }
 
 /// Each component's scale: the largest |value| of its block (displacements, velocities) per

@@ -1,5 +1,5 @@
-//! Periodic responses by shooting, with their Floquet multipliers and stability (issue 29,
-//! first part: one speed; continuation along a parameter is not built yet).
+//! Periodic responses by shooting, with their Floquet multipliers and stability (issue 29):
+//! one orbit at one speed; its continuation is [`super::branch`] and [`super::arclength`].
 //!
 //! **The map.** A constant-speed run's discrete Poincaré map `P` takes the state `x` at a whole
 //! revolution — `x = (uᴺ, uᴺ⁻¹)` of every body of central differences, the rotor then the
@@ -382,6 +382,19 @@ pub fn monodromy_variational(
     let (x, end) = &o.fixed_point;
     let map = map::Map::new(prep, o.period, &prep.plan, end.clone());
     Ok(map.variational(x, rel)?.map(|(m, st, _)| (m, st)))
+}
+
+/// The variational monodromy `∂P/∂x` of the map of `prep`'s plan (its steps as they are, at
+/// its step) at the state `start` (`x` in [`EndState::state_vector`]'s layout); `None` where
+/// the run's step has no linearisation. Pseudo-arclength's map at its fixed steps a
+/// revolution (`super::arclength`).
+///
+/// # Errors
+/// A state that does not restart the run's scheme; the run's errors.
+pub(super) fn variational_over(prep: &Prepared, start: &EndState) -> Result<Option<DMatrix<f64>>> {
+    let x = start.state_vector().ok_or_else(not_restarted)?;
+    let map = map::Map::over(prep, &prep.plan, start.clone());
+    Ok(map.variational(&x, TANGENT_STEP)?.map(|(m, _, _)| m))
 }
 
 /// Which differences of whole maps [`monodromy_differences`] takes: central

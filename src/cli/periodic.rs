@@ -211,8 +211,9 @@ fn monodromy_line(o: &PeriodicOrbit) -> String {
                 String::new()
             }
         ),
-        None => "central differences of whole maps (this scene's step has no linearisation)"
-            .to_string(),
+        None => {
+            "central differences of whole maps (this scene's step has no linearisation)".to_string()
+        }
     }
 }
 

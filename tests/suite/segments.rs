@@ -232,7 +232,7 @@ fn bad_segment_requests_are_refused_naming_what_is_wrong() {
 
 /// Segments that find different orbits at their shared value are a seam, not one branch: the
 /// paper case's period-2 continuation over ν 2.0 – 2.6 in two segments — the first starts
-/// below the period doubling at 2.2414, where its settled run is the period-1 orbit (a fixed
+/// below the period doubling at 2.2445, where its settled run is the period-1 orbit (a fixed
 /// point of the two-revolution map, which it continues past the doubling), the second above it,
 /// where the settled run is the period-2 orbit. At ν 2.3 the two are different orbits
 /// (measured: Poincaré points 0.345 of the orbit's size apart): the console and segments.csv

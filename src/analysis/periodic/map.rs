@@ -38,10 +38,15 @@ impl<'a> Map<'a> {
     /// The `k`-revolution map of `prep` at the step of `plan` (nothing cut), its vectors laid
     /// out as `end`.
     pub(super) fn new(prep: &'a Prepared, k: usize, plan: &StepPlan, end: EndState) -> Self {
+        let steps = k * plan.steps_per_rev.max(1);
+        Self::over(prep, &StepPlan { steps, ..*plan }, end)
+    }
+
+    /// The map of `plan`'s steps of `prep` (nothing cut), its vectors laid out as `end`.
+    pub(super) fn over(prep: &'a Prepared, plan: &StepPlan, end: EndState) -> Self {
         Self {
             prep,
             plan: StepPlan {
-                steps: k * plan.steps_per_rev.max(1),
                 steady_from: 0,
                 ..*plan
             },
