@@ -202,10 +202,15 @@ fn monodromy_line(o: &PeriodicOrbit) -> String {
         Some(l) => format!(
             "variational ({} steps in contact linearised{})",
             l.contact_steps,
-            if l.one_sided > 0 {
+            if l.one_sided + l.straddled > 0 {
                 format!(
-                    "; {} contact column(s) one-sided: the orbit sits on a contact event, a kink of the map, and its multipliers are those of one side",
-                    l.one_sided
+                    "; {} contact column(s) one-sided, {} across: the orbit sits on a contact event, a kink of the map, and its multipliers are those of one side",
+                    l.one_sided, l.straddled
+                )
+            } else if l.shrunk > 0 {
+                format!(
+                    "; {} column(s) near a contact event, their perturbation shrunk: the multipliers may jump with a small change of the scene",
+                    l.shrunk
                 )
             } else {
                 String::new()

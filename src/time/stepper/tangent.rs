@@ -19,8 +19,11 @@
 //! (the pairs carrying force) kept: central differences of the solve itself over each contact
 //! DOF, `y ± h`, which costs `2 m` small solves on a step in contact and none on a step out of
 //! it. A perturbation that changes the active set (a contact starting or ending within `h`) is
-//! not differenced across: the one side that keeps the step's own set is taken (forward or
-//! backward difference), and a step where neither side keeps it is counted
+//! shrunk by 10, up to twice, so that an event near the step but not on it falls outside it
+//! ([`TangentStats::shrunk`]; a meshed stator, whose pairs change as the rotor slides past its
+//! nodes, has such events at every few steps); one that still changes it is not differenced
+//! across: the one side that keeps the step's own set is taken (forward or backward
+//! difference), and a step where neither side keeps it is counted
 //! ([`TangentStats::straddled`]). The product over the map's steps is the monodromy of the
 //! discrete map on the orbit's own sequence of active sets: the one-sided derivative along the
 //! orbit, never a mean across a contact event, which is what differencing whole maps gives when
@@ -66,7 +69,21 @@ pub struct TangentStats {
     /// Contact DOF columns where both sides changed the active set (a pair within `h` of its
     /// event on both sides): differenced centrally across it.
     pub straddled: usize,
+    /// Contact DOF columns whose perturbation was shrunk (by 10, up to twice) because a side
+    /// changed the active set: an event near the step but not on it is
+    /// then left outside the perturbation, and the column differenced centrally.
+    #[serde(default)]
+    pub shrunk: usize,
 }
+
+/// The factor a column's perturbation is shrunk by while a side changes the active set.
+const SHRINK: f64 = 10.0;
+/// How many times a column's perturbation is shrunk at most (to `h / SHRINK^SHRINKS`; the
+/// round-off `ε R / h` grows by as much, on those columns only).
+const SHRINKS: usize = 2;
+
+/// A column's two perturbed solves: the effect and the active set at `+h`, then at `−h`.
+type Sides = (Vec<f64>, Vec<usize>, Vec<f64>, Vec<usize>);
 
 /// The tangent columns `(δuⁿ, δuⁿ⁻¹)` of the rotor's state carried along a run: after `N` steps
 /// from the identity, the monodromy `∂xᴺ/∂x⁰` of `x = (uⁿ, uⁿ⁻¹)` ([`Tangent::matrix`]).
@@ -249,11 +266,22 @@ impl Stepper<'_> {
             return Ok(());
         }
         probe.stats.contact_steps += 1;
-        let (nr, h) = (self.rotor.n, probe.h);
+        let nr = self.rotor.n;
         for k in 0..probe.dofs.len() {
             let d = probe.dofs[k];
-            let (plus, pa) = self.contact_effect(held, Some((d, h)), n, t)?;
-            let (minus, ma) = self.contact_effect(held, Some((d, -h)), n, t)?;
+            // The perturbation shrunk while a side changes the active set: an event within
+            // `h` of the step, not on it, is then left outside and the column is central.
+            let mut h = probe.h;
+            let mut sides = self.sides(held, (d, h), n, t)?;
+            for _ in 0..SHRINKS {
+                if sides.1 == active && sides.3 == active {
+                    break;
+                }
+                h /= SHRINK;
+                sides = self.sides(held, (d, h), n, t)?;
+            }
+            probe.stats.shrunk += usize::from(h < probe.h);
+            let (plus, pa, minus, ma) = sides;
             let col = &mut probe.jac[k * nr..(k + 1) * nr];
             let (hi, lo, width) = match (pa == active, ma == active) {
                 (true, false) => (&plus, &nominal, h),
@@ -274,6 +302,20 @@ impl Stepper<'_> {
             }
         }
         Ok(())
+    }
+
+    /// The contact solve's effect and active set with contact DOF `d` perturbed by `+h` and by
+    /// `−h` (`(d, h)`).
+    fn sides(
+        &mut self,
+        held: bool,
+        (d, h): (usize, f64),
+        n: usize,
+        t: f64,
+    ) -> Result<Sides, SolveError> {
+        let (plus, pa) = self.contact_effect(held, Some((d, h)), n, t)?;
+        let (minus, ma) = self.contact_effect(held, Some((d, -h)), n, t)?;
+        Ok((plus, pa, minus, ma))
     }
 
     /// The contact solve's effect with contact DOF `d` perturbed by `s` (`(d, s)`, none: the
