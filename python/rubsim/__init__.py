@@ -667,7 +667,11 @@ class Periodic:
     """A periodic orbit found by shooting: ``multipliers`` (complex numpy array, largest modulus
     first), ``stable``, ``instability`` (``period_doubling``, ``fold``, ``neimark_sacker`` or
     None), ``converged``, ``period`` (revolutions), ``orbit`` (the orbit's results, as a run's
-    ``result``), ``summary`` (everything); with ``refine=True`` ``refined`` (a dict:
+    ``result``), ``monodromy`` (how the multipliers' monodromy was taken: ``"variational"`` —
+    the scheme's own step linearised along one run of the map — or ``"finite_difference"`` —
+    differences of whole maps, where the step has no linearisation), ``linearisation`` (a
+    dict of the variational linearisation's counters — ``contact_steps``, ``one_sided``,
+    ``straddled``, ``shrunk`` — or None), ``summary`` (everything); with ``refine=True`` ``refined`` (a dict:
     ``half_step``, ``error_estimate``, ``extrapolated`` — complex numpy arrays or None —,
     ``order``, ``stable``, ``verdict_changes``, ``dt``), else None."""
 
@@ -688,6 +692,8 @@ class Periodic:
         self.instability = d["instability"]
         self.multipliers = _complex(d["multipliers"])
         self.orbit = d["orbit"]
+        self.monodromy = d["monodromy"]
+        self.linearisation = d["linearisation"]
 
     def __repr__(self) -> str:
         state = "stable" if self.stable else f"unstable ({self.instability})"

@@ -280,6 +280,7 @@ def test_periodic_orbits_and_their_branch(tmp_path):
     scene = rubsim.Scene(PAPER)
     p = scene.periodic(1.7)
     assert p.converged and p.stable and p.period == 1 and p.instability is None
+    assert p.monodromy == "variational" and p.linearisation["contact_steps"] > 0
     assert np.all(np.abs(p.multipliers) < 1)
     cli("periodic", PAPER, "--speed", "1.7", "--out", tmp_path / "p")
     want = summary(tmp_path / "p")["periodic"]["multipliers"]

@@ -63,10 +63,12 @@ pub const SHOOT_TOLERANCE: f64 = 1e-9;
 pub const MAX_NEWTON: usize = 16;
 /// Halvings of a Newton step that does not lower the residual.
 pub const MAX_HALVINGS: usize = 6;
-/// Largest state (components of `x`) shot: each Newton iteration runs the map twice per
-/// component, so a larger state (an FE rotor with many nodes, a stator with mass) is refused
-/// before it starts rather than left to run for hours (a reduced model or the variational
-/// equations of issue 29's later parts are the way there).
+/// Largest state (components of `x`) shot: each Newton iteration carries `dim x` tangent
+/// columns through a run of the map (the variational monodromy) or runs the map twice per
+/// component (where the step has no linearisation), and solves and diagonalises a dense
+/// `dim x`-square matrix, so a larger state (an FE rotor with many nodes, a stator with mass)
+/// is refused before it starts rather than left to run for hours (a reduced model is the way
+/// there).
 pub const MAX_STATE: usize = 400;
 /// Relative distance (of max |x|) above which two fixed points are distinct orbits: a switched
 /// period-2k orbit from its parent's fixed point, and its k-map residual from an orbit that
@@ -254,7 +256,7 @@ fn too_large(n: usize) -> Error {
     Error::study(
         "rotor",
         format!(
-            "the periodic orbit's state has {n} components; shooting runs the map twice per component per Newton iteration and is limited to {MAX_STATE} (reduce the rotor, e.g. `rotor.modal_reduction`, or make the stators massless)"
+            "the periodic orbit's state has {n} components; shooting carries one tangent column per component through each Newton iteration's map (two maps per component where the step has no linearisation) and is limited to {MAX_STATE} (reduce the rotor, e.g. `rotor.modal_reduction`, or make the stators massless)"
         ),
     )
 }

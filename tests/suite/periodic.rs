@@ -136,8 +136,8 @@ fn the_paper_case_period_one_orbit_doubles_where_the_sweep_does() {
     );
 }
 
-/// `rubsim periodic`: summary.json (`periodic`: period, convergence, multipliers, stability)
-/// and multipliers.csv; a period of 0 and an implicit scheme are refused, nothing written.
+/// `rubsim periodic`: summary.json (`periodic`: period, convergence, multipliers, stability,
+/// how the monodromy was taken) and multipliers.csv; a period of 0 and an implicit scheme are refused, nothing written.
 #[test]
 fn the_periodic_command_writes_its_multipliers_and_refuses_what_it_cannot_shoot() {
     let tmp = tempfile::tempdir().unwrap();
@@ -157,10 +157,18 @@ fn the_periodic_command_writes_its_multipliers_and_refuses_what_it_cannot_shoot(
     );
     assert!(o.status.success(), "{}", cli::text(&o.stderr));
     assert!(cli::text(&o.stdout).contains("unstable (period_doubling)"));
+    assert!(cli::text(&o.stdout).contains("monodromy: variational ("));
     let s = cli::json(&out.join("summary.json"));
     assert_eq!(s["command"], "periodic");
     assert_eq!(s["periodic"]["period"], 1);
     assert_eq!(s["periodic"]["stable"], false);
+    assert_eq!(s["periodic"]["monodromy"], "variational");
+    assert!(
+        s["periodic"]["linearisation"]["contact_steps"]
+            .as_u64()
+            .unwrap()
+            > 0
+    );
     assert!(out.join("multipliers.png").metadata().unwrap().len() > 10_000);
     let csv = std::fs::read_to_string(out.join("multipliers.csv")).unwrap();
     assert!(csv.starts_with("index,re,im,modulus,angle_deg\n"));
