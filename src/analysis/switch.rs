@@ -114,7 +114,7 @@ pub fn switch_all(c: &Continued<'_>, first: Branch, max_period: usize) -> Diagra
                 ));
                 continue;
             }
-            match doubled(c, &dbl) {
+            match doubled(c, &dbl, at) {
                 Ok((Some(found), steps)) => {
                     let (orbit, beyond, record) = found;
                     // The found orbit's own steps are the new branch's first (`follow`).
@@ -136,7 +136,7 @@ pub fn switch_all(c: &Continued<'_>, first: Branch, max_period: usize) -> Diagra
                 Ok((None, steps)) => {
                     d.steps += steps;
                     d.not_switched.push(format!(
-                        "the period doubling of the period-{k} branch at {on} {at:.4}: no period-{} orbit found from x + ε v (ε/max|x| = {OFFSETS:?}) on either side",
+                        "the period doubling of the period-{k} branch at {on} {at:.4}: no period-{} orbit found from x + ε v (ε/max|x| = {OFFSETS:?}) on either side, nor nearer the doubling on its unstable side",
                         2 * k
                     ));
                 }
@@ -172,45 +172,86 @@ fn reached(d: &Diagram, parent: usize, period: usize, dbl: &Doubling) -> Option<
 /// A found orbit, the speeds to continue it over and its record (indices filled by the caller).
 type Found = (PeriodicOrbit, Vec<f64>, SwitchRecord);
 
-/// The period-2k orbit branching off at the doubling `dbl`: tried on its unstable side, then
-/// on its stable side; `None` when neither start converges to a new orbit. And the steps.
-fn doubled(c: &Continued<'_>, dbl: &Doubling) -> Result<(Option<Found>, u64)> {
+/// The period-2k orbit branching off at the doubling `dbl` (located at `at`): tried on its
+/// unstable side's grid orbit, then on its stable side's, then — neither start converging —
+/// on the parent's orbits [`NEARER`] of the way from the doubling to the unstable grid orbit
+/// (Newton from that orbit): a grid orbit far past the doubling has its new orbit far from it
+/// along `v`, out of the offsets' reach. `None` when no start converges to a new orbit. And the
+/// steps.
+fn doubled(c: &Continued<'_>, dbl: &Doubling, at: f64) -> Result<(Option<Found>, u64)> {
     let mut steps = 0;
     for (side, supercritical) in [(&dbl.unstable, true), (&dbl.stable, false)] {
-        let (orbit, beyond) = side;
-        let prep = c.prepare(orbit.parameter)?;
-        let (m, x, st) = periodic::monodromy(&prep, orbit)?;
+        let (found, st) = doubled_from(c, &side.0, &side.1, supercritical)?;
         steps += st;
-        let v = doubling_vector(&m, orbit);
-        let scale = x.iter().fold(0.0_f64, |a, b| a.max(b.abs())).max(1e-300);
-        for eps in OFFSETS {
-            let x0: Vec<f64> = x.iter().zip(&v).map(|(a, b)| a + eps * scale * b).collect();
-            let Ok(mut o) = periodic::solve_deflated(&prep, 2 * orbit.period, orbit, x0) else {
-                continue;
+        if found.is_some() {
+            return Ok((found, steps));
+        }
+    }
+    let (orbit, beyond) = &dbl.unstable;
+    let mut past = vec![orbit.parameter];
+    past.extend(beyond);
+    for frac in NEARER {
+        let v = at + frac * (orbit.parameter - at);
+        let Ok((_, near)) = c.shoot_from(v, orbit) else {
+            continue;
+        };
+        steps += near.steps;
+        if !near.converged {
+            continue;
+        }
+        let (found, st) = doubled_from(c, &near, &past, true)?;
+        steps += st;
+        if found.is_some() {
+            return Ok((found, steps));
+        }
+    }
+    Ok((None, steps))
+}
+
+/// The fractions of the way from a doubling to its unstable side's grid orbit at which the
+/// parent's orbit is tried when the grid orbits give no new one.
+pub const NEARER: [f64; 2] = [0.5, 0.25];
+
+/// The period-2k orbit from the parent's orbit `orbit` (on the doubling's unstable side when
+/// `supercritical`) by deflated Newton from `x + ε v`, ε over [`OFFSETS`], to be continued
+/// over `beyond`; `None` when no start converges to a new orbit. And the steps.
+fn doubled_from(
+    c: &Continued<'_>,
+    orbit: &PeriodicOrbit,
+    beyond: &[f64],
+    supercritical: bool,
+) -> Result<(Option<Found>, u64)> {
+    let prep = c.prepare(orbit.parameter)?;
+    let (m, x, mut steps) = periodic::monodromy(&prep, orbit)?;
+    let v = doubling_vector(&m, orbit);
+    let scale = x.iter().fold(0.0_f64, |a, b| a.max(b.abs())).max(1e-300);
+    for eps in OFFSETS {
+        let x0: Vec<f64> = x.iter().zip(&v).map(|(a, b)| a + eps * scale * b).collect();
+        let Ok(mut o) = periodic::solve_deflated(&prep, 2 * orbit.period, orbit, x0) else {
+            continue;
+        };
+        o.parameter = orbit.parameter;
+        steps += o.steps;
+        if !o.converged {
+            continue;
+        }
+        let distance = periodic::residual(&x, &o.fixed_point.0);
+        let (half, st) = periodic::residual_after(&prep, &o, orbit.period)?;
+        steps += st;
+        if distance > DISTINCT && half > DISTINCT {
+            let record = SwitchRecord {
+                branch: 0,
+                parent: 0,
+                bifurcation: 0,
+                at_speed_ratio: f64::NAN,
+                found_at_speed_ratio: orbit.speed_ratio,
+                at: f64::NAN,
+                found_at: orbit.parameter,
+                supercritical,
+                offset: eps,
+                distance,
             };
-            o.parameter = orbit.parameter;
-            steps += o.steps;
-            if !o.converged {
-                continue;
-            }
-            let distance = periodic::residual(&x, &o.fixed_point.0);
-            let (half, st) = periodic::residual_after(&prep, &o, orbit.period)?;
-            steps += st;
-            if distance > DISTINCT && half > DISTINCT {
-                let record = SwitchRecord {
-                    branch: 0,
-                    parent: 0,
-                    bifurcation: 0,
-                    at_speed_ratio: f64::NAN,
-                    found_at_speed_ratio: orbit.speed_ratio,
-                    at: f64::NAN,
-                    found_at: orbit.parameter,
-                    supercritical,
-                    offset: eps,
-                    distance,
-                };
-                return Ok((Some((o, beyond.clone(), record)), steps));
-            }
+            return Ok((Some((o, beyond.to_vec(), record)), steps));
         }
     }
     Ok((None, steps))

@@ -241,8 +241,11 @@ fn the_stable_branches_are_the_sweeps_responses() {
 /// 0.015 of the branch in ν alone's 2.2445 (the arclength branch's one N steps a revolution, the
 /// finer of the range's ends, is another map than each speed's own plan) —, the period-2
 /// orbit is switched onto half a step past it and continued; its own doubling at 2.3770 /
-/// 2.3775 is the period-2 branch in ν alone's 2.3742 within 0.0035. The command writes both
-/// branches (no longer refused); from Python the same.
+/// 2.3775 is the period-2 branch in ν alone's 2.3742 within 0.0035. From that doubling the
+/// period-4 orbit is switched onto too — at step 0.1 from the period-2 orbit half way to the
+/// grid point 2.4372 (from the grid point itself, 0.06 past the doubling, no offset reached
+/// it) — and doubles again at 2.4194 / 2.4193, the branch in ν alone's 2.4198 within 2e-3. The
+/// command writes the branches (no longer refused); from Python the same.
 #[test]
 fn switching_works_on_a_pseudo_arclength_branch() {
     let (ls, m) = common::file_model(&common::repo(PAPER), NO_SETS);
@@ -254,7 +257,7 @@ fn switching_works_on_a_pseudo_arclength_branch() {
             &s,
             (2.0, 2.6, h),
             Some(1),
-            (200, 2),
+            (200, 4),
         )
         .expect("arclength switching");
         let periods: Vec<usize> = d.branches.iter().map(|b| b.period).collect();
@@ -264,9 +267,15 @@ fn switching_works_on_a_pseudo_arclength_branch() {
             "h {h}: periods {periods:?}, doublings {pd1:?} then {pd2:?}, found at {:.4}",
             r.found_at_speed_ratio
         );
-        assert_eq!(periods, [1, 2]);
+        assert_eq!(periods, [1, 2, 4], "{:?}", d.not_switched);
         assert!((pd1[0] - 2.2445).abs() < 0.015, "{pd1:?}");
         assert!((pd2[0] - 2.3742).abs() < 0.0035, "{pd2:?}");
+        let pd4 = doublings(&d.branches[2]);
+        eprintln!(
+            "h {h}: period 4 found at {:.4}, doublings {pd4:?}",
+            d.switched[1].found_at_speed_ratio
+        );
+        assert!((pd4[0] - 2.4198).abs() < 2e-3, "{pd4:?}");
         assert!(r.supercritical && r.found_at_speed_ratio - pd1[0] <= h + 1e-9);
         assert!(d.branches[1]
             .points

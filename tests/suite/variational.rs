@@ -258,3 +258,23 @@ fn a_meshed_stator_variational_monodromy_is_independent_of_its_perturbation() {
     assert!(own < 1e-4 && own_rho < 1e-4, "{own:e} {own_rho:e}");
     assert!(entries < 1e-4 && rho < 1e-3, "{entries:e} {rho:e}");
 }
+
+#[test]
+#[ignore]
+fn zz_diag_p4() {
+    let (ls, m) = common::file_model(&repo(PAPER), common::NO_SETS);
+    let s = common::settings(&ls);
+    let c = rubsim::analysis::parameter::Continued::of_speed(&m, &s, 2.6)
+        .unwrap()
+        .with_fixed_steps((2.0, 2.6))
+        .unwrap();
+    eprintln!("N {:?}", c.steps_per_rev());
+    for v in [2.38, 2.39, 2.40, 2.41, 2.42, 2.43, 2.44, 2.45] {
+        for k in [2usize, 4] {
+            match c.shoot(v, Some(k)) {
+                Ok(o) => eprintln!("ν {v} k {k}: conv {} stable {} |ρ| {:.4} ρ1 {:?} period-orbit settled {} cf {:.3}", o.converged, o.stable, o.largest_modulus, o.multipliers[0], o.orbit.period, o.orbit.contact_fraction),
+                Err(e) => eprintln!("ν {v} k {k}: {e}"),
+            }
+        }
+    }
+}
