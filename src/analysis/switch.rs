@@ -13,7 +13,9 @@
 //! taken: away from `x` by more than [`DISTINCT`] of max |x| and not repeating after `k`
 //! revolutions (its `k`-map residual above [`DISTINCT`]). A `2k` orbit is a fixed point of the
 //! `2k` map, as `x` itself is: a start too close to `x` falls back onto it, which is why the
-//! offsets grow. The new branch is then continued as any other ([`super::branch::follow`]) from
+//! offsets grow. Where neither grid orbit gives a new one — a grid orbit far past the
+//! doubling, the new orbit out of the offsets' reach — the parent's orbit is shot [`NEARER`]
+//! of the way from the doubling to the unstable grid orbit and tried the same way. The new branch is then continued as any other ([`super::branch::follow`]) from
 //! that speed over the speeds beyond it, in the parent's direction away from the doubling.
 //!
 //! Written for the speed; a branch in a scene key ([`Continued`]) switches the same way over
