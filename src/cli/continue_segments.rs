@@ -95,6 +95,11 @@ pub fn continuation_in_segments(args: &ContinueArgs) -> Result<()> {
     }
     let (spec, speeds) = spec_of(&a, (&ls, &model))?;
     let shard = super::shard_of(a.shard.as_deref())?;
+    if shard.is_some() && a.sweep.is_some() {
+        anyhow::bail!(
+            "--sweep is drawn where the segments are joined: give it to `rubsim merge DIR --sweep SWEEP_DIR`, not to a shard"
+        );
+    }
     let dots = match (&a.sweep, shard) {
         (Some(d), None) => rubsim::study::overlay::sweep_poincare(
             &ls,
@@ -195,20 +200,54 @@ fn joined_with_coexisting(
     Ok((joined, super::continuation::report_coexisting(recs)))
 }
 
-/// `rubsim merge` of a continuation's shards: every segment of `folders` joined into `out`.
-pub(super) fn merge(out: &Path, folders: &[PathBuf], t0: std::time::Instant) -> Result<()> {
+/// `rubsim merge` of a continuation's shards: every segment of `folders` joined into `out`;
+/// with `sweep` (a branch in speed), the sweep's points drawn under the branches and its
+/// flagged speeds' responses added, as [`continuation_in_segments`] does unsharded.
+pub(super) fn merge(
+    out: &Path,
+    folders: &[PathBuf],
+    sweep: Option<&Path>,
+    t0: std::time::Instant,
+) -> Result<()> {
     let outd = open_out(out)?;
     let m = MergedSegments::open(folders, out)?;
     let refs: Vec<&CaseStore> = m.stores.iter().collect();
     let recs = segments::records(&refs, &m.spec, &shard_counts(out), Vec::new())?;
     let base = Base::with_model(&m.scene, m.model.clone(), "continue");
-    let joined = segments::join(&recs);
+    let Some(d) = sweep else {
+        let joined = segments::join(&recs);
+        return assemble(
+            outd,
+            (&m.scene, base),
+            (&m.spec, &recs),
+            (joined, Vec::new()),
+            (&[], t0),
+        );
+    };
+    let model = rubsim::model::Model::from_scene(&m.scene)
+        .with_context(|| format!("{}: building the model", m.scene.file.display()))?;
+    let component = usize::from(m.scene.scene.output.component == "y");
+    let dots = rubsim::study::overlay::sweep_poincare(&m.scene, &model, d, component)
+        .context("--sweep")?;
+    let speeds = m.spec.values()?;
+    let s = shooting_settings(&m.scene, &model, &speeds)?;
+    let req = SegmentRequest {
+        scene: &m.scene,
+        model: &model,
+        settings: &s,
+        spec: &m.spec,
+        shard: None,
+        fresh: false,
+    };
+    let c = segments::continued(&req)?;
+    let (joined, coexisting) =
+        joined_with_coexisting(&recs, (&m.scene, &model), (&c, &speeds), Some(d))?;
     assemble(
         outd,
         (&m.scene, base),
         (&m.spec, &recs),
-        (joined, Vec::new()),
-        (&[], t0),
+        (joined, coexisting),
+        (&dots, t0),
     )
 }
 

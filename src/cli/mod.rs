@@ -189,12 +189,18 @@ pub enum Cmd {
     },
     /// Assemble the cases of a sharded sweep or map (DIR/shard-*/cases, and the cases/ of
     /// further directories) into DIR, as one machine would have written them; lists the
-    /// missing cases and their shards.
+    /// missing cases and their shards. A continuation's segments (`rubsim continue
+    /// --segments --shard`) are joined into its branch's files.
     Merge {
         /// Output directory of the study (holding the shard-<i>-of-<n>/ folders).
         dir: PathBuf,
         /// Further directories whose cases join the merge.
         more: Vec<PathBuf>,
+        /// A continuation in speed only: the output folder of `rubsim sweep` of the same
+        /// scene, drawn under the branches and its flagged speeds' responses added as
+        /// branches, as `rubsim continue --sweep`.
+        #[arg(long, value_name = "DIR")]
+        sweep: Option<PathBuf>,
     },
     /// Validate the scene and print the resolved model: what is built and what is left out.
     Check {
@@ -593,10 +599,10 @@ pub fn run() -> Result<()> {
         } => run::run(c, out.clone(), *speed, *unit),
         Cmd::Sweep { c, a } => study::run(c, rubsim::study::Kind::Sweep, a),
         Cmd::Map { c, a } => study::run(c, rubsim::study::Kind::Map, a),
-        Cmd::Merge { dir, more } => {
+        Cmd::Merge { dir, more, sweep } => {
             let mut dirs = vec![dir.clone()];
             dirs.extend(more.iter().cloned());
-            study::merge(&dirs)
+            study::merge(&dirs, sweep.as_deref())
         }
         Cmd::Check { c } => check::check(c),
         Cmd::Mesh(a) => mesh::mesh(a),

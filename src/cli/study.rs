@@ -13,7 +13,7 @@ use rubsim::scene::LoadedScene;
 use rubsim::study::assemble::Tables;
 use rubsim::study::summary::{ShardBody, ShardRecord};
 use rubsim::study::{self, CaseStore, Computed, Kind, Merged, Study, StudyRequest};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 /// The options every study command shares.
@@ -106,13 +106,26 @@ fn assemble(
 /// `rubsim merge DIR [MORE…]`: the case stores of `DIR` (its `cases/` and its
 /// `shard-*/cases/`) and of the other directories, all of one scene, assembled into `DIR`
 /// exactly as a one-machine run writes them.
-pub fn merge(dirs: &[PathBuf]) -> Result<()> {
+pub fn merge(dirs: &[PathBuf], sweep: Option<&Path>) -> Result<()> {
     let t0 = std::time::Instant::now();
     let folders = study::merge_folders(dirs)?;
     let out = &dirs[0];
     let first = CaseStore::read_only(&folders[0].join(study::CASES_DIR))?;
-    if first.plan().continuation.is_some() {
-        return super::continue_segments::merge(out, &folders, t0);
+    if let Some(spec) = &first.plan().continuation {
+        if let (Some(key), Some(_)) = (&spec.key, sweep) {
+            anyhow::bail!(
+                "--sweep draws a sweep's points over speed: {} holds a continuation in `{key}`",
+                out.display()
+            );
+        }
+        return super::continue_segments::merge(out, &folders, sweep, t0);
+    }
+    if sweep.is_some() {
+        anyhow::bail!(
+            "--sweep draws a sweep's points under a continuation's branches: {} holds a `rubsim {}`, not a continuation",
+            out.display(),
+            first.plan().command
+        );
     }
     let mut outd = open_out(out)?;
     let merged = Merged::open(&folders, out)?;

@@ -331,7 +331,8 @@ fn a_failed_companion_is_reported_with_its_error() {
 /// is the closed form's 2.40026 e (ORACLES §2: measured 2.4001 e). With `--arclength` the rub's
 /// pseudo-arclength points lie between the grid's speeds and the responses are matched on its
 /// interpolated section: still two branches, none drawn twice; in two segments
-/// (`--segments 2`) the joined rub and the free orbit: the same two.
+/// (`--segments 2`) the joined rub and the free orbit: the same two, and the same again from
+/// two shards merged with `rubsim merge --sweep`.
 #[test]
 fn flagged_speeds_get_the_branches_of_both_responses() {
     let tmp = tempfile::tempdir().unwrap();
@@ -421,4 +422,63 @@ fn flagged_speeds_get_the_branches_of_both_responses() {
             .iter()
             .all(|x| !x.is_null())));
     }
+    // The same two segments as two shards, merged with the sweep: the files of the unsharded
+    // run with `--sweep` (branches.csv byte for byte, the same coexisting records); a shard
+    // given `--sweep` is told to give it to the merge.
+    let m = tmp.path().join("merged");
+    for shard in ["1/2", "2/2"] {
+        let mut a = vec!["continue", ring, "--period", "1"];
+        a.extend(sets);
+        a.extend([
+            "--segments",
+            "2",
+            "--shard",
+            shard,
+            "--out",
+            m.to_str().unwrap(),
+        ]);
+        common::cli::ok(tmp.path(), &a);
+    }
+    let mut a = vec!["continue", ring, "--period", "1"];
+    a.extend(sets);
+    a.extend([
+        "--segments",
+        "2",
+        "--shard",
+        "1/2",
+        "--sweep",
+        sw.to_str().unwrap(),
+    ]);
+    let x = tmp.path().join("x");
+    a.extend(["--out", x.to_str().unwrap()]);
+    let err = common::cli::fails(tmp.path(), &a);
+    assert!(err.contains("rubsim merge") && !x.exists(), "{err}");
+    let printed = common::cli::ok(
+        tmp.path(),
+        &[
+            "merge",
+            m.to_str().unwrap(),
+            "--sweep",
+            sw.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        printed.contains("coexisting responses at ω/ωn 1.8"),
+        "{printed}"
+    );
+    let read = |d: &str, f: &str| std::fs::read_to_string(tmp.path().join(d).join(f)).unwrap();
+    assert_eq!(read("merged", "branches.csv"), read("seg", "branches.csv"));
+    let json = |d: &str| common::cli::json(&tmp.path().join(d).join("summary.json"));
+    assert_eq!(json("merged")["coexisting"], json("seg")["coexisting"]);
+    // A sweep's own shards take no --sweep.
+    let err = common::cli::fails(
+        tmp.path(),
+        &[
+            "merge",
+            sw.to_str().unwrap(),
+            "--sweep",
+            sw.to_str().unwrap(),
+        ],
+    );
+    assert!(err.contains("not a continuation"), "{err}");
 }
