@@ -34,7 +34,7 @@ use super::periodic::{MAX_STATE, SHOOT_TOLERANCE};
 use super::speed::{analyse, Prepared};
 use super::Keep;
 use crate::error::{Error, Result};
-use crate::time::{EndState, StepPlan};
+use crate::time::{EndState, Record, RunStats, Sink, StepPlan};
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
@@ -104,6 +104,41 @@ impl AutonomousOrbit {
     /// layout).
     pub fn fixed_state(&self) -> &[f64] {
         &self.fixed_point.0
+    }
+
+    /// The step plan of the orbit's time series on `plan` (its run's): `2N` steps of
+    /// `Δt = T/N` from the fixed point, nothing cut — the first period a lead-in, the second
+    /// written (`results::Series::autonomous_orbit`) —, `N` steps to the plan's "revolution",
+    /// which is here one period `T` of the whirl, not of the shaft.
+    pub fn series_plan(&self, plan: &StepPlan) -> StepPlan {
+        let n = self.steps_per_period.max(1);
+        StepPlan {
+            dt: self.period_s / n as f64,
+            steps: 2 * n,
+            steps_per_rev: n,
+            steady_from: 0,
+            ..*plan
+        }
+    }
+
+    /// Integrates the orbit (found on `prep`) from its fixed point over `plan`
+    /// ([`AutonomousOrbit::series_plan`]), handing its frames to `sink`; the record and
+    /// counters.
+    ///
+    /// # Errors
+    /// A state that does not restart the run's scheme; the run's errors.
+    pub fn integrate(
+        &self,
+        prep: &Prepared,
+        plan: &StepPlan,
+        sink: Sink<'_>,
+    ) -> Result<(Record, RunStats)> {
+        let (x, end) = &self.fixed_point;
+        let start = end
+            .with_state_vector(x)
+            .ok_or_else(not_fitting)?
+            .retimed(plan.dt);
+        Ok(restarted(prep, plan, &start)?.run(sink)?)
     }
 }
 

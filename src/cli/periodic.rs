@@ -120,7 +120,8 @@ pub fn periodic(a: &PeriodicArgs) -> Result<()> {
 }
 
 /// `rubsim periodic --autonomous`: the orbit shot with its period ([`AutonomousOrbit`]),
-/// reported, and written as `summary.json` (`autonomous`) and `multipliers.csv`.
+/// reported, and written as `summary.json` (`autonomous`), `multipliers.csv` and — where the
+/// scene asks for VTK/HDF5 — its period as a time series (`orbit/`).
 fn write_autonomous(
     mut outd: rubsim::output::OutDir,
     (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
@@ -129,12 +130,14 @@ fn write_autonomous(
 ) -> Result<()> {
     let o = analysis::autonomous::shoot_autonomous(prep)?;
     report_autonomous(&o);
+    let orbit_series = write_autonomous_series(&mut outd, (ls, model), prep, &o)?;
     outd.write("multipliers.csv", rows_csv(&o.multipliers).as_bytes())?;
     if ls.scene.output.png {
         rubsim::output::branch::write_multipliers(&mut outd, &ls.scene.title, &o.multipliers)?;
     }
     let body = AutonomousBody {
         autonomous: &o,
+        orbit_series,
         wall_s: t0.elapsed().as_secs_f64(),
     };
     let base = Base::new(ls, model, "periodic");
@@ -147,8 +150,54 @@ fn write_autonomous(
 struct AutonomousBody<'a> {
     /// The orbit, its period, multipliers and stability.
     autonomous: &'a AutonomousOrbit,
+    /// The orbit's time series, when the scene asks for one and the orbit converged.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    orbit_series: Option<OrbitSeries>,
     /// Wall time of the command (s).
     wall_s: f64,
+}
+
+/// Writes the converged autonomous orbit `o` of `prep` as the time series the scene asks for
+/// below `orbit/` (`rubsim::results::Series::autonomous_orbit`: one whirl period `T` after a
+/// lead-in of one) and adopts the files; `None` when the scene asks for none or the orbit did
+/// not converge (a warning says so).
+fn write_autonomous_series(
+    outd: &mut rubsim::output::OutDir,
+    (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
+    prep: &analysis::Prepared,
+    o: &AutonomousOrbit,
+) -> Result<Option<OrbitSeries>> {
+    if !rubsim::results::wanted(&ls.scene.output) {
+        return Ok(None);
+    }
+    if !o.converged {
+        eprintln!(
+            "warning: ω/ωn = {:.4}: no autonomous orbit converged; its time series ({ORBIT_FOLDER}) is not written",
+            o.speed_ratio
+        );
+        return Ok(None);
+    }
+    let scene_json = serde_json::to_string(&ls.scene)?;
+    let series = rubsim::results::Series {
+        output: &ls.scene.output,
+        scene_json: &scene_json,
+        staging: outd.staging_dir(),
+    };
+    let files = series.autonomous_orbit(model, prep, o, ORBIT_FOLDER)?;
+    for f in &files {
+        outd.adopt(f)?;
+    }
+    println!(
+        "  orbit series: {ORBIT_FOLDER} ({} file(s), one whirl period of {:.6e} s)",
+        files.len(),
+        o.period_s
+    );
+    Ok(Some(OrbitSeries {
+        folder: ORBIT_FOLDER.to_string(),
+        period_steps: o.steps_per_period,
+        dt: o.period_s / o.steps_per_period.max(1) as f64,
+        files,
+    }))
 }
 
 /// Prints an autonomous orbit: its period and whirl, convergence, stability, multipliers.

@@ -2,6 +2,7 @@
 //! one way a single run (`rubsim run`) and a study's case (`crate::study`) write their series.
 
 use super::{wanted, ResultsSink};
+use crate::analysis::autonomous::AutonomousOrbit;
 use crate::analysis::periodic::{self, PeriodicOrbit};
 use crate::analysis::{Keep, Prepared, SpeedResults};
 use crate::error::Result;
@@ -108,6 +109,54 @@ impl Series<'_> {
         periodic::integrate_orbit(prep, o, &plan, Some(&mut w))?;
         w.finish()
     }
+    /// Writes the autonomous orbit `o` of `prep` (its whirl of period `T`, not tied to the
+    /// shaft's revolutions) as the time series the scene asks for, below `prefix`: one period
+    /// integrated from the fixed point at `Δt = T/N` after a lead-in of one
+    /// ([`AutonomousOrbit::series_plan`]: frames at steps `N … 2N`, times `T … 2T`; the files'
+    /// "revolution" is one period `T`), each writer's `every` lowered to the largest divisor
+    /// of `N` not above it (the scene's, or the recording interval) so that the frames close
+    /// the period. Returns the files written; none when the scene asks for no series.
+    ///
+    /// # Errors
+    /// As [`ResultsSink::new`] and [`AutonomousOrbit::integrate`].
+    pub fn autonomous_orbit(
+        &self,
+        model: &Model,
+        prep: &Prepared,
+        o: &AutonomousOrbit,
+        prefix: &str,
+    ) -> Result<Vec<String>> {
+        let plan = o.series_plan(&prep.plan);
+        let mut output = orbit_output(self.output, 1);
+        if !wanted(&output) {
+            return Ok(Vec::new());
+        }
+        // The whirl's N steps are not the shaft's: each writer's `every` lowered to a divisor
+        // of N, so that the first frame is the fixed point and the last closes the period.
+        for s in [&mut output.vtk, &mut output.hdf5].into_iter().flatten() {
+            let asked = s.every.unwrap_or(plan.record_every);
+            s.every = Some(divisor_at_most(plan.steps_per_rev, asked));
+        }
+        let mut w = ResultsSink::with_plan(
+            model,
+            prep,
+            &plan,
+            &output,
+            self.scene_json,
+            self.staging,
+            prefix,
+        )?;
+        o.integrate(prep, &plan, Some(&mut w))?;
+        w.finish()
+    }
+}
+
+/// The largest divisor of `n` not above `at_most` (1 at least).
+fn divisor_at_most(n: usize, at_most: usize) -> usize {
+    (1..=at_most.min(n).max(1))
+        .rev()
+        .find(|d| n.is_multiple_of(*d))
+        .unwrap_or(1)
 }
 
 /// `output` with each time-series writer's window set to the second period of `k`

@@ -289,3 +289,67 @@ fn a_companion_that_is_not_periodic_is_reported_not_shot() {
     assert_eq!((o.distinct, o.coexisting_stable), (None, 1));
     assert!(o.describe().contains("not shot: not periodic"));
 }
+
+/// `rubsim periodic --autonomous` writes the whirl's period as a time series: the dry whip of
+/// `scenes/periodic/dry_whip.toml` (a backward whirl at its own frequency, period T unknown to
+/// the scene) integrated from its fixed point at Δt = T/N, the frames (every a divisor of N)
+/// at times T … 2T, the last on the first again to 1e-8 of the orbit's radius (measured
+/// 8.8e-11: the shooting tolerance), VTK and HDF5 alike; summary.json lists the series.
+#[test]
+fn the_autonomous_orbit_series_closes_after_one_whirl_period() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("a");
+    ok(
+        &repo(""),
+        &[
+            "periodic",
+            "scenes/periodic/dry_whip.toml",
+            "--autonomous",
+            "--set",
+            "output.vtk={}",
+            "--set",
+            "output.hdf5={}",
+            "--set",
+            "output.png=false",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let s = json(&out.join("summary.json"));
+    let a = &s["autonomous"];
+    assert_eq!(a["converged"], true, "{a}");
+    let series = &s["orbit_series"];
+    assert_eq!(series["folder"], "orbit/");
+    let (n, t) = (
+        series["period_steps"].as_u64().unwrap() as usize,
+        a["period_s"].as_f64().unwrap(),
+    );
+    assert_eq!(n, a["steps_per_period"].as_u64().unwrap() as usize);
+    let dir = out.join("orbit");
+    let frames = pvd(&dir.join("results.pvd"));
+    assert!(frames.len() > 10, "{}", frames.len());
+    assert!(
+        (frames[0].0 / t - 1.0).abs() < 1e-9,
+        "{} against T {t}",
+        frames[0].0
+    );
+    assert!((frames.last().unwrap().0 / t - 2.0).abs() < 1e-9);
+    let first = rotor_in_frame(&dir.join(&frames[0].1));
+    let last = rotor_in_frame(&dir.join(&frames.last().unwrap().1));
+    let mid = rotor_in_frame(&dir.join(&frames[frames.len() / 2].1));
+    let size = first[0].hypot(first[1]);
+    let closed = rel(&last, &first, size);
+    eprintln!(
+        "autonomous orbit: last − first frame {closed:.2e} of its radius, {} frames",
+        frames.len()
+    );
+    assert!(closed <= 1e-8, "{closed}");
+    // Half a whirl period on, the rotor is across the orbit (a whirl, not a fixed point).
+    assert!(rel(&mid, &first, size) > 1.0, "{mid:?} {first:?}");
+    #[cfg(feature = "hdf5")]
+    {
+        let f = crate::common::output::open_h5(&dir.join("results.vtkhdf"));
+        let times: Vec<f64> = common::output::read(&f, "time");
+        assert_eq!(times.len(), frames.len());
+    }
+}
