@@ -153,3 +153,75 @@ fn shoot_at(c: &Continued<'_>, v: f64, from: &AutonomousOrbit) -> Result<Autonom
     o.parameter = v;
     Ok(o)
 }
+
+/// An autonomous branch's orbit at a chosen value of its parameter (`rubsim continue
+/// --autonomous --orbits-at`), shot from the branch's nearest converged point.
+pub struct AutonomousAt {
+    /// The value asked.
+    pub value: f64,
+    /// The value of the branch's point Newton started from.
+    pub from: f64,
+    /// The orbit found (converged or not).
+    pub orbit: AutonomousOrbit,
+    /// The run it was found on (its case, step and plan; the series integrates on it).
+    pub prep: super::speed::Prepared,
+}
+
+/// The orbits of the branch `b` (continued in `c`) at `values`: for each value within the
+/// range of its points (to a relative 1e-9), Newton at exactly that value from the nearest
+/// point's fixed point and period ([`shoot_autonomous_from`]; at a point's own value it
+/// returns that orbit after no iteration); a sentence for each value outside and each shot
+/// that failed.
+pub fn orbits_at(
+    c: &Continued<'_>,
+    b: &AutonomousBranch,
+    values: &[f64],
+) -> (Vec<AutonomousAt>, Vec<String>) {
+    let (mut found, mut notes) = (Vec::new(), Vec::new());
+    let lo = b
+        .points
+        .iter()
+        .map(|p| p.parameter)
+        .fold(f64::INFINITY, f64::min);
+    let hi = b
+        .points
+        .iter()
+        .map(|p| p.parameter)
+        .fold(f64::NEG_INFINITY, f64::max);
+    for &v in values {
+        let m = 1e-9 * v.abs().max(1.0);
+        let near = b
+            .points
+            .iter()
+            .filter(|_| lo - m <= v && v <= hi + m)
+            .min_by(|p, q| (p.parameter - v).abs().total_cmp(&(q.parameter - v).abs()));
+        let Some(near) = near else {
+            notes.push(format!(
+                "--orbits-at {v}: outside the branch's {} {} … {}; no orbit written there",
+                c.label(),
+                toml_number(lo),
+                toml_number(hi)
+            ));
+            continue;
+        };
+        let shot = c.prepare(v).and_then(|prep| {
+            let mut o = shoot_autonomous_from(&prep, near)?;
+            o.parameter = v;
+            Ok((prep, o))
+        });
+        match shot {
+            Ok((prep, orbit)) => found.push(AutonomousAt {
+                value: v,
+                from: near.parameter,
+                orbit,
+                prep,
+            }),
+            Err(e) => notes.push(format!(
+                "--orbits-at {v}: Newton from the branch's orbit at {} = {} failed: {e}",
+                c.label(),
+                toml_number(near.parameter)
+            )),
+        }
+    }
+    (found, notes)
+}

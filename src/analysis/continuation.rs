@@ -263,6 +263,24 @@ pub fn continue_autonomous(
     }
 }
 
+/// The orbits of the autonomous branch `b` in speed (continued by [`continue_autonomous`]
+/// over `(from, to, _)` with the settings `s`) at the speeds `values` (ν), each shot from the
+/// branch's nearest point (`autonomous_branch::orbits_at`), and a sentence for each value
+/// outside the branch or whose shot failed.
+///
+/// # Errors
+/// As [`Continued::of_speed`].
+pub fn autonomous_orbits_at(
+    model: &Model,
+    s: &RunSettings,
+    (from, to, _): (f64, f64, f64),
+    b: &super::autonomous_branch::AutonomousBranch,
+    values: &[f64],
+) -> Result<(Vec<super::autonomous_branch::AutonomousAt>, Vec<String>)> {
+    let c = Continued::of_speed(model, s, from.max(to))?;
+    Ok(super::autonomous_branch::orbits_at(&c, b, values))
+}
+
 #[cfg(test)]
 mod tests {
     use super::values;

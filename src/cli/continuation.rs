@@ -92,7 +92,7 @@ pub struct ContinueArgs {
     /// Values of the branch parameter (speeds, in `--unit`, comma-separated) at which each
     /// branch spanning them writes its periodic orbit as the scene's VTK/HDF5 series, under
     /// `orbits/branch<i>_<ν>/`: Newton at exactly that value from the branch's nearest
-    /// converged point.
+    /// converged point (an autonomous branch's: one whirl period).
     #[arg(long, value_delimiter = ',')]
     pub orbits_at: Vec<f64>,
     /// The autonomous orbit — a whirl at its own frequency (dry whip) in a scene without

@@ -14,8 +14,24 @@ use serde::Serialize;
 struct AutonomousBranchBody<'a> {
     /// The branch: its orbits and where it ended.
     autonomous_branch: &'a AutonomousBranch,
+    /// With `--orbits-at`: each orbit shot there and its time series.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    orbits: Vec<AutonomousEntry>,
     /// Wall time of the command (s).
     wall_s: f64,
+}
+
+/// An orbit of `--orbits-at` on an autonomous branch as summary.json lists it.
+#[derive(Debug, Serialize)]
+struct AutonomousEntry {
+    /// The speed asked, ν.
+    speed_ratio: f64,
+    /// ν of the branch's point Newton started from.
+    from_speed_ratio: f64,
+    /// The orbit: its period, whirl, radius, Newton and multipliers.
+    orbit: analysis::autonomous::AutonomousOrbit,
+    /// Its VTK/HDF5 series, when the scene asks for one and Newton converged.
+    series: Option<super::periodic::OrbitSeries>,
 }
 
 /// Continues the scene's autonomous orbit over speed (`--from`, `--to`, `--step` or the
@@ -23,10 +39,18 @@ struct AutonomousBranchBody<'a> {
 /// or the key refuse is refused before the output folder is made.
 pub fn continuation_autonomous(args: &ContinueArgs) -> Result<()> {
     let a = args.clone();
-    if a.sweep.is_some() || !a.orbits_at.is_empty() {
+    if a.sweep.is_some() {
         anyhow::bail!(
-            "--sweep and --orbits-at draw and write forced orbits: not with --autonomous (its branch.csv holds each orbit's period, whirl and radius)"
+            "--sweep draws a sweep's points under forced orbits: not with --autonomous (its branch.csv holds each orbit's period, whirl and radius)"
         );
+    }
+    if a.key.is_some() && !a.orbits_at.is_empty() {
+        anyhow::bail!(
+            "--orbits-at picks orbits by speed on a branch in speed: not with --key (shoot an orbit of this branch with `rubsim periodic --autonomous --set KEY=VALUE`)"
+        );
+    }
+    if let Some(v) = a.orbits_at.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        anyhow::bail!("--orbits-at: every value must be a positive speed, got {v}");
     }
     let (ls, model) = load(&a.c)?;
     let (key, range, speeds) = match a.key.as_deref() {
@@ -57,8 +81,12 @@ pub fn continuation_autonomous(args: &ContinueArgs) -> Result<()> {
         ls.scene.output.png,
     )?;
     report(&branch);
+    let wn = model.rotor.natural_frequency();
+    let values: Vec<f64> = a.orbits_at.iter().map(|v| a.unit.ratio(*v, wn)).collect();
+    let orbits = write_orbits(&mut outd, (&ls, &model), (&s, range), &branch, &values)?;
     let body = AutonomousBranchBody {
         autonomous_branch: &branch,
+        orbits,
         wall_s: t0.elapsed().as_secs_f64(),
     };
     finish(
@@ -107,4 +135,52 @@ fn report(b: &AutonomousBranch) {
     if let Some(why) = &b.ended {
         eprintln!("warning: the branch ends before its last value: {why}");
     }
+}
+
+/// The orbits of `--orbits-at` (`values`, ν) on the autonomous branch `b` (continued over
+/// `range` with the settings `s`), each written as the scene's time series under
+/// `orbits/branch0_<ν>/`; the warnings printed.
+fn write_orbits(
+    outd: &mut rubsim::output::OutDir,
+    (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
+    (s, range): (&analysis::RunSettings, (f64, f64, f64)),
+    b: &AutonomousBranch,
+    values: &[f64],
+) -> Result<Vec<AutonomousEntry>> {
+    if values.is_empty() {
+        return Ok(Vec::new());
+    }
+    if !rubsim::results::wanted(&ls.scene.output) {
+        eprintln!("warning: --orbits-at: the scene asks for no time series (`output.vtk`, `output.hdf5`; e.g. `--set 'output.vtk={{}}'`): the orbits are shot and listed in summary.json, no series written");
+    }
+    let (found, notes) = analysis::continuation::autonomous_orbits_at(model, s, range, b, values)?;
+    for n in &notes {
+        eprintln!("warning: {n}");
+    }
+    let mut entries = Vec::with_capacity(found.len());
+    for f in found {
+        let o = &f.orbit;
+        println!(
+            "autonomous orbit at ω/ωn = {}, Newton from {:.4}: {} in {} iteration(s), residual {:.2e}, period {:.6e} s, whirl {:+.6} ω_n, {} (largest other |ρ| {:.4})",
+            f.value,
+            f.from,
+            if o.converged { "converged" } else { "did NOT converge" },
+            o.iterations,
+            o.residual,
+            o.period_s,
+            o.whirl_ratio,
+            if o.stable { "stable" } else { "unstable" },
+            o.largest_modulus
+        );
+        let folder = format!("orbits/branch0_{}/", f.value);
+        let series =
+            super::periodic::write_autonomous_series(outd, (ls, model), &f.prep, o, &folder)?;
+        entries.push(AutonomousEntry {
+            speed_ratio: f.value,
+            from_speed_ratio: f.from,
+            orbit: f.orbit,
+            series,
+        });
+    }
+    Ok(entries)
 }

@@ -130,7 +130,7 @@ fn write_autonomous(
 ) -> Result<()> {
     let o = analysis::autonomous::shoot_autonomous(prep)?;
     report_autonomous(&o);
-    let orbit_series = write_autonomous_series(&mut outd, (ls, model), prep, &o)?;
+    let orbit_series = write_autonomous_series(&mut outd, (ls, model), prep, &o, ORBIT_FOLDER)?;
     outd.write("multipliers.csv", rows_csv(&o.multipliers).as_bytes())?;
     if ls.scene.output.png {
         rubsim::output::branch::write_multipliers(&mut outd, &ls.scene.title, &o.multipliers)?;
@@ -158,21 +158,22 @@ struct AutonomousBody<'a> {
 }
 
 /// Writes the converged autonomous orbit `o` of `prep` as the time series the scene asks for
-/// below `orbit/` (`rubsim::results::Series::autonomous_orbit`: one whirl period `T` after a
-/// lead-in of one) and adopts the files; `None` when the scene asks for none or the orbit did
-/// not converge (a warning says so).
-fn write_autonomous_series(
+/// below `folder` (`orbit/`, `orbits/branch0_<ν>/`; `rubsim::results::Series::autonomous_orbit`:
+/// one whirl period `T` after a lead-in of one) and adopts the files; `None` when the scene
+/// asks for none or the orbit did not converge (a warning says so).
+pub fn write_autonomous_series(
     outd: &mut rubsim::output::OutDir,
     (ls, model): (&rubsim::scene::LoadedScene, &rubsim::model::Model),
     prep: &analysis::Prepared,
     o: &AutonomousOrbit,
+    folder: &str,
 ) -> Result<Option<OrbitSeries>> {
     if !rubsim::results::wanted(&ls.scene.output) {
         return Ok(None);
     }
     if !o.converged {
         eprintln!(
-            "warning: ω/ωn = {:.4}: no autonomous orbit converged; its time series ({ORBIT_FOLDER}) is not written",
+            "warning: ω/ωn = {:.4}: no autonomous orbit converged; its time series ({folder}) is not written",
             o.speed_ratio
         );
         return Ok(None);
@@ -183,17 +184,17 @@ fn write_autonomous_series(
         scene_json: &scene_json,
         staging: outd.staging_dir(),
     };
-    let files = series.autonomous_orbit(model, prep, o, ORBIT_FOLDER)?;
+    let files = series.autonomous_orbit(model, prep, o, folder)?;
     for f in &files {
         outd.adopt(f)?;
     }
     println!(
-        "  orbit series: {ORBIT_FOLDER} ({} file(s), one whirl period of {:.6e} s)",
+        "  orbit series: {folder} ({} file(s), one whirl period of {:.6e} s)",
         files.len(),
         o.period_s
     );
     Ok(Some(OrbitSeries {
-        folder: ORBIT_FOLDER.to_string(),
+        folder: folder.to_string(),
         period_steps: o.steps_per_period,
         dt: o.period_s / o.steps_per_period.max(1) as f64,
         files,

@@ -301,7 +301,8 @@ fn the_whip_branch_ends_at_the_critical_friction() {
 }
 
 /// `rubsim continue --autonomous --key`: branch.csv with the key's column and one row per
-/// value, summary.json's `autonomous_branch`; `--period` and `--sweep` beside it refused.
+/// value, summary.json's `autonomous_branch`; `--period`, `--sweep` and `--orbits-at` beside it
+/// refused.
 #[test]
 fn the_continue_command_writes_the_autonomous_branch() {
     let tmp = tempfile::tempdir().unwrap();
@@ -340,4 +341,76 @@ fn the_continue_command_writes_the_autonomous_branch() {
     assert!(err.contains("--period"), "{err}");
     let err = cli::fails(&common::repo(""), &[&args[..], &["--sweep", "x"]].concat());
     assert!(err.contains("--sweep"), "{err}");
+    let err = cli::fails(
+        &common::repo(""),
+        &[&args[..], &["--orbits-at", "2"]].concat(),
+    );
+    assert!(
+        err.contains("--orbits-at") && err.contains("--key"),
+        "{err}"
+    );
+}
+
+/// `rubsim continue --autonomous --orbits-at` on a branch in speed: each value inside the
+/// branch shot from its nearest point and written under `orbits/branch0_<ν>/` as one whirl
+/// period, listed in summary.json (`orbits`, with the orbit and its series); a value outside
+/// the branch is told, not shot. The dry whip does not depend on the speed (the ring and the
+/// friction see only the whirl): the orbit at 2.1 is the branch's, its series closing the
+/// period to 1e-8 of the radius.
+#[test]
+fn the_autonomous_branch_writes_the_orbits_asked_for() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("o");
+    let o = cli::rubsim(
+        &common::repo(""),
+        &[
+            "continue",
+            SCENE,
+            "--autonomous",
+            "--from",
+            "2.0",
+            "--to",
+            "2.4",
+            "--step",
+            "0.2",
+            "--orbits-at",
+            "2.1,3.0",
+            "--set",
+            "output.vtk={}",
+            "--set",
+            "output.png=false",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let err = cli::text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("--orbits-at 3: outside the branch"), "{err}");
+    let s = cli::json(&out.join("summary.json"));
+    let orbits = s["orbits"].as_array().unwrap();
+    assert_eq!(orbits.len(), 1, "{orbits:?}");
+    let (at, point) = (&orbits[0], &s["autonomous_branch"]["points"][0]);
+    assert_eq!(at["speed_ratio"], 2.1);
+    assert_eq!(at["orbit"]["converged"], true);
+    let w = |v: &serde_json::Value| v["whirl_ratio"].as_f64().unwrap();
+    assert!((w(&at["orbit"]) - w(point)).abs() < 1e-8, "{at} {point}");
+    let dir = out.join(at["series"]["folder"].as_str().unwrap());
+    assert!(dir.ends_with("orbits/branch0_2.1"), "{}", dir.display());
+    let frames = common::output::pvd(&dir.join("results.pvd"));
+    let disp = |i: usize| {
+        let d = common::output::array(
+            &common::output::vtu(&dir.join(&frames[i].1)).data.point,
+            "displacement",
+        );
+        let n = d.len();
+        [d[n - 3], d[n - 2]]
+    };
+    let (first, last) = (disp(0), disp(frames.len() - 1));
+    let size = first[0].hypot(first[1]);
+    let closed = (last[0] - first[0]).hypot(last[1] - first[1]) / size;
+    eprintln!(
+        "orbit at 2.1: {} frames, last − first {closed:.1e} of the radius",
+        frames.len()
+    );
+    assert!(closed < 1e-8, "{closed}");
 }
