@@ -365,25 +365,19 @@ fn joins(cur: &Branch, next: &Branch, at: f64) -> std::result::Result<(), String
     Ok(())
 }
 
-/// The relative distance between the Poincaré points of two orbits of one period: the
-/// largest, over the points of `a`, of the distance to the nearest point of `b` (the orbits
-/// may be one revolution apart in phase), over the largest point's size.
+/// The relative distance between the Poincaré points of two orbits of one period: their
+/// Hausdorff distance (the orbits may be one revolution apart in phase, so points are matched
+/// to the nearest, both ways), over the largest point's size.
 fn distance(a: &BranchPoint, b: &BranchPoint) -> f64 {
+    if a.poincare_nd.len() != b.poincare_nd.len() {
+        return f64::INFINITY;
+    }
     let size = a
         .poincare_nd
         .iter()
         .chain(&b.poincare_nd)
         .fold(1e-300_f64, |m, p| m.max(p[0].hypot(p[1])));
-    let near = |p: &[f64; 2]| {
-        b.poincare_nd
-            .iter()
-            .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
-            .fold(f64::INFINITY, f64::min)
-    };
-    if a.poincare_nd.len() != b.poincare_nd.len() {
-        return f64::INFINITY;
-    }
-    a.poincare_nd.iter().map(near).fold(0.0_f64, f64::max) / size
+    crate::analysis::coexist_orbits::hausdorff(&a.poincare_nd, &b.poincare_nd) / size
 }
 
 /// segments.csv: each segment's range, points, steps, wall time and whether it joins the next.
@@ -509,6 +503,20 @@ mod tests {
         assert_eq!(j.seams.len(), 1);
         assert_eq!(j.seams[0].after_segment, 2);
         assert!(j.seams[0].why.contains("different period-1 orbits"));
+    }
+
+    /// Two period-2 sections of which one holds a point twice: every point of the first is
+    /// near one of the second, not the other way round — two orbits, which the one-sided
+    /// distance took for one.
+    #[test]
+    fn the_join_distance_is_symmetric() {
+        let mut a = point(1.5, [1.0, 0.0]);
+        a.poincare_nd = vec![[1.0, 0.0], [1.0, 0.0]];
+        let mut b = point(1.5, [1.0, 0.0]);
+        b.poincare_nd = vec![[1.0, 0.0], [-1.0, 0.0]];
+        assert_eq!(distance(&a, &b), 2.0);
+        assert_eq!(distance(&b, &a), 2.0);
+        assert_eq!(distance(&a, &a), 0.0);
     }
 
     #[test]
