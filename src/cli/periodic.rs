@@ -168,26 +168,18 @@ pub fn write_autonomous_series(
     o: &AutonomousOrbit,
     folder: &str,
 ) -> Result<Option<OrbitSeries>> {
-    if !rubsim::results::wanted(&ls.scene.output) {
-        return Ok(None);
-    }
-    if !o.converged {
-        eprintln!(
-            "warning: ω/ωn = {:.4}: no autonomous orbit converged; its time series ({folder}) is not written",
+    let not_converged = (!o.converged).then(|| {
+        format!(
+            "ω/ωn = {:.4}: no autonomous orbit converged; its time series ({folder}) is not written",
             o.speed_ratio
-        );
+        )
+    });
+    let Some(files) = adopt_series(outd, ls, not_converged, |series| {
+        series.autonomous_orbit(model, prep, o, folder)
+    })?
+    else {
         return Ok(None);
-    }
-    let scene_json = serde_json::to_string(&ls.scene)?;
-    let series = rubsim::results::Series {
-        output: &ls.scene.output,
-        scene_json: &scene_json,
-        staging: outd.staging_dir(),
     };
-    let files = series.autonomous_orbit(model, prep, o, folder)?;
-    for f in &files {
-        outd.adopt(f)?;
-    }
     println!(
         "  orbit series: {folder} ({} file(s), one whirl period of {:.6e} s)",
         files.len(),
@@ -199,6 +191,35 @@ pub fn write_autonomous_series(
         dt: o.period_s / o.steps_per_period.max(1) as f64,
         files,
     }))
+}
+
+/// The files `write` puts into `outd`'s staging folder through the scene's series writers,
+/// adopted; `None` when the scene asks for no series, or — printed as a warning — when the
+/// orbit did not converge (`not_converged`: why).
+fn adopt_series(
+    outd: &mut rubsim::output::OutDir,
+    ls: &rubsim::scene::LoadedScene,
+    not_converged: Option<String>,
+    write: impl FnOnce(&rubsim::results::Series<'_>) -> rubsim::error::Result<Vec<String>>,
+) -> Result<Option<Vec<String>>> {
+    if !rubsim::results::wanted(&ls.scene.output) {
+        return Ok(None);
+    }
+    if let Some(why) = not_converged {
+        eprintln!("warning: {why}");
+        return Ok(None);
+    }
+    let scene_json = serde_json::to_string(&ls.scene)?;
+    let series = rubsim::results::Series {
+        output: &ls.scene.output,
+        scene_json: &scene_json,
+        staging: outd.staging_dir(),
+    };
+    let files = write(&series)?;
+    for f in &files {
+        outd.adopt(f)?;
+    }
+    Ok(Some(files))
 }
 
 /// Prints an autonomous orbit: its period and whirl, convergence, stability, multipliers.
@@ -301,26 +322,18 @@ pub fn write_series(
     o: &PeriodicOrbit,
     folder: &str,
 ) -> Result<Option<OrbitSeries>> {
-    if !rubsim::results::wanted(&ls.scene.output) {
-        return Ok(None);
-    }
-    if !o.converged {
-        eprintln!(
-            "warning: ω/ωn = {:.4}: no periodic orbit of {} revolution(s) converged; its time series ({folder}) is not written",
+    let not_converged = (!o.converged).then(|| {
+        format!(
+            "ω/ωn = {:.4}: no periodic orbit of {} revolution(s) converged; its time series ({folder}) is not written",
             o.speed_ratio, o.period
-        );
+        )
+    });
+    let Some(files) = adopt_series(outd, ls, not_converged, |series| {
+        series.orbit(model, prep, o, folder)
+    })?
+    else {
         return Ok(None);
-    }
-    let scene_json = serde_json::to_string(&ls.scene)?;
-    let series = rubsim::results::Series {
-        output: &ls.scene.output,
-        scene_json: &scene_json,
-        staging: outd.staging_dir(),
     };
-    let files = series.orbit(model, prep, o, folder)?;
-    for f in &files {
-        outd.adopt(f)?;
-    }
     println!(
         "  orbit series: {folder} ({} file(s), one period of {} revolution(s))",
         files.len(),

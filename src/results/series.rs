@@ -97,17 +97,29 @@ impl Series<'_> {
             return Ok(Vec::new());
         }
         let plan = periodic::series_plan(&prep.plan, o.period);
-        let mut w = ResultsSink::with_plan(
+        let mut w = self.sink_on(model, prep, (&plan, &output), prefix)?;
+        periodic::integrate_orbit(prep, o, &plan, Some(&mut w))?;
+        w.finish()
+    }
+
+    /// The writers `output` asks for on `prep`'s case over `plan` (an orbit's), below `prefix`
+    /// ([`ResultsSink::with_plan`]).
+    fn sink_on<'p>(
+        &self,
+        model: &Model,
+        prep: &'p Prepared,
+        (plan, output): (&crate::time::StepPlan, &OutputSpec),
+        prefix: &str,
+    ) -> Result<ResultsSink<'p>> {
+        ResultsSink::with_plan(
             model,
             prep,
-            &plan,
-            &output,
+            plan,
+            output,
             self.scene_json,
             self.staging,
             prefix,
-        )?;
-        periodic::integrate_orbit(prep, o, &plan, Some(&mut w))?;
-        w.finish()
+        )
     }
     /// Writes the autonomous orbit `o` of `prep` (its whirl of period `T`, not tied to the
     /// shaft's revolutions) as the time series the scene asks for, below `prefix`: one period
@@ -137,15 +149,7 @@ impl Series<'_> {
             let asked = s.every.unwrap_or(plan.record_every);
             s.every = Some(divisor_at_most(plan.steps_per_rev, asked));
         }
-        let mut w = ResultsSink::with_plan(
-            model,
-            prep,
-            &plan,
-            &output,
-            self.scene_json,
-            self.staging,
-            prefix,
-        )?;
+        let mut w = self.sink_on(model, prep, (&plan, &output), prefix)?;
         o.integrate(prep, &plan, Some(&mut w))?;
         w.finish()
     }

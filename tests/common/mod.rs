@@ -106,3 +106,16 @@ pub fn case_and_plan(ls: &LoadedScene, model: &Model, nu: f64, kind: Scheme) -> 
     let plan = plan_steps(&case, &st).unwrap();
     (case, plan)
 }
+
+/// Largest distance from each multiplier `[Re, Im]` of `found` to the nearest of `expected`,
+/// and back (the Hausdorff distance of the two sets in the complex plane).
+pub fn set_distance(found: &[[f64; 2]], expected: &[[f64; 2]]) -> f64 {
+    let near = |p: &[f64; 2], set: &[[f64; 2]]| {
+        set.iter()
+            .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let a = found.iter().map(|p| near(p, expected)).fold(0.0, f64::max);
+    let b = expected.iter().map(|p| near(p, found)).fold(0.0, f64::max);
+    a.max(b)
+}

@@ -163,6 +163,14 @@ pub fn vectors3(attrs: &[Attribute], name: &str) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// The rotor centre's `[u_x, u_y]` in a `.vtu` frame (the last point of a Jeffcott rotor's
+/// grid).
+pub fn rotor_in_frame(path: &Path) -> [f64; 2] {
+    let d = array(&vtu(path).data.point, "displacement");
+    let n = d.len();
+    [d[n - 3], d[n - 2]]
+}
+
 /// `(time, file)` of every `DataSet` line of a `.pvd`.
 pub fn pvd(path: &Path) -> Vec<(f64, String)> {
     std::fs::read_to_string(path)

@@ -397,14 +397,7 @@ fn the_autonomous_branch_writes_the_orbits_asked_for() {
     let dir = out.join(at["series"]["folder"].as_str().unwrap());
     assert!(dir.ends_with("orbits/branch0_2.1"), "{}", dir.display());
     let frames = common::output::pvd(&dir.join("results.pvd"));
-    let disp = |i: usize| {
-        let d = common::output::array(
-            &common::output::vtu(&dir.join(&frames[i].1)).data.point,
-            "displacement",
-        );
-        let n = d.len();
-        [d[n - 3], d[n - 2]]
-    };
+    let disp = |i: usize| common::output::rotor_in_frame(&dir.join(&frames[i].1));
     let (first, last) = (disp(0), disp(frames.len() - 1));
     let size = first[0].hypot(first[1]);
     let closed = (last[0] - first[0]).hypot(last[1] - first[1]) / size;

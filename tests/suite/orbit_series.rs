@@ -10,10 +10,9 @@
 use crate::common;
 use common::cli::{json, ok, rubsim, text};
 use common::oracles::radial_annular_rub;
-use common::output::{array, pvd, vtu};
+use common::output::{pvd, rotor_in_frame};
 use common::{file_model, read, repo, run_speed, settings};
 use rubsim::analysis::{self, coexist_orbits::CoexistOrbits, periodic, SpeedResults};
-use std::path::Path;
 
 const PAPER: &str = "scenes/paper/partial_rub.toml";
 const RING: &str = "scenes/periodic/ring_hysteresis.toml";
@@ -30,14 +29,6 @@ fn rel(a: &[f64], b: &[f64], scale: f64) -> f64 {
         .zip(b)
         .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
         / scale
-}
-
-/// The rotor centre's `[u_x, u_y]` in a `.vtu` frame (the last point of a Jeffcott rotor's
-/// grid).
-fn rotor_in_frame(path: &Path) -> [f64; 2] {
-    let d = array(&vtu(path).data.point, "displacement");
-    let n = d.len();
-    [d[n - 3], d[n - 2]]
 }
 
 /// The period-2 orbit of the paper case at ν 4.1 (the response its run settles on) written by

@@ -6,7 +6,7 @@
 //! period exists, and its refusals.
 
 use crate::common;
-use common::{cli, repo};
+use common::{cli, repo, set_distance};
 use rubsim::analysis::{self, periodic, Keep};
 
 const PAPER: &str = "scenes/paper/partial_rub.toml";
@@ -25,18 +25,6 @@ fn cpow(z: [f64; 2], n: f64) -> [f64; 2] {
     let (r, a) = (z[0].hypot(z[1]), z[1].atan2(z[0]));
     let rn = r.powf(n);
     [rn * (n * a).cos(), rn * (n * a).sin()]
-}
-
-/// Largest distance from a found multiplier to the nearest expected one, and back.
-fn set_distance(found: &[[f64; 2]], expected: &[[f64; 2]]) -> f64 {
-    let near = |p: &[f64; 2], set: &[[f64; 2]]| {
-        set.iter()
-            .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
-            .fold(f64::INFINITY, f64::min)
-    };
-    let a = found.iter().map(|p| near(p, expected)).fold(0.0, f64::max);
-    let b = expected.iter().map(|p| near(p, found)).fold(0.0, f64::max);
-    a.max(b)
 }
 
 /// No contact (clearance 50 |Z0|): the map is linear, x and y uncoupled, each with the

@@ -6,7 +6,7 @@
 //! scenes whose step has no linearisation keep the differences and say so.
 
 use crate::common;
-use common::repo;
+use common::{repo, set_distance};
 use nalgebra::DMatrix;
 use rubsim::analysis::periodic::{Difference, Monodromy};
 use rubsim::analysis::{self, periodic};
@@ -24,18 +24,6 @@ fn shoot(
     let prep = analysis::prepare(&m, &common::settings(&ls).request(nu)).expect("prepare");
     let o = periodic::shoot(&prep, k).expect("shoot");
     (prep, o)
-}
-
-/// Largest distance from each multiplier of `found` to the nearest of `expected`, and back.
-fn set_distance(found: &[[f64; 2]], expected: &[[f64; 2]]) -> f64 {
-    let near = |p: &[f64; 2], set: &[[f64; 2]]| {
-        set.iter()
-            .map(|q| (p[0] - q[0]).hypot(p[1] - q[1]))
-            .fold(f64::INFINITY, f64::min)
-    };
-    let a = found.iter().map(|p| near(p, expected)).fold(0.0, f64::max);
-    let b = expected.iter().map(|p| near(p, found)).fold(0.0, f64::max);
-    a.max(b)
 }
 
 /// The largest entry difference of two monodromies relative to the largest entry of `b`,
